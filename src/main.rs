@@ -1,0 +1,3 @@
+fn main() {
+    println!("carl-spec: work in progress");
+}

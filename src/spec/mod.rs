@@ -1,0 +1,3 @@
+//! The spec language: raw documents as written (`raw`) and the resolved model (`model`).
+
+pub mod raw;
