@@ -1,0 +1,123 @@
+//! The resolved spec model: includes merged, overrides applied, names indexed.
+//!
+//! Everything downstream (sampling, instance sets, runtimes, audit) reads these types, never the
+//! raw documents.
+
+use std::collections::BTreeMap;
+
+use serde::Serialize;
+
+pub use super::raw::{
+    AtBounds, Bounds, Effect, FeatureType, RawDistribution as Distribution,
+    RawInstanceSet as InstanceSet, Sampler, Scalar, Space, Upstream, Value,
+};
+
+/// A context feature after resolution.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct Feature {
+    pub name: String,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub aliases: Vec<String>,
+    #[serde(rename = "type")]
+    pub kind: FeatureType,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub default: Option<Value>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub default_from: Option<String>,
+    /// `[lower, upper]`, `None` = unbounded side.
+    pub bounds: Bounds,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub choices: Option<Vec<Scalar>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub choice_labels: Option<Vec<String>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unit: Option<String>,
+    pub description: String,
+    pub affects: Vec<Effect>,
+    /// The shared fragment this feature came from, if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub from_fragment: Option<String>,
+}
+
+impl Feature {
+    pub fn affects(&self, effect: Effect) -> bool {
+        self.affects.contains(&effect)
+    }
+
+    /// The default as a number, for float/int/bool features.
+    pub fn default_f64(&self) -> Option<f64> {
+        match &self.default {
+            Some(Value::Number(x)) => Some(*x),
+            Some(Value::Bool(b)) => Some(f64::from(u8::from(*b))),
+            _ => None,
+        }
+    }
+
+    /// Is `x` within the inclusive bounds?
+    pub fn in_bounds(&self, x: f64) -> bool {
+        self.bounds[0].is_none_or(|lo| x >= lo) && self.bounds[1].is_none_or(|hi| x <= hi)
+    }
+
+    /// Is the feature continuous (float)?
+    pub fn is_continuous(&self) -> bool {
+        self.kind == FeatureType::Float
+    }
+
+    pub fn matches_name(&self, name: &str) -> bool {
+        self.name == name || self.aliases.iter().any(|a| a == name)
+    }
+}
+
+/// One environment's resolved spec.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct EnvSpec {
+    pub id: String,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub aliases: Vec<String>,
+    pub family: String,
+    pub upstream: Upstream,
+    pub description: String,
+    pub observation_space: Space,
+    pub action_space: Space,
+    pub max_episode_steps: Option<u64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub source: Option<String>,
+    pub features: Vec<Feature>,
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub distributions: BTreeMap<String, Distribution>,
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub instance_sets: BTreeMap<String, InstanceSet>,
+    /// Where the spec was loaded from (file path or `bundled:<path>`).
+    #[serde(skip)]
+    pub origin: String,
+}
+
+impl EnvSpec {
+    /// Look a feature up by canonical name or alias.
+    pub fn feature(&self, name: &str) -> Option<&Feature> {
+        self.features
+            .iter()
+            .find(|f| f.name == name)
+            .or_else(|| self.features.iter().find(|f| f.matches_name(name)))
+    }
+
+    pub fn feature_index(&self, name: &str) -> Option<usize> {
+        self.features.iter().position(|f| f.matches_name(name))
+    }
+
+    pub fn feature_names(&self) -> impl Iterator<Item = &str> {
+        self.features.iter().map(|f| f.name.as_str())
+    }
+
+    /// The default context: every feature at its default (computed defaults are absent).
+    pub fn default_context(&self) -> BTreeMap<String, Value> {
+        self.features
+            .iter()
+            .filter_map(|f| f.default.clone().map(|d| (f.name.clone(), d)))
+            .collect()
+    }
+
+    pub fn matches_name(&self, name: &str) -> bool {
+        self.id == name || self.aliases.iter().any(|a| a == name)
+    }
+}
