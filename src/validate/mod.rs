@@ -62,10 +62,15 @@ impl std::fmt::Display for Report {
 
 impl std::error::Error for Report {}
 
+/// At most this many diagnostics are kept per file (each costs a line/column lookup).
+pub const MAX_DIAGNOSTICS_PER_FILE: usize = 200;
+
 /// Collects diagnostics against the files of a run.
 pub struct Sink<'a> {
     pub files: &'a [SourceFile],
     pub out: Vec<Diagnostic>,
+    /// Diagnostics kept / dropped per file index.
+    counts: BTreeMap<usize, (usize, usize)>,
 }
 
 impl Sink<'_> {
@@ -76,14 +81,36 @@ impl Sink<'_> {
         self.push(Severity::Warning, file, rule, pointer, message, help);
     }
     fn push(&mut self, sev: Severity, file: usize, rule: &str, pointer: &str, message: impl Into<String>, help: Option<String>) {
+        let c = self.counts.entry(file).or_default();
+        if c.0 >= MAX_DIAGNOSTICS_PER_FILE {
+            c.1 += 1;
+            return;
+        }
+        c.0 += 1;
         let d = self.files[file].diagnostic(sev, rule, pointer, message, help);
         self.out.push(d);
+    }
+
+    /// One closing note per file whose diagnostics were cut.
+    fn finish(mut self) -> Vec<Diagnostic> {
+        for (&file, &(_, dropped)) in &self.counts {
+            if dropped > 0 {
+                self.out.push(Diagnostic::file_level(
+                    Severity::Error,
+                    "too-many-problems",
+                    &self.files[file].name,
+                    format!("{dropped} more problem(s) in this file not shown"),
+                    Some("fix the ones above and run again".into()),
+                ));
+            }
+        }
+        self.out
     }
 }
 
 /// Validate a set of documents and return the resolved environment specs of the valid ones.
 pub fn run(inputs: &[Input]) -> (Vec<Resolved>, Report) {
-    let checker = match SchemaChecker::new() {
+    let checker = match schema_check::shared() {
         Ok(c) => c,
         Err(e) => {
             let d = Diagnostic::file_level(Severity::Error, "internal", "<schema>", e, None);
@@ -100,7 +127,14 @@ pub fn run(inputs: &[Input]) -> (Vec<Resolved>, Report) {
         early.append(&mut diags);
     }
 
-    let mut sink = Sink { files: &files, out: early };
+    // Early (per-document) diagnostics are capped too.
+    let mut per_file: BTreeMap<String, usize> = BTreeMap::new();
+    early.retain(|d| {
+        let n = per_file.entry(d.file.clone()).or_default();
+        *n += 1;
+        *n <= MAX_DIAGNOSTICS_PER_FILE
+    });
+    let mut sink = Sink { files: &files, out: early, counts: BTreeMap::new() };
 
     // Fragments: authors' own shadow the bundled library; duplicates among one kind are errors.
     let mut fragments: BTreeMap<String, FragmentEntry<'_>> = BTreeMap::new();
@@ -138,7 +172,7 @@ pub fn run(inputs: &[Input]) -> (Vec<Resolved>, Report) {
     rules::check_set(&resolved, &mut sink);
 
     // Library diagnostics only matter if an author's file uses them; bundled specs are tested anyway.
-    let mut diagnostics = sink.out;
+    let mut diagnostics = sink.finish();
     let library_names: Vec<&str> = inputs.iter().filter(|i| i.library).map(|i| i.name.as_str()).collect();
     diagnostics.retain(|d| !library_names.contains(&d.file.as_str()));
     diagnostics.sort_by(|a, b| {
@@ -205,6 +239,7 @@ fn check_document(input: &Input, checker: &SchemaChecker) -> (SourceFile, Option
     let root = file.root.as_ref().expect("just set");
     let mut diags = Vec::new();
     duplicate_keys(root, "", &file, &mut diags);
+    diags.truncate(MAX_DIAGNOSTICS_PER_FILE);
 
     if !matches!(root.kind, NodeKind::Object(_)) {
         diags.push(file.diagnostic(

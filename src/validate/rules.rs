@@ -204,8 +204,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
     let (dfile, dptr) = at("default");
     let bounds_site = at("bounds");
     let type_name = kind_name(f.kind);
+    let bounds_ordered = !matches!((lo, hi), (Some(l), Some(h)) if l > h);
     let check_in_bounds = |x: f64, sink: &mut Sink<'_>, what: &str, ptr: &str| {
-        if !f.in_bounds(x) {
+        if bounds_ordered && !f.in_bounds(x) {
             sink.error(dfile, "default-out-of-bounds", ptr, format!("{what} {x} of \"{name}\" is outside its bounds {}", fmt_bounds(&f.bounds)), Some("change the default, or widen the bounds".into()));
         }
     };

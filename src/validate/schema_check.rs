@@ -6,7 +6,16 @@ use jsonschema::{ValidationError, Validator};
 
 use crate::json::escape_token;
 
-/// Compiled validators for both document kinds. Build once per process.
+/// At most this many schema errors are reported per file; the first ones are the useful ones.
+pub const MAX_SCHEMA_ERRORS: usize = 50;
+
+/// Compiled validators for both document kinds, built once per process (immutable after that).
+pub fn shared() -> Result<&'static SchemaChecker, String> {
+    static CHECKER: std::sync::OnceLock<Result<SchemaChecker, String>> = std::sync::OnceLock::new();
+    CHECKER.get_or_init(SchemaChecker::new).as_ref().map_err(Clone::clone)
+}
+
+/// Compiled validators for both document kinds.
 pub struct SchemaChecker {
     env: Validator,
     fragment: Validator,
@@ -38,7 +47,8 @@ impl SchemaChecker {
         let is_fragment = doc.get("fragment").is_some() && doc.get("id").is_none();
         let validator = if is_fragment { &self.fragment } else { &self.env };
         let mut out = Vec::new();
-        for e in validator.iter_errors(doc) {
+        // Lazily evaluated: a hostile document with millions of errors costs only the first few.
+        for e in validator.iter_errors(doc).take(MAX_SCHEMA_ERRORS) {
             explain(&e, &mut out);
         }
         out.sort_by(|a, b| a.pointer.cmp(&b.pointer));
