@@ -119,15 +119,9 @@ impl SourceFile {
                     (true, Some(k)) => k,
                     _ => node.span.clone(),
                 };
-                // Objects and arrays: underline only their first line.
-                let end = match &node.kind {
-                    crate::json::NodeKind::Object(_) | crate::json::NodeKind::Array(_)
-                        if span == node.span =>
-                    {
-                        span.start + 1
-                    }
-                    _ => span.end,
-                };
+                // Multi-line objects and arrays: underline only their opening bracket.
+                let multiline = self.text.get(span.clone()).is_some_and(|t| t.contains('\n'));
+                let end = if multiline { span.start + 1 } else { span.end };
                 return Some(self.locate_span(span.start, end));
             }
             match p.rfind('/') {
