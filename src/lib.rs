@@ -1,8 +1,12 @@
 //! carl-spec: the CARL contextual-RL benchmark as declarative, verifiable specs,
 //! reproducible instance sets and Rust environments.
 //!
-//! Layout: `spec` (the spec language), `validate` (schema + semantic rules + diagnostics),
-//! `sampling` (portable RNG and samplers), `instances` (instance sets, freeze/load),
-//! `envs` (runtimes), `cli` (the `carl-spec` command).
+//! Layout: `spec` (the spec language and loading), `validate` (schema + semantic rules +
+//! diagnostics), `json` (JSON with source positions), `schema` (the generated JSON Schema).
 
+pub mod cli;
+pub mod json;
+pub mod schema;
 pub mod spec;
+pub mod suggest;
+pub mod validate;

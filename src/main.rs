@@ -1,3 +1,3 @@
-fn main() {
-    println!("carl-spec: work in progress");
+fn main() -> std::process::ExitCode {
+    carl_spec::cli::main()
 }

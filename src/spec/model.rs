@@ -105,7 +105,7 @@ impl EnvSpec {
         self.features.iter().position(|f| f.matches_name(name))
     }
 
-    pub fn feature_names(&self) -> impl Iterator<Item = &str> {
+    pub fn feature_names(&self) -> impl Iterator<Item = &str> + Clone {
         self.features.iter().map(|f| f.name.as_str())
     }
 

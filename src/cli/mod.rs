@@ -1,0 +1,128 @@
+//! The `carl-spec` command line. Each subcommand lives in its own module; this file only parses
+//! arguments and maps outcomes to exit codes (0 ok, 1 invalid specs / failed check, 2 usage or I/O).
+
+mod specs_cmd;
+mod validate_cmd;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+#[derive(Parser, Debug)]
+#[command(name = "carl-spec", version, about = "The CARL contextual-RL benchmark as declarative, verifiable specs")]
+pub struct Cli {
+    /// An extra directory of spec files, added to the bundled specs.
+    #[arg(long, global = true, value_name = "DIR")]
+    pub specs: Option<PathBuf>,
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Validate spec files (default: the bundled specs). Exit 0 valid, 1 invalid, 2 usage/I-O error.
+    Validate {
+        /// Spec files or directories (every *.json below, except frozen instance sets).
+        paths: Vec<PathBuf>,
+        #[arg(long, value_enum, default_value_t = Format::Text)]
+        format: Format,
+    },
+    /// List the environments: id, family, upstream, number of features.
+    List {
+        #[arg(long, value_enum, default_value_t = Format::Text)]
+        format: Format,
+    },
+    /// Print one environment's resolved spec (includes merged).
+    Show {
+        /// Environment id or alias, e.g. `cartpole` or `CARLCartPoleEnv`.
+        id: String,
+        #[arg(long, value_enum, default_value_t = Format::Text)]
+        format: Format,
+    },
+    /// Print the JSON Schema of spec files.
+    Schema,
+    /// Counts over all environments: features, share affecting dynamics/reward, share continuous.
+    Stats {
+        #[arg(long, value_enum, default_value_t = Format::Text)]
+        format: Format,
+    },
+}
+
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    Text,
+    Json,
+    /// GitHub Actions workflow annotations (validate only; other commands print text).
+    Github,
+}
+
+/// Exit statuses shared by every command.
+pub mod exit {
+    pub const OK: u8 = 0;
+    pub const FAILED: u8 = 1;
+    pub const USAGE: u8 = 2;
+}
+
+/// A command's failure: a message for stderr and the exit status.
+#[derive(Debug)]
+pub struct Failure {
+    pub code: u8,
+    pub message: String,
+}
+
+impl Failure {
+    pub fn usage(message: impl Into<String>) -> Self {
+        Failure { code: exit::USAGE, message: message.into() }
+    }
+    pub fn failed(message: impl Into<String>) -> Self {
+        Failure { code: exit::FAILED, message: message.into() }
+    }
+}
+
+impl From<crate::spec::LoadError> for Failure {
+    fn from(e: crate::spec::LoadError) -> Self {
+        match e {
+            crate::spec::LoadError::Io { .. } => Failure::usage(e.to_string()),
+            crate::spec::LoadError::Invalid { .. } => Failure::failed(e.to_string()),
+        }
+    }
+}
+
+pub type CmdResult = Result<u8, Failure>;
+
+pub fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            let _ = e.print();
+            return ExitCode::from(if e.use_stderr() { exit::USAGE } else { exit::OK });
+        }
+    };
+    let result = match &cli.command {
+        Command::Validate { paths, format } => validate_cmd::run(paths, *format),
+        Command::List { format } => specs_cmd::list(&cli, *format),
+        Command::Show { id, format } => specs_cmd::show(&cli, id, *format),
+        Command::Schema => specs_cmd::schema(),
+        Command::Stats { format } => specs_cmd::stats(&cli, *format),
+    };
+    match result {
+        Ok(code) => ExitCode::from(code),
+        Err(f) => {
+            eprintln!("error: {}", f.message.trim_end());
+            ExitCode::from(f.code)
+        }
+    }
+}
+
+/// Write to stdout, treating a closed pipe (`carl-spec list | head`) as success.
+pub fn out(text: &str) {
+    use std::io::Write;
+    let mut stdout = std::io::stdout().lock();
+    let _ = stdout.write_all(text.as_bytes());
+    let _ = stdout.flush();
+}
+
+pub(crate) fn load_specs(cli: &Cli) -> Result<crate::spec::SpecSet, Failure> {
+    Ok(crate::spec::SpecSet::bundled_with(cli.specs.as_deref())?)
+}

@@ -1,0 +1,76 @@
+//! `carl-spec validate [PATH…] [--format text|json|github]`
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+
+use super::{CmdResult, Failure, Format, exit, out};
+use crate::spec::load::{bundled_inputs, read_inputs};
+use crate::validate::{self, Input};
+
+pub fn run(paths: &[PathBuf], format: Format) -> CmdResult {
+    let inputs: Vec<Input> = if paths.is_empty() {
+        // Bundled files are shown by their path in the repository.
+        bundled_inputs(false)
+            .into_iter()
+            .map(|mut i| {
+                i.name = i.name.trim_start_matches("bundled:").to_string();
+                i
+            })
+            .collect()
+    } else {
+        let mut inputs = read_inputs(paths).map_err(|e| Failure::usage(e.to_string()))?;
+        if inputs.is_empty() {
+            return Err(Failure::usage(format!(
+                "no *.json spec files found in {}",
+                paths.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
+            )));
+        }
+        // Authors' specs may include the bundled shared fragments.
+        inputs.extend(bundled_inputs(true).into_iter().filter(|i| i.name.contains("/shared/")));
+        inputs
+    };
+    let (_resolved, report) = validate::run(&inputs);
+    let summary = format!(
+        "{} file(s), {} environment(s): {} error(s), {} warning(s)",
+        report.files_checked,
+        report.environments,
+        report.errors(),
+        report.warnings()
+    );
+    match format {
+        Format::Text => {
+            let color = std::io::stdout().is_terminal() && std::env::var_os("NO_COLOR").is_none();
+            let mut s = String::new();
+            for d in &report.diagnostics {
+                s.push_str(&d.render_text(color));
+                s.push('\n');
+            }
+            s.push_str(if report.has_errors() { "invalid: " } else { "valid: " });
+            s.push_str(&summary);
+            s.push('\n');
+            out(&s);
+        }
+        Format::Json => {
+            let v = serde_json::json!({
+                "valid": !report.has_errors(),
+                "files": report.files_checked,
+                "environments": report.environments,
+                "errors": report.errors(),
+                "warnings": report.warnings(),
+                "diagnostics": report.diagnostics,
+            });
+            out(&format!("{}\n", serde_json::to_string_pretty(&v).unwrap_or_default()));
+        }
+        Format::Github => {
+            let mut s = String::new();
+            for d in &report.diagnostics {
+                s.push_str(&d.render_github());
+                s.push('\n');
+            }
+            s.push_str(&summary);
+            s.push('\n');
+            out(&s);
+        }
+    }
+    Ok(if report.has_errors() { exit::FAILED } else { exit::OK })
+}
