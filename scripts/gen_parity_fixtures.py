@@ -42,7 +42,8 @@ MountainCar: np.array([pos, vel]) float64, as its reset produces).
 Each episode is stepped through the gym.make() wrapper stack (TimeLimit with the recorded
 max_episode_steps) until terminated or truncated. Observations and float32 actions are stored
 as the uint32 bit patterns of their float32 values; rewards as JSON numbers (Python's repr
-round-trips float64 exactly); initial states as float64 JSON numbers.
+round-trips float64 exactly); initial states and the float64 internal-state checkpoints
+(every 10th step and the last) as JSON numbers.
 """
 
 import json
@@ -205,6 +206,9 @@ ENVS = {
 }
 
 MIN_STEPS_PER_CONTEXT = 200
+# The internal float64 state (env.unwrapped.state) after step t is recorded for t % 10 == 0
+# and at the episode's end: float32 observations alone would hide 1-ulp float64 differences.
+STATE_CHECKPOINT_EVERY = 10
 # max_episode_steps above is Gymnasium's registered limit except MountainCarContinuous (999),
 # shortened to 300 to keep the fixture small; CartPole and Acrobot use 200 (registered: 500)
 # so that their heuristic-policy episodes end by truncation.
@@ -219,7 +223,7 @@ def run_episode(name, gym_id, max_steps, ep_name, context, options, seed, explor
     init = initial_state(name, rng)
     u.state = np.array(init, dtype=np.float64)
     init_obs = current_obs(name, u)
-    actions, obs, rewards, terms, truncs = [], [], [], [], []
+    actions, obs, rewards, terms, truncs, checkpoints = [], [], [], [], [], []
     while True:
         a = choose_action(name, u, rng, context, explore_p)
         o, r, term, trunc, _ = env.step(a)
@@ -229,6 +233,9 @@ def run_episode(name, gym_id, max_steps, ep_name, context, options, seed, explor
         rewards.append(float(r))
         terms.append(bool(term))
         truncs.append(bool(trunc))
+        t = len(actions) - 1
+        if t % STATE_CHECKPOINT_EVERY == 0 or term or trunc:
+            checkpoints.append([t, [float(x) for x in np.asarray(u.state).ravel()]])
         if term or trunc:
             break
     env.close()
@@ -245,6 +252,7 @@ def run_episode(name, gym_id, max_steps, ep_name, context, options, seed, explor
         "rewards": rewards,
         "terminated": terms,
         "truncated": truncs,
+        "state_checkpoints": checkpoints,
     }
 
 

@@ -1,6 +1,8 @@
 //! Bit-exact parity with Gymnasium 1.4: replays the fixtures written by
 //! `scripts/gen_parity_fixtures.py` (real Gymnasium + NumPy) and compares every float32
-//! observation bit pattern, every float64 reward exactly, and the terminated/truncated flags.
+//! observation bit pattern, every float64 reward exactly, the terminated/truncated flags, and
+//! the float64 internal state bit-for-bit at the recorded checkpoints (every 10th step and the
+//! last step of each episode).
 
 use std::path::PathBuf;
 
@@ -104,6 +106,11 @@ fn replay(name: &str) {
         let rewards = f64s(&ep["rewards"]);
         let terms = ep["terminated"].as_array().unwrap();
         let truncs = ep["truncated"].as_array().unwrap();
+        let mut checkpoints = ep["state_checkpoints"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .peekable();
         let mut buf = vec![0.0f32; env.obs_dim()];
         for (t, a) in actions.iter().enumerate() {
             let action = if continuous {
@@ -139,8 +146,21 @@ fn replay(name: &str) {
                 truncs[t].as_bool().unwrap(),
                 "{name}/{ep_name} step {t}: truncated"
             );
+            if let Some(cp) = checkpoints.next_if(|cp| cp[0].as_u64() == Some(t as u64)) {
+                let want = f64s(&cp[1]);
+                let got = env.state();
+                assert_eq!(
+                    got.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                    want.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                    "{name}/{ep_name} step {t}: float64 state {got:?} != gymnasium {want:?}"
+                );
+            }
             total_steps += 1;
         }
+        assert!(
+            checkpoints.next().is_none(),
+            "{name}/{ep_name}: unused state checkpoints"
+        );
     }
     assert!(
         total_steps >= 800,
