@@ -445,3 +445,26 @@ pub(crate) fn np_clip_f32(x: f32, lo: f32, hi: f32) -> f32 {
     let m = if x.is_nan() || x > lo { x } else { lo };
     if m.is_nan() || m < hi { m } else { hi }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn py_sq_is_libm_pow_not_a_product() {
+        // On glibc 2.36, CPython's `(-1.4119752588045307) ** 2` is 1.9936741314761215 (libm
+        // pow), while the correctly rounded product is 1.9936741314761213. If this fails the
+        // platform libm differs and Acrobot/Pendulum parity may not be bit-exact.
+        let x = -1.4119752588045307f64;
+        assert_eq!(x * x, 1.9936741314761213);
+        assert_eq!(py_sq(x), 1.9936741314761215);
+    }
+
+    #[test]
+    fn numpy_clip_semantics() {
+        assert_eq!(np_clip(5.0, -1.0, 1.0), 1.0);
+        assert_eq!(np_clip(-5.0, -1.0, 1.0), -1.0);
+        assert!(np_clip(f64::NAN, -1.0, 1.0).is_nan());
+        assert_eq!(np_clip_f32(0.5, -1.0, 1.0), 0.5);
+    }
+}
