@@ -4,14 +4,20 @@ use std::fs;
 use std::path::Path;
 
 fn collect(dir: &Path, root: &Path, out: &mut Vec<String>) {
-    let Ok(entries) = fs::read_dir(dir) else { return };
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
     let mut paths: Vec<_> = entries.flatten().map(|e| e.path()).collect();
     paths.sort();
     for p in paths {
         if p.is_dir() {
             collect(&p, root, out);
         } else if p.extension().is_some_and(|e| e == "json") {
-            let rel = p.strip_prefix(root).unwrap().to_string_lossy().replace('\\', "/");
+            let rel = p
+                .strip_prefix(root)
+                .unwrap()
+                .to_string_lossy()
+                .replace('\\', "/");
             out.push(rel);
         }
     }
@@ -22,7 +28,9 @@ fn main() {
     println!("cargo:rerun-if-changed=specs");
     let mut files = Vec::new();
     collect(&root, &root, &mut files);
-    let mut code = String::from("/// (path relative to specs/, contents)\npub static BUNDLED: &[(&str, &str)] = &[\n");
+    let mut code = String::from(
+        "/// (path relative to specs/, contents)\npub static BUNDLED: &[(&str, &str)] = &[\n",
+    );
     for f in &files {
         // Directories must be watched one by one for added files to trigger a rebuild.
         if let Some(parent) = Path::new(f).parent() {

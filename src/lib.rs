@@ -2,10 +2,13 @@
 //! reproducible instance sets and Rust environments.
 //!
 //! Layout: `spec` (the spec language and loading), `validate` (schema + semantic rules +
-//! diagnostics), `json` (JSON with source positions), `schema` (the generated JSON Schema).
+//! diagnostics), `json` (JSON with source positions), `schema` (the generated JSON Schema),
+//! `sampling` (portable generator and samplers), `envs` (environment runtimes), `cli`.
 
 pub mod cli;
+pub mod envs;
 pub mod json;
+pub mod sampling;
 pub mod schema;
 pub mod spec;
 pub mod suggest;

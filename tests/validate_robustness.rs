@@ -7,7 +7,11 @@ use proptest::prelude::*;
 const BASE: &str = include_str!("corpus/base.json");
 
 fn run(bytes: Vec<u8>) -> validate::Report {
-    let (_, report) = validate::run(&[Input { name: "fuzz.json".into(), bytes, library: false }]);
+    let (_, report) = validate::run(&[Input {
+        name: "fuzz.json".into(),
+        bytes,
+        library: false,
+    }]);
     for d in &report.diagnostics {
         // Every diagnostic is located inside the file (when it has a location at all).
         if let Some(loc) = &d.location {
@@ -88,7 +92,9 @@ fn thousands_of_specs_in_one_run() {
     let inputs: Vec<Input> = (0..3000)
         .map(|i| Input {
             name: format!("s{i}.json"),
-            bytes: BASE.replace("\"id\": \"toy\"", &format!("\"id\": \"toy_{i}\"")).into_bytes(),
+            bytes: BASE
+                .replace("\"id\": \"toy\"", &format!("\"id\": \"toy_{i}\""))
+                .into_bytes(),
             library: false,
         })
         .collect();
