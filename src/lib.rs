@@ -5,4 +5,5 @@
 //! `sampling` (portable RNG and samplers), `instances` (instance sets, freeze/load),
 //! `envs` (runtimes), `cli` (the `carl-spec` command).
 
+pub mod sampling;
 pub mod spec;
