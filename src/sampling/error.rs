@@ -38,6 +38,9 @@ pub enum SamplingError {
     /// The truncated-normal rejection loop hit its cap (should not happen with valid parameters).
     #[error("feature `{feature}`: truncated normal found no accepted draw in {tries} tries")]
     TruncationExhausted { feature: String, tries: u32 },
+    /// A draw came out infinite or NaN (guard; compile-time checks should prevent it).
+    #[error("feature `{feature}`: the draw {value} is not finite")]
+    NonFiniteDraw { feature: String, value: f64 },
     /// A draw index outside `0..set_size`.
     #[error("feature `{feature}`: draw index {index} is not below the set size {set_size}")]
     IndexOutOfRange {

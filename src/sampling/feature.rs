@@ -220,6 +220,16 @@ impl FeatureSampler {
             fmt_bound(feature.bounds[0]),
             fmt_bound(feature.bounds[1])
         );
+        // Draws reach about 40 std (the polar method's limit); those must stay finite.
+        let check_no_overflow = |mean: f64, std: f64| {
+            if (mean.abs() + 40.0 * std).is_finite() {
+                Ok(())
+            } else {
+                Err(bad(format!(
+                    "mean {mean} with std {std} would overflow to infinity"
+                )))
+            }
+        };
         let check_positive_std = |what: &str, s: f64| {
             if s.is_finite() && s > 0.0 {
                 Ok(())
@@ -267,6 +277,7 @@ impl FeatureSampler {
                     return Err(bad(format!("mean must be finite, got {mean}")));
                 }
                 check_positive_std("std", *std)?;
+                check_no_overflow(*mean, *std)?;
                 Draw::Normal {
                     mean: *mean,
                     std: *std,
@@ -301,6 +312,7 @@ impl FeatureSampler {
                         "sigma_rel * |default| = {std} is not a usable std (overflow or underflow)"
                     )));
                 }
+                check_no_overflow(mean, std)?;
                 Draw::Normal { mean, std }
             }
             Sampler::TruncatedNormal {
@@ -598,6 +610,13 @@ impl FeatureSampler {
                 dist::uniform(rng, l, h)
             }
         };
+        if !x.is_finite() {
+            // Unreachable with compiled parameters; an error beats a silent infinity.
+            return Err(SamplingError::NonFiniteDraw {
+                feature: self.name.clone(),
+                value: x,
+            });
+        }
         Ok(Value::Number(x))
     }
 }
@@ -664,3 +683,7 @@ fn check_value(v: &Value, f: &FeatureInfo, lo: f64, hi: f64) -> Result<(), Strin
         _ => Ok(()),
     }
 }
+
+#[cfg(test)]
+#[path = "feature_tests.rs"]
+mod tests;
