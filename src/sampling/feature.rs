@@ -341,7 +341,7 @@ impl FeatureSampler {
                 if b > FAR_TAIL {
                     b = f64::INFINITY;
                 }
-                if !(a < b) {
+                if a >= b {
                     return Err(bad(format!(
                         "[{low}, {high}] is narrower than the float resolution at std {std}"
                     )));
@@ -521,11 +521,11 @@ impl FeatureSampler {
             AtBounds::Reject => {
                 let v = self.raw(rng, index, set_size)?;
                 if let Value::Number(x) = v {
-                    // `!(x >= lo)` also catches NaN, which the samplers cannot produce anyway.
-                    if !(x >= self.lo) {
+                    // `raw` never returns NaN, so plain comparisons are complete.
+                    if x < self.lo {
                         return Err(self.out_of_bounds(index, x, "below the lower", self.lo));
                     }
-                    if !(x <= self.hi) {
+                    if x > self.hi {
                         return Err(self.out_of_bounds(index, x, "above the upper", self.hi));
                     }
                 }

@@ -193,7 +193,9 @@ mod tests {
     // Same script: our seeding recipe re-implemented in Python, outputs and doubles from NumPy.
     #[test]
     fn numpy_known_answers_seeded() {
-        let cases: [(u64, u64, u128, u128, [u64; 4], [u64; 3]); 3] = [
+        // (seed, stream, state, inc, random_raw, random() bits)
+        type Case = (u64, u64, u128, u128, [u64; 4], [u64; 3]);
+        let cases: [Case; 3] = [
             (
                 0,
                 0,
