@@ -165,9 +165,7 @@ pub enum FeatureType {
     ListInt,
 }
 
-#[derive(
-    Debug, Clone, Copy, Serialize, Deserialize, JsonSchema, PartialEq, Eq, Hash, PartialOrd, Ord,
-)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, JsonSchema, PartialEq, Eq, Hash, PartialOrd, Ord)]
 #[serde(rename_all = "snake_case")]
 pub enum Effect {
     Dynamics,
@@ -291,12 +289,7 @@ pub enum Sampler {
         fallback_std: f64,
     },
     /// N(mean, std) truncated to [low, high] (exact inverse-CDF-free rejection from the normal).
-    TruncatedNormal {
-        mean: f64,
-        std: f64,
-        low: f64,
-        high: f64,
-    },
+    TruncatedNormal { mean: f64, std: f64, low: f64, high: f64 },
     /// U[low, high).
     Uniform { low: f64, high: f64 },
     /// exp(U[ln low, ln high)); both positive.
