@@ -13,11 +13,7 @@ fn collect(dir: &Path, root: &Path, out: &mut Vec<String>) {
         if p.is_dir() {
             collect(&p, root, out);
         } else if p.extension().is_some_and(|e| e == "json") {
-            let rel = p
-                .strip_prefix(root)
-                .unwrap()
-                .to_string_lossy()
-                .replace('\\', "/");
+            let rel = p.strip_prefix(root).unwrap().to_string_lossy().replace('\\', "/");
             out.push(rel);
         }
     }
@@ -28,9 +24,7 @@ fn main() {
     println!("cargo:rerun-if-changed=specs");
     let mut files = Vec::new();
     collect(&root, &root, &mut files);
-    let mut code = String::from(
-        "/// (path relative to specs/, contents)\npub static BUNDLED: &[(&str, &str)] = &[\n",
-    );
+    let mut code = String::from("/// (path relative to specs/, contents)\npub static BUNDLED: &[(&str, &str)] = &[\n");
     for f in &files {
         // Directories must be watched one by one for added files to trigger a rebuild.
         if let Some(parent) = Path::new(f).parent() {

@@ -22,7 +22,8 @@ pub fn schema_value() -> serde_json::Value {
         );
         obj.insert(
             "description".into(),
-            "A carl-spec document: an environment spec (has `id`) or a shared feature fragment (has `fragment`).".into(),
+            "A carl-spec document: an environment spec (has `id`) or a shared feature fragment (has `fragment`)."
+                .into(),
         );
     }
     value

@@ -32,10 +32,7 @@ fn validate_invalid_exits_1_with_located_errors() {
     let text = stdout(&o);
     assert!(text.contains("error[bounds-order]"), "{text}");
     assert!(text.contains("bounds-order.json:15:17"), "{text}");
-    assert!(
-        text.contains("^^^^"),
-        "the source line is underlined: {text}"
-    );
+    assert!(text.contains("^^^^"), "the source line is underlined: {text}");
 }
 
 #[test]
@@ -64,10 +61,7 @@ fn validate_github_format_emits_annotations() {
     let first = text.lines().next().unwrap();
     assert!(first.starts_with("::error file="), "{first}");
     assert!(first.contains(",line=14,col=18,"), "{first}");
-    assert!(
-        first.contains("title=carl-spec default-out-of-bounds::"),
-        "{first}"
-    );
+    assert!(first.contains("title=carl-spec default-out-of-bounds::"), "{first}");
 }
 
 #[test]
@@ -83,10 +77,7 @@ fn validate_missing_path_or_empty_dir_is_a_usage_error() {
 #[test]
 fn unknown_command_or_flag_is_a_usage_error() {
     assert_eq!(carl(&["frobnicate"]).status.code(), Some(2));
-    assert_eq!(
-        carl(&["validate", "--format", "yaml"]).status.code(),
-        Some(2)
-    );
+    assert_eq!(carl(&["validate", "--format", "yaml"]).status.code(), Some(2));
 }
 
 #[test]
@@ -107,11 +98,8 @@ fn show_list_schema_stats() {
     assert!(stdout(&o).lines().any(|l| l.starts_with("cartpole ")));
 
     let o = carl(&["schema"]);
-    let committed = std::fs::read_to_string(format!(
-        "{}/schema/carl-spec.schema.json",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap();
+    let committed =
+        std::fs::read_to_string(format!("{}/schema/carl-spec.schema.json", env!("CARGO_MANIFEST_DIR"))).unwrap();
     assert_eq!(stdout(&o), committed);
 
     let o = carl(&["stats", "--format", "json"]);
@@ -125,12 +113,7 @@ fn author_specs_dir_is_added_to_bundled() {
     let base = std::fs::read_to_string(corpus("base.json")).unwrap();
     std::fs::write(dir.join("toy.json"), base).unwrap();
     let o = carl(&["--specs", dir.to_str().unwrap(), "show", "toy"]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
     let o = carl(&["--specs", dir.to_str().unwrap(), "list"]);
     assert!(stdout(&o).contains("toy"));
 }

@@ -1,8 +1,8 @@
 //! Behaviour of the classic-control environments that the benchmark relies on.
 
 use carl_spec::envs::classic::{
-    Acrobot, AcrobotParams, CartPole, CartPoleParams, MountainCar, MountainCarContinuous,
-    MountainCarParams, Pendulum, PendulumParams,
+    Acrobot, AcrobotParams, CartPole, CartPoleParams, MountainCar, MountainCarContinuous, MountainCarParams, Pendulum,
+    PendulumParams,
 };
 use carl_spec::envs::{Action, Env, EnvError, Space, TimeLimit};
 
@@ -23,9 +23,7 @@ fn rollout(env: &mut dyn Env, seed: u64, actions: &[Action]) -> Vec<(Vec<u32>, u
 }
 
 fn cartpole_actions(n: usize) -> Vec<Action> {
-    (0..n)
-        .map(|i| Action::Discrete(((i * 7) % 3 == 0) as i64))
-        .collect()
+    (0..n).map(|i| Action::Discrete(((i * 7) % 3 == 0) as i64)).collect()
 }
 
 #[test]
@@ -99,18 +97,8 @@ fn seeded_reset_is_reproducible_and_unseeded_continues_the_stream() {
         assert_eq!(o1, o2, "{}", e1.id());
         let (n1, _) = e1.reset(None);
         let (n2, _) = e2.reset(None);
-        assert_eq!(
-            n1,
-            n2,
-            "{}: unseeded resets continue identical streams",
-            e1.id()
-        );
-        assert_ne!(
-            o1,
-            n1,
-            "{}: unseeded reset repeated the seeded state",
-            e1.id()
-        );
+        assert_eq!(n1, n2, "{}: unseeded resets continue identical streams", e1.id());
+        assert_ne!(o1, n1, "{}: unseeded reset repeated the seeded state", e1.id());
         let (r, _) = e1.reset(Some(123));
         assert_eq!(r, o1, "{}: reseeding restarts the stream", e1.id());
         let (other, _) = e1.reset(Some(124));
@@ -158,10 +146,7 @@ fn bad_actions_are_errors_not_panics() {
     cp.reset(Some(0));
     for a in [2, 3, -1, i64::MAX, i64::MIN] {
         assert!(
-            matches!(
-                cp.step(&Action::Discrete(a)),
-                Err(EnvError::ActionOutOfRange { .. })
-            ),
+            matches!(cp.step(&Action::Discrete(a)), Err(EnvError::ActionOutOfRange { .. })),
             "{a}"
         );
     }
@@ -247,9 +232,7 @@ fn feature_tables_are_consistent() {
         }
     }
     let cp = CartPoleParams::default();
-    check(CartPoleParams::FEATURES, CartPoleParams::ALIASES, &|n| {
-        cp.get(n).ok()
-    });
+    check(CartPoleParams::FEATURES, CartPoleParams::ALIASES, &|n| cp.get(n).ok());
     assert_eq!(
         CartPoleParams::FEATURES,
         &[
@@ -264,20 +247,14 @@ fn feature_tables_are_consistent() {
         ]
     );
     let ac = AcrobotParams::default();
-    check(AcrobotParams::FEATURES, AcrobotParams::ALIASES, &|n| {
-        ac.get(n).ok()
-    });
+    check(AcrobotParams::FEATURES, AcrobotParams::ALIASES, &|n| ac.get(n).ok());
     assert_eq!(ac.get("MAX_VEL_1").unwrap(), 4.0 * std::f64::consts::PI);
     let pe = PendulumParams::default();
-    check(PendulumParams::FEATURES, PendulumParams::ALIASES, &|n| {
-        pe.get(n).ok()
-    });
+    check(PendulumParams::FEATURES, PendulumParams::ALIASES, &|n| pe.get(n).ok());
     let mc = MountainCarParams::default();
-    check(
-        MountainCarParams::FEATURES,
-        MountainCarParams::ALIASES,
-        &|n| mc.get(n).ok(),
-    );
+    check(MountainCarParams::FEATURES, MountainCarParams::ALIASES, &|n| {
+        mc.get(n).ok()
+    });
     assert_eq!(mc.start_position - mc.start_position_std, -0.6);
     assert_eq!(mc.start_position + mc.start_position_std, -0.4);
 }
@@ -311,10 +288,7 @@ fn spaces_reflect_the_context() {
     );
     assert!(env.action_space().contains(&Action::Continuous(vec![2.5])));
     assert!(!env.action_space().contains(&Action::Continuous(vec![3.5])));
-    assert_eq!(
-        CartPole::default().action_space(),
-        Space::Discrete { n: 2, start: 0 }
-    );
+    assert_eq!(CartPole::default().action_space(), Space::Discrete { n: 2, start: 0 });
     assert_eq!(Acrobot::default().observation_space().flat_dim(), 6);
 }
 

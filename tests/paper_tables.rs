@@ -157,10 +157,7 @@ fn tables() -> Vec<(&'static str, Vec<Row>)> {
                 ("VIEWPORT_W", Exact(600.0), s(400.0), s(1000.0), Int),
             ],
         ),
-        (
-            "vehicle_racing",
-            vec![("VEHICLE", Exact(0.0), INF, INF, Cat(29))],
-        ),
+        ("vehicle_racing", vec![("VEHICLE", Exact(0.0), INF, INF, Cat(29))]),
         (
             "ant",
             vec![
@@ -229,13 +226,7 @@ fn tables() -> Vec<(&'static str, Vec<Row>)> {
                 ("angular_damping", Exact(-0.05), INF, INF, Float),
                 ("friction", Exact(0.6), INF, INF, Float),
                 ("gravity", Exact(-9.81), INF, s(-0.1), Float),
-                (
-                    "joint_angular_damping",
-                    Exact(50.0),
-                    s(0.0),
-                    s(360.0),
-                    Float,
-                ),
+                ("joint_angular_damping", Exact(50.0), s(0.0), s(360.0), Float),
                 ("joint_stiffness", Exact(40000.0), s(1.0), INF, Float),
                 ("target_distance", Exact(0.5), s(0.01), INF, Float),
                 ("target_radius", Exact(0.02), s(0.01), INF, Float),
@@ -307,17 +298,13 @@ fn specs_match_the_paper_tables() {
     let set = SpecSet::bundled().expect("bundled specs load");
     let mut errors = Vec::new();
     for (id, rows) in tables() {
-        let env = set
-            .get(id)
-            .unwrap_or_else(|| panic!("no bundled spec for `{id}`"));
+        let env = set.get(id).unwrap_or_else(|| panic!("no bundled spec for `{id}`"));
         let mut spec_names: Vec<&str> = env.features.iter().map(|f| f.name.as_str()).collect();
         let mut table_names: Vec<&str> = rows.iter().map(|r| r.0).collect();
         spec_names.sort_unstable();
         table_names.sort_unstable();
         if spec_names != table_names {
-            errors.push(format!(
-                "{id}: features {spec_names:?} != table {table_names:?}"
-            ));
+            errors.push(format!("{id}: features {spec_names:?} != table {table_names:?}"));
             continue;
         }
         for (name, def, lo, hi, ty) in rows {
@@ -338,9 +325,7 @@ fn specs_match_the_paper_tables() {
                 },
                 Computed => {
                     if f.default.is_some() || f.default_from.is_none() {
-                        errors.push(format!(
-                            "{at}: computed default expected (default_from only)"
-                        ));
+                        errors.push(format!("{at}: computed default expected (default_from only)"));
                     }
                 }
             }
@@ -352,20 +337,13 @@ fn specs_match_the_paper_tables() {
                     }
                     if let (Some(labels), Some(choices)) = (&f.choice_labels, &f.choices) {
                         if labels.len() != choices.len() {
-                            errors.push(format!(
-                                "{at}: {} labels for {} choices",
-                                labels.len(),
-                                choices.len()
-                            ));
+                            errors.push(format!("{at}: {} labels for {} choices", labels.len(), choices.len()));
                         }
                     }
                 }
                 _ => {
                     if !bound_ok(f.bounds[0], lo, rounded) || !bound_ok(f.bounds[1], hi, rounded) {
-                        errors.push(format!(
-                            "{at}: bounds {:?} != table [{lo:?}, {hi:?}]",
-                            f.bounds
-                        ));
+                        errors.push(format!("{at}: bounds {:?} != table [{lo:?}, {hi:?}]", f.bounds));
                     }
                 }
             }

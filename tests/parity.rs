@@ -37,11 +37,7 @@ fn context(ep: &Value) -> Vec<(String, f64)> {
 }
 
 fn f64s(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap())
-        .collect()
+    v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()
 }
 
 fn bits(v: &Value) -> Vec<u32> {
@@ -68,9 +64,7 @@ fn build(name: &str, ep: &Value) -> Box<dyn Env> {
         "cartpole" => Box::new(CartPole::new(with_ctx!(CartPoleParams))),
         "pendulum" => Box::new(Pendulum::new(with_ctx!(PendulumParams))),
         "mountain_car" => Box::new(MountainCar::new(with_ctx!(MountainCarParams))),
-        "mountain_car_continuous" => Box::new(MountainCarContinuous::new(with_ctx!(
-            MountainCarContinuousParams
-        ))),
+        "mountain_car_continuous" => Box::new(MountainCarContinuous::new(with_ctx!(MountainCarContinuousParams))),
         "acrobot" => {
             let mut p = with_ctx!(AcrobotParams);
             if ep["options"]["dynamics"].as_str() == Some("nips") {
@@ -95,22 +89,14 @@ fn replay(name: &str) {
         env.reset(Some(0));
         env.set_state(&f64s(&ep["initial_state"])).unwrap();
         let init: Vec<u32> = env.observe().iter().map(|x| x.to_bits()).collect();
-        assert_eq!(
-            init,
-            bits(&ep["initial_obs_bits"]),
-            "{name}/{ep_name}: initial obs"
-        );
+        assert_eq!(init, bits(&ep["initial_obs_bits"]), "{name}/{ep_name}: initial obs");
 
         let actions = ep["actions"].as_array().unwrap();
         let obs = ep["obs_bits"].as_array().unwrap();
         let rewards = f64s(&ep["rewards"]);
         let terms = ep["terminated"].as_array().unwrap();
         let truncs = ep["truncated"].as_array().unwrap();
-        let mut checkpoints = ep["state_checkpoints"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .peekable();
+        let mut checkpoints = ep["state_checkpoints"].as_array().unwrap().iter().peekable();
         let mut buf = vec![0.0f32; env.obs_dim()];
         for (t, a) in actions.iter().enumerate() {
             let action = if continuous {
@@ -162,10 +148,7 @@ fn replay(name: &str) {
             "{name}/{ep_name}: unused state checkpoints"
         );
     }
-    assert!(
-        total_steps >= 800,
-        "{name}: fixture too small ({total_steps} steps)"
-    );
+    assert!(total_steps >= 800, "{name}: fixture too small ({total_steps} steps)");
 }
 
 #[test]
@@ -203,13 +186,7 @@ fn fixtures_record_versions() {
         "acrobot",
     ] {
         let doc = load(name);
-        assert!(
-            doc["gymnasium_version"]
-                .as_str()
-                .unwrap()
-                .starts_with("1.4"),
-            "{name}"
-        );
+        assert!(doc["gymnasium_version"].as_str().unwrap().starts_with("1.4"), "{name}");
         assert!(doc["numpy_version"].as_str().is_some(), "{name}");
     }
 }

@@ -2,10 +2,8 @@
 
 #[test]
 fn committed_schema_matches_generated() {
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(carl_spec::schema::COMMITTED_PATH);
-    let committed =
-        std::fs::read_to_string(&path).expect("schema/carl-spec.schema.json is committed");
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(carl_spec::schema::COMMITTED_PATH);
+    let committed = std::fs::read_to_string(&path).expect("schema/carl-spec.schema.json is committed");
     let generated = carl_spec::schema::schema_text();
     assert!(
         committed == generated,

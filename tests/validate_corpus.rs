@@ -32,12 +32,7 @@ const EXPECTED: &[(&str, &str, usize, usize)] = &[
     ("int-not-integral", "int-not-integral", 23, 18),
     ("invalid-name", "invalid-name", 45, 5),
     ("json-syntax", "json-syntax", 9, 28),
-    (
-        "schema-additionalProperties",
-        "schema/additionalProperties",
-        17,
-        7,
-    ),
+    ("schema-additionalProperties", "schema/additionalProperties", 17, 7),
     ("schema-enum", "schema/enum", 41, 39),
     ("schema-pattern", "schema/pattern", 3, 9),
     ("schema-required", "schema/required", 1, 1),
@@ -67,20 +62,14 @@ fn every_broken_spec_fails_with_its_rule_at_its_location() {
             .iter()
             .find(|d| d.rule == *rule)
             .unwrap_or_else(|| panic!("{stem}: no {rule} diagnostic in\n{report}"));
-        let loc = d
-            .location
-            .as_ref()
-            .unwrap_or_else(|| panic!("{stem}: no location"));
+        let loc = d.location.as_ref().unwrap_or_else(|| panic!("{stem}: no location"));
         assert_eq!(
             (loc.line, loc.column),
             (*line, *col),
             "{stem}: {}",
             d.render_text(false)
         );
-        assert!(
-            d.help.is_some(),
-            "{stem}: every diagnostic says how to fix it"
-        );
+        assert!(d.help.is_some(), "{stem}: every diagnostic says how to fix it");
         assert_eq!(
             report.diagnostics.len(),
             1,
@@ -93,14 +82,7 @@ fn every_broken_spec_fails_with_its_rule_at_its_location() {
 fn corpus_and_expectations_match() {
     let mut files: Vec<String> = std::fs::read_dir(corpus("invalid"))
         .unwrap()
-        .map(|e| {
-            e.unwrap()
-                .path()
-                .file_stem()
-                .unwrap()
-                .to_string_lossy()
-                .into_owned()
-        })
+        .map(|e| e.unwrap().path().file_stem().unwrap().to_string_lossy().into_owned())
         .collect();
     files.sort();
     let mut expected: Vec<&str> = EXPECTED.iter().map(|e| e.0).collect();
@@ -112,8 +94,7 @@ fn corpus_and_expectations_match() {
 fn all_problems_of_all_files_are_reported_in_one_run() {
     let inputs = read_inputs(&[corpus("invalid")]).unwrap();
     let (_, report) = validate::run(&inputs);
-    let files: std::collections::BTreeSet<_> =
-        report.diagnostics.iter().map(|d| d.file.clone()).collect();
+    let files: std::collections::BTreeSet<_> = report.diagnostics.iter().map(|d| d.file.clone()).collect();
     // Every file in the corpus is reported, plus duplicate-id errors (they all use id "toy").
     assert_eq!(files.len(), EXPECTED.len());
     assert!(report.diagnostics.iter().any(|d| d.rule == "duplicate-id"));

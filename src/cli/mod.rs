@@ -10,7 +10,11 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 
 #[derive(Parser, Debug)]
-#[command(name = "carl-spec", version, about = "The CARL contextual-RL benchmark as declarative, verifiable specs")]
+#[command(
+    name = "carl-spec",
+    version,
+    about = "The CARL contextual-RL benchmark as declarative, verifiable specs"
+)]
 pub struct Cli {
     /// An extra directory of spec files, added to the bundled specs.
     #[arg(long, global = true, value_name = "DIR")]
@@ -73,10 +77,16 @@ pub struct Failure {
 
 impl Failure {
     pub fn usage(message: impl Into<String>) -> Self {
-        Failure { code: exit::USAGE, message: message.into() }
+        Failure {
+            code: exit::USAGE,
+            message: message.into(),
+        }
     }
     pub fn failed(message: impl Into<String>) -> Self {
-        Failure { code: exit::FAILED, message: message.into() }
+        Failure {
+            code: exit::FAILED,
+            message: message.into(),
+        }
     }
 }
 

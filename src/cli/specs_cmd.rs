@@ -20,10 +20,16 @@ pub fn list(cli: &Cli, format: Format) -> CmdResult {
                 })
             })
             .collect();
-        out(&format!("{}\n", serde_json::to_string_pretty(&rows).unwrap_or_default()));
+        out(&format!(
+            "{}\n",
+            serde_json::to_string_pretty(&rows).unwrap_or_default()
+        ));
         return Ok(exit::OK);
     }
-    let mut s = format!("{:<24} {:<16} {:<34} {:>8}  {}\n", "ID", "FAMILY", "UPSTREAM", "FEATURES", "ALIASES");
+    let mut s = format!(
+        "{:<24} {:<16} {:<34} {:>8}  {}\n",
+        "ID", "FAMILY", "UPSTREAM", "FEATURES", "ALIASES"
+    );
     for e in specs.envs() {
         let _ = writeln!(
             s,
@@ -56,7 +62,11 @@ pub fn schema() -> CmdResult {
 }
 
 fn num(x: f64) -> String {
-    if x.fract() == 0.0 && x.abs() < 1e15 { format!("{x:.0}") } else { format!("{x}") }
+    if x.fract() == 0.0 && x.abs() < 1e15 {
+        format!("{x:.0}")
+    } else {
+        format!("{x}")
+    }
 }
 
 pub fn value_text(v: &Value) -> String {
@@ -77,11 +87,23 @@ fn render_env(e: &EnvSpec) -> String {
         "  upstream: {} {}{}",
         e.upstream.library,
         e.upstream.id,
-        e.upstream.version.as_deref().map(|v| format!(" ({v})")).unwrap_or_default()
+        e.upstream
+            .version
+            .as_deref()
+            .map(|v| format!(" ({v})"))
+            .unwrap_or_default()
     );
-    let _ = writeln!(s, "  episode:  {}", e.max_episode_steps.map_or("no limit".into(), |n| format!("{n} steps")));
+    let _ = writeln!(
+        s,
+        "  episode:  {}",
+        e.max_episode_steps.map_or("no limit".into(), |n| format!("{n} steps"))
+    );
     let _ = writeln!(s, "  {}", e.description);
-    let _ = writeln!(s, "\n  {:<22} {:<11} {:>12}  {:<26} {:<8} {}", "FEATURE", "TYPE", "DEFAULT", "BOUNDS", "UNIT", "AFFECTS");
+    let _ = writeln!(
+        s,
+        "\n  {:<22} {:<11} {:>12}  {:<26} {:<8} {}",
+        "FEATURE", "TYPE", "DEFAULT", "BOUNDS", "UNIT", "AFFECTS"
+    );
     for f in &e.features {
         let ty = match f.kind {
             FeatureType::Categorical => format!("cat(n={})", f.choices.as_ref().map_or(0, Vec::len)),
@@ -110,14 +132,25 @@ fn render_env(e: &EnvSpec) -> String {
             bounds,
             f.unit.as_deref().unwrap_or(""),
             affects.join(","),
-            f.from_fragment.as_deref().map(|fr| format!("  (from {fr})")).unwrap_or_default()
+            f.from_fragment
+                .as_deref()
+                .map(|fr| format!("  (from {fr})"))
+                .unwrap_or_default()
         );
     }
     if !e.distributions.is_empty() {
-        let _ = writeln!(s, "\n  distributions: {}", e.distributions.keys().cloned().collect::<Vec<_>>().join(", "));
+        let _ = writeln!(
+            s,
+            "\n  distributions: {}",
+            e.distributions.keys().cloned().collect::<Vec<_>>().join(", ")
+        );
     }
     if !e.instance_sets.is_empty() {
-        let _ = writeln!(s, "  instance sets: {}", e.instance_sets.keys().cloned().collect::<Vec<_>>().join(", "));
+        let _ = writeln!(
+            s,
+            "  instance sets: {}",
+            e.instance_sets.keys().cloned().collect::<Vec<_>>().join(", ")
+        );
     }
     s
 }
@@ -156,14 +189,26 @@ pub fn stats(cli: &Cli, format: Format) -> CmdResult {
         out(&format!("{}\n", serde_json::to_string_pretty(&st).unwrap_or_default()));
         return Ok(exit::OK);
     }
-    let pct = |n: usize| if st.features == 0 { 0.0 } else { 100.0 * n as f64 / st.features as f64 };
+    let pct = |n: usize| {
+        if st.features == 0 {
+            0.0
+        } else {
+            100.0 * n as f64 / st.features as f64
+        }
+    };
     let mut s = String::new();
     let _ = writeln!(s, "{:<28} {:>10} {:>10}", "", "carl-spec", "paper");
     let _ = writeln!(s, "{:<28} {:>10} {:>10}", "environments", st.environments, 16);
     let _ = writeln!(s, "{:<28} {:>10} {:>10}", "context features", st.features, 131);
     let _ = writeln!(s, "{:<28} {:>9.0}% {:>9}%", "affect dynamics", pct(st.dynamics), 98);
     let _ = writeln!(s, "{:<28} {:>9.0}% {:>9}%", "affect reward", pct(st.reward), 5);
-    let _ = writeln!(s, "{:<28} {:>9.0}% {:>9}%", "continuous (float)", pct(st.continuous), 87);
+    let _ = writeln!(
+        s,
+        "{:<28} {:>9.0}% {:>9}%",
+        "continuous (float)",
+        pct(st.continuous),
+        87
+    );
     let _ = writeln!(s, "\nfeatures per effect:");
     for (e, n) in &st.per_effect {
         let _ = writeln!(s, "  {e:<20} {n:>4} ({:.0}%)", pct(*n));

@@ -22,7 +22,11 @@ pub fn run(paths: &[PathBuf], format: Format) -> CmdResult {
         if inputs.is_empty() {
             return Err(Failure::usage(format!(
                 "no *.json spec files found in {}",
-                paths.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
+                paths
+                    .iter()
+                    .map(|p| p.display().to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
             )));
         }
         // Authors' specs may include the bundled shared fragments.

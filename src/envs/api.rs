@@ -87,11 +87,7 @@ pub struct Step {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum EnvError {
     #[error("{env}: discrete action {action} is outside 0..{n}")]
-    ActionOutOfRange {
-        env: &'static str,
-        action: i64,
-        n: i64,
-    },
+    ActionOutOfRange { env: &'static str, action: i64, n: i64 },
     #[error("{env}: expected a {expected} action, got {got}")]
     ActionKind {
         env: &'static str,
@@ -307,11 +303,7 @@ impl<E: Env> Env for TimeLimit<E> {
 // ---------------------------------------------------------------------------------------
 // Helpers shared by the environments.
 
-pub(crate) fn check_obs_len(
-    env: &'static str,
-    obs: &[f32],
-    expected: usize,
-) -> Result<(), EnvError> {
+pub(crate) fn check_obs_len(env: &'static str, obs: &[f32], expected: usize) -> Result<(), EnvError> {
     if obs.len() == expected {
         Ok(())
     } else {
@@ -323,21 +315,13 @@ pub(crate) fn check_obs_len(
     }
 }
 
-pub(crate) fn check_state<const N: usize>(
-    env: &'static str,
-    state: &[f64],
-) -> Result<[f64; N], EnvError> {
+pub(crate) fn check_state<const N: usize>(env: &'static str, state: &[f64]) -> Result<[f64; N], EnvError> {
     let arr: [f64; N] = state.try_into().map_err(|_| EnvError::StateLength {
         env,
         expected: N,
         got: state.len(),
     })?;
-    if let Some((index, value)) = arr
-        .iter()
-        .copied()
-        .enumerate()
-        .find(|(_, v)| !v.is_finite())
-    {
+    if let Some((index, value)) = arr.iter().copied().enumerate().find(|(_, v)| !v.is_finite()) {
         return Err(EnvError::StateNotFinite { env, index, value });
     }
     Ok(arr)

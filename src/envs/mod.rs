@@ -9,6 +9,4 @@ pub mod api;
 pub mod classic;
 pub mod rng;
 
-pub use api::{
-    Action, DType, Env, EnvError, Info, Space, Step, StepOutcome, TimeLimit, UnknownFeature,
-};
+pub use api::{Action, DType, Env, EnvError, Info, Space, Step, StepOutcome, TimeLimit, UnknownFeature};

@@ -70,9 +70,6 @@ mod tests {
             assert_eq!(x.to_bits(), uniform(&mut b, -0.05, 0.05).to_bits());
             assert!((-0.05..0.05).contains(&x));
         }
-        assert_ne!(
-            EnvRng::from_seed(1).next_u64(),
-            EnvRng::from_seed(2).next_u64()
-        );
+        assert_ne!(EnvRng::from_seed(1).next_u64(), EnvRng::from_seed(2).next_u64());
     }
 }

@@ -20,7 +20,10 @@ pub enum NodeKind {
     Null,
     Bool(bool),
     /// `int` is set when the literal had no fraction or exponent (and fits i128).
-    Number { value: f64, int: Option<i128> },
+    Number {
+        value: f64,
+        int: Option<i128>,
+    },
     String(String),
     Array(Vec<Node>),
     /// Members in source order; duplicate keys are kept so the validator can report them.
@@ -105,12 +108,9 @@ impl Node {
             },
             NodeKind::String(s) => V::String(s.clone()),
             NodeKind::Array(items) => V::Array(items.iter().map(Node::to_value).collect()),
-            NodeKind::Object(members) => V::Object(
-                members
-                    .iter()
-                    .map(|m| (m.key.clone(), m.value.to_value()))
-                    .collect(),
-            ),
+            NodeKind::Object(members) => {
+                V::Object(members.iter().map(|m| (m.key.clone(), m.value.to_value())).collect())
+            }
         }
     }
 }

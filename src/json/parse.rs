@@ -76,9 +76,7 @@ impl<'a> Parser<'a> {
             Some(b'n') => self.literal("null", NodeKind::Null)?,
             Some(b'-' | b'0'..=b'9') => self.number()?,
             Some(b'N') | Some(b'I') => {
-                return Err(self.err(
-                    "NaN and Infinity are not JSON; write a number, or null for an open bound",
-                ));
+                return Err(self.err("NaN and Infinity are not JSON; write a number, or null for an open bound"));
             }
             Some(b'/') => return Err(self.err("comments are not allowed in JSON spec files")),
             Some(b'\'') => return Err(self.err("strings must use double quotes")),
@@ -137,11 +135,7 @@ impl<'a> Parser<'a> {
             self.pos += 1;
             self.skip_ws();
             let value = self.value(depth + 1)?;
-            members.push(Member {
-                key,
-                key_span,
-                value,
-            });
+            members.push(Member { key, key_span, value });
             self.skip_ws();
             match self.peek() {
                 Some(b',') => self.pos += 1,
@@ -206,9 +200,7 @@ impl<'a> Parser<'a> {
                     self.escape(&mut out)?;
                 }
                 Some(_) => {
-                    return Err(self.err(
-                        "control character inside a string: escape it (e.g. \\n, \\t)",
-                    ));
+                    return Err(self.err("control character inside a string: escape it (e.g. \\n, \\t)"));
                 }
             }
         }
@@ -305,9 +297,10 @@ impl<'a> Parser<'a> {
             self.digits();
         }
         let lexeme = &self.text[start..self.pos];
-        let value: f64 = lexeme
-            .parse()
-            .map_err(|_| ParseError { offset: start, message: format!("invalid number {lexeme}") })?;
+        let value: f64 = lexeme.parse().map_err(|_| ParseError {
+            offset: start,
+            message: format!("invalid number {lexeme}"),
+        })?;
         if !value.is_finite() {
             return Err(ParseError {
                 offset: start,

@@ -56,7 +56,9 @@ fn integers_stay_integers() {
 #[test]
 fn duplicate_keys_are_kept_in_order() {
     let root = parse(r#"{"a": 1, "a": 2}"#).unwrap();
-    let NodeKind::Object(members) = &root.kind else { panic!() };
+    let NodeKind::Object(members) = &root.kind else {
+        panic!()
+    };
     assert_eq!(members.len(), 2);
     assert_eq!(root.get("a").unwrap().to_value(), serde_json::json!(2));
 }
@@ -73,8 +75,7 @@ fn arb_json() -> impl Strategy<Value = serde_json::Value> {
     leaf.prop_recursive(4, 64, 8, |inner| {
         prop_oneof![
             prop::collection::vec(inner.clone(), 0..6).prop_map(V::Array),
-            prop::collection::btree_map("\\PC{0,6}", inner, 0..6)
-                .prop_map(|m| V::Object(m.into_iter().collect())),
+            prop::collection::btree_map("\\PC{0,6}", inner, 0..6).prop_map(|m| V::Object(m.into_iter().collect())),
         ]
     })
 }

@@ -24,7 +24,11 @@ pub fn bundled_inputs(library: bool) -> Vec<Input> {
     bundled_files()
         .iter()
         .filter(|(p, _)| !p.starts_with(&format!("{INSTANCES_DIR}/")))
-        .map(|(p, text)| Input { name: format!("bundled:specs/{p}"), bytes: text.as_bytes().to_vec(), library })
+        .map(|(p, text)| Input {
+            name: format!("bundled:specs/{p}"),
+            bytes: text.as_bytes().to_vec(),
+            library,
+        })
         .collect()
 }
 
@@ -63,12 +67,17 @@ impl SpecSet {
         if report.has_errors() {
             return Err(LoadError::Invalid { report });
         }
-        Ok(SpecSet { envs: resolved.into_iter().map(|r| r.spec).collect() })
+        Ok(SpecSet {
+            envs: resolved.into_iter().map(|r| r.spec).collect(),
+        })
     }
 
     /// By id or alias (e.g. `cartpole` or `CARLCartPoleEnv`).
     pub fn get(&self, name: &str) -> Option<&EnvSpec> {
-        self.envs.iter().find(|e| e.id == name).or_else(|| self.envs.iter().find(|e| e.matches_name(name)))
+        self.envs
+            .iter()
+            .find(|e| e.id == name)
+            .or_else(|| self.envs.iter().find(|e| e.matches_name(name)))
     }
 
     /// Like `get`, with a "did you mean" error for unknown names.
@@ -77,7 +86,10 @@ impl SpecSet {
             let ids = self.envs.iter().map(|e| e.id.as_str());
             match did_you_mean(name, ids.clone()) {
                 Some(s) => format!("no environment \"{name}\"; did you mean \"{s}\"?"),
-                None => format!("no environment \"{name}\"; known: {}", ids.collect::<Vec<_>>().join(", ")),
+                None => format!(
+                    "no environment \"{name}\"; known: {}",
+                    ids.collect::<Vec<_>>().join(", ")
+                ),
             }
         })
     }
@@ -92,9 +104,15 @@ impl SpecSet {
 pub fn read_inputs(paths: &[PathBuf]) -> Result<Vec<Input>, LoadError> {
     let mut files = Vec::new();
     for p in paths {
-        let meta = std::fs::metadata(p).map_err(|e| LoadError::Io { path: p.display().to_string(), source: e })?;
+        let meta = std::fs::metadata(p).map_err(|e| LoadError::Io {
+            path: p.display().to_string(),
+            source: e,
+        })?;
         if meta.is_dir() {
-            walk(p, &mut files).map_err(|e| LoadError::Io { path: p.display().to_string(), source: e })?;
+            walk(p, &mut files).map_err(|e| LoadError::Io {
+                path: p.display().to_string(),
+                source: e,
+            })?;
         } else {
             files.push(p.clone());
         }
@@ -104,8 +122,15 @@ pub fn read_inputs(paths: &[PathBuf]) -> Result<Vec<Input>, LoadError> {
     files
         .into_iter()
         .map(|f| {
-            let bytes = read_limited(&f).map_err(|e| LoadError::Io { path: f.display().to_string(), source: e })?;
-            Ok(Input { name: f.display().to_string(), bytes, library: false })
+            let bytes = read_limited(&f).map_err(|e| LoadError::Io {
+                path: f.display().to_string(),
+                source: e,
+            })?;
+            Ok(Input {
+                name: f.display().to_string(),
+                bytes,
+                library: false,
+            })
         })
         .collect()
 }
@@ -139,6 +164,10 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> std::io::Result<()> {
 /// 1e-9 steps, so `-25 … -0.5 step 0.5` includes -0.5). Computed by multiplication, not repeated
 /// addition, so every point is reproducible bit for bit.
 pub fn grid_points(g: &GridSet) -> impl Iterator<Item = f64> + '_ {
-    let n = if g.step > 0.0 && g.from <= g.to { ((g.to - g.from) / g.step + 1e-9).floor() as u64 + 1 } else { 0 };
+    let n = if g.step > 0.0 && g.from <= g.to {
+        ((g.to - g.from) / g.step + 1e-9).floor() as u64 + 1
+    } else {
+        0
+    };
     (0..n).map(move |i| g.from + (i as f64) * g.step)
 }

@@ -8,8 +8,8 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 
 pub use super::raw::{
-    AtBounds, Bounds, Effect, FeatureType, RawDistribution as Distribution,
-    RawInstanceSet as InstanceSet, Sampler, Scalar, Space, Upstream, Value,
+    AtBounds, Bounds, Effect, FeatureType, RawDistribution as Distribution, RawInstanceSet as InstanceSet, Sampler,
+    Scalar, Space, Upstream, Value,
 };
 
 /// A context feature after resolution.

@@ -166,7 +166,13 @@ fn clip_line(line: &str, start: usize, width: usize) -> (String, usize) {
 
 impl Diagnostic {
     /// A diagnostic about a file as a whole (I/O, encoding) or with no source to point into.
-    pub fn file_level(severity: Severity, rule: &str, file: &str, message: impl Into<String>, help: Option<String>) -> Self {
+    pub fn file_level(
+        severity: Severity,
+        rule: &str,
+        file: &str,
+        message: impl Into<String>,
+        help: Option<String>,
+    ) -> Self {
         Diagnostic {
             severity,
             rule: rule.to_string(),
@@ -191,7 +197,11 @@ impl Diagnostic {
             Severity::Warning => ("warning", yellow),
         };
         let mut out = String::new();
-        let _ = writeln!(out, "{bold}{c}{label}[{}]{reset}{bold}: {}{reset}", self.rule, self.message);
+        let _ = writeln!(
+            out,
+            "{bold}{c}{label}[{}]{reset}{bold}: {}{reset}",
+            self.rule, self.message
+        );
         match &self.location {
             Some(loc) => {
                 let gutter = loc.line.to_string().len();
@@ -235,7 +245,11 @@ impl Diagnostic {
                 l.line, l.column, l.end_line, l.end_column
             );
         }
-        let _ = write!(props, ",title={}", escape_gh_property(&format!("carl-spec {}", self.rule)));
+        let _ = write!(
+            props,
+            ",title={}",
+            escape_gh_property(&format!("carl-spec {}", self.rule))
+        );
         let mut msg = self.message.clone();
         if let Some(h) = &self.help {
             msg.push_str("\nhelp: ");

@@ -40,17 +40,27 @@ pub struct Report {
 
 impl Report {
     pub fn errors(&self) -> usize {
-        self.diagnostics.iter().filter(|d| d.severity == Severity::Error).count()
+        self.diagnostics
+            .iter()
+            .filter(|d| d.severity == Severity::Error)
+            .count()
     }
     pub fn warnings(&self) -> usize {
-        self.diagnostics.iter().filter(|d| d.severity == Severity::Warning).count()
+        self.diagnostics
+            .iter()
+            .filter(|d| d.severity == Severity::Warning)
+            .count()
     }
     pub fn has_errors(&self) -> bool {
         self.errors() > 0
     }
     /// All diagnostics rendered as text (no color), for error messages.
     pub fn render_text(&self) -> String {
-        self.diagnostics.iter().map(|d| d.render_text(false)).collect::<Vec<_>>().join("\n")
+        self.diagnostics
+            .iter()
+            .map(|d| d.render_text(false))
+            .collect::<Vec<_>>()
+            .join("\n")
     }
 }
 
@@ -77,10 +87,25 @@ impl Sink<'_> {
     pub fn error(&mut self, file: usize, rule: &str, pointer: &str, message: impl Into<String>, help: Option<String>) {
         self.push(Severity::Error, file, rule, pointer, message, help);
     }
-    pub fn warning(&mut self, file: usize, rule: &str, pointer: &str, message: impl Into<String>, help: Option<String>) {
+    pub fn warning(
+        &mut self,
+        file: usize,
+        rule: &str,
+        pointer: &str,
+        message: impl Into<String>,
+        help: Option<String>,
+    ) {
         self.push(Severity::Warning, file, rule, pointer, message, help);
     }
-    fn push(&mut self, sev: Severity, file: usize, rule: &str, pointer: &str, message: impl Into<String>, help: Option<String>) {
+    fn push(
+        &mut self,
+        sev: Severity,
+        file: usize,
+        rule: &str,
+        pointer: &str,
+        message: impl Into<String>,
+        help: Option<String>,
+    ) {
         let c = self.counts.entry(file).or_default();
         if c.0 >= MAX_DIAGNOSTICS_PER_FILE {
             c.1 += 1;
@@ -114,7 +139,13 @@ pub fn run(inputs: &[Input]) -> (Vec<Resolved>, Report) {
         Ok(c) => c,
         Err(e) => {
             let d = Diagnostic::file_level(Severity::Error, "internal", "<schema>", e, None);
-            return (Vec::new(), Report { diagnostics: vec![d], ..Default::default() });
+            return (
+                Vec::new(),
+                Report {
+                    diagnostics: vec![d],
+                    ..Default::default()
+                },
+            );
         }
     };
     let mut early: Vec<Diagnostic> = Vec::new();
@@ -134,7 +165,11 @@ pub fn run(inputs: &[Input]) -> (Vec<Resolved>, Report) {
         *n += 1;
         *n <= MAX_DIAGNOSTICS_PER_FILE
     });
-    let mut sink = Sink { files: &files, out: early, counts: BTreeMap::new() };
+    let mut sink = Sink {
+        files: &files,
+        out: early,
+        counts: BTreeMap::new(),
+    };
 
     // Fragments: authors' own shadow the bundled library; duplicates among one kind are errors.
     let mut fragments: BTreeMap<String, FragmentEntry<'_>> = BTreeMap::new();
@@ -149,13 +184,22 @@ pub fn run(inputs: &[Input]) -> (Vec<Resolved>, Report) {
                     i,
                     "duplicate-fragment",
                     "/fragment",
-                    format!("fragment \"{}\" is also defined in {}", frag.fragment, files[prev.file].name),
+                    format!(
+                        "fragment \"{}\" is also defined in {}",
+                        frag.fragment, files[prev.file].name
+                    ),
                     Some("give one of them another name".into()),
                 );
                 continue;
             }
             rules::check_fragment(frag, i, &mut sink);
-            fragments.insert(frag.fragment.clone(), FragmentEntry { fragment: frag, file: i });
+            fragments.insert(
+                frag.fragment.clone(),
+                FragmentEntry {
+                    fragment: frag,
+                    file: i,
+                },
+            );
         }
     }
 
@@ -196,7 +240,11 @@ fn check_document(input: &Input, checker: &SchemaChecker) -> (SourceFile, Option
             Severity::Error,
             "file-too-large",
             &name,
-            format!("file is {} bytes; spec files are limited to {} bytes", input.bytes.len(), MAX_FILE_BYTES),
+            format!(
+                "file is {} bytes; spec files are limited to {} bytes",
+                input.bytes.len(),
+                MAX_FILE_BYTES
+            ),
             Some("is this really a spec file? split it, or check the path".into()),
         );
         return (SourceFile::new(name, String::new(), None), None, vec![d]);
@@ -230,7 +278,13 @@ fn check_document(input: &Input, checker: &SchemaChecker) -> (SourceFile, Option
             let d = Diagnostic {
                 location: Some(loc),
                 snippet: Some(snip),
-                ..Diagnostic::file_level(Severity::Error, "json-syntax", &name, e.message, Some("fix the JSON syntax here".into()))
+                ..Diagnostic::file_level(
+                    Severity::Error,
+                    "json-syntax",
+                    &name,
+                    e.message,
+                    Some("fix the JSON syntax here".into()),
+                )
             };
             return (file, None, vec![d]);
         }

@@ -26,7 +26,13 @@ pub fn check_fragment(frag: &RawFragment, file: usize, sink: &mut Sink<'_>) {
         }
     }
     if frag.description.trim().is_empty() {
-        sink.error(file, "description-empty", "/description", "the description is empty", Some("say in one line what this block of features is".into()));
+        sink.error(
+            file,
+            "description-empty",
+            "/description",
+            "the description is empty",
+            Some("say in one line what this block of features is".into()),
+        );
     }
 }
 
@@ -34,10 +40,22 @@ pub fn check_env(r: &Resolved, sink: &mut Sink<'_>) {
     let spec = &r.spec;
     let file = r.file;
     if spec.description.trim().is_empty() {
-        sink.error(file, "description-empty", "/description", "the description is empty", Some("say in one or two sentences what the task is and what the context changes".into()));
+        sink.error(
+            file,
+            "description-empty",
+            "/description",
+            "the description is empty",
+            Some("say in one or two sentences what the task is and what the context changes".into()),
+        );
     }
     if spec.max_episode_steps == Some(0) {
-        sink.error(file, "episode-limit", "/max_episode_steps", "an episode limit of 0 steps ends every episode at reset", Some("use the upstream limit, or null for none".into()));
+        sink.error(
+            file,
+            "episode-limit",
+            "/max_episode_steps",
+            "an episode limit of 0 steps ends every episode at reset",
+            Some("use the upstream limit, or null for none".into()),
+        );
     }
     check_space(&spec.observation_space, file, "/observation_space", sink);
     check_space(&spec.action_space, file, "/action_space", sink);
@@ -48,7 +66,11 @@ pub fn check_env(r: &Resolved, sink: &mut Sink<'_>) {
         for (k, n) in std::iter::once(&f.name).chain(f.aliases.iter()).enumerate() {
             if let Some(&prev) = names.get(n.as_str()) {
                 let site = &r.sites[i];
-                let ptr = if k == 0 { format!("{}/name", site.pointer) } else { format!("{}/aliases/{}", site.pointer, k - 1) };
+                let ptr = if k == 0 {
+                    format!("{}/name", site.pointer)
+                } else {
+                    format!("{}/aliases/{}", site.pointer, k - 1)
+                };
                 sink.error(
                     site.file,
                     "duplicate-feature",
@@ -68,10 +90,22 @@ pub fn check_env(r: &Resolved, sink: &mut Sink<'_>) {
         let base = format!("/distributions/{}", escape_token(name));
         check_set_name(name, file, &base, "distribution", sink);
         if dist.description.trim().is_empty() {
-            sink.error(file, "description-empty", &format!("{base}/description"), "the description is empty", Some("say what the distribution models".into()));
+            sink.error(
+                file,
+                "description-empty",
+                &format!("{base}/description"),
+                "the description is empty",
+                Some("say what the distribution models".into()),
+            );
         }
         if dist.features.is_empty() {
-            sink.error(file, "distribution-empty", &format!("{base}/features"), format!("distribution \"{name}\" varies no feature"), Some("name at least one feature and its sampler".into()));
+            sink.error(
+                file,
+                "distribution-empty",
+                &format!("{base}/features"),
+                format!("distribution \"{name}\" varies no feature"),
+                Some("name at least one feature and its sampler".into()),
+            );
         }
         for (fname, sampler) in &dist.features {
             let ptr = format!("{base}/features/{}", escape_token(fname));
@@ -130,7 +164,13 @@ fn check_space(space: &Space, file: usize, ptr: &str, sink: &mut Sink<'_>) {
             for (k, (field, lim)) in lims.iter().enumerate() {
                 if let crate::spec::raw::BoxLimit::PerElement(v) = lim {
                     if v.len() as u64 != n {
-                        sink.error(file, "space-shape", &format!("{ptr}/{field}"), format!("{field} has {} element(s) but the shape {shape:?} has {n}", v.len()), Some("give one value per element, or a single number for all".into()));
+                        sink.error(
+                            file,
+                            "space-shape",
+                            &format!("{ptr}/{field}"),
+                            format!("{field} has {} element(s) but the shape {shape:?} has {n}", v.len()),
+                            Some("give one value per element, or a single number for all".into()),
+                        );
                     }
                     per[k] = Some(v.clone());
                 }
@@ -143,16 +183,34 @@ fn check_space(space: &Space, file: usize, ptr: &str, sink: &mut Sink<'_>) {
                 if let (Some(l), Some(h)) = (get(low, i), get(high, i))
                     && l > h
                 {
-                    sink.error(file, "space-bounds", &format!("{ptr}/low"), format!("element {i}: low {l} is above high {h}"), Some("swap them".into()));
+                    sink.error(
+                        file,
+                        "space-bounds",
+                        &format!("{ptr}/low"),
+                        format!("element {i}: low {l} is above high {h}"),
+                        Some("swap them".into()),
+                    );
                     break;
                 }
             }
         }
         Space::Discrete { n } if *n == 0 => {
-            sink.error(file, "space-shape", &format!("{ptr}/n"), "Discrete(0) has no actions", Some("n is the number of actions, at least 1".into()));
+            sink.error(
+                file,
+                "space-shape",
+                &format!("{ptr}/n"),
+                "Discrete(0) has no actions",
+                Some("n is the number of actions, at least 1".into()),
+            );
         }
         Space::MultiDiscrete { nvec } if nvec.is_empty() || nvec.contains(&0) => {
-            sink.error(file, "space-shape", &format!("{ptr}/nvec"), "MultiDiscrete needs at least one dimension and no zero sizes", None);
+            sink.error(
+                file,
+                "space-shape",
+                &format!("{ptr}/nvec"),
+                "MultiDiscrete needs at least one dimension and no zero sizes",
+                None,
+            );
         }
         _ => {}
     }
@@ -172,24 +230,48 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
     let name = &f.name;
     if f.description.trim().is_empty() {
         let (file, p) = at("description");
-        sink.error(file, "description-empty", &p, format!("feature \"{name}\" has an empty description"), Some("say in one line what the feature is".into()));
+        sink.error(
+            file,
+            "description-empty",
+            &p,
+            format!("feature \"{name}\" has an empty description"),
+            Some("say in one line what the feature is".into()),
+        );
     }
     let mut seen = BTreeSet::new();
     for (i, e) in f.affects.iter().enumerate() {
         if !seen.insert(*e) {
             let (file, p) = at("affects");
-            sink.error(file, "duplicate-effect", &format!("{p}/{i}"), format!("\"{}\" is listed twice", e.as_str()), Some("list each effect once".into()));
+            sink.error(
+                file,
+                "duplicate-effect",
+                &format!("{p}/{i}"),
+                format!("\"{}\" is listed twice", e.as_str()),
+                Some("list each effect once".into()),
+            );
         }
     }
     // Defaults: exactly one of a value or a derivation.
     match (&f.default, &f.default_from) {
         (None, None) => {
             let (file, _) = at("default");
-            sink.error(file, "default-missing", &site.pointer, format!("feature \"{name}\" has no default"), Some("add \"default\", or \"default_from\" if the default is computed from other features".into()));
+            sink.error(
+                file,
+                "default-missing",
+                &site.pointer,
+                format!("feature \"{name}\" has no default"),
+                Some("add \"default\", or \"default_from\" if the default is computed from other features".into()),
+            );
         }
         (Some(_), Some(_)) => {
             let (file, p) = at("default_from");
-            sink.error(file, "default-conflict", &p, format!("feature \"{name}\" has both a default and default_from"), Some("keep one: a value, or how it is computed".into()));
+            sink.error(
+                file,
+                "default-conflict",
+                &p,
+                format!("feature \"{name}\" has both a default and default_from"),
+                Some("keep one: a value, or how it is computed".into()),
+            );
         }
         _ => {}
     }
@@ -199,7 +281,13 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
         && l > h
     {
         let (file, p) = at("bounds");
-        sink.error(file, "bounds-order", &p, format!("lower bound {l} is above upper bound {h}"), Some("bounds are [lower, upper]: swap them".into()));
+        sink.error(
+            file,
+            "bounds-order",
+            &p,
+            format!("lower bound {l} is above upper bound {h}"),
+            Some("bounds are [lower, upper]: swap them".into()),
+        );
     }
     let (dfile, dptr) = at("default");
     let bounds_site = at("bounds");
@@ -207,12 +295,27 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
     let bounds_ordered = !matches!((lo, hi), (Some(l), Some(h)) if l > h);
     let check_in_bounds = |x: f64, sink: &mut Sink<'_>, what: &str, ptr: &str| {
         if bounds_ordered && !f.in_bounds(x) {
-            sink.error(dfile, "default-out-of-bounds", ptr, format!("{what} {x} of \"{name}\" is outside its bounds {}", fmt_bounds(&f.bounds)), Some("change the default, or widen the bounds".into()));
+            sink.error(
+                dfile,
+                "default-out-of-bounds",
+                ptr,
+                format!(
+                    "{what} {x} of \"{name}\" is outside its bounds {}",
+                    fmt_bounds(&f.bounds)
+                ),
+                Some("change the default, or widen the bounds".into()),
+            );
         }
     };
     if f.kind != FeatureType::Categorical && (f.choices.is_some() || f.choice_labels.is_some()) {
         let (file, p) = (site.file, format!("{}/choices", site.pointer));
-        sink.error(file, "choices-not-applicable", &p, format!("only categorical features have choices; \"{name}\" is {type_name}"), Some("remove choices, or make the feature categorical".into()));
+        sink.error(
+            file,
+            "choices-not-applicable",
+            &p,
+            format!("only categorical features have choices; \"{name}\" is {type_name}"),
+            Some("remove choices, or make the feature categorical".into()),
+        );
     }
     match f.kind {
         FeatureType::Float | FeatureType::Int => {
@@ -221,14 +324,26 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
                     if let Some(b) = b
                         && !is_integral(*b)
                     {
-                        sink.error(bounds_site.0, "int-not-integral", &format!("{}/{k}", bounds_site.1), format!("bound {b} of int feature \"{name}\" is not an integer"), Some("int features have integer bounds; round it or make the feature float".into()));
+                        sink.error(
+                            bounds_site.0,
+                            "int-not-integral",
+                            &format!("{}/{k}", bounds_site.1),
+                            format!("bound {b} of int feature \"{name}\" is not an integer"),
+                            Some("int features have integer bounds; round it or make the feature float".into()),
+                        );
                     }
                 }
             }
             match &f.default {
                 Some(Value::Number(x)) => {
                     if f.kind == FeatureType::Int && !is_integral(*x) {
-                        sink.error(dfile, "int-not-integral", &dptr, format!("default {x} of int feature \"{name}\" is not an integer"), Some("use an integer default or make the feature float".into()));
+                        sink.error(
+                            dfile,
+                            "int-not-integral",
+                            &dptr,
+                            format!("default {x} of int feature \"{name}\" is not an integer"),
+                            Some("use an integer default or make the feature float".into()),
+                        );
                     }
                     check_in_bounds(*x, sink, "default", &dptr);
                 }
@@ -238,7 +353,13 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
         }
         FeatureType::Bool => {
             if has_bounds {
-                sink.error(bounds_site.0, "bounds-not-applicable", &bounds_site.1, format!("bool feature \"{name}\" cannot have bounds"), Some("remove bounds".into()));
+                sink.error(
+                    bounds_site.0,
+                    "bounds-not-applicable",
+                    &bounds_site.1,
+                    format!("bool feature \"{name}\" cannot have bounds"),
+                    Some("remove bounds".into()),
+                );
             }
             if let Some(d) = &f.default
                 && !matches!(d, Value::Bool(_))
@@ -248,27 +369,66 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
         }
         FeatureType::Categorical => {
             if has_bounds {
-                sink.error(bounds_site.0, "bounds-not-applicable", &bounds_site.1, format!("categorical feature \"{name}\" cannot have bounds; its choices bound it"), Some("remove bounds".into()));
+                sink.error(
+                    bounds_site.0,
+                    "bounds-not-applicable",
+                    &bounds_site.1,
+                    format!("categorical feature \"{name}\" cannot have bounds; its choices bound it"),
+                    Some("remove bounds".into()),
+                );
             }
             let cptr = format!("{}/choices", site.pointer);
             match &f.choices {
-                None => sink.error(site.file, "categorical-choices", &site.pointer, format!("categorical feature \"{name}\" has no choices"), Some("add \"choices\": [...]".into())),
-                Some(c) if c.is_empty() => sink.error(site.file, "categorical-choices", &cptr, format!("categorical feature \"{name}\" has an empty list of choices"), Some("list the allowed values".into())),
+                None => sink.error(
+                    site.file,
+                    "categorical-choices",
+                    &site.pointer,
+                    format!("categorical feature \"{name}\" has no choices"),
+                    Some("add \"choices\": [...]".into()),
+                ),
+                Some(c) if c.is_empty() => sink.error(
+                    site.file,
+                    "categorical-choices",
+                    &cptr,
+                    format!("categorical feature \"{name}\" has an empty list of choices"),
+                    Some("list the allowed values".into()),
+                ),
                 Some(c) => {
                     for (i, x) in c.iter().enumerate() {
                         if c[..i].contains(x) {
-                            sink.error(site.file, "categorical-choices", &format!("{cptr}/{i}"), format!("choice {} is listed twice", scalar_text(x)), Some("list each choice once".into()));
+                            sink.error(
+                                site.file,
+                                "categorical-choices",
+                                &format!("{cptr}/{i}"),
+                                format!("choice {} is listed twice", scalar_text(x)),
+                                Some("list each choice once".into()),
+                            );
                         }
                     }
                     if let Some(labels) = &f.choice_labels
                         && labels.len() != c.len()
                     {
-                        sink.error(site.file, "choice-labels", &format!("{}/choice_labels", site.pointer), format!("{} labels for {} choices", labels.len(), c.len()), Some("give exactly one label per choice, in the same order".into()));
+                        sink.error(
+                            site.file,
+                            "choice-labels",
+                            &format!("{}/choice_labels", site.pointer),
+                            format!("{} labels for {} choices", labels.len(), c.len()),
+                            Some("give exactly one label per choice, in the same order".into()),
+                        );
                     }
                     if let Some(d) = &f.default
                         && !c.iter().any(|x| scalar_eq_value(x, d))
                     {
-                        sink.error(dfile, "categorical-default", &dptr, format!("default {} of \"{name}\" is not one of its choices", value_text(d)), Some(format!("use one of {}", c.iter().map(scalar_text).collect::<Vec<_>>().join(", "))));
+                        sink.error(
+                            dfile,
+                            "categorical-default",
+                            &dptr,
+                            format!("default {} of \"{name}\" is not one of its choices", value_text(d)),
+                            Some(format!(
+                                "use one of {}",
+                                c.iter().map(scalar_text).collect::<Vec<_>>().join(", ")
+                            )),
+                        );
                     }
                 }
             }
@@ -278,7 +438,13 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
                 if let Some(b) = b
                     && !is_integral(*b)
                 {
-                    sink.error(bounds_site.0, "int-not-integral", &format!("{}/{k}", bounds_site.1), format!("bound {b} of list_int feature \"{name}\" is not an integer"), Some("list_int bounds apply to each element and must be integers".into()));
+                    sink.error(
+                        bounds_site.0,
+                        "int-not-integral",
+                        &format!("{}/{k}", bounds_site.1),
+                        format!("bound {b} of list_int feature \"{name}\" is not an integer"),
+                        Some("list_int bounds apply to each element and must be integers".into()),
+                    );
                 }
             }
             match &f.default {
@@ -286,7 +452,13 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
                     for (i, x) in items.iter().enumerate() {
                         let p = format!("{dptr}/{i}");
                         if !is_integral(*x) {
-                            sink.error(dfile, "int-not-integral", &p, format!("element {x} of \"{name}\" is not an integer"), Some("list_int elements are integers".into()));
+                            sink.error(
+                                dfile,
+                                "int-not-integral",
+                                &p,
+                                format!("element {x} of \"{name}\" is not an integer"),
+                                Some("list_int elements are integers".into()),
+                            );
                         }
                         check_in_bounds(*x, sink, "element", &p);
                     }
@@ -309,12 +481,15 @@ fn kind_name(k: FeatureType) -> &'static str {
 }
 
 fn type_mismatch(v: &Value, type_name: &str, name: &str, file: usize, ptr: &str, sink: &mut Sink<'_>) {
-    let mut help = format!("a {type_name} feature needs a {} value", match type_name {
-        "float" | "int" => "number",
-        "bool" => "true/false",
-        "list_int" => "list of integers",
-        _ => "matching",
-    });
+    let mut help = format!(
+        "a {type_name} feature needs a {} value",
+        match type_name {
+            "float" | "int" => "number",
+            "bool" => "true/false",
+            "list_int" => "list of integers",
+            _ => "matching",
+        }
+    );
     if let Value::String(s) = v {
         let l = s.to_ascii_lowercase();
         if l.contains("inf") || l == "nan" {
@@ -323,7 +498,16 @@ fn type_mismatch(v: &Value, type_name: &str, name: &str, file: usize, ptr: &str,
             help = format!("write the number without quotes: {}", s.trim());
         }
     }
-    sink.error(file, "type-mismatch", ptr, format!("{} is not a valid value for {type_name} feature \"{name}\"", value_text(v)), Some(help));
+    sink.error(
+        file,
+        "type-mismatch",
+        ptr,
+        format!(
+            "{} is not a valid value for {type_name} feature \"{name}\"",
+            value_text(v)
+        ),
+        Some(help),
+    );
 }
 
 pub(crate) fn scalar_eq_value(s: &Scalar, v: &Value) -> bool {
@@ -352,17 +536,31 @@ pub(crate) fn value_text(v: &Value) -> String {
     }
 }
 
-fn unknown_feature<'a>(known: impl Iterator<Item = &'a str> + Clone, name: &str, file: usize, ptr: &str, sink: &mut Sink<'_>) {
+fn unknown_feature<'a>(
+    known: impl Iterator<Item = &'a str> + Clone,
+    name: &str,
+    file: usize,
+    ptr: &str,
+    sink: &mut Sink<'_>,
+) {
     let help = match did_you_mean(name, known.clone()) {
         Some(s) => format!("did you mean \"{s}\"?"),
         None => format!("features of this environment: {}", known.collect::<Vec<_>>().join(", ")),
     };
-    sink.error(file, "unknown-feature", ptr, format!("no feature named \"{name}\""), Some(help));
+    sink.error(
+        file,
+        "unknown-feature",
+        ptr,
+        format!("no feature named \"{name}\""),
+        Some(help),
+    );
 }
 
 fn check_set_name(name: &str, file: usize, ptr: &str, what: &str, sink: &mut Sink<'_>) {
     let ok = name.chars().next().is_some_and(|c| c.is_ascii_lowercase())
-        && name.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
+        && name
+            .chars()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
     if !ok {
         sink.error(file, "invalid-name", ptr, format!("{what} name \"{name}\" is not snake_case"), Some("use lowercase letters, digits and underscores, starting with a letter (it becomes part of ENV/SET names and file names)".into()));
     }
@@ -371,7 +569,13 @@ fn check_set_name(name: &str, file: usize, ptr: &str, what: &str, sink: &mut Sin
 /// Parameter sanity and compatibility of a sampler with its feature.
 fn check_sampler(s: &Sampler, f: &Feature, file: usize, ptr: &str, sink: &mut Sink<'_>) {
     let mut bad = |field: &str, msg: String, help: &str| {
-        sink.error(file, "distribution-params", &format!("{ptr}/{field}"), msg, Some(help.to_string()));
+        sink.error(
+            file,
+            "distribution-params",
+            &format!("{ptr}/{field}"),
+            msg,
+            Some(help.to_string()),
+        );
     };
     let numeric = matches!(f.kind, FeatureType::Float | FeatureType::Int);
     // The interval of values the sampler can produce, to compare with the bounds.
@@ -385,25 +589,48 @@ fn check_sampler(s: &Sampler, f: &Feature, file: usize, ptr: &str, sink: &mut Si
         }
         Sampler::Normal { std, .. } => {
             if !(*std > 0.0) {
-                bad("std", format!("std must be positive, got {std}"), "a normal needs std > 0; use constant for a fixed value");
+                bad(
+                    "std",
+                    format!("std must be positive, got {std}"),
+                    "a normal needs std > 0; use constant for a fixed value",
+                );
             }
             Some((f64::NEG_INFINITY, f64::INFINITY))
         }
-        Sampler::RelativeNormal { sigma_rel, fallback_std } => {
+        Sampler::RelativeNormal {
+            sigma_rel,
+            fallback_std,
+        } => {
             if !(*sigma_rel > 0.0) {
-                bad("sigma_rel", format!("sigma_rel must be positive, got {sigma_rel}"), "the paper uses 0.1, 0.25 or 0.5");
+                bad(
+                    "sigma_rel",
+                    format!("sigma_rel must be positive, got {sigma_rel}"),
+                    "the paper uses 0.1, 0.25 or 0.5",
+                );
             }
             if !(*fallback_std > 0.0) {
-                bad("fallback_std", format!("fallback_std must be positive, got {fallback_std}"), "it is the std used when the default is 0 (the paper's code uses 0.1)");
+                bad(
+                    "fallback_std",
+                    format!("fallback_std must be positive, got {fallback_std}"),
+                    "it is the std used when the default is 0 (the paper's code uses 0.1)",
+                );
             }
             if f.default_f64().is_none() {
-                bad("kind", format!("relative_normal needs a numeric default, and \"{}\" has none", f.name), "use normal with an explicit mean");
+                bad(
+                    "kind",
+                    format!("relative_normal needs a numeric default, and \"{}\" has none", f.name),
+                    "use normal with an explicit mean",
+                );
             }
             Some((f64::NEG_INFINITY, f64::INFINITY))
         }
         Sampler::TruncatedNormal { std, low, high, .. } => {
             if !(*std > 0.0) {
-                bad("std", format!("std must be positive, got {std}"), "a truncated normal needs std > 0");
+                bad(
+                    "std",
+                    format!("std must be positive, got {std}"),
+                    "a truncated normal needs std > 0",
+                );
             }
             if !(low < high) {
                 bad("low", format!("low {low} must be below high {high}"), "swap them");
@@ -412,13 +639,21 @@ fn check_sampler(s: &Sampler, f: &Feature, file: usize, ptr: &str, sink: &mut Si
         }
         Sampler::Uniform { low, high } => {
             if !(low < high) {
-                bad("low", format!("low {low} must be below high {high}"), "swap them, or use constant for a single value");
+                bad(
+                    "low",
+                    format!("low {low} must be below high {high}"),
+                    "swap them, or use constant for a single value",
+                );
             }
             Some((*low, *high))
         }
         Sampler::LogUniform { low, high } => {
             if !(*low > 0.0) {
-                bad("low", format!("log_uniform needs low > 0, got {low}"), "use uniform for ranges that include 0 or negatives");
+                bad(
+                    "low",
+                    format!("log_uniform needs low > 0, got {low}"),
+                    "use uniform for ranges that include 0 or negatives",
+                );
             }
             if !(low < high) {
                 bad("low", format!("low {low} must be below high {high}"), "swap them");
@@ -432,7 +667,11 @@ fn check_sampler(s: &Sampler, f: &Feature, file: usize, ptr: &str, sink: &mut Si
             Some((*low as f64, *high as f64))
         }
         Sampler::Categorical { choices, weights } => {
-            let n = choices.as_ref().map(Vec::len).or(f.choices.as_ref().map(Vec::len)).unwrap_or(0);
+            let n = choices
+                .as_ref()
+                .map(Vec::len)
+                .or(f.choices.as_ref().map(Vec::len))
+                .unwrap_or(0);
             if let Some(c) = choices {
                 if c.is_empty() {
                     bad("choices", "no choices to pick from".into(), "list at least one choice");
@@ -440,19 +679,35 @@ fn check_sampler(s: &Sampler, f: &Feature, file: usize, ptr: &str, sink: &mut Si
                 if let Some(fc) = &f.choices {
                     for (i, x) in c.iter().enumerate() {
                         if !fc.contains(x) {
-                            bad(&format!("choices/{i}"), format!("{} is not a choice of \"{}\"", scalar_text(x), f.name), "pick from the feature's choices");
+                            bad(
+                                &format!("choices/{i}"),
+                                format!("{} is not a choice of \"{}\"", scalar_text(x), f.name),
+                                "pick from the feature's choices",
+                            );
                         }
                     }
                 }
             } else if f.choices.is_none() {
-                bad("kind", format!("\"{}\" has no choices; list them in the sampler", f.name), "add \"choices\"");
+                bad(
+                    "kind",
+                    format!("\"{}\" has no choices; list them in the sampler", f.name),
+                    "add \"choices\"",
+                );
             }
             if let Some(w) = weights {
                 if w.len() != n {
-                    bad("weights", format!("{} weights for {n} choices", w.len()), "give one weight per choice");
+                    bad(
+                        "weights",
+                        format!("{} weights for {n} choices", w.len()),
+                        "give one weight per choice",
+                    );
                 }
                 if w.iter().any(|x| !(*x >= 0.0)) || !(w.iter().sum::<f64>() > 0.0) {
-                    bad("weights", "weights must be ≥ 0 with a positive sum".into(), "weights are relative: e.g. [3, 1] picks the first choice 75 % of the time");
+                    bad(
+                        "weights",
+                        "weights must be ≥ 0 with a positive sum".into(),
+                        "weights are relative: e.g. [3, 1] picks the first choice 75 % of the time",
+                    );
                 }
             }
             None
@@ -463,13 +718,21 @@ fn check_sampler(s: &Sampler, f: &Feature, file: usize, ptr: &str, sink: &mut Si
             }
             for (i, [a, b]) in intervals.iter().enumerate() {
                 if !(a < b) {
-                    bad(&format!("intervals/{i}"), format!("interval [{a}, {b}] is empty or reversed"), "write [low, high] with low < high");
+                    bad(
+                        &format!("intervals/{i}"),
+                        format!("interval [{a}, {b}] is empty or reversed"),
+                        "write [low, high] with low < high",
+                    );
                 }
             }
             if let Some(w) = weights
                 && (w.len() != intervals.len() || w.iter().any(|x| !(*x >= 0.0)) || !(w.iter().sum::<f64>() > 0.0))
             {
-                bad("weights", format!("need {} non-negative weights with a positive sum", intervals.len()), "one weight per interval");
+                bad(
+                    "weights",
+                    format!("need {} non-negative weights with a positive sum", intervals.len()),
+                    "one weight per interval",
+                );
             }
             let lo = intervals.iter().map(|i| i[0]).fold(f64::INFINITY, f64::min);
             let hi = intervals.iter().map(|i| i[1]).fold(f64::NEG_INFINITY, f64::max);
@@ -485,29 +748,62 @@ fn check_sampler(s: &Sampler, f: &Feature, file: usize, ptr: &str, sink: &mut Si
     };
     if !compatible {
         let help = match f.kind {
-            FeatureType::Int => "int features take int_uniform, categorical choices or constant (continuous samplers would produce non-integers)",
+            FeatureType::Int => {
+                "int features take int_uniform, categorical choices or constant (continuous samplers would produce non-integers)"
+            }
             FeatureType::Categorical => "categorical features take categorical or constant",
             _ => "use a sampler that produces this feature's type",
         };
-        sink.error(file, "distribution-type", &format!("{ptr}/kind"), format!("this sampler cannot produce values for {} feature \"{}\"", kind_name(f.kind), f.name), Some(help.into()));
+        sink.error(
+            file,
+            "distribution-type",
+            &format!("{ptr}/kind"),
+            format!(
+                "this sampler cannot produce values for {} feature \"{}\"",
+                kind_name(f.kind),
+                f.name
+            ),
+            Some(help.into()),
+        );
     }
     if let Sampler::Constant { value } = s {
         let ok = match (f.kind, value) {
-            (FeatureType::Float | FeatureType::Int, Value::Number(x)) => f.kind == FeatureType::Float || is_integral(*x),
+            (FeatureType::Float | FeatureType::Int, Value::Number(x)) => {
+                f.kind == FeatureType::Float || is_integral(*x)
+            }
             (FeatureType::Bool, Value::Bool(_)) => true,
-            (FeatureType::Categorical, v) => f.choices.as_ref().is_some_and(|c| c.iter().any(|x| scalar_eq_value(x, v))),
+            (FeatureType::Categorical, v) => f
+                .choices
+                .as_ref()
+                .is_some_and(|c| c.iter().any(|x| scalar_eq_value(x, v))),
             (FeatureType::ListInt, Value::List(l)) => l.iter().all(|x| is_integral(*x)),
             _ => false,
         };
         if !ok {
-            sink.error(file, "distribution-type", &format!("{ptr}/value"), format!("{} is not a valid value for \"{}\"", value_text(value), f.name), None);
+            sink.error(
+                file,
+                "distribution-type",
+                &format!("{ptr}/value"),
+                format!("{} is not a valid value for \"{}\"", value_text(value), f.name),
+                None,
+            );
         }
     }
     if let Some((a, b)) = support {
         let [lo, hi] = f.bounds;
         let disjoint = lo.is_some_and(|l| b < l) || hi.is_some_and(|h| a > h);
         if numeric && disjoint {
-            sink.error(file, "distribution-support", ptr, format!("the sampler's support [{a}, {b}] lies entirely outside the bounds {} of \"{}\"", fmt_bounds(&f.bounds), f.name), Some("every draw would be clipped or rejected: move the distribution inside the bounds".into()));
+            sink.error(
+                file,
+                "distribution-support",
+                ptr,
+                format!(
+                    "the sampler's support [{a}, {b}] lies entirely outside the bounds {} of \"{}\"",
+                    fmt_bounds(&f.bounds),
+                    f.name
+                ),
+                Some("every draw would be clipped or rejected: move the distribution inside the bounds".into()),
+            );
         }
     }
 }
@@ -518,9 +814,16 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
     let base = format!("/instance_sets/{}", escape_token(name));
     check_set_name(name, file, &base, "instance set", sink);
     if set.description.trim().is_empty() {
-        sink.error(file, "description-empty", &format!("{base}/description"), "the description is empty", Some("say what the set is for (train/test, which experiment)".into()));
+        sink.error(
+            file,
+            "description-empty",
+            &format!("{base}/description"),
+            "the description is empty",
+            Some("say what the set is for (train/test, which experiment)".into()),
+        );
     }
-    let n_sources = usize::from(set.sampled.is_some()) + usize::from(set.explicit.is_some()) + usize::from(set.grid.is_some());
+    let n_sources =
+        usize::from(set.sampled.is_some()) + usize::from(set.explicit.is_some()) + usize::from(set.grid.is_some());
     if n_sources != 1 {
         sink.error(file, "instance-set-source", &base, format!("instance set \"{name}\" must have exactly one of sampled, explicit, grid (has {n_sources})"), Some("sampled: draws from a named distribution; explicit: a list of named contexts; grid: a regular grid over one feature".into()));
     }
@@ -544,25 +847,51 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
             let known = spec.distributions.keys().map(String::as_str);
             let help = match did_you_mean(&s.distribution, known.clone()) {
                 Some(k) => format!("did you mean \"{k}\"?"),
-                None if spec.distributions.is_empty() => "this spec defines no distributions; add one under \"distributions\"".into(),
+                None if spec.distributions.is_empty() => {
+                    "this spec defines no distributions; add one under \"distributions\"".into()
+                }
                 None => format!("distributions of {}: {}", spec.id, known.collect::<Vec<_>>().join(", ")),
             };
-            sink.error(file, "unknown-distribution", &format!("{p}/distribution"), format!("no distribution named \"{}\"", s.distribution), Some(help));
+            sink.error(
+                file,
+                "unknown-distribution",
+                &format!("{p}/distribution"),
+                format!("no distribution named \"{}\"", s.distribution),
+                Some(help),
+            );
         }
         if s.size == 0 || s.size > MAX_INSTANCES {
-            sink.error(file, "instance-set-size", &format!("{p}/size"), format!("size {} is not in 1..={MAX_INSTANCES}", s.size), Some("an instance set has at least one and at most a million instances".into()));
+            sink.error(
+                file,
+                "instance-set-size",
+                &format!("{p}/size"),
+                format!("size {} is not in 1..={MAX_INSTANCES}", s.size),
+                Some("an instance set has at least one and at most a million instances".into()),
+            );
         }
     }
     if let Some(list) = &set.explicit {
         let p = format!("{base}/explicit");
         if list.is_empty() {
-            sink.error(file, "instance-set-size", &p, "the explicit list is empty", Some("list at least one named context".into()));
+            sink.error(
+                file,
+                "instance-set-size",
+                &p,
+                "the explicit list is empty",
+                Some("list at least one named context".into()),
+            );
         }
         let mut names = BTreeSet::new();
         for (i, inst) in list.iter().enumerate() {
             let ip = format!("{p}/{i}");
             if !names.insert(inst.name.as_str()) {
-                sink.error(file, "duplicate-instance", &format!("{ip}/name"), format!("instance name \"{}\" is used twice in this set", inst.name), Some("instance names identify instances in results: make them unique".into()));
+                sink.error(
+                    file,
+                    "duplicate-instance",
+                    &format!("{ip}/name"),
+                    format!("instance name \"{}\" is used twice in this set", inst.name),
+                    Some("instance names identify instances in results: make them unique".into()),
+                );
             }
             for (fname, v) in &inst.context {
                 let fp = format!("{ip}/context/{}", escape_token(fname));
@@ -571,12 +900,21 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
                     Some(f) => match (f.kind, v) {
                         (FeatureType::Float | FeatureType::Int, Value::Number(x)) => {
                             if f.kind == FeatureType::Int && !is_integral(*x) {
-                                sink.error(file, "int-not-integral", &fp, format!("{x} is not an integer, and \"{}\" is an int feature", f.name), None);
+                                sink.error(
+                                    file,
+                                    "int-not-integral",
+                                    &fp,
+                                    format!("{x} is not an integer, and \"{}\" is an int feature", f.name),
+                                    None,
+                                );
                             }
                             any_out |= out_of_bounds(fname, *x, &fp, sink);
                         }
                         (FeatureType::Bool, Value::Bool(_)) => {}
-                        (FeatureType::Categorical, v) if f.choices.as_ref().is_some_and(|c| c.iter().any(|x| scalar_eq_value(x, v))) => {}
+                        (FeatureType::Categorical, v)
+                            if f.choices
+                                .as_ref()
+                                .is_some_and(|c| c.iter().any(|x| scalar_eq_value(x, v))) => {}
                         (FeatureType::ListInt, Value::List(_)) => {}
                         _ => type_mismatch(v, kind_name(f.kind), &f.name, file, &fp, sink),
                     },
@@ -589,16 +927,38 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
         match spec.feature(&g.feature) {
             None => unknown_feature(spec.feature_names(), &g.feature, file, &format!("{p}/feature"), sink),
             Some(f) if !matches!(f.kind, FeatureType::Float | FeatureType::Int) => {
-                sink.error(file, "distribution-type", &format!("{p}/feature"), format!("a grid needs a numeric feature; \"{}\" is {}", f.name, kind_name(f.kind)), None);
+                sink.error(
+                    file,
+                    "distribution-type",
+                    &format!("{p}/feature"),
+                    format!(
+                        "a grid needs a numeric feature; \"{}\" is {}",
+                        f.name,
+                        kind_name(f.kind)
+                    ),
+                    None,
+                );
             }
             Some(_) => {}
         }
         if !(g.step > 0.0) || !(g.from <= g.to) {
-            sink.error(file, "grid-params", &p, format!("grid from {} to {} step {} is empty or reversed", g.from, g.to, g.step), Some("use from ≤ to and step > 0".into()));
+            sink.error(
+                file,
+                "grid-params",
+                &p,
+                format!("grid from {} to {} step {} is empty or reversed", g.from, g.to, g.step),
+                Some("use from ≤ to and step > 0".into()),
+            );
         } else {
             let count = ((g.to - g.from) / g.step).floor() + 1.0;
             if count > MAX_INSTANCES as f64 {
-                sink.error(file, "instance-set-size", &p, format!("the grid has {count} points, more than {MAX_INSTANCES}"), Some("use a larger step".into()));
+                sink.error(
+                    file,
+                    "instance-set-size",
+                    &p,
+                    format!("the grid has {count} points, more than {MAX_INSTANCES}"),
+                    Some("use a larger step".into()),
+                );
             } else {
                 for x in crate::spec::grid_points(g) {
                     if out_of_bounds(&g.feature, x, &p, sink) {
@@ -610,6 +970,12 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
         }
     }
     if set.allow_out_of_bounds && !any_out && (set.explicit.is_some() || set.grid.is_some()) {
-        sink.warning(file, "needless-allow-out-of-bounds", &format!("{base}/allow_out_of_bounds"), "allow_out_of_bounds is set but every value is inside the bounds", Some("remove it, so an accidental out-of-bounds value is caught".into()));
+        sink.warning(
+            file,
+            "needless-allow-out-of-bounds",
+            &format!("{base}/allow_out_of_bounds"),
+            "allow_out_of_bounds is set but every value is inside the bounds",
+            Some("remove it, so an accidental out-of-bounds value is caught".into()),
+        );
     }
 }

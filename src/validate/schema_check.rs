@@ -91,27 +91,27 @@ fn explain(e: &ValidationError<'_>, out: &mut Vec<SchemaProblem>) {
                     help = Some(format!("write the number without quotes: {}", s.trim()));
                 }
             }
-            (format!("expected {expected}, found {found}"), help.or(Some(format!("change this value to a {expected}"))))
+            (
+                format!("expected {expected}, found {found}"),
+                help.or(Some(format!("change this value to a {expected}"))),
+            )
         }
         ValidationErrorKind::Enum { options } => (
             format!("{found} is not one of the allowed values {options}"),
             Some(format!("use one of {options}")),
         ),
-        ValidationErrorKind::Constant { expected_value } => (
-            format!("expected {expected_value}, found {found}"),
-            None,
-        ),
+        ValidationErrorKind::Constant { expected_value } => (format!("expected {expected_value}, found {found}"), None),
         ValidationErrorKind::Pattern { pattern } => (
             format!("{found} does not match the pattern {pattern}"),
-            Some("ids and names are snake_case: lowercase letters, digits and underscores, starting with a letter".into()),
+            Some(
+                "ids and names are snake_case: lowercase letters, digits and underscores, starting with a letter"
+                    .into(),
+            ),
         ),
         ValidationErrorKind::MinItems { limit } | ValidationErrorKind::MaxItems { limit } => {
             (format!("{e}"), Some(format!("this array needs {limit} item(s) here")))
         }
-        ValidationErrorKind::Minimum { limit } => (
-            format!("{found} is less than the minimum {limit}"),
-            None,
-        ),
+        ValidationErrorKind::Minimum { limit } => (format!("{found} is less than the minimum {limit}"), None),
         ValidationErrorKind::AnyOf { context } | ValidationErrorKind::OneOfNotValid { context } => {
             // Report the branch that matched best (e.g. the sampler whose `kind` matched) instead of
             // "not valid under any of the schemas".
@@ -134,7 +134,10 @@ fn explain(e: &ValidationError<'_>, out: &mut Vec<SchemaProblem>) {
                 });
                 return;
             }
-            (format!("{found} does not have any of the accepted shapes"), Some("compare with the schema (carl-spec schema) or an existing spec".into()))
+            (
+                format!("{found} does not have any of the accepted shapes"),
+                Some("compare with the schema (carl-spec schema) or an existing spec".into()),
+            )
         }
         _ => (e.to_string(), None),
     };
@@ -148,18 +151,27 @@ fn explain(e: &ValidationError<'_>, out: &mut Vec<SchemaProblem>) {
 
 /// Of several failing alternatives, the one whose discriminator (`kind`/`type` const) matched, or the
 /// one with the fewest errors; `None` when they all fail at the top (plain type mismatch).
-fn best_branch<'a>(context: &'a [Vec<ValidationError<'static>>], at: &str) -> Option<&'a Vec<ValidationError<'static>>> {
+fn best_branch<'a>(
+    context: &'a [Vec<ValidationError<'static>>],
+    at: &str,
+) -> Option<&'a Vec<ValidationError<'static>>> {
     let tag_failed = |errs: &Vec<ValidationError<'static>>| {
         errs.iter().any(|e| {
-            matches!(e.kind(), ValidationErrorKind::Constant { .. } | ValidationErrorKind::Enum { .. })
-                && matches!(e.instance_path().as_str().rsplit('/').next(), Some("kind" | "type"))
+            matches!(
+                e.kind(),
+                ValidationErrorKind::Constant { .. } | ValidationErrorKind::Enum { .. }
+            ) && matches!(e.instance_path().as_str().rsplit('/').next(), Some("kind" | "type"))
         })
     };
     // The value itself has the wrong type for this branch (not one of its fields).
     let top_type_failed = |errs: &Vec<ValidationError<'static>>| {
-        errs.iter().any(|e| matches!(e.kind(), ValidationErrorKind::Type { .. }) && e.instance_path().as_str() == at)
+        errs.iter()
+            .any(|e| matches!(e.kind(), ValidationErrorKind::Type { .. }) && e.instance_path().as_str() == at)
     };
-    let candidates: Vec<_> = context.iter().filter(|b| !tag_failed(b) && !top_type_failed(b)).collect();
+    let candidates: Vec<_> = context
+        .iter()
+        .filter(|b| !tag_failed(b) && !top_type_failed(b))
+        .collect();
     candidates.into_iter().min_by_key(|b| b.len())
 }
 
@@ -170,7 +182,9 @@ fn unmatched_tag(context: &[Vec<ValidationError<'static>>]) -> Option<(String, S
     let mut tag = None;
     let mut found = None;
     for branch in context {
-        let e = branch.iter().find(|e| matches!(e.kind(), ValidationErrorKind::Constant { .. }))?;
+        let e = branch
+            .iter()
+            .find(|e| matches!(e.kind(), ValidationErrorKind::Constant { .. }))?;
         let path = e.instance_path().as_str();
         let name = path.rsplit('/').next()?.to_string();
         if name != "kind" && name != "type" {
@@ -219,7 +233,11 @@ pub fn describe(v: &serde_json::Value) -> String {
         serde_json::Value::Number(n) => format!("number {n}"),
         serde_json::Value::String(s) => {
             let short: String = s.chars().take(40).collect();
-            if short.len() < s.len() { format!("string \"{short}…\"") } else { format!("string \"{s}\"") }
+            if short.len() < s.len() {
+                format!("string \"{short}…\"")
+            } else {
+                format!("string \"{s}\"")
+            }
         }
         serde_json::Value::Array(a) => format!("an array of {} item(s)", a.len()),
         serde_json::Value::Object(_) => "an object".into(),

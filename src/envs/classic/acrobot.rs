@@ -7,8 +7,8 @@
 use std::f64::consts::PI;
 
 use crate::envs::api::{
-    Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features,
-    discrete_action, py_sq,
+    Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features, discrete_action,
+    py_sq,
 };
 use crate::envs::rng::{EnvRng, uniform};
 
@@ -100,12 +100,10 @@ fn dsdt(p: &AcrobotParams, s: &[f64; 5]) -> [f64; 5] {
     let (lc1, lc2) = (p.link_com_1, p.link_com_2);
     let (i1, i2) = (p.link_moi, p.link_moi);
     let [theta1, theta2, dtheta1, dtheta2, a] = *s;
-    let d1 =
-        m1 * py_sq(lc1) + m2 * (py_sq(l1) + py_sq(lc2) + 2.0 * l1 * lc2 * theta2.cos()) + i1 + i2;
+    let d1 = m1 * py_sq(lc1) + m2 * (py_sq(l1) + py_sq(lc2) + 2.0 * l1 * lc2 * theta2.cos()) + i1 + i2;
     let d2 = m2 * (py_sq(lc2) + l1 * lc2 * theta2.cos()) + i2;
     let phi2 = m2 * lc2 * G * (theta1 + theta2 - PI / 2.0).cos();
-    let phi1 = -m2 * l1 * lc2 * py_sq(dtheta2) * theta2.sin()
-        - 2.0 * m2 * l1 * lc2 * dtheta2 * dtheta1 * theta2.sin()
+    let phi1 = -m2 * l1 * lc2 * py_sq(dtheta2) * theta2.sin() - 2.0 * m2 * l1 * lc2 * dtheta2 * dtheta1 * theta2.sin()
         + (m1 * lc1 + m2 * l1) * G * (theta1 - PI / 2.0).cos()
         + phi2;
     let ddtheta2 = match p.dynamics {
@@ -218,10 +216,7 @@ impl Env for Acrobot {
         4
     }
     fn observation_space(&self) -> Space {
-        let (v1, v2) = (
-            self.params.max_velocity_1 as f32,
-            self.params.max_velocity_2 as f32,
-        );
+        let (v1, v2) = (self.params.max_velocity_1 as f32, self.params.max_velocity_2 as f32);
         Space::Box {
             low: vec![-1.0, -1.0, -1.0, -1.0, -v1, -v2],
             high: vec![1.0, 1.0, 1.0, 1.0, v1, v2],

@@ -1,8 +1,7 @@
 //! CartPole-v1 (Gymnasium 1.4 `CartPoleEnv`, Euler integrator, reward 1 per step).
 
 use crate::envs::api::{
-    Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features,
-    discrete_action,
+    Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features, discrete_action,
 };
 use crate::envs::rng::{EnvRng, uniform};
 
@@ -142,10 +141,7 @@ impl Env for CartPole {
         if let Some(seed) = seed {
             self.rng = EnvRng::from_seed(seed);
         }
-        let (lo, hi) = (
-            self.params.initial_state_lower,
-            self.params.initial_state_upper,
-        );
+        let (lo, hi) = (self.params.initial_state_lower, self.params.initial_state_upper);
         for s in self.state.iter_mut() {
             *s = uniform(&mut self.rng, lo, hi);
         }
@@ -166,11 +162,7 @@ impl Env for CartPole {
         let total_mass = p.total_mass();
         let polemass_length = p.polemass_length();
         let [x, x_dot, theta, theta_dot] = self.state;
-        let force = if a == 1 {
-            p.force_magnifier
-        } else {
-            -p.force_magnifier
-        };
+        let force = if a == 1 { p.force_magnifier } else { -p.force_magnifier };
         let costheta = theta.cos();
         let sintheta = theta.sin();
         let temp = (force + polemass_length * (theta_dot * theta_dot) * sintheta) / total_mass;
@@ -187,10 +179,8 @@ impl Env for CartPole {
         // Written as Gymnasium's four comparisons on purpose: with a NaN state they are all
         // false (not terminated), whereas `!range.contains(&x)` would report termination.
         #[allow(clippy::manual_range_contains)]
-        let terminated = x < -X_THRESHOLD
-            || x > X_THRESHOLD
-            || theta < -THETA_THRESHOLD_RADIANS
-            || theta > THETA_THRESHOLD_RADIANS;
+        let terminated =
+            x < -X_THRESHOLD || x > X_THRESHOLD || theta < -THETA_THRESHOLD_RADIANS || theta > THETA_THRESHOLD_RADIANS;
         // Gymnasium: 1 per step including the terminating one, 0 for steps taken after that.
         let reward = if !terminated {
             1.0

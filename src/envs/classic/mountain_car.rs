@@ -1,8 +1,8 @@
 //! MountainCar-v0 (Gymnasium 1.4 `MountainCarEnv`).
 
 use crate::envs::api::{
-    Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features,
-    discrete_action, np_clip,
+    Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features, discrete_action,
+    np_clip,
 };
 use crate::envs::rng::{EnvRng, normal, uniform};
 
@@ -170,8 +170,7 @@ impl Env for MountainCar {
         let p = &self.params;
         let [position, velocity] = self.state;
         // velocity += (action - 1) * force + math.cos(3 * position) * (-gravity)
-        let velocity =
-            velocity + ((a - 1) as f64 * p.force + (3.0 * position).cos() * (-p.gravity));
+        let velocity = velocity + ((a - 1) as f64 * p.force + (3.0 * position).cos() * (-p.gravity));
         let mut velocity = np_clip(velocity, -p.max_speed, p.max_speed);
         let position = position + velocity;
         let position = np_clip(position, p.min_position, p.max_position);

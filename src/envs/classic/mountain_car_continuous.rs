@@ -6,8 +6,7 @@
 //! [`Num`] reproduces those rules so the trajectory is bit-identical.
 
 use crate::envs::api::{
-    Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features,
-    scalar_action,
+    Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features, scalar_action,
 };
 use crate::envs::rng::{EnvRng, uniform};
 

@@ -9,8 +9,8 @@
 use std::f64::consts::PI;
 
 use crate::envs::api::{
-    Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features,
-    np_clip, np_clip_f32, np_sq_f32, py_sq, scalar_action,
+    Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features, np_clip,
+    np_clip_f32, np_sq_f32, py_sq, scalar_action,
 };
 use crate::envs::rng::{EnvRng, uniform};
 
@@ -147,10 +147,7 @@ impl Env for Pendulum {
         if let Some(seed) = seed {
             self.rng = EnvRng::from_seed(seed);
         }
-        let (x, y) = (
-            self.params.initial_angle_max,
-            self.params.initial_velocity_max,
-        );
+        let (x, y) = (self.params.initial_angle_max, self.params.initial_velocity_max);
         self.state = [uniform(&mut self.rng, -x, x), uniform(&mut self.rng, -y, y)];
         self.ready = true;
         self.write_obs(obs);
@@ -168,9 +165,7 @@ impl Env for Pendulum {
         let [th, thdot] = self.state;
         let mt = p.max_torque as f32;
         let u = np_clip_f32(u, -mt, mt);
-        let costs = py_sq(angle_normalize(th))
-            + 0.1 * py_sq(thdot)
-            + ((0.001f64 as f32) * np_sq_f32(u)) as f64;
+        let costs = py_sq(angle_normalize(th)) + 0.1 * py_sq(thdot) + ((0.001f64 as f32) * np_sq_f32(u)) as f64;
         let torque_term = ((3.0 / (p.m * py_sq(p.l))) as f32 * u) as f64;
         let newthdot = thdot + (3.0 * p.g / (2.0 * p.l) * th.sin() + torque_term) * p.dt;
         let newthdot = np_clip(newthdot, -p.max_speed, p.max_speed);
