@@ -7,6 +7,7 @@
 
 pub mod api;
 pub mod classic;
+pub mod registry;
 pub mod rng;
 
 pub use api::{Action, DType, Env, EnvError, Info, Space, Step, StepOutcome, TimeLimit, UnknownFeature};

@@ -6,6 +6,7 @@
 
 pub mod diagnostic;
 mod rules;
+pub use rules::value_text;
 pub mod schema_check;
 
 use std::collections::BTreeMap;

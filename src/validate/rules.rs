@@ -527,7 +527,7 @@ fn scalar_text(s: &Scalar) -> String {
     }
 }
 
-pub(crate) fn value_text(v: &Value) -> String {
+pub fn value_text(v: &Value) -> String {
     match v {
         Value::Bool(b) => b.to_string(),
         Value::Number(x) => x.to_string(),
