@@ -7,6 +7,7 @@
 
 pub mod cli;
 pub mod envs;
+pub mod instances;
 pub mod json;
 pub mod sampling;
 pub mod schema;

@@ -1,6 +1,7 @@
 //! The `carl-spec` command line. Each subcommand lives in its own module; this file only parses
 //! arguments and maps outcomes to exit codes (0 ok, 1 invalid specs / failed check, 2 usage or I/O).
 
+mod instances_cmd;
 mod specs_cmd;
 mod validate_cmd;
 
@@ -46,6 +47,34 @@ pub enum Command {
     },
     /// Print the JSON Schema of spec files.
     Schema,
+    /// Instance sets: list, show one, verify all frozen files.
+    #[command(subcommand)]
+    Instances(instances_cmd::InstancesCommand),
+    /// Derive instance sets and write them (atomically) to specs/instances/ENV/SET.json.
+    Freeze {
+        /// ENV/SET or ENV (all its sets); none: every declared set.
+        names: Vec<String>,
+        /// Spec directory to write bundled specs' sets into (default: ./specs of the repository).
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Replace frozen files whose content differs (their old values are lost).
+        #[arg(long)]
+        force: bool,
+    },
+    /// Sample contexts ad hoc from a named distribution (nothing is written).
+    Sample {
+        /// Environment id or alias.
+        env: String,
+        #[arg(long)]
+        distribution: String,
+        /// Number of contexts (1 to 1,000,000).
+        #[arg(short = 'n', long = "num", value_name = "N")]
+        n: u64,
+        #[arg(long)]
+        seed: u64,
+        #[arg(long, value_enum, default_value_t = Format::Text)]
+        format: Format,
+    },
     /// Counts over all environments: features, share affecting dynamics/reward, share continuous.
     Stats {
         #[arg(long, value_enum, default_value_t = Format::Text)]
@@ -115,6 +144,15 @@ pub fn main() -> ExitCode {
         Command::Show { id, format } => specs_cmd::show(&cli, id, *format),
         Command::Schema => specs_cmd::schema(),
         Command::Stats { format } => specs_cmd::stats(&cli, *format),
+        Command::Instances(cmd) => instances_cmd::instances(&cli, cmd),
+        Command::Freeze { names, out, force } => instances_cmd::freeze(&cli, names, out.as_ref(), *force),
+        Command::Sample {
+            env,
+            distribution,
+            n,
+            seed,
+            format,
+        } => instances_cmd::sample(&cli, env, distribution, *n, *seed, *format),
     };
     match result {
         Ok(code) => ExitCode::from(code),

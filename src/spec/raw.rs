@@ -9,6 +9,9 @@ use std::collections::BTreeMap;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
+/// Instance sets larger than this are refused (a frozen set is a file people read and diff).
+pub const MAX_INSTANCES: u64 = 1_000_000;
+
 /// One environment's context specification (`specs/<id>.json`).
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema, PartialEq)]
 #[serde(deny_unknown_fields)]

@@ -9,8 +9,7 @@ use crate::spec::raw::{FeatureType, RawFragment, Sampler, Scalar, Space, Value};
 use crate::spec::resolve::{FeatureSite, Resolved};
 use crate::suggest::did_you_mean;
 
-/// Instance sets larger than this are refused (a frozen set is a file people read and diff).
-pub const MAX_INSTANCES: u64 = 1_000_000;
+pub use crate::spec::raw::MAX_INSTANCES;
 
 pub fn check_fragment(frag: &RawFragment, file: usize, sink: &mut Sink<'_>) {
     let mut seen = BTreeSet::new();

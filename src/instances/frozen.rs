@@ -1,0 +1,175 @@
+//! The frozen instance-set file: values plus everything needed to re-derive and check them.
+
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+
+use crate::spec::model::{Distribution, EnvSpec, InstanceSet, Value};
+use crate::spec::raw::Split;
+
+/// Format tag of frozen files; bump on incompatible changes.
+pub const FORMAT: &str = "carl-spec-instances/1";
+
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct FrozenSet {
+    pub format: String,
+    pub env: String,
+    pub set: String,
+    pub description: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub role: Option<String>,
+    pub provenance: Provenance,
+    /// The features this set varies (all other features stay at their defaults).
+    pub features: Vec<String>,
+    pub instances: Vec<Instance>,
+    /// `sha256:<hex>` of this file's canonical JSON with `content_hash` set to "".
+    pub content_hash: String,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Provenance {
+    /// carl-spec version that wrote the file.
+    pub generator: String,
+    /// Bit generator and seeding scheme (sampled sets), e.g. `pcg64-…`.
+    pub rng: String,
+    pub sampler_version: String,
+    /// `sha256:<hex>` over what determines the values: the features' names, types, defaults and
+    /// bounds, this set's definition and its distribution.
+    pub spec_digest: String,
+    /// The set definition as written in the spec.
+    pub definition: InstanceSet,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub distribution: Option<Distribution>,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Instance {
+    /// Position in the set (0-based); stable, used as the instance id.
+    pub id: usize,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub split: Option<Split>,
+    /// Values of the varied features, by canonical name.
+    pub context: BTreeMap<String, Value>,
+}
+
+impl Instance {
+    /// `name` if it has one, else `#id`.
+    pub fn label(&self) -> String {
+        self.name.clone().unwrap_or_else(|| format!("#{}", self.id))
+    }
+}
+
+impl FrozenSet {
+    /// `env/set`.
+    pub fn qualified_name(&self) -> String {
+        format!("{}/{}", self.env, self.set)
+    }
+
+    /// The hash this file should carry.
+    pub fn compute_hash(&self) -> String {
+        let mut copy = self.clone();
+        copy.content_hash = String::new();
+        let bytes = serde_json::to_vec(&copy).unwrap_or_default();
+        format!("sha256:{}", hex(&Sha256::digest(&bytes)))
+    }
+
+    pub fn with_hash(mut self) -> Self {
+        self.content_hash = self.compute_hash();
+        self
+    }
+
+    /// The file's text: pretty JSON, one instance per line for readable diffs.
+    pub fn to_text(&self) -> String {
+        let mut head = self.clone();
+        head.instances = Vec::new();
+        let mut text = serde_json::to_string_pretty(&head).unwrap_or_default();
+        let lines: Vec<String> = self
+            .instances
+            .iter()
+            .map(|i| format!("    {}", serde_json::to_string(i).unwrap_or_default()))
+            .collect();
+        let body = if lines.is_empty() {
+            "[]".to_string()
+        } else {
+            format!("[\n{}\n  ]", lines.join(",\n"))
+        };
+        text = text.replacen("\"instances\": []", &format!("\"instances\": {body}"), 1);
+        text.push('\n');
+        text
+    }
+
+    /// The full context of instance `i`: the spec's defaults overlaid with the instance's values.
+    pub fn full_context(&self, spec: &EnvSpec, i: usize) -> Option<BTreeMap<String, Value>> {
+        let inst = self.instances.get(i)?;
+        let mut ctx = spec.default_context();
+        for (k, v) in &inst.context {
+            ctx.insert(k.clone(), v.clone());
+        }
+        Some(ctx)
+    }
+}
+
+/// The digest of everything that determines a set's values.
+pub fn spec_digest(spec: &EnvSpec, set: &InstanceSet, dist: Option<&Distribution>) -> String {
+    #[derive(Serialize)]
+    struct Basis<'a> {
+        env: &'a str,
+        features: Vec<(
+            &'a str,
+            &'a crate::spec::raw::FeatureType,
+            &'a Option<Value>,
+            &'a [Option<f64>; 2],
+        )>,
+        set: &'a InstanceSet,
+        distribution: Option<&'a Distribution>,
+    }
+    let basis = Basis {
+        env: &spec.id,
+        features: spec
+            .features
+            .iter()
+            .map(|f| (f.name.as_str(), &f.kind, &f.default, &f.bounds))
+            .collect(),
+        set,
+        distribution: dist,
+    };
+    let bytes = serde_json::to_vec(&basis).unwrap_or_default();
+    format!("sha256:{}", hex(&Sha256::digest(&bytes)))
+}
+
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// Write `text` to `path` atomically: a temporary file in the same directory, flushed to disk, then
+/// renamed over the target. An interrupted write leaves the old file (or none), never half a file.
+pub fn write_atomic(path: &Path, text: &str) -> std::io::Result<()> {
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    std::fs::create_dir_all(dir)?;
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    let result = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(text.as_bytes())?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
