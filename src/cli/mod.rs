@@ -2,6 +2,7 @@
 //! arguments and maps outcomes to exit codes (0 ok, 1 invalid specs / failed check, 2 usage or I/O).
 
 mod instances_cmd;
+mod rollout_cmd;
 mod specs_cmd;
 mod validate_cmd;
 
@@ -75,6 +76,8 @@ pub enum Command {
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
+    /// Run one episode and print JSON Lines (reset line, then one line per step).
+    Rollout(rollout_cmd::RolloutArgs),
     /// Counts over all environments: features, share affecting dynamics/reward, share continuous.
     Stats {
         #[arg(long, value_enum, default_value_t = Format::Text)]
@@ -144,6 +147,7 @@ pub fn main() -> ExitCode {
         Command::Show { id, format } => specs_cmd::show(&cli, id, *format),
         Command::Schema => specs_cmd::schema(),
         Command::Stats { format } => specs_cmd::stats(&cli, *format),
+        Command::Rollout(args) => rollout_cmd::run(&cli, args),
         Command::Instances(cmd) => instances_cmd::instances(&cli, cmd),
         Command::Freeze { names, out, force } => instances_cmd::freeze(&cli, names, out.as_ref(), *force),
         Command::Sample {

@@ -1,0 +1,300 @@
+//! `carl-spec rollout ENV …`: run one episode and print JSON Lines.
+//!
+//! First line `{"reset": {"obs": […], "context": {…}}}`, then one line per step
+//! `{"t": 1, "action": …, "obs": […], "reward": r, "terminated": b, "truncated": b}`, stopping at
+//! termination or truncation. With `--actions -` each action is read from standard input (one JSON
+//! value per line) and the step's line is written and flushed before the next is read, so any
+//! program can drive an environment in a closed loop through a pipe.
+
+use std::io::{BufRead, Write};
+use std::path::PathBuf;
+
+use clap::Args;
+use serde_json::json;
+
+use super::{Cli, CmdResult, Failure, exit, load_specs};
+use crate::envs::api::{Action, Env, Space};
+use crate::envs::registry::{Context, MakeOptions, has_runtime, make_with, resolve_context};
+use crate::instances::Store;
+use crate::sampling::{Pcg64, dist};
+use crate::spec::model::Value;
+
+#[derive(Args, Debug)]
+pub struct RolloutArgs {
+    /// Environment id or alias (runtimes: cartpole, pendulum, mountain_car, mountain_car_continuous, acrobot).
+    pub env: String,
+    /// Set a context feature, e.g. `--context gravity=3.7` (repeatable; canonical names or aliases).
+    #[arg(long = "context", value_name = "NAME=VALUE")]
+    pub context: Vec<String>,
+    /// Take the context from a frozen instance set (ENV/SET); `--context` values override it.
+    #[arg(long, value_name = "ENV/SET")]
+    pub instance_set: Option<String>,
+    /// Index of the instance within `--instance-set` (default 0).
+    #[arg(long, value_name = "I")]
+    pub instance: Option<usize>,
+    /// Seed of the reset (initial state) and of the random policy.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Internal state to set right after reset, comma-separated (CartPole: x,x_dot,theta,theta_dot;
+    /// Pendulum: theta,theta_dot; MountainCar: position,velocity; Acrobot: theta1,theta2,dtheta1,dtheta2).
+    #[arg(long, value_name = "V1,V2,…", allow_hyphen_values = true)]
+    pub initial_state: Option<String>,
+    /// JSON array of actions, or `-` to read one JSON action per line from standard input.
+    #[arg(long, value_name = "FILE")]
+    pub actions: Option<PathBuf>,
+    /// Policy when no actions are given.
+    #[arg(long, value_enum, default_value_t = Policy::Random)]
+    pub policy: Policy,
+    /// Stop after at most N steps (the episode may end earlier).
+    #[arg(long, value_name = "N")]
+    pub steps: Option<u64>,
+    /// Accept context values outside the spec's bounds.
+    #[arg(long)]
+    pub allow_out_of_bounds: bool,
+}
+
+#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Policy {
+    /// Uniform over the action space, from a generator seeded with `--seed`.
+    Random,
+}
+
+// Lines are structs so their keys come out in the documented order.
+#[derive(serde::Serialize)]
+struct ResetLine<'a> {
+    reset: ResetBody<'a>,
+}
+
+#[derive(serde::Serialize)]
+struct ResetBody<'a> {
+    obs: &'a [f32],
+    context: &'a serde_json::Map<String, serde_json::Value>,
+}
+
+#[derive(serde::Serialize)]
+struct StepLine<'a> {
+    t: u64,
+    action: &'a serde_json::Value,
+    obs: &'a [f32],
+    reward: f64,
+    terminated: bool,
+    truncated: bool,
+}
+
+enum ActionSource {
+    List(std::vec::IntoIter<serde_json::Value>),
+    Stdin(std::io::StdinLock<'static>),
+    Random(Pcg64),
+}
+
+fn parse_context(args: &RolloutArgs, cli: &Cli) -> Result<(crate::spec::SpecSet, Context, bool), Failure> {
+    let specs = load_specs(cli)?;
+    let spec = specs.require(&args.env).map_err(Failure::usage)?.clone();
+    let mut ctx = Context::new();
+    let mut allow = args.allow_out_of_bounds;
+    match (&args.instance_set, args.instance) {
+        (Some(name), i) => {
+            let store = Store::new(&specs);
+            let set = store.load(name).map_err(|e| Failure::usage(e.to_string()))?;
+            if set.env != spec.id {
+                return Err(Failure::usage(format!(
+                    "instance set {name} belongs to {}, not {}",
+                    set.env, spec.id
+                )));
+            }
+            let i = i.unwrap_or(0);
+            let inst = set.instances.get(i).ok_or_else(|| {
+                Failure::usage(format!(
+                    "{name} has {} instances (0..{}); no instance {i}",
+                    set.instances.len(),
+                    set.instances.len()
+                ))
+            })?;
+            ctx.extend(inst.context.clone());
+            // A set that deliberately goes out of bounds (e.g. Jupiter) is runnable as declared.
+            allow |= set.provenance.definition.allow_out_of_bounds;
+        }
+        (None, Some(_)) => return Err(Failure::usage("--instance needs --instance-set ENV/SET")),
+        (None, None) => {}
+    }
+    for kv in &args.context {
+        let (k, v) = kv
+            .split_once('=')
+            .ok_or_else(|| Failure::usage(format!("--context expects NAME=VALUE, got \"{kv}\"")))?;
+        let x: f64 = v
+            .trim()
+            .parse()
+            .map_err(|_| Failure::usage(format!("--context {k}: \"{v}\" is not a number")))?;
+        ctx.insert(k.trim().to_string(), Value::Number(x));
+    }
+    Ok((specs, ctx, allow))
+}
+
+pub fn run(cli: &Cli, args: &RolloutArgs) -> CmdResult {
+    let (specs, ctx, allow) = parse_context(args, cli)?;
+    let spec = specs.require(&args.env).map_err(Failure::usage)?;
+    if !has_runtime(&spec.id) {
+        return Err(Failure::usage(format!(
+            "{} has a spec but no runtime yet; rollout works for: {}",
+            spec.id,
+            crate::envs::registry::RUNTIMES.join(", ")
+        )));
+    }
+    let opts = MakeOptions {
+        allow_out_of_bounds: allow,
+    };
+    let mut env = make_with(spec, &ctx, opts).map_err(|e| Failure::usage(e.to_string()))?;
+    let full: serde_json::Map<String, serde_json::Value> = resolve_context(spec, &ctx, opts)
+        .map_err(|e| Failure::usage(e.to_string()))?
+        .into_iter()
+        .map(|(k, v)| (k, json!(v)))
+        .collect();
+
+    let initial_state = match &args.initial_state {
+        None => None,
+        Some(s) => Some(
+            s.split(',')
+                .map(|x| x.trim().parse::<f64>())
+                .collect::<Result<Vec<f64>, _>>()
+                .map_err(|_| {
+                    Failure::usage(format!(
+                        "--initial-state \"{s}\" is not a comma-separated list of numbers"
+                    ))
+                })?,
+        ),
+    };
+
+    let mut source = match &args.actions {
+        Some(p) if p.as_os_str() == "-" => ActionSource::Stdin(std::io::stdin().lock()),
+        Some(p) => {
+            let text =
+                std::fs::read_to_string(p).map_err(|e| Failure::usage(format!("cannot read {}: {e}", p.display())))?;
+            let v: serde_json::Value =
+                serde_json::from_str(&text).map_err(|e| Failure::usage(format!("{}: not JSON: {e}", p.display())))?;
+            let list = v
+                .as_array()
+                .cloned()
+                .ok_or_else(|| Failure::usage(format!("{}: expected a JSON array of actions", p.display())))?;
+            ActionSource::List(list.into_iter())
+        }
+        None => ActionSource::Random(Pcg64::new(args.seed, crate::sampling::stream_id("rollout-policy"))),
+    };
+
+    let stdout = std::io::stdout();
+    let mut w = std::io::BufWriter::new(stdout.lock());
+
+    let mut obs = vec![0.0f32; env.obs_dim()];
+    env.reset_into(Some(args.seed), &mut obs)
+        .map_err(|e| Failure::failed(e.to_string()))?;
+    if let Some(state) = &initial_state {
+        env.set_state(state)
+            .map_err(|e| Failure::usage(format!("--initial-state: {e}")))?;
+        env.observe_into(&mut obs).map_err(|e| Failure::failed(e.to_string()))?;
+    }
+    let interactive = matches!(source, ActionSource::Stdin(_));
+    let reset_line = ResetLine {
+        reset: ResetBody {
+            obs: &obs,
+            context: &full,
+        },
+    };
+    if !emit(&mut w, &reset_line, interactive) {
+        return Ok(exit::OK);
+    }
+    let action_space = env.action_space();
+    let mut t = 0u64;
+    let mut line = String::new();
+    while args.steps.is_none_or(|n| t < n) {
+        let action_json = match &mut source {
+            ActionSource::List(it) => match it.next() {
+                Some(a) => a,
+                None => break,
+            },
+            ActionSource::Stdin(lock) => {
+                line.clear();
+                match lock.read_line(&mut line) {
+                    Ok(0) => break,
+                    Ok(_) if line.trim().is_empty() => continue,
+                    Ok(_) => serde_json::from_str(line.trim()).map_err(|e| {
+                        Failure::usage(format!("step {}: action \"{}\" is not JSON: {e}", t + 1, line.trim()))
+                    })?,
+                    Err(e) => return Err(Failure::usage(format!("reading actions from stdin: {e}"))),
+                }
+            }
+            ActionSource::Random(rng) => random_action(rng, &action_space),
+        };
+        let action =
+            parse_action(&action_json, &action_space).map_err(|m| Failure::usage(format!("step {}: {m}", t + 1)))?;
+        let out = env
+            .step_into(&action, &mut obs)
+            .map_err(|e| Failure::usage(format!("step {}: {e}", t + 1)))?;
+        t += 1;
+        let line_out = StepLine {
+            t,
+            action: &action_json,
+            obs: &obs,
+            reward: out.reward,
+            terminated: out.terminated,
+            truncated: out.truncated,
+        };
+        if !emit(&mut w, &line_out, interactive) {
+            return Ok(exit::OK);
+        }
+        if out.terminated || out.truncated {
+            break;
+        }
+    }
+    let _ = w.flush();
+    Ok(exit::OK)
+}
+
+/// Write one JSON line; false when stdout is closed (the reader went away: stop quietly).
+fn emit(w: &mut impl Write, v: &impl serde::Serialize, flush: bool) -> bool {
+    serde_json::to_writer(&mut *w, v).is_ok() && w.write_all(b"\n").is_ok() && (!flush || w.flush().is_ok())
+}
+
+fn random_action(rng: &mut Pcg64, space: &Space) -> serde_json::Value {
+    match space {
+        Space::Discrete { n, start } => json!(start + dist::below(rng, (*n).max(1) as u64) as i64),
+        Space::Box { low, high, .. } => {
+            let v: Vec<f32> = low
+                .iter()
+                .zip(high)
+                .map(|(l, h)| dist::uniform(rng, *l as f64, *h as f64) as f32)
+                .collect();
+            json!(v)
+        }
+    }
+}
+
+fn parse_action(v: &serde_json::Value, space: &Space) -> Result<Action, String> {
+    match space {
+        Space::Discrete { n, start } => {
+            let a = v
+                .as_i64()
+                .ok_or_else(|| format!("expected an integer action in {start}..{}, got {v}", start + n))?;
+            Ok(Action::Discrete(a))
+        }
+        Space::Box { low, .. } => {
+            let xs: Vec<f32> = match v {
+                serde_json::Value::Number(x) if low.len() == 1 => vec![x.as_f64().unwrap_or(f64::NAN) as f32],
+                serde_json::Value::Array(items) => items
+                    .iter()
+                    .map(|x| {
+                        x.as_f64()
+                            .map(|f| f as f32)
+                            .ok_or_else(|| format!("action element {x} is not a number"))
+                    })
+                    .collect::<Result<_, _>>()?,
+                _ => return Err(format!("expected an array of {} number(s), got {v}", low.len())),
+            };
+            if xs.len() != low.len() {
+                return Err(format!("expected {} number(s), got {}", low.len(), xs.len()));
+            }
+            if xs.iter().any(|x| !x.is_finite()) {
+                return Err("action values must be finite".into());
+            }
+            Ok(Action::Continuous(xs))
+        }
+    }
+}
