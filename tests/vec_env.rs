@@ -108,9 +108,10 @@ fn vec_env_equals_scalar_envs_for_every_runtime() {
         // Long enough for every time limit (MountainCarContinuous: 999) to truncate.
         let steps = if *id == "mountain_car_continuous" { 1010 } else { 520 };
         compare(id, 5, steps, VecOptions::default());
+        // Enough environments for several work-sharing blocks (>= 16 envs each) across threads.
         compare(
             id,
-            5,
+            37,
             steps,
             VecOptions {
                 threads: 2,
@@ -120,7 +121,7 @@ fn vec_env_equals_scalar_envs_for_every_runtime() {
     }
     compare(
         "cartpole",
-        6,
+        50,
         600,
         VecOptions {
             threads: 3,

@@ -1,6 +1,7 @@
 //! The `carl-spec` command line. Each subcommand lives in its own module; this file only parses
 //! arguments and maps outcomes to exit codes (0 ok, 1 invalid specs / failed check, 2 usage or I/O).
 
+mod bench_cmd;
 mod specs_cmd;
 mod validate_cmd;
 
@@ -50,6 +51,19 @@ pub enum Command {
     Stats {
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
+    },
+    /// Steps per second of one environment and of a VecEnv (random actions, auto-reset), as one JSON line.
+    Bench {
+        /// Environment id or alias, e.g. `cartpole`.
+        env: String,
+        #[arg(long, default_value_t = 1024)]
+        num_envs: usize,
+        /// Environment steps timed in each run.
+        #[arg(long, default_value_t = 20_000_000)]
+        steps: u64,
+        /// Threads for the VecEnv run (default: available cores).
+        #[arg(long)]
+        threads: Option<usize>,
     },
 }
 
@@ -115,6 +129,12 @@ pub fn main() -> ExitCode {
         Command::Show { id, format } => specs_cmd::show(&cli, id, *format),
         Command::Schema => specs_cmd::schema(),
         Command::Stats { format } => specs_cmd::stats(&cli, *format),
+        Command::Bench {
+            env,
+            num_envs,
+            steps,
+            threads,
+        } => bench_cmd::run(&cli, env, *num_envs, *steps, *threads),
     };
     match result {
         Ok(code) => ExitCode::from(code),

@@ -1,34 +1,44 @@
 //! A tiny persistent fork-join pool for [`VecEnv`](super::vec_env::VecEnv).
 //!
-//! One batch step of 1024 CartPoles takes ~10 µs, which is less than spawning a thread, so the
-//! workers are started once and wait for jobs by spinning briefly, then parking. [`Pool::run`]
-//! runs `job(0)` on the calling thread and `job(1..threads)` on the workers and returns when all
-//! are done (also when a job panics: the panic is re-raised on the calling thread afterwards).
+//! One batch step of 1024 CartPoles takes ~10 µs, less than spawning a thread, so the workers
+//! are started once and wait for jobs by spinning briefly, then parking. [`Pool::run`] splits
+//! `0..n` into blocks that the calling thread and the workers claim from a shared counter, so a
+//! worker that is descheduled (a busy machine) never stalls the step: the caller simply does the
+//! remaining blocks itself. A worker may only join a job while it is open; the caller closes it
+//! when no block is left and waits just for workers that are inside the job. A panic in a job is
+//! re-raised on the calling thread.
 
 use std::cell::UnsafeCell;
+use std::ops::Range;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::thread::{JoinHandle, Thread};
 
-type Job = dyn Fn(usize) + Sync;
+type Job = dyn Fn(Range<usize>) + Sync;
 
-/// How long an idle worker spins before it parks (spin-loop iterations).
-const SPIN_BEFORE_PARK: u32 = 1 << 16;
+/// How long an idle thread spins before it yields/parks (spin-loop iterations).
+const SPIN: u32 = 1 << 14;
+
+/// `state`: generation in the high 32 bits, `CLOSED` flag, active-worker count in the low bits.
+const CLOSED: u64 = 1 << 31;
+const ACTIVE_MASK: u64 = CLOSED - 1;
+const GEN_ONE: u64 = 1 << 32;
 
 struct Shared {
-    /// Bumped (Release) after `job` is written; workers read `job` after seeing a new value.
-    generation: AtomicU64,
-    /// Workers still running the current job.
-    pending: AtomicUsize,
-    job: UnsafeCell<*const Job>,
+    state: AtomicU64,
+    /// Next unclaimed item of the current job.
+    next: AtomicUsize,
+    /// `(job, n, block)` of the current job; written only while no worker is inside a job.
+    job: UnsafeCell<(*const Job, usize, usize)>,
     shutdown: AtomicBool,
     panicked: AtomicBool,
     /// Per worker: parked (or about to park) and must be unparked.
     sleeping: Vec<AtomicBool>,
 }
 
-// SAFETY: `job` is written only by the owner thread while no worker reads it (all workers have
-// finished the previous job: `pending == 0`), and published via the Release bump of `generation`.
+// SAFETY: `job` is written by the owner only while the job is closed and no worker is active; a
+// worker reads it only after joining the open job (an Acquire CAS on `state` that follows the
+// owner's Release store of the new generation).
 unsafe impl Sync for Shared {}
 unsafe impl Send for Shared {}
 
@@ -40,11 +50,22 @@ pub(crate) struct Pool {
 
 impl std::fmt::Debug for Pool {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Pool").field("threads", &(self.handles.len() + 1)).finish()
+        f.debug_struct("Pool").field("threads", &self.threads()).finish()
     }
 }
 
-fn noop(_: usize) {}
+fn noop(_: Range<usize>) {}
+
+/// Claim blocks until none is left.
+fn drain(sh: &Shared, job: &(dyn Fn(Range<usize>) + Sync + '_), n: usize, block: usize) {
+    loop {
+        let start = sh.next.fetch_add(block, Ordering::Relaxed);
+        if start >= n {
+            return;
+        }
+        job(start..(start + block).min(n));
+    }
+}
 
 impl Pool {
     /// A pool running jobs on `threads` threads in total (the caller plus `threads - 1` workers).
@@ -52,9 +73,9 @@ impl Pool {
         let workers = threads.max(1) - 1;
         let noop: &'static Job = &noop;
         let shared = Arc::new(Shared {
-            generation: AtomicU64::new(0),
-            pending: AtomicUsize::new(0),
-            job: UnsafeCell::new(noop as *const Job),
+            state: AtomicU64::new(CLOSED),
+            next: AtomicUsize::new(0),
+            job: UnsafeCell::new((noop as *const Job, 0, 1)),
             shutdown: AtomicBool::new(false),
             panicked: AtomicBool::new(false),
             sleeping: (0..workers).map(|_| AtomicBool::new(false)).collect(),
@@ -81,29 +102,32 @@ impl Pool {
         self.handles.len() + 1
     }
 
-    /// Run `job(t)` for every `t in 0..threads()`, `job(0)` on this thread; return when all finished.
-    pub(crate) fn run(&mut self, job: &(dyn Fn(usize) + Sync)) {
-        if self.handles.is_empty() {
-            job(0);
+    /// Call `job` on disjoint ranges covering `0..n` (blocks of `block` items) from all threads;
+    /// return when every range is done.
+    pub(crate) fn run(&mut self, n: usize, block: usize, job: &(dyn Fn(Range<usize>) + Sync)) {
+        let block = block.max(1);
+        if self.handles.is_empty() || n <= block {
+            job(0..n);
             return;
         }
         let sh = &*self.shared;
-        // SAFETY: the lifetime is erased only for the duration of this call: `WaitGuard` blocks
-        // (even while unwinding) until every worker has finished with the job.
-        let ptr: *const Job = unsafe { std::mem::transmute::<&(dyn Fn(usize) + Sync), &'static Job>(job) };
-        // SAFETY: no worker is running a job (pending == 0 since the previous run returned), and
-        // `&mut self` excludes concurrent `run`s.
-        unsafe { *sh.job.get() = ptr };
-        sh.pending.store(self.handles.len(), Ordering::Relaxed);
-        // SeqCst pairs with the workers' "announce sleeping, re-check generation" (no lost wake-up).
-        sh.generation.fetch_add(1, Ordering::SeqCst);
+        // SAFETY: the lifetime is erased only while the job is open: `CloseGuard` closes it and
+        // waits (even while unwinding) until no worker is inside it.
+        let ptr: *const Job = unsafe { std::mem::transmute::<&(dyn Fn(Range<usize>) + Sync), &'static Job>(job) };
+        // SAFETY: the previous job is closed with no active worker, and `&mut self` excludes
+        // concurrent `run`s.
+        unsafe { *sh.job.get() = (ptr, n, block) };
+        sh.next.store(0, Ordering::Relaxed);
+        let generation = (sh.state.load(Ordering::Relaxed) & !(GEN_ONE - 1)).wrapping_add(GEN_ONE);
+        // SeqCst pairs with the workers' "announce sleeping, re-check state" (no lost wake-up).
+        sh.state.store(generation, Ordering::SeqCst);
         for (flag, t) in sh.sleeping.iter().zip(&self.threads) {
             if flag.swap(false, Ordering::SeqCst) {
                 t.unpark();
             }
         }
-        let guard = WaitGuard(sh);
-        job(0);
+        let guard = CloseGuard(sh);
+        drain(sh, job, n, block);
         drop(guard);
         if sh.panicked.swap(false, Ordering::AcqRel) {
             panic!("a VecEnv worker thread panicked");
@@ -111,13 +135,15 @@ impl Pool {
     }
 }
 
-struct WaitGuard<'a>(&'a Shared);
+struct CloseGuard<'a>(&'a Shared);
 
-impl Drop for WaitGuard<'_> {
+impl Drop for CloseGuard<'_> {
     fn drop(&mut self) {
+        let sh = self.0;
+        sh.state.fetch_or(CLOSED, Ordering::AcqRel);
         let mut spins = 0u32;
-        while self.0.pending.load(Ordering::Acquire) != 0 {
-            if spins < SPIN_BEFORE_PARK {
+        while sh.state.load(Ordering::Acquire) & ACTIVE_MASK != 0 {
+            if spins < SPIN {
                 spins += 1;
                 std::hint::spin_loop();
             } else {
@@ -128,43 +154,59 @@ impl Drop for WaitGuard<'_> {
 }
 
 fn worker(sh: &Shared, w: usize) {
-    let mut seen = 0u64;
+    let mut seen_gen = 0u64;
     loop {
         let mut spins = 0u32;
-        let generation = loop {
-            let g = sh.generation.load(Ordering::Acquire);
-            if g != seen {
-                break g;
+        // Wait for a new, open generation and join it (active += 1).
+        let joined = loop {
+            if sh.shutdown.load(Ordering::Acquire) {
+                return;
             }
-            if spins < SPIN_BEFORE_PARK {
+            let s = sh.state.load(Ordering::Acquire);
+            let generation = s & !(GEN_ONE - 1);
+            if generation != seen_gen {
+                if s & CLOSED != 0 {
+                    // Finished without us.
+                    seen_gen = generation;
+                    continue;
+                }
+                if sh
+                    .state
+                    .compare_exchange_weak(s, s + 1, Ordering::AcqRel, Ordering::Relaxed)
+                    .is_ok()
+                {
+                    seen_gen = generation;
+                    break true;
+                }
+                continue;
+            }
+            if spins < SPIN {
                 spins += 1;
                 std::hint::spin_loop();
             } else {
-                // Announce, re-check (the owner may have bumped before seeing the flag), park.
                 sh.sleeping[w].store(true, Ordering::SeqCst);
-                if sh.generation.load(Ordering::SeqCst) == seen {
+                if sh.state.load(Ordering::SeqCst) & !(GEN_ONE - 1) == seen_gen && !sh.shutdown.load(Ordering::SeqCst) {
                     std::thread::park();
                 }
                 sh.sleeping[w].store(false, Ordering::SeqCst);
+                spins = 0;
             }
         };
-        seen = generation;
-        if sh.shutdown.load(Ordering::Acquire) {
-            return;
+        if joined {
+            // SAFETY: we are active in the open job, so the owner keeps it alive and unchanged.
+            let (job, n, block) = unsafe { *sh.job.get() };
+            let job = unsafe { &*job };
+            if std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| drain(sh, job, n, block))).is_err() {
+                sh.panicked.store(true, Ordering::Release);
+            }
+            sh.state.fetch_sub(1, Ordering::AcqRel);
         }
-        // SAFETY: published by the Release bump observed above; valid until `pending` hits 0.
-        let job = unsafe { &**sh.job.get() };
-        if std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job(w + 1))).is_err() {
-            sh.panicked.store(true, Ordering::Release);
-        }
-        sh.pending.fetch_sub(1, Ordering::AcqRel);
     }
 }
 
 impl Drop for Pool {
     fn drop(&mut self) {
-        self.shared.shutdown.store(true, Ordering::Release);
-        self.shared.generation.fetch_add(1, Ordering::Release);
+        self.shared.shutdown.store(true, Ordering::SeqCst);
         for t in &self.threads {
             t.unpark();
         }

@@ -26,8 +26,10 @@
 //! parameters, and its arithmetic is the scalar [`CartPole`](super::classic::CartPole) step
 //! operation by operation (bit-identical; `tests/vec_env.rs` checks it). The other
 //! environments use an array of scalar environments (static dispatch, no allocation).
-//! Environments are split into `threads` contiguous chunks run by a persistent pool
-//! (the calling thread takes chunk 0); `threads = 1` runs inline without any synchronisation.
+//! With `threads > 1` the batch is cut into blocks (~8 per thread, at least 16 environments)
+//! that the calling thread and a persistent worker pool claim from a shared counter, so a
+//! descheduled worker never stalls a step; `threads = 1` (or a batch of a single block) runs
+//! inline without any synchronisation. Results never depend on the thread count.
 
 use std::ops::Range;
 use std::sync::Mutex;
@@ -190,9 +192,11 @@ unsafe fn rows<'a, T>(p: *mut T, r: &Range<usize>, w: usize) -> &'a mut [T] {
     unsafe { std::slice::from_raw_parts_mut(p.add(r.start * w), (r.end - r.start) * w) }
 }
 
+/// Work-sharing granularity: ~8 blocks per thread, at least 16 environments per block
+/// (batches of at most one block run inline on the calling thread).
 #[inline]
-fn chunk(n: usize, parts: usize, t: usize) -> Range<usize> {
-    (n * t / parts)..(n * (t + 1) / parts)
+fn block_size(n: usize, threads: usize) -> usize {
+    (n / (threads * 8)).max(16)
 }
 
 impl VecEnv {
@@ -391,7 +395,7 @@ impl VecEnv {
             truncated: self.truncated.as_mut_ptr(),
             elapsed: self.elapsed.as_mut_ptr(),
         };
-        let parts = self.pool.threads();
+        let block = block_size(n, self.pool.threads());
         let error = &self.error;
         match (&mut self.envs, actions) {
             (Envs::CartPole(s), VecActions::Discrete(a)) => {
@@ -403,18 +407,16 @@ impl VecEnv {
                     k: s.k.as_ptr(),
                     rng: s.rng.as_mut_ptr(),
                 };
-                let job = |t: usize| {
-                    let r = chunk(n, parts, t);
-                    // SAFETY: every buffer has `n` rows; chunks are disjoint.
+                let job = |r: Range<usize>| {
+                    // SAFETY: every buffer has `n` rows; the pool hands out disjoint ranges.
                     unsafe { cartpole_chunk(&soa, &raw, &a[r.clone()], r, max_steps) }
                 };
-                self.pool.run(&job);
+                self.pool.run(n, block, &job);
             }
             (Envs::Array(envs, acts), actions) => {
                 let envs_p = SyncPtr(envs.as_mut_ptr());
                 let acts_p = SyncPtr(acts.as_mut_ptr());
-                let job = |t: usize| {
-                    let r = chunk(n, parts, t);
+                let job = |r: Range<usize>| {
                     // SAFETY: as above.
                     let (envs, acts) = unsafe { (rows(envs_p.get(), &r, 1), rows(acts_p.get(), &r, 1)) };
                     if let Err(e) = unsafe { array_chunk(envs, acts, &raw, actions, r, d, max_steps) } {
@@ -423,7 +425,7 @@ impl VecEnv {
                         }
                     }
                 };
-                self.pool.run(&job);
+                self.pool.run(n, block, &job);
                 if let Some(e) = self.error.lock().ok().and_then(|mut s| s.take()) {
                     self.ready = false;
                     return Err(e);
