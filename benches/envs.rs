@@ -93,8 +93,15 @@ mod vec {
     fn run(bencher: Bencher, id: &str, n: usize, threads: usize) {
         let specs = SpecSet::bundled().expect("bundled specs");
         let spec = specs.get(id).expect("spec");
-        let mut v = VecEnv::new(spec, &vec![Context::new(); n], VecOptions { threads, ..Default::default() })
-            .expect("VecEnv");
+        let mut v = VecEnv::new(
+            spec,
+            &vec![Context::new(); n],
+            VecOptions {
+                threads,
+                ..Default::default()
+            },
+        )
+        .expect("VecEnv");
         v.reset(0);
         let batches = (65_536 / n).clamp(1, 64);
         let (d, c) = actions(&v.action_space(), batches * n);

@@ -18,7 +18,11 @@ fn context(spec: &EnvSpec, i: usize) -> Context {
             continue;
         }
         let Some(d) = f.default_f64() else { continue };
-        let x = if d == 0.0 { 0.01 * i as f64 } else { d * (1.0 + 0.04 * (i % 5) as f64) };
+        let x = if d == 0.0 {
+            0.01 * i as f64
+        } else {
+            d * (1.0 + 0.04 * (i % 5) as f64)
+        };
         if f.in_bounds(x) && !f.name.contains("initial") {
             c.insert(f.name.clone(), Value::Number(x));
             changed += 1;
@@ -165,7 +169,10 @@ fn autoreset_is_same_step_and_keeps_the_final_observation() {
             assert!(!trunc);
             assert_eq!(v.final_obs(0).unwrap(), &obs, "final obs is the terminal observation");
             assert!(v.final_obs(1).is_none());
-            assert!(obs[2].abs() > 0.2 || obs[0].abs() > 2.4, "terminal state is out of bounds");
+            assert!(
+                obs[2].abs() > 0.2 || obs[0].abs() > 2.4,
+                "terminal state is out of bounds"
+            );
             // The returned observation is already the next episode's first one.
             scalar.reset_into(None, &mut obs).unwrap();
             assert_eq!(next, obs);
@@ -208,7 +215,9 @@ fn batches_with_different_contexts_do_not_interfere() {
     let run_alone = |ctx: &[Context]| {
         let mut v = VecEnv::new(&spec, ctx, VecOptions::default()).unwrap();
         v.reset(3);
-        (0..100).map(|t| v.step_discrete(&[t % 2; 8]).unwrap().obs.to_vec()).collect::<Vec<_>>()
+        (0..100)
+            .map(|t| v.step_discrete(&[t % 2; 8]).unwrap().obs.to_vec())
+            .collect::<Vec<_>>()
     };
     let (alone_a, alone_b) = (run_alone(&light), run_alone(&heavy));
     assert_ne!(alone_a, alone_b);
@@ -249,7 +258,10 @@ fn bad_input_is_an_error_and_moves_nothing() {
         v.step_discrete(&[-1, 0]),
         Err(EnvError::ActionOutOfRange { action: -1, .. })
     ));
-    assert!(matches!(v.step_continuous(&[0.0, 0.0]), Err(EnvError::ActionKind { .. })));
+    assert!(matches!(
+        v.step_continuous(&[0.0, 0.0]),
+        Err(EnvError::ActionKind { .. })
+    ));
     assert_eq!(before, (v.state(0), v.state(1)));
     assert!(v.step_discrete(&[0, 1]).is_ok());
 
@@ -257,7 +269,10 @@ fn bad_input_is_an_error_and_moves_nothing() {
     let pendulum = specs.get("pendulum").unwrap();
     let mut p = VecEnv::new(pendulum, &vec![Context::new(); 3], VecOptions::default()).unwrap();
     p.reset(0);
-    assert!(matches!(p.step_continuous(&[0.0; 2]), Err(EnvError::BatchLength { .. })));
+    assert!(matches!(
+        p.step_continuous(&[0.0; 2]),
+        Err(EnvError::BatchLength { .. })
+    ));
     assert!(matches!(p.step_discrete(&[0; 3]), Err(EnvError::ActionKind { .. })));
     assert!(p.step_continuous(&[0.0; 3]).is_ok());
 
@@ -265,7 +280,10 @@ fn bad_input_is_an_error_and_moves_nothing() {
         VecEnv::from_envs(vec![], VecOptions::default()),
         Err(VecEnvError::Empty)
     ));
-    let mixed = vec![make(&spec, &Context::new()).unwrap(), make(pendulum, &Context::new()).unwrap()];
+    let mixed = vec![
+        make(&spec, &Context::new()).unwrap(),
+        make(pendulum, &Context::new()).unwrap(),
+    ];
     assert!(matches!(
         VecEnv::from_envs(mixed, VecOptions::default()),
         Err(VecEnvError::Mixed { .. })

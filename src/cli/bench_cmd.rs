@@ -24,7 +24,9 @@ enum Table {
 fn table(space: &Space, len: usize) -> Table {
     let mut rng = EnvRng::from_seed(0x5eed);
     match space {
-        Space::Discrete { n, start } => Table::Discrete((0..len).map(|_| start + (rng.next_u64() % *n as u64) as i64).collect()),
+        Space::Discrete { n, start } => {
+            Table::Discrete((0..len).map(|_| start + (rng.next_u64() % *n as u64) as i64).collect())
+        }
         Space::Box { low, high, .. } => {
             let dim = low.len();
             let v = (0..len * dim)
@@ -47,7 +49,8 @@ pub fn single_ns_per_step(spec: &EnvSpec, steps: u64) -> Result<f64, Failure> {
         Table::Continuous(a, dim) => a.chunks(dim).map(|c| Action::Continuous(c.to_vec())).collect(),
     };
     let mut obs = vec![0.0f32; env.obs_dim()];
-    env.reset_into(Some(0), &mut obs).map_err(|e| Failure::failed(e.to_string()))?;
+    env.reset_into(Some(0), &mut obs)
+        .map_err(|e| Failure::failed(e.to_string()))?;
     let run = |env: &mut crate::envs::registry::SpecEnv, obs: &mut [f32], steps: u64| -> Result<(), Failure> {
         for t in 0..steps {
             let out = env

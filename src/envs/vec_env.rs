@@ -226,7 +226,10 @@ impl VecEnv {
         };
         let id = first.id();
         if let Some(other) = envs.iter().find(|e| e.id() != id) {
-            return Err(VecEnvError::Mixed { first: id, other: other.id() });
+            return Err(VecEnvError::Mixed {
+                first: id,
+                other: other.id(),
+            });
         }
         let max_steps = first.max_episode_steps().unwrap_or(u64::MAX);
         let proto = first.inner().clone();
@@ -557,7 +560,24 @@ unsafe fn cartpole_chunk(s: &SoaRaw, o: &Raw, actions: &[i64], r: Range<usize>, 
             rows(o.elapsed, &r, 1),
         )
     };
+    // Re-slice to one common length so the indexing below needs no bounds checks.
     let len = actions.len();
+    let (xs, xds, ths, thds, ks, rngs) = (
+        &mut xs[..len],
+        &mut xds[..len],
+        &mut ths[..len],
+        &mut thds[..len],
+        &ks[..len],
+        &mut rngs[..len],
+    );
+    let (obs, fin, rew, term, trunc, el) = (
+        &mut obs[..len * 4],
+        &mut fin[..len * 4],
+        &mut rew[..len],
+        &mut term[..len],
+        &mut trunc[..len],
+        &mut el[..len],
+    );
     for j in 0..len {
         let p = &ks[j];
         let (x, x_dot, theta, theta_dot) = (xs[j], xds[j], ths[j], thds[j]);
