@@ -3,6 +3,7 @@
 
 mod instances_cmd;
 mod rollout_cmd;
+mod bench_cmd;
 mod specs_cmd;
 mod validate_cmd;
 
@@ -83,6 +84,19 @@ pub enum Command {
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
+    /// Steps per second of one environment and of a VecEnv (random actions, auto-reset), as one JSON line.
+    Bench {
+        /// Environment id or alias, e.g. `cartpole`.
+        env: String,
+        #[arg(long, default_value_t = 1024)]
+        num_envs: usize,
+        /// Environment steps timed in each run.
+        #[arg(long, default_value_t = 20_000_000)]
+        steps: u64,
+        /// Threads for the VecEnv run (default: available cores).
+        #[arg(long)]
+        threads: Option<usize>,
+    },
 }
 
 #[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
@@ -157,6 +171,12 @@ pub fn main() -> ExitCode {
             seed,
             format,
         } => instances_cmd::sample(&cli, env, distribution, *n, *seed, *format),
+        Command::Bench {
+            env,
+            num_envs,
+            steps,
+            threads,
+        } => bench_cmd::run(&cli, env, *num_envs, *steps, *threads),
     };
     match result {
         Ok(code) => ExitCode::from(code),

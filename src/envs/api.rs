@@ -118,6 +118,12 @@ pub enum EnvError {
         expected: usize,
         got: usize,
     },
+    #[error("{env}: expected {expected} action value(s) for the batch, got {got}")]
+    BatchLength {
+        env: &'static str,
+        expected: usize,
+        got: usize,
+    },
     #[error("{env}: step() called before reset() or set_state()")]
     NeedsReset { env: &'static str },
 }

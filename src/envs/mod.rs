@@ -2,12 +2,16 @@
 //!
 //! * [`api`]: the Gymnasium-style [`Env`] trait, spaces, actions, errors and [`TimeLimit`].
 //! * [`rng`]: the small deterministic stream used by `reset` (swappable).
+//! * [`vec_env`]: [`VecEnv`](vec_env::VecEnv), N environments with their own contexts stepped as a
+//!   batch (auto-reset, structure-of-arrays CartPole kernel, multi-threaded).
 //! * [`classic`]: CartPole, Pendulum, MountainCar, MountainCarContinuous and Acrobot with
 //!   Gymnasium 1.4 dynamics, parameterised by an explicit context (`Params`) value.
 
 pub mod api;
 pub mod classic;
+mod pool;
 pub mod registry;
 pub mod rng;
+pub mod vec_env;
 
 pub use api::{Action, DType, Env, EnvError, Info, Space, Step, StepOutcome, TimeLimit, UnknownFeature};

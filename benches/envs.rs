@@ -1,0 +1,136 @@
+//! Environment stepping speed: `cargo bench --bench envs`.
+//!
+//! * `single::*`: one environment's `step_into` (default context, random actions drawn
+//!   beforehand, auto-reset when an episode ends); divan reports time per step.
+//! * `vec::*`: one `VecEnv::step` over `num_envs` environments with 1 or 2 threads; divan reports
+//!   environment steps per second (items/s).
+
+use carl_spec::envs::registry::{Context, SpecEnv, make};
+use carl_spec::envs::rng::EnvRng;
+use carl_spec::envs::vec_env::{VecActions, VecEnv, VecOptions};
+use carl_spec::envs::{Action, Env, Space};
+use carl_spec::spec::SpecSet;
+use divan::counter::ItemsCount;
+use divan::{Bencher, black_box};
+
+fn main() {
+    divan::main();
+}
+
+const TABLE: usize = 4096;
+
+fn env(id: &str) -> SpecEnv {
+    let specs = SpecSet::bundled().expect("bundled specs");
+    make(specs.get(id).expect("spec"), &Context::new()).expect("make")
+}
+
+/// `len` random actions of `space`, flattened (discrete as i64, continuous as f32).
+fn actions(space: &Space, len: usize) -> (Vec<i64>, Vec<f32>) {
+    let mut rng = EnvRng::from_seed(7);
+    match space {
+        Space::Discrete { n, .. } => ((0..len).map(|_| (rng.next_u64() % *n as u64) as i64).collect(), vec![]),
+        Space::Box { low, high, .. } => (
+            vec![],
+            (0..len)
+                .map(|_| (low[0] as f64 + (high[0] - low[0]) as f64 * rng.next_f64()) as f32)
+                .collect(),
+        ),
+    }
+}
+
+mod single {
+    use super::*;
+
+    fn run(bencher: Bencher, id: &str) {
+        let mut e = env(id);
+        let (d, c) = actions(&e.action_space(), TABLE);
+        let acts: Vec<Action> = if d.is_empty() {
+            c.iter().map(|x| Action::Continuous(vec![*x])).collect()
+        } else {
+            d.into_iter().map(Action::Discrete).collect()
+        };
+        let mut obs = vec![0.0f32; e.obs_dim()];
+        let _ = e.reset_into(Some(0), &mut obs);
+        let mut t = 0usize;
+        bencher.bench_local(move || {
+            t = (t + 1) % TABLE;
+            if let Ok(out) = e.step_into(black_box(&acts[t]), &mut obs) {
+                if out.terminated || out.truncated {
+                    let _ = e.reset_into(None, &mut obs);
+                }
+            }
+            black_box(&obs);
+        });
+    }
+
+    #[divan::bench]
+    fn cartpole(b: Bencher) {
+        run(b, "cartpole");
+    }
+    #[divan::bench]
+    fn pendulum(b: Bencher) {
+        run(b, "pendulum");
+    }
+    #[divan::bench]
+    fn mountain_car(b: Bencher) {
+        run(b, "mountain_car");
+    }
+    #[divan::bench]
+    fn mountain_car_continuous(b: Bencher) {
+        run(b, "mountain_car_continuous");
+    }
+    #[divan::bench]
+    fn acrobot(b: Bencher) {
+        run(b, "acrobot");
+    }
+}
+
+mod vec {
+    use super::*;
+
+    const NUM_ENVS: &[usize] = &[1, 64, 1024];
+
+    fn run(bencher: Bencher, id: &str, n: usize, threads: usize) {
+        let specs = SpecSet::bundled().expect("bundled specs");
+        let spec = specs.get(id).expect("spec");
+        let mut v = VecEnv::new(
+            spec,
+            &vec![Context::new(); n],
+            VecOptions {
+                threads,
+                ..Default::default()
+            },
+        )
+        .expect("VecEnv");
+        v.reset(0);
+        let batches = (65_536 / n).clamp(1, 64);
+        let (d, c) = actions(&v.action_space(), batches * n);
+        let mut k = 0usize;
+        bencher.counter(ItemsCount::new(n)).bench_local(move || {
+            k = (k + 1) % batches;
+            let a = if d.is_empty() {
+                VecActions::Continuous(&c[k * n..(k + 1) * n])
+            } else {
+                VecActions::Discrete(&d[k * n..(k + 1) * n])
+            };
+            black_box(v.step(a).map(|s| s.obs.len()))
+        });
+    }
+
+    #[divan::bench(args = NUM_ENVS)]
+    fn cartpole_1t(b: Bencher, n: usize) {
+        run(b, "cartpole", n, 1);
+    }
+    #[divan::bench(args = NUM_ENVS)]
+    fn cartpole_2t(b: Bencher, n: usize) {
+        run(b, "cartpole", n, 2);
+    }
+    #[divan::bench(args = NUM_ENVS)]
+    fn pendulum_1t(b: Bencher, n: usize) {
+        run(b, "pendulum", n, 1);
+    }
+    #[divan::bench(args = NUM_ENVS)]
+    fn pendulum_2t(b: Bencher, n: usize) {
+        run(b, "pendulum", n, 2);
+    }
+}

@@ -1,0 +1,671 @@
+//! Batched stepping: [`VecEnv`] runs N environments of one kind, each with its own context.
+//!
+//! # Semantics
+//!
+//! * **Seeding.** [`VecEnv::reset`]`(seed)` resets environment `i` exactly like a scalar
+//!   environment's `reset_into(Some(seed.wrapping_add(i)))` (Gymnasium's vector-env convention
+//!   `seeds = [seed + i for i in range(num_envs)]`). Later automatic resets continue each
+//!   environment's own random stream (`reset_into(None)`).
+//! * **Autoreset: same-step** (Gymnasium's `AutoresetMode.SAME_STEP`). When environment `i`
+//!   terminates or is truncated during [`VecEnv::step`], it is reset within that same call:
+//!   `obs[i]` is already the first observation of the new episode, `rewards[i]`,
+//!   `terminated[i]` and `truncated[i]` describe the step that ended the old one, and the
+//!   last observation of the finished episode is available from [`VecEnv::final_obs`] until
+//!   the next `step` / `reset`. No step is wasted on a reset.
+//! * **Time limit.** Every environment counts its steps since its last reset and reports
+//!   `truncated` once the spec's `max_episode_steps` is reached, like [`TimeLimit`](super::TimeLimit).
+//! * **Bad input** (wrong number of actions, an out-of-range discrete action, a discrete action
+//!   for a continuous environment or the reverse, stepping before `reset`) returns an
+//!   [`EnvError`] before any environment has moved; nothing panics.
+//!
+//! # Layout and speed
+//!
+//! Outputs are flat, preallocated buffers (`obs` is `num_envs × obs_dim`, row `i` is
+//! environment `i`), so `step` never allocates. CartPole has a structure-of-arrays kernel:
+//! the four state components live in separate contiguous `Vec<f64>`s next to per-environment
+//! parameters, and its arithmetic is the scalar [`CartPole`](super::classic::CartPole) step
+//! operation by operation (bit-identical; `tests/vec_env.rs` checks it). The other
+//! environments use an array of scalar environments (static dispatch, no allocation).
+//! With `threads > 1` the batch is cut into blocks (~8 per thread, at least 16 environments)
+//! that the calling thread and a persistent worker pool claim from a shared counter, so a
+//! descheduled worker never stalls a step; `threads = 1` (or a batch of a single block) runs
+//! inline without any synchronisation. Results never depend on the thread count.
+
+use std::ops::Range;
+use std::sync::Mutex;
+
+use super::api::{Action, Env, EnvError, Space};
+use super::classic::CartPoleParams;
+use super::classic::cartpole::{THETA_THRESHOLD_RADIANS, X_THRESHOLD};
+use super::pool::Pool;
+use super::registry::{ClassicEnv, Context, MakeError, MakeOptions, SpecEnv, make_with};
+use super::rng::{EnvRng, uniform};
+use crate::spec::model::EnvSpec;
+
+/// One action per environment: `Discrete` has `num_envs` entries, `Continuous` has
+/// `num_envs × action_dim` entries (row `i` is environment `i`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum VecActions<'a> {
+    Discrete(&'a [i64]),
+    Continuous(&'a [f32]),
+}
+
+/// Results of one batch step; all slices are indexed by environment.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VecStep<'a> {
+    /// `num_envs × obs_dim`; for environments that just finished, the first observation of the
+    /// next episode (see [`VecEnv::final_obs`] for the last one of the finished episode).
+    pub obs: &'a [f32],
+    pub rewards: &'a [f64],
+    pub terminated: &'a [bool],
+    pub truncated: &'a [bool],
+}
+
+/// Which stepping kernel to use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Kernel {
+    /// The structure-of-arrays kernel where one exists (CartPole), else the array of envs.
+    #[default]
+    Auto,
+    /// Always the array of scalar environments (for comparisons).
+    ArrayOfEnvs,
+}
+
+/// Construction options.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct VecOptions {
+    /// Threads stepping the batch, including the caller (`0` or `1`: single-threaded).
+    pub threads: usize,
+    pub kernel: Kernel,
+}
+
+impl Default for VecOptions {
+    fn default() -> Self {
+        VecOptions {
+            threads: 1,
+            kernel: Kernel::Auto,
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum VecEnvError {
+    #[error(transparent)]
+    Make(#[from] MakeError),
+    #[error("a VecEnv needs at least one environment")]
+    Empty,
+    #[error("a VecEnv holds one kind of environment: got {first} and {other}")]
+    Mixed { first: &'static str, other: &'static str },
+}
+
+#[derive(Debug, Clone, Copy)]
+enum ActionKind {
+    Discrete(i64),
+    Continuous(usize),
+}
+
+/// Per-environment CartPole constants (derived values computed exactly as the scalar step does).
+#[derive(Debug, Clone, Copy)]
+struct CartPoleK {
+    gravity: f64,
+    masspole: f64,
+    pole_length: f64,
+    force_mag: f64,
+    tau: f64,
+    total_mass: f64,
+    polemass_length: f64,
+    init_lo: f64,
+    init_hi: f64,
+}
+
+impl From<&CartPoleParams> for CartPoleK {
+    fn from(p: &CartPoleParams) -> Self {
+        CartPoleK {
+            gravity: p.gravity,
+            masspole: p.masspole,
+            pole_length: p.pole_length,
+            force_mag: p.force_magnifier,
+            tau: p.update_interval,
+            total_mass: p.total_mass(),
+            polemass_length: p.polemass_length(),
+            init_lo: p.initial_state_lower,
+            init_hi: p.initial_state_upper,
+        }
+    }
+}
+
+#[derive(Debug)]
+struct CartPoleSoa {
+    x: Vec<f64>,
+    x_dot: Vec<f64>,
+    theta: Vec<f64>,
+    theta_dot: Vec<f64>,
+    k: Vec<CartPoleK>,
+    rng: Vec<EnvRng>,
+}
+
+#[derive(Debug)]
+enum Envs {
+    CartPole(CartPoleSoa),
+    /// Scalar environments plus one reusable `Action` each (so continuous actions don't allocate).
+    Array(Vec<ClassicEnv>, Vec<Action>),
+}
+
+/// N environments of one kind stepped as a batch; see the [module docs](self).
+#[derive(Debug)]
+pub struct VecEnv {
+    id: &'static str,
+    n: usize,
+    obs_dim: usize,
+    action: ActionKind,
+    proto: ClassicEnv,
+    envs: Envs,
+    max_steps: u64,
+    elapsed: Vec<u64>,
+    obs: Vec<f32>,
+    final_obs: Vec<f32>,
+    rewards: Vec<f64>,
+    terminated: Vec<bool>,
+    truncated: Vec<bool>,
+    ready: bool,
+    pool: Pool,
+    error: Mutex<Option<EnvError>>,
+}
+
+/// Raw views of the buffers, shared by the chunk jobs (each touches only its own range).
+struct Raw {
+    obs: *mut f32,
+    final_obs: *mut f32,
+    rewards: *mut f64,
+    terminated: *mut bool,
+    truncated: *mut bool,
+    elapsed: *mut u64,
+}
+unsafe impl Sync for Raw {}
+
+/// `&mut p[r.start * w .. r.end * w]`.
+///
+/// # Safety
+/// `p` must point to at least `r.end * w` elements, and no other live reference may overlap the range.
+#[inline]
+unsafe fn rows<'a, T>(p: *mut T, r: &Range<usize>, w: usize) -> &'a mut [T] {
+    unsafe { std::slice::from_raw_parts_mut(p.add(r.start * w), (r.end - r.start) * w) }
+}
+
+/// Work-sharing granularity: ~8 blocks per thread, at least 16 environments per block
+/// (batches of at most one block run inline on the calling thread).
+#[inline]
+fn block_size(n: usize, threads: usize) -> usize {
+    (n / (threads * 8)).max(16)
+}
+
+impl VecEnv {
+    /// One environment per context, built and checked by [`make_with`] (each keeps its own context).
+    pub fn new(spec: &EnvSpec, contexts: &[Context], opts: VecOptions) -> Result<VecEnv, VecEnvError> {
+        Self::with_make_options(spec, contexts, MakeOptions::default(), opts)
+    }
+
+    pub fn with_make_options(
+        spec: &EnvSpec,
+        contexts: &[Context],
+        make: MakeOptions,
+        opts: VecOptions,
+    ) -> Result<VecEnv, VecEnvError> {
+        let envs = contexts
+            .iter()
+            .map(|c| make_with(spec, c, make))
+            .collect::<Result<Vec<_>, _>>()?;
+        Self::from_envs(envs, opts)
+    }
+
+    /// Batch existing environments (all of one kind, typically from `registry::make`). Their
+    /// contexts and episode limit are kept; their random streams are replaced at [`VecEnv::reset`].
+    pub fn from_envs(envs: Vec<SpecEnv>, opts: VecOptions) -> Result<VecEnv, VecEnvError> {
+        let Some(first) = envs.first() else {
+            return Err(VecEnvError::Empty);
+        };
+        let id = first.id();
+        if let Some(other) = envs.iter().find(|e| e.id() != id) {
+            return Err(VecEnvError::Mixed {
+                first: id,
+                other: other.id(),
+            });
+        }
+        let max_steps = first.max_episode_steps().unwrap_or(u64::MAX);
+        let proto = first.inner().clone();
+        let n = envs.len();
+        let obs_dim = proto.obs_dim();
+        let action = match proto.action_space() {
+            Space::Discrete { n, .. } => ActionKind::Discrete(n),
+            s @ Space::Box { .. } => ActionKind::Continuous(s.flat_dim()),
+        };
+        let inner: Vec<ClassicEnv> = envs.into_iter().map(|e| e.into_inner()).collect();
+        let envs = match (&proto, opts.kernel) {
+            (ClassicEnv::CartPole(_), Kernel::Auto) => {
+                let k = inner
+                    .iter()
+                    .map(|e| match e {
+                        ClassicEnv::CartPole(c) => CartPoleK::from(c.params()),
+                        _ => unreachable!("checked: one kind"),
+                    })
+                    .collect();
+                Envs::CartPole(CartPoleSoa {
+                    x: vec![0.0; n],
+                    x_dot: vec![0.0; n],
+                    theta: vec![0.0; n],
+                    theta_dot: vec![0.0; n],
+                    k,
+                    rng: vec![EnvRng::default(); n],
+                })
+            }
+            _ => {
+                let a = match action {
+                    ActionKind::Discrete(_) => Action::Discrete(0),
+                    ActionKind::Continuous(d) => Action::Continuous(vec![0.0; d]),
+                };
+                Envs::Array(inner, vec![a; n])
+            }
+        };
+        Ok(VecEnv {
+            id,
+            n,
+            obs_dim,
+            action,
+            proto,
+            envs,
+            max_steps,
+            elapsed: vec![0; n],
+            obs: vec![0.0; n * obs_dim],
+            final_obs: vec![0.0; n * obs_dim],
+            rewards: vec![0.0; n],
+            terminated: vec![false; n],
+            truncated: vec![false; n],
+            ready: false,
+            pool: Pool::new(opts.threads.clamp(1, n)),
+            error: Mutex::new(None),
+        })
+    }
+
+    pub fn id(&self) -> &'static str {
+        self.id
+    }
+    pub fn num_envs(&self) -> usize {
+        self.n
+    }
+    pub fn obs_dim(&self) -> usize {
+        self.obs_dim
+    }
+    /// Threads actually used (the setting, capped at `num_envs`).
+    pub fn threads(&self) -> usize {
+        self.pool.threads()
+    }
+    /// Change the number of threads (restarts the worker pool).
+    pub fn set_threads(&mut self, threads: usize) {
+        self.pool = Pool::new(threads.clamp(1, self.n));
+    }
+    /// Whether the structure-of-arrays kernel is in use (else the array of scalar environments).
+    pub fn is_soa(&self) -> bool {
+        matches!(self.envs, Envs::CartPole(_))
+    }
+    /// Single-environment observation space.
+    pub fn observation_space(&self) -> Space {
+        self.proto.observation_space()
+    }
+    /// Single-environment action space.
+    pub fn action_space(&self) -> Space {
+        self.proto.action_space()
+    }
+
+    /// Current observations, `num_envs × obs_dim`.
+    pub fn obs(&self) -> &[f32] {
+        &self.obs
+    }
+    pub fn rewards(&self) -> &[f64] {
+        &self.rewards
+    }
+    pub fn terminated(&self) -> &[bool] {
+        &self.terminated
+    }
+    pub fn truncated(&self) -> &[bool] {
+        &self.truncated
+    }
+    /// Last observation of the episode environment `i` finished in the latest `step`
+    /// (`None` if it did not finish, or `i` is out of range).
+    pub fn final_obs(&self, i: usize) -> Option<&[f32]> {
+        let done = *self.terminated.get(i)? || self.truncated[i];
+        done.then(|| &self.final_obs[i * self.obs_dim..(i + 1) * self.obs_dim])
+    }
+    /// The flat final-observation buffer (`num_envs × obs_dim`); row `i` is meaningful only where
+    /// `terminated[i] || truncated[i]` after the latest step.
+    pub fn final_observations(&self) -> &[f32] {
+        &self.final_obs
+    }
+    /// Steps environment `i` has taken in its current episode.
+    pub fn elapsed_steps(&self, i: usize) -> Option<u64> {
+        self.elapsed.get(i).copied()
+    }
+
+    /// Internal float64 state of environment `i` (as `Env::state`).
+    pub fn state(&self, i: usize) -> Option<Vec<f64>> {
+        if i >= self.n {
+            return None;
+        }
+        Some(match &self.envs {
+            Envs::CartPole(s) => vec![s.x[i], s.x_dot[i], s.theta[i], s.theta_dot[i]],
+            Envs::Array(envs, _) => envs[i].state(),
+        })
+    }
+
+    /// Reset every environment; environment `i` is seeded with `seed.wrapping_add(i)`.
+    /// Returns the first observations.
+    pub fn reset(&mut self, seed: u64) -> &[f32] {
+        let d = self.obs_dim;
+        match &mut self.envs {
+            Envs::CartPole(s) => {
+                for i in 0..self.n {
+                    s.rng[i] = EnvRng::from_seed(seed.wrapping_add(i as u64));
+                    let (x, xd, th, thd) = cartpole_reset(&s.k[i], &mut s.rng[i]);
+                    (s.x[i], s.x_dot[i], s.theta[i], s.theta_dot[i]) = (x, xd, th, thd);
+                    write4(&mut self.obs[i * 4..i * 4 + 4], x, xd, th, thd);
+                }
+            }
+            Envs::Array(envs, _) => {
+                for (i, (e, o)) in envs.iter_mut().zip(self.obs.chunks_exact_mut(d)).enumerate() {
+                    // The buffer has the right length, so this cannot fail.
+                    let _ = e.reset_into(Some(seed.wrapping_add(i as u64)), o);
+                }
+            }
+        }
+        self.elapsed.fill(0);
+        self.rewards.fill(0.0);
+        self.terminated.fill(false);
+        self.truncated.fill(false);
+        self.ready = true;
+        &self.obs
+    }
+
+    /// Step every environment with its action (auto-resetting finished ones; see the module docs).
+    pub fn step(&mut self, actions: VecActions<'_>) -> Result<VecStep<'_>, EnvError> {
+        self.check(actions)?;
+        let n = self.n;
+        let d = self.obs_dim;
+        let max_steps = self.max_steps;
+        let raw = Raw {
+            obs: self.obs.as_mut_ptr(),
+            final_obs: self.final_obs.as_mut_ptr(),
+            rewards: self.rewards.as_mut_ptr(),
+            terminated: self.terminated.as_mut_ptr(),
+            truncated: self.truncated.as_mut_ptr(),
+            elapsed: self.elapsed.as_mut_ptr(),
+        };
+        let block = block_size(n, self.pool.threads());
+        let error = &self.error;
+        match (&mut self.envs, actions) {
+            (Envs::CartPole(s), VecActions::Discrete(a)) => {
+                let soa = SoaRaw {
+                    x: s.x.as_mut_ptr(),
+                    x_dot: s.x_dot.as_mut_ptr(),
+                    theta: s.theta.as_mut_ptr(),
+                    theta_dot: s.theta_dot.as_mut_ptr(),
+                    k: s.k.as_ptr(),
+                    rng: s.rng.as_mut_ptr(),
+                };
+                let job = |r: Range<usize>| {
+                    // SAFETY: every buffer has `n` rows; the pool hands out disjoint ranges.
+                    unsafe { cartpole_chunk(&soa, &raw, &a[r.clone()], r, max_steps) }
+                };
+                self.pool.run(n, block, &job);
+            }
+            (Envs::Array(envs, acts), actions) => {
+                let envs_p = SyncPtr(envs.as_mut_ptr());
+                let acts_p = SyncPtr(acts.as_mut_ptr());
+                let job = |r: Range<usize>| {
+                    // SAFETY: as above.
+                    let (envs, acts) = unsafe { (rows(envs_p.get(), &r, 1), rows(acts_p.get(), &r, 1)) };
+                    if let Err(e) = unsafe { array_chunk(envs, acts, &raw, actions, r, d, max_steps) } {
+                        if let Ok(mut slot) = error.lock() {
+                            slot.get_or_insert(e);
+                        }
+                    }
+                };
+                self.pool.run(n, block, &job);
+                if let Some(e) = self.error.lock().ok().and_then(|mut s| s.take()) {
+                    self.ready = false;
+                    return Err(e);
+                }
+            }
+            (Envs::CartPole(_), VecActions::Continuous(_)) => unreachable!("rejected by check()"),
+        }
+        Ok(VecStep {
+            obs: &self.obs,
+            rewards: &self.rewards,
+            terminated: &self.terminated,
+            truncated: &self.truncated,
+        })
+    }
+
+    /// Convenience for discrete environments.
+    pub fn step_discrete(&mut self, actions: &[i64]) -> Result<VecStep<'_>, EnvError> {
+        self.step(VecActions::Discrete(actions))
+    }
+
+    /// Convenience for continuous environments (`num_envs × action_dim` values).
+    pub fn step_continuous(&mut self, actions: &[f32]) -> Result<VecStep<'_>, EnvError> {
+        self.step(VecActions::Continuous(actions))
+    }
+
+    fn check(&self, actions: VecActions<'_>) -> Result<(), EnvError> {
+        let env = self.id;
+        match (self.action, actions) {
+            (ActionKind::Discrete(k), VecActions::Discrete(a)) => {
+                if a.len() != self.n {
+                    return Err(EnvError::BatchLength {
+                        env,
+                        expected: self.n,
+                        got: a.len(),
+                    });
+                }
+                // Branch-free scan first; locate the culprit only on failure.
+                if a.iter().fold(false, |bad, &x| bad | !(0..k).contains(&x)) {
+                    let action = a.iter().copied().find(|x| !(0..k).contains(x)).unwrap_or(-1);
+                    return Err(EnvError::ActionOutOfRange { env, action, n: k });
+                }
+            }
+            (ActionKind::Continuous(dim), VecActions::Continuous(a)) => {
+                if a.len() != self.n * dim {
+                    return Err(EnvError::BatchLength {
+                        env,
+                        expected: self.n * dim,
+                        got: a.len(),
+                    });
+                }
+            }
+            (ActionKind::Discrete(_), VecActions::Continuous(_)) => {
+                return Err(EnvError::ActionKind {
+                    env,
+                    expected: "discrete",
+                    got: "continuous",
+                });
+            }
+            (ActionKind::Continuous(_), VecActions::Discrete(_)) => {
+                return Err(EnvError::ActionKind {
+                    env,
+                    expected: "continuous",
+                    got: "discrete",
+                });
+            }
+        }
+        if !self.ready {
+            return Err(EnvError::NeedsReset { env });
+        }
+        Ok(())
+    }
+}
+
+struct SyncPtr<T>(*mut T);
+unsafe impl<T> Sync for SyncPtr<T> {}
+impl<T> SyncPtr<T> {
+    fn get(&self) -> *mut T {
+        self.0
+    }
+}
+
+struct SoaRaw {
+    x: *mut f64,
+    x_dot: *mut f64,
+    theta: *mut f64,
+    theta_dot: *mut f64,
+    k: *const CartPoleK,
+    rng: *mut EnvRng,
+}
+unsafe impl Sync for SoaRaw {}
+
+#[inline]
+fn write4(o: &mut [f32], a: f64, b: f64, c: f64, d: f64) {
+    o[0] = a as f32;
+    o[1] = b as f32;
+    o[2] = c as f32;
+    o[3] = d as f32;
+}
+
+/// `CartPole::reset_into`'s draws: x, x_dot, theta, theta_dot in that order.
+#[inline]
+fn cartpole_reset(k: &CartPoleK, rng: &mut EnvRng) -> (f64, f64, f64, f64) {
+    let x = uniform(rng, k.init_lo, k.init_hi);
+    let xd = uniform(rng, k.init_lo, k.init_hi);
+    let th = uniform(rng, k.init_lo, k.init_hi);
+    let thd = uniform(rng, k.init_lo, k.init_hi);
+    (x, xd, th, thd)
+}
+
+/// The CartPole step for environments `r` (actions already validated).
+///
+/// # Safety
+/// All pointers in `s` and `o` must cover `r.end` rows, and no other thread may touch rows in `r`.
+#[inline(never)]
+unsafe fn cartpole_chunk(s: &SoaRaw, o: &Raw, actions: &[i64], r: Range<usize>, max_steps: u64) {
+    let (xs, xds, ths, thds, ks, rngs, obs, fin, rew, term, trunc, el) = unsafe {
+        (
+            rows(s.x, &r, 1),
+            rows(s.x_dot, &r, 1),
+            rows(s.theta, &r, 1),
+            rows(s.theta_dot, &r, 1),
+            std::slice::from_raw_parts(s.k.add(r.start), r.end - r.start),
+            rows(s.rng, &r, 1),
+            rows(o.obs, &r, 4),
+            rows(o.final_obs, &r, 4),
+            rows(o.rewards, &r, 1),
+            rows(o.terminated, &r, 1),
+            rows(o.truncated, &r, 1),
+            rows(o.elapsed, &r, 1),
+        )
+    };
+    // Re-slice to one common length so the indexing below needs no bounds checks.
+    let len = actions.len();
+    let (xs, xds, ths, thds, ks, rngs) = (
+        &mut xs[..len],
+        &mut xds[..len],
+        &mut ths[..len],
+        &mut thds[..len],
+        &ks[..len],
+        &mut rngs[..len],
+    );
+    let (obs, fin, rew, term, trunc, el) = (
+        &mut obs[..len * 4],
+        &mut fin[..len * 4],
+        &mut rew[..len],
+        &mut term[..len],
+        &mut trunc[..len],
+        &mut el[..len],
+    );
+    for j in 0..len {
+        let p = &ks[j];
+        let (x, x_dot, theta, theta_dot) = (xs[j], xds[j], ths[j], thds[j]);
+        // Same operations, same order as `CartPole::step_into`.
+        let force = if actions[j] == 1 { p.force_mag } else { -p.force_mag };
+        let costheta = theta.cos();
+        let sintheta = theta.sin();
+        let temp = (force + p.polemass_length * (theta_dot * theta_dot) * sintheta) / p.total_mass;
+        let thetaacc = (p.gravity * sintheta - costheta * temp)
+            / (p.pole_length * (4.0 / 3.0 - p.masspole * (costheta * costheta) / p.total_mass));
+        let xacc = temp - p.polemass_length * thetaacc * costheta / p.total_mass;
+        let tau = p.tau;
+        let x = x + tau * x_dot;
+        let x_dot = x_dot + tau * xacc;
+        let theta = theta + tau * theta_dot;
+        let theta_dot = theta_dot + tau * thetaacc;
+        #[allow(clippy::manual_range_contains)]
+        let terminated =
+            x < -X_THRESHOLD || x > X_THRESHOLD || theta < -THETA_THRESHOLD_RADIANS || theta > THETA_THRESHOLD_RADIANS;
+        let e = el[j] + 1;
+        let truncated = e >= max_steps;
+        // With same-step autoreset no env is ever stepped after termination, so the scalar
+        // env's "0 reward after termination" case cannot occur: the reward is always 1.
+        rew[j] = 1.0;
+        term[j] = terminated;
+        trunc[j] = truncated;
+        let row = j * 4..j * 4 + 4;
+        if terminated || truncated {
+            write4(&mut fin[row.clone()], x, x_dot, theta, theta_dot);
+            let (x, x_dot, theta, theta_dot) = cartpole_reset(p, &mut rngs[j]);
+            (xs[j], xds[j], ths[j], thds[j]) = (x, x_dot, theta, theta_dot);
+            el[j] = 0;
+            write4(&mut obs[row], x, x_dot, theta, theta_dot);
+        } else {
+            (xs[j], xds[j], ths[j], thds[j]) = (x, x_dot, theta, theta_dot);
+            el[j] = e;
+            write4(&mut obs[row], x, x_dot, theta, theta_dot);
+        }
+    }
+}
+
+/// The array-of-environments step for environments `r`.
+///
+/// # Safety
+/// As [`cartpole_chunk`]; `envs` and `acts` are the rows `r`.
+unsafe fn array_chunk(
+    envs: &mut [ClassicEnv],
+    acts: &mut [Action],
+    o: &Raw,
+    actions: VecActions<'_>,
+    r: Range<usize>,
+    d: usize,
+    max_steps: u64,
+) -> Result<(), EnvError> {
+    let (obs, fin, rew, term, trunc, el) = unsafe {
+        (
+            rows(o.obs, &r, d),
+            rows(o.final_obs, &r, d),
+            rows(o.rewards, &r, 1),
+            rows(o.terminated, &r, 1),
+            rows(o.truncated, &r, 1),
+            rows(o.elapsed, &r, 1),
+        )
+    };
+    for j in 0..envs.len() {
+        let i = r.start + j;
+        match (&mut acts[j], actions) {
+            (Action::Discrete(slot), VecActions::Discrete(a)) => *slot = a[i],
+            (Action::Continuous(slot), VecActions::Continuous(a)) => {
+                let w = slot.len();
+                slot.copy_from_slice(&a[i * w..(i + 1) * w]);
+            }
+            _ => unreachable!("rejected by check()"),
+        }
+        let row = j * d..(j + 1) * d;
+        let out = envs[j].step_into(&acts[j], &mut obs[row.clone()])?;
+        let e = el[j] + 1;
+        let truncated = out.truncated || e >= max_steps;
+        rew[j] = out.reward;
+        term[j] = out.terminated;
+        trunc[j] = truncated;
+        if out.terminated || truncated {
+            fin[row.clone()].copy_from_slice(&obs[row.clone()]);
+            envs[j].reset_into(None, &mut obs[row])?;
+            el[j] = 0;
+        } else {
+            el[j] = e;
+        }
+    }
+    Ok(())
+}
