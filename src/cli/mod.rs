@@ -1,6 +1,7 @@
 //! The `carl-spec` command line. Each subcommand lives in its own module; this file only parses
 //! arguments and maps outcomes to exit codes (0 ok, 1 invalid specs / failed check, 2 usage or I/O).
 
+mod audit_cmd;
 mod specs_cmd;
 mod validate_cmd;
 
@@ -46,6 +47,18 @@ pub enum Command {
     },
     /// Print the JSON Schema of spec files.
     Schema,
+    /// Check every feature's `affects` claim against the runtime by perturbing it within its bounds.
+    /// Exit 0 all claims hold, 1 a contradiction, 2 unknown environment or no runtime.
+    Audit {
+        /// Environment id or alias (one with a runtime), e.g. `cartpole`.
+        #[arg(required_unless_present = "all", conflicts_with = "all")]
+        env: Option<String>,
+        /// Audit every environment that has a runtime.
+        #[arg(long)]
+        all: bool,
+        #[arg(long, value_enum, default_value_t = Format::Text)]
+        format: Format,
+    },
     /// Counts over all environments: features, share affecting dynamics/reward, share continuous.
     Stats {
         #[arg(long, value_enum, default_value_t = Format::Text)]
@@ -115,6 +128,7 @@ pub fn main() -> ExitCode {
         Command::Show { id, format } => specs_cmd::show(&cli, id, *format),
         Command::Schema => specs_cmd::schema(),
         Command::Stats { format } => specs_cmd::stats(&cli, *format),
+        Command::Audit { env, all, format } => audit_cmd::run(&cli, env.as_deref(), *all, *format),
     };
     match result {
         Ok(code) => ExitCode::from(code),
