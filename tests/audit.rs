@@ -74,7 +74,10 @@ fn known_traps_are_measured_as_specified() {
     let l2 = r.feature("link_length_2").unwrap();
     assert!(l2.claimed.is_empty());
     for e in &l2.effects {
-        assert!(matches!(e.measured, Measured::Unchanged | Measured::NotApplicable), "{e:?}");
+        assert!(
+            matches!(e.measured, Measured::Unchanged | Measured::NotApplicable),
+            "{e:?}"
+        );
     }
     // Terminal states are probed: dynamics features reach the goal differently.
     assert_eq!(measured(&r, "link_mass_1", Effect::Termination), Measured::ViaDynamics);
@@ -83,7 +86,9 @@ fn known_traps_are_measured_as_specified() {
 #[test]
 fn removing_a_true_claim_is_an_undeclared_effect() {
     let mut s = spec("cartpole");
-    feature_mut(&mut s, "masscart").affects.retain(|e| *e != Effect::Dynamics);
+    feature_mut(&mut s, "masscart")
+        .affects
+        .retain(|e| *e != Effect::Dynamics);
     let r = audit(&s).unwrap();
     assert!(!r.passed);
     assert_eq!(
@@ -124,7 +129,11 @@ fn termination_reward_and_initial_state_claims_are_checked() {
         contradictions(&r),
         vec![
             ("goal_velocity".to_string(), Effect::Dynamics, Verdict::MissingEffect),
-            ("goal_velocity".to_string(), Effect::Termination, Verdict::UndeclaredEffect),
+            (
+                "goal_velocity".to_string(),
+                Effect::Termination,
+                Verdict::UndeclaredEffect
+            ),
         ]
     );
 
@@ -142,7 +151,11 @@ fn termination_reward_and_initial_state_claims_are_checked() {
     let r = audit(&s).unwrap();
     assert_eq!(
         contradictions(&r),
-        vec![("start_position".to_string(), Effect::InitialState, Verdict::UndeclaredEffect)]
+        vec![(
+            "start_position".to_string(),
+            Effect::InitialState,
+            Verdict::UndeclaredEffect
+        )]
     );
 }
 
@@ -173,7 +186,10 @@ fn perturbed_values_stay_in_bounds() {
     assert_eq!(probes::perturbed_values(std), vec![0.01, 0.1, 1.0]);
     let cp = spec("cartpole");
     let force = cp.feature("force_magnifier").unwrap();
-    assert!(probes::perturbed_values(force).iter().all(|v| v.fract() == 0.0), "int feature");
+    assert!(
+        probes::perturbed_values(force).iter().all(|v| v.fract() == 0.0),
+        "int feature"
+    );
 }
 
 #[test]
@@ -181,4 +197,16 @@ fn env_without_runtime_is_an_error() {
     let r = audit(&spec("lunar_lander"));
     let e = r.unwrap_err().to_string();
     assert!(e.contains("no runtime") && e.contains("cartpole"), "{e}");
+}
+
+/// `cargo test --test audit timing -- --ignored --nocapture` prints the audit time per environment.
+#[test]
+#[ignore]
+fn timing() {
+    let specs = SpecSet::bundled().unwrap();
+    for id in RUNTIMES {
+        let t = Instant::now();
+        let r = audit(specs.get(id).unwrap()).unwrap();
+        eprintln!("{id}: {:?} ({} states)", t.elapsed(), r.probes.base_states);
+    }
 }

@@ -144,8 +144,18 @@ fn audit_exit_codes_and_formats() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["env"], "mountain_car");
     assert_eq!(v["passed"], true);
-    let goal = v["features"].as_array().unwrap().iter().find(|f| f["name"] == "goal_position").unwrap();
-    let term = goal["effects"].as_array().unwrap().iter().find(|e| e["effect"] == "termination").unwrap();
+    let goal = v["features"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["name"] == "goal_position")
+        .unwrap();
+    let term = goal["effects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|e| e["effect"] == "termination")
+        .unwrap();
     assert_eq!(term["verdict"], "ok");
     assert_eq!(term["measured"], "changed");
 

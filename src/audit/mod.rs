@@ -23,8 +23,6 @@
 
 pub mod probes;
 
-use std::collections::BTreeMap;
-
 use serde::Serialize;
 
 use crate::envs::registry::{ClassicEnv, Context, MakeError, has_runtime, make};
@@ -278,6 +276,7 @@ pub fn audit_with(spec: &EnvSpec, opts: &AuditOptions) -> Result<AuditReport, Au
     let base = build(&Context::new(), "(defaults)", "-".into())?;
     let states = probes::base_states(&base, opts).map_err(env_err)?;
     let actions = probes::probe_actions(&base.action_space());
+    let reference = respond(&base, &states, &actions, opts).map_err(env_err)?;
 
     let mut features = Vec::with_capacity(spec.features.len());
     for f in &spec.features {
@@ -298,15 +297,16 @@ pub fn audit_with(spec: &EnvSpec, opts: &AuditOptions) -> Result<AuditReport, Au
             features.push(fa);
             continue;
         }
-        let mut accs: BTreeMap<Effect, Acc> = BTreeMap::new();
+        let mut accs = Accs::default();
         for &x in &values {
             let ctx = Context::from([(f.name.clone(), feature_value(f, x))]);
             let pert = build(&ctx, &f.name, x.to_string())?;
-            measure(&base, &pert, &states, &actions, opts, x, &mut accs).map_err(env_err)?;
+            let answers = respond(&pert, &states, &actions, opts).map_err(env_err)?;
+            compare(&reference, &answers, x, &mut accs);
         }
         fa.effects = Effect::ALL
             .iter()
-            .map(|&effect| judge(f, effect, accs.remove(&effect).unwrap_or_default()))
+            .map(|&effect| judge(f, effect, accs.take(effect)))
             .collect();
         features.push(fa);
     }
@@ -326,61 +326,91 @@ pub fn audit_with(spec: &EnvSpec, opts: &AuditOptions) -> Result<AuditReport, Au
     })
 }
 
-/// Run every probe once under the default env `base` and the perturbed env `pert`.
-fn measure(
-    base: &ClassicEnv,
-    pert: &ClassicEnv,
+/// Everything an environment answered to the probes.
+struct Responses {
+    /// Observation of each base state.
+    obs: Vec<Vec<f32>>,
+    /// Per (base state, action), state-major: next state, reward, terminated.
+    steps: Vec<(Vec<f64>, f64, bool)>,
+    /// State after `reset(seed)` for each seed.
+    initial: Vec<Vec<f64>>,
+}
+
+/// Run every probe once on `env`.
+fn respond(
+    env: &ClassicEnv,
     states: &[Vec<f64>],
     actions: &[Action],
     opts: &AuditOptions,
-    value: f64,
-    accs: &mut BTreeMap<Effect, Acc>,
-) -> Result<(), EnvError> {
-    let (mut a, mut b) = (base.clone(), pert.clone());
-    let mut oa = vec![0.0f32; a.obs_dim()];
-    let mut ob = vec![0.0f32; b.obs_dim()];
-    let mut dynamics = accs.remove(&Effect::Dynamics).unwrap_or_default();
-    let mut reward = accs.remove(&Effect::Reward).unwrap_or_default();
-    let mut termination = accs.remove(&Effect::Termination).unwrap_or_default();
-    let mut initial = accs.remove(&Effect::InitialState).unwrap_or_default();
-    let mut observation = accs.remove(&Effect::Observation).unwrap_or_default();
-
+) -> Result<Responses, EnvError> {
+    let mut env = env.clone();
+    let mut obs = vec![0.0f32; env.obs_dim()];
+    let mut r = Responses {
+        obs: Vec::with_capacity(states.len()),
+        steps: Vec::with_capacity(states.len() * actions.len()),
+        initial: Vec::new(),
+    };
     for s in states {
-        a.set_state(s)?;
-        b.set_state(s)?;
-        a.observe_into(&mut oa)?;
-        b.observe_into(&mut ob)?;
-        observation.direct(max_abs_diff_f32(&oa, &ob), value);
+        env.set_state(s)?;
+        env.observe_into(&mut obs)?;
+        r.obs.push(obs.clone());
         for action in actions {
-            a.set_state(s)?;
-            b.set_state(s)?;
-            let ra = a.step_into(action, &mut oa)?;
-            let rb = b.step_into(action, &mut ob)?;
-            let dyn_diff = max_abs_diff(&a.state(), &b.state());
-            dynamics.direct(dyn_diff, value);
-            let r_diff = abs_diff(ra.reward, rb.reward);
-            let t_diff = if ra.terminated == rb.terminated { 0.0 } else { 1.0 };
-            if dyn_diff == 0.0 {
-                reward.direct(r_diff, value);
-                termination.direct(t_diff, value);
-            } else {
-                reward.via_dynamics(r_diff);
-                termination.via_dynamics(t_diff);
-            }
+            env.set_state(s)?;
+            let out = env.step_into(action, &mut obs)?;
+            r.steps.push((env.state(), out.reward, out.terminated));
         }
     }
     for seed in 0..opts.reset_seeds {
-        a.reset_into(Some(seed), &mut oa)?;
-        b.reset_into(Some(seed), &mut ob)?;
-        initial.direct(max_abs_diff(&a.state(), &b.state()), value);
+        env.reset_into(Some(seed), &mut obs)?;
+        r.initial.push(env.state());
     }
+    Ok(r)
+}
 
-    accs.insert(Effect::Dynamics, dynamics);
-    accs.insert(Effect::Reward, reward);
-    accs.insert(Effect::Termination, termination);
-    accs.insert(Effect::InitialState, initial);
-    accs.insert(Effect::Observation, observation);
-    Ok(())
+/// Per-effect accumulators of one feature.
+#[derive(Default)]
+struct Accs {
+    dynamics: Acc,
+    reward: Acc,
+    termination: Acc,
+    initial_state: Acc,
+    observation: Acc,
+}
+
+impl Accs {
+    fn take(&mut self, effect: Effect) -> Acc {
+        match effect {
+            Effect::Dynamics => std::mem::take(&mut self.dynamics),
+            Effect::Reward => std::mem::take(&mut self.reward),
+            Effect::Termination => std::mem::take(&mut self.termination),
+            Effect::InitialState => std::mem::take(&mut self.initial_state),
+            Effect::Observation => std::mem::take(&mut self.observation),
+            Effect::TaskGeneration => Acc::default(),
+        }
+    }
+}
+
+/// Compare the default env's responses with those under `feature = value`.
+fn compare(base: &Responses, pert: &Responses, value: f64, accs: &mut Accs) {
+    for (a, b) in base.obs.iter().zip(&pert.obs) {
+        accs.observation.direct(max_abs_diff_f32(a, b), value);
+    }
+    for ((sa, ra, ta), (sb, rb, tb)) in base.steps.iter().zip(&pert.steps) {
+        let dyn_diff = max_abs_diff(sa, sb);
+        accs.dynamics.direct(dyn_diff, value);
+        let r_diff = abs_diff(*ra, *rb);
+        let t_diff = if ta == tb { 0.0 } else { 1.0 };
+        if dyn_diff == 0.0 {
+            accs.reward.direct(r_diff, value);
+            accs.termination.direct(t_diff, value);
+        } else {
+            accs.reward.via_dynamics(r_diff);
+            accs.termination.via_dynamics(t_diff);
+        }
+    }
+    for (a, b) in base.initial.iter().zip(&pert.initial) {
+        accs.initial_state.direct(max_abs_diff(a, b), value);
+    }
 }
 
 fn judge(f: &Feature, effect: Effect, acc: Acc) -> EffectResult {
@@ -422,7 +452,12 @@ fn probe_text(effect: Effect, n_states: usize, n_actions: usize, opts: &AuditOpt
     }
 }
 
-fn contradictions(features: &[FeatureAudit], n_states: usize, n_actions: usize, opts: &AuditOptions) -> Vec<Contradiction> {
+fn contradictions(
+    features: &[FeatureAudit],
+    n_states: usize,
+    n_actions: usize,
+    opts: &AuditOptions,
+) -> Vec<Contradiction> {
     let mut out = Vec::new();
     for f in features {
         let values = f.values.iter().map(|v| format_num(*v)).collect::<Vec<_>>().join(", ");
@@ -475,9 +510,17 @@ pub fn format_num(x: f64) -> String {
     }
     let ax = x.abs();
     if x == 0.0 || (1e-3..1e5).contains(&ax) {
-        let decimals = if x == 0.0 { 0 } else { (3 - ax.log10().floor() as i32).max(0) as usize };
+        let decimals = if x == 0.0 {
+            0
+        } else {
+            (3 - ax.log10().floor() as i32).max(0) as usize
+        };
         let s = format!("{x:.decimals$}");
-        let s = if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.') } else { &s };
+        let s = if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.')
+        } else {
+            &s
+        };
         if s == "-0" { "0".into() } else { s.to_string() }
     } else {
         format!("{:.3e}", x)

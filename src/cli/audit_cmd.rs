@@ -98,7 +98,13 @@ fn cell(e: &EffectResult) -> String {
 /// The text report of one environment.
 pub fn render_text(r: &AuditReport) -> String {
     let cols = columns(r);
-    let name_w = r.features.iter().map(|f| f.name.chars().count()).max().unwrap_or(7).max(7);
+    let name_w = r
+        .features
+        .iter()
+        .map(|f| f.name.chars().count())
+        .max()
+        .unwrap_or(7)
+        .max(7);
     let rows: Vec<(String, Vec<String>)> = r
         .features
         .iter()
