@@ -180,7 +180,7 @@ pub enum AuditError {
         env: String,
         feature: String,
         value: String,
-        source: MakeError,
+        source: Box<MakeError>,
     },
     #[error("{env}: the runtime refused a probe: {source}")]
     Env { env: String, source: EnvError },
@@ -270,7 +270,7 @@ pub fn audit_with(spec: &EnvSpec, opts: &AuditOptions) -> Result<AuditReport, Au
                 env: spec.id.clone(),
                 feature: feature.to_string(),
                 value,
-                source,
+                source: Box::new(source),
             })
     };
     let base = build(&Context::new(), "(defaults)", "-".into())?;
