@@ -20,7 +20,8 @@ fn collect(dir: &Path, root: &Path, out: &mut Vec<String>) {
 }
 
 fn main() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("specs");
+    // Read at run time of the build script (not baked in when it is compiled).
+    let root = Path::new(&std::env::var("CARGO_MANIFEST_DIR").unwrap()).join("specs");
     println!("cargo:rerun-if-changed=specs");
     let mut files = Vec::new();
     collect(&root, &root, &mut files);

@@ -3,8 +3,10 @@
 //!
 //! Layout: `spec` (the spec language and loading), `validate` (schema + semantic rules +
 //! diagnostics), `json` (JSON with source positions), `schema` (the generated JSON Schema),
-//! `sampling` (portable generator and samplers), `envs` (environment runtimes), `cli`.
+//! `sampling` (portable generator and samplers), `envs` (environment runtimes), `audit` (checks
+//! that each feature's `affects` claim matches the runtime), `cli`.
 
+pub mod audit;
 pub mod cli;
 pub mod envs;
 pub mod instances;

@@ -130,3 +130,47 @@ fn tempdir() -> std::path::PathBuf {
     std::fs::create_dir_all(&p).unwrap();
     p
 }
+
+#[test]
+fn audit_exit_codes_and_formats() {
+    let o = carl(&["audit", "cartpole"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stdout(&o));
+    let text = stdout(&o);
+    assert!(text.contains("masscart") && text.contains("✓"), "{text}");
+    assert!(text.contains("cartpole: ok"), "{text}");
+
+    let o = carl(&["audit", "mountain_car", "--format", "json"]);
+    assert_eq!(o.status.code(), Some(0));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["env"], "mountain_car");
+    assert_eq!(v["passed"], true);
+    let goal = v["features"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["name"] == "goal_position")
+        .unwrap();
+    let term = goal["effects"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|e| e["effect"] == "termination")
+        .unwrap();
+    assert_eq!(term["verdict"], "ok");
+    assert_eq!(term["measured"], "changed");
+
+    let o = carl(&["audit", "--all", "--format", "json"]);
+    assert_eq!(o.status.code(), Some(0));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v.as_array().unwrap().len(), 5);
+
+    // Unknown environment, environment without runtime, nothing named: usage errors listing runtimes.
+    for args in [&["audit", "cartpol"][..], &["audit", "lunar_lander"], &["audit"]] {
+        let o = carl(args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        if args.len() == 2 {
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert!(err.contains("mountain_car_continuous"), "{args:?}: {err}");
+        }
+    }
+}

@@ -4,6 +4,7 @@
 mod instances_cmd;
 mod rollout_cmd;
 mod bench_cmd;
+mod audit_cmd;
 mod specs_cmd;
 mod validate_cmd;
 
@@ -79,6 +80,18 @@ pub enum Command {
     },
     /// Run one episode and print JSON Lines (reset line, then one line per step).
     Rollout(rollout_cmd::RolloutArgs),
+    /// Check every feature's `affects` claim against the runtime by perturbing it within its bounds.
+    /// Exit 0 all claims hold, 1 a contradiction, 2 unknown environment or no runtime.
+    Audit {
+        /// Environment id or alias (one with a runtime), e.g. `cartpole`.
+        #[arg(required_unless_present = "all", conflicts_with = "all")]
+        env: Option<String>,
+        /// Audit every environment that has a runtime.
+        #[arg(long)]
+        all: bool,
+        #[arg(long, value_enum, default_value_t = Format::Text)]
+        format: Format,
+    },
     /// Counts over all environments: features, share affecting dynamics/reward, share continuous.
     Stats {
         #[arg(long, value_enum, default_value_t = Format::Text)]
@@ -177,6 +190,7 @@ pub fn main() -> ExitCode {
             steps,
             threads,
         } => bench_cmd::run(&cli, env, *num_envs, *steps, *threads),
+        Command::Audit { env, all, format } => audit_cmd::run(&cli, env.as_deref(), *all, *format),
     };
     match result {
         Ok(code) => ExitCode::from(code),
