@@ -3,12 +3,14 @@
 //!
 //! Layout: `spec` (the spec language and loading), `validate` (schema + semantic rules +
 //! diagnostics), `json` (JSON with source positions), `schema` (the generated JSON Schema),
-//! `sampling` (portable generator and samplers), `envs` (environment runtimes), `cli`.
+//! `sampling` (portable generator and samplers), `envs` (environment runtimes), `plot` (figures of
+//! instance sets), `cli`.
 
 pub mod cli;
 pub mod envs;
 pub mod instances;
 pub mod json;
+pub mod plot;
 pub mod sampling;
 pub mod schema;
 pub mod spec;

@@ -2,6 +2,7 @@
 //! arguments and maps outcomes to exit codes (0 ok, 1 invalid specs / failed check, 2 usage or I/O).
 
 mod instances_cmd;
+mod plot_cmd;
 mod specs_cmd;
 mod validate_cmd;
 
@@ -75,6 +76,8 @@ pub enum Command {
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
+    /// Draw an instance set: a histogram per varied feature, its bounds, marked named instances.
+    Plot(plot_cmd::PlotArgs),
     /// Counts over all environments: features, share affecting dynamics/reward, share continuous.
     Stats {
         #[arg(long, value_enum, default_value_t = Format::Text)]
@@ -146,6 +149,7 @@ pub fn main() -> ExitCode {
         Command::Stats { format } => specs_cmd::stats(&cli, *format),
         Command::Instances(cmd) => instances_cmd::instances(&cli, cmd),
         Command::Freeze { names, out, force } => instances_cmd::freeze(&cli, names, out.as_ref(), *force),
+        Command::Plot(args) => plot_cmd::plot(&cli, args),
         Command::Sample {
             env,
             distribution,
