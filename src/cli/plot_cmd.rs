@@ -75,7 +75,10 @@ fn write_failure(e: WriteError) -> Failure {
 
 /// Fail early (before loading anything) when the output could not or must not be written.
 fn check_target(path: &Path, force: bool) -> Result<(), Failure> {
-    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
     if !dir.is_dir() {
         return Err(write_failure(WriteError::NoDir {
             path: path.display().to_string(),

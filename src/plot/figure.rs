@@ -187,23 +187,78 @@ impl Panel {
     }
 }
 
-/// Assign each label a row above the plot so that no two labels in a row overlap.
-/// Input: (centre x, width) in drawing order; output: row per label.
-fn label_levels(labels: &[(f64, f64)]) -> Vec<usize> {
-    let mut right_edges: Vec<f64> = Vec::new();
-    labels
-        .iter()
-        .map(|&(x, w)| {
-            let left = x - w / 2.0;
-            let level = right_edges.iter().position(|r| left > *r + 10.0).unwrap_or(right_edges.len());
-            if level == right_edges.len() {
-                right_edges.push(x + w / 2.0);
-            } else {
-                right_edges[level] = x + w / 2.0;
+/// Place labels above the plot: each wants to be centred on its mark (`desired`, in value
+/// order). Labels are spread over as many rows as their total width needs (round robin), and
+/// within a row pushed apart just enough not to overlap, keeping each group of touching labels
+/// centred on its marks (and inside `[left, right]`). Returns (centre x, row) per label.
+fn place_labels(desired: &[f64], widths: &[f64], left: f64, right: f64) -> Vec<(f64, usize)> {
+    const GAP: f64 = 12.0;
+    let total: f64 = widths.iter().map(|w| w + GAP).sum();
+    let rows = ((total / (right - left)).ceil() as usize).max(1);
+    let mut out = vec![(0.0, 0); desired.len()];
+    for row in 0..rows {
+        let idx: Vec<usize> = (0..desired.len()).filter(|i| i % rows == row).collect();
+        let d: Vec<f64> = idx.iter().map(|&i| desired[i]).collect();
+        let w: Vec<f64> = idx.iter().map(|&i| widths[i]).collect();
+        for (k, x) in spread(&d, &w, GAP, left, right).into_iter().enumerate() {
+            out[idx[k]] = (x, row);
+        }
+    }
+    out
+}
+
+/// Centres for labels of widths `w` wanting centres `d` (ascending): touching labels form a
+/// cluster placed at the mean of its members' wishes, clusters merge until none overlap.
+fn spread(d: &[f64], w: &[f64], gap: f64, left: f64, right: f64) -> Vec<f64> {
+    struct Cluster {
+        first: usize,
+        last: usize,
+        /// Sum over members of (wish - offset from the first member's centre).
+        sum: f64,
+        n: f64,
+        pos: f64,
+    }
+    let place = |c: &Cluster, off: &[f64]| {
+        let lo = left + w[c.first] / 2.0;
+        let hi = right - w[c.last] / 2.0 - off[c.last];
+        if lo > hi { lo } else { (c.sum / c.n).clamp(lo, hi) }
+    };
+    let mut off = vec![0.0; d.len()];
+    let mut clusters: Vec<Cluster> = Vec::new();
+    for (i, &wish) in d.iter().enumerate() {
+        let mut c = Cluster {
+            first: i,
+            last: i,
+            sum: wish,
+            n: 1.0,
+            pos: 0.0,
+        };
+        c.pos = place(&c, &off);
+        clusters.push(c);
+        while clusters.len() >= 2 {
+            let (a, b) = (&clusters[clusters.len() - 2], &clusters[clusters.len() - 1]);
+            if a.pos + off[a.last] + w[a.last] / 2.0 + gap <= b.pos - w[b.first] / 2.0 {
+                break;
             }
-            level
-        })
-        .collect()
+            let Some(b) = clusters.pop() else { break };
+            let Some(a) = clusters.last_mut() else { break };
+            let shift = off[a.last] + w[a.last] / 2.0 + gap + w[b.first] / 2.0;
+            for o in &mut off[b.first..=b.last] {
+                *o += shift;
+            }
+            a.sum += b.sum - shift * b.n;
+            a.n += b.n;
+            a.last = b.last;
+            a.pos = place(a, &off);
+        }
+    }
+    let mut centres = vec![0.0; d.len()];
+    for c in &clusters {
+        for j in c.first..=c.last {
+            centres[j] = c.pos + off[j];
+        }
+    }
+    centres
 }
 
 fn num_attr(x: f64) -> String {
@@ -257,17 +312,11 @@ pub fn layout(fig: &Figure) -> Scene {
         // Mark labels, in value order, stacked in rows above the plot.
         let mut marks: Vec<&Mark> = panel.marks.iter().filter(|m| m.value.is_finite()).collect();
         marks.sort_by(|a, b| a.value.total_cmp(&b.value).then_with(|| a.label.cmp(&b.label)));
-        let placed: Vec<(f64, f64)> = marks
-            .iter()
-            .map(|m| {
-                let w = text_width(&m.label, 2);
-                let x = sx(m.value).clamp(left + w / 2.0, right - w / 2.0);
-                (x, w)
-            })
-            .collect();
-        let levels = label_levels(&placed);
-        let n_levels = levels.iter().max().map_or(0, |l| l + 1);
-        let top = y + 14.0 + n_levels as f64 * LEVEL_HEIGHT + if n_levels > 0 { 14.0 } else { 0.0 };
+        let widths: Vec<f64> = marks.iter().map(|m| text_width(&m.label, 2)).collect();
+        let wishes: Vec<f64> = marks.iter().map(|m| sx(m.value)).collect();
+        let placed = place_labels(&wishes, &widths, left, right);
+        let n_levels = placed.iter().map(|(_, l)| l + 1).max().unwrap_or(0);
+        let top = y + 14.0 + n_levels as f64 * LEVEL_HEIGHT + if n_levels > 0 { 18.0 } else { 0.0 };
         let bottom = top + PLOT_HEIGHT;
 
         scene.push_data("panel", vec![("feature", panel.feature.clone())], Shape::GroupStart);
@@ -307,7 +356,11 @@ pub fn layout(fig: &Figure) -> Scene {
         // Count axis: integer ticks with headroom.
         let max_count = bins.max_count().max(1) as f64;
         let (yt, _) = ticks(0.0, max_count * 1.08, 5);
-        let step = if yt.len() > 1 { (yt[1] - yt[0]).max(1.0).round() } else { 1.0 };
+        let step = if yt.len() > 1 {
+            (yt[1] - yt[0]).max(1.0).round()
+        } else {
+            1.0
+        };
         let y_top = ((max_count * 1.08) / step).ceil() * step;
         let sy = |c: f64| bottom - c / y_top * PLOT_HEIGHT;
         let mut c = 0.0;
@@ -356,17 +409,24 @@ pub fn layout(fig: &Figure) -> Scene {
         // Rugs, stacked up from the bottom.
         for (k, rug) in panel.rugs.iter().enumerate() {
             let color = RUG_COLORS[k % RUG_COLORS.len()];
-            let (y0, y1) = (bottom - k as f64 * RUG_HEIGHT, bottom - (k + 1) as f64 * RUG_HEIGHT + 2.0);
+            let (y0, y1) = (
+                bottom - k as f64 * RUG_HEIGHT,
+                bottom - (k + 1) as f64 * RUG_HEIGHT + 2.0,
+            );
             scene.push_data("rug", vec![("set", rug.set.clone())], Shape::GroupStart);
             for &v in rug.values.iter().filter(|v| v.is_finite()) {
                 let x = sx(v);
-                scene.push_data("rug-tick", vec![("value", num_attr(v))], Shape::Line {
-                    x1: x,
-                    y1: y0,
-                    x2: x,
-                    y2: y1,
-                    stroke: Stroke::solid(color, 1.5),
-                });
+                scene.push_data(
+                    "rug-tick",
+                    vec![("value", num_attr(v))],
+                    Shape::Line {
+                        x1: x,
+                        y1: y0,
+                        x2: x,
+                        y2: y1,
+                        stroke: Stroke::solid(color, 1.5),
+                    },
+                );
             }
             scene.push("", Shape::GroupEnd);
             add_legend(
@@ -418,27 +478,35 @@ pub fn layout(fig: &Figure) -> Scene {
                         Some(b) if lower => ("bound-offscale", format!("← lower bound {}", fmt_sig(b))),
                         Some(b) => ("bound-offscale", format!("upper bound {} →", fmt_sig(b))),
                     };
-                    let (tx, anchor) = if lower { (left + 6.0, Anchor::Start) } else { (right - 6.0, Anchor::End) };
+                    let (tx, anchor) = if lower {
+                        (left + 6.0, Anchor::Start)
+                    } else {
+                        (right - 6.0, Anchor::End)
+                    };
                     let mut data = vec![("side", side.to_string())];
                     if let Some(b) = bound {
                         data.push(("value", num_attr(b)));
                     }
-                    scene.push_data(class, data, Shape::Text {
-                        x: tx,
-                        y: note_y,
-                        text,
-                        scale: 2,
-                        anchor,
-                        color: BOUND_COLOR,
-                        bold: false,
-                        vertical: false,
-                    });
+                    scene.push_data(
+                        class,
+                        data,
+                        Shape::Text {
+                            x: tx,
+                            y: note_y,
+                            text,
+                            scale: 2,
+                            anchor,
+                            color: BOUND_COLOR,
+                            bold: false,
+                            vertical: false,
+                        },
+                    );
                 }
             }
         }
 
         // Marks: dashed line through the plot, a triangle at its top, the label above.
-        for ((m, (lx, _)), level) in marks.iter().zip(&placed).zip(&levels) {
+        for (m, (lx, level)) in marks.iter().zip(&placed) {
             let x = sx(m.value);
             let color = m.kind.color();
             scene.push_data(
@@ -459,10 +527,13 @@ pub fn layout(fig: &Figure) -> Scene {
                     fill: color,
                 },
             );
-            let label_y = top - 16.0 - *level as f64 * LEVEL_HEIGHT;
-            if *level > 0 || (lx - x).abs() > 0.5 {
-                scene.line("mark-leader", (x, top - 10.0), (*lx, label_y + 4.0), Stroke::solid(color, 1.0));
-            }
+            let label_y = top - 30.0 - *level as f64 * LEVEL_HEIGHT;
+            scene.line(
+                "mark-leader",
+                (x, top - 10.0),
+                (*lx, label_y + 5.0),
+                Stroke::solid(color, 1.5),
+            );
             scene.push(
                 "mark-label",
                 Shape::Text {
@@ -495,7 +566,15 @@ pub fn layout(fig: &Figure) -> Scene {
         for t in xt {
             let x = sx(t);
             scene.line("tick", (x, bottom), (x, bottom + 5.0), Stroke::solid(TEXT, 1.0));
-            scene.text("tick-label", x, bottom + 24.0, &fmt_num(t, decimals), 2, Anchor::Middle, TEXT);
+            scene.text(
+                "tick-label",
+                x,
+                bottom + 24.0,
+                &fmt_num(t, decimals),
+                2,
+                Anchor::Middle,
+                TEXT,
+            );
         }
         let axis_label = match &panel.unit {
             Some(u) => format!("{} [{u}]", panel.feature),
@@ -594,10 +673,20 @@ pub fn layout(fig: &Figure) -> Scene {
             ),
             Swatch::Rug(c) => {
                 for dx in [-6.0, -1.0, 4.0] {
-                    scene.line("legend-swatch", (cx + dx, cy - 8.0), (cx + dx, cy + 8.0), Stroke::solid(*c, 1.5));
+                    scene.line(
+                        "legend-swatch",
+                        (cx + dx, cy - 8.0),
+                        (cx + dx, cy + 8.0),
+                        Stroke::solid(*c, 1.5),
+                    );
                 }
             }
-            Swatch::Bound => scene.line("legend-swatch", (cx, cy - 9.0), (cx, cy + 9.0), Stroke::solid(BOUND_COLOR, 2.0)),
+            Swatch::Bound => scene.line(
+                "legend-swatch",
+                (cx, cy - 9.0),
+                (cx, cy + 9.0),
+                Stroke::solid(BOUND_COLOR, 2.0),
+            ),
         }
         scene.text("legend", x + 26.0, ly + 2.0, text, 2, Anchor::Start, TEXT);
         x += w;
@@ -617,7 +706,13 @@ mod tests {
     }
 
     #[test]
-    fn close_labels_go_to_other_rows() {
-        assert_eq!(label_levels(&[(100.0, 50.0), (120.0, 50.0), (300.0, 50.0), (310.0, 20.0)]), vec![0, 1, 0, 1]);
+    fn close_labels_are_pushed_apart() {
+        let p = place_labels(&[100.0, 110.0, 500.0], &[40.0, 40.0, 40.0], 0.0, 1000.0);
+        assert_eq!(p, vec![(79.0, 0), (131.0, 0), (500.0, 0)]);
+        // Clamped into the drawing area.
+        assert_eq!(place_labels(&[0.0], &[40.0], 0.0, 1000.0), vec![(20.0, 0)]);
+        // Too wide for one row: round robin over two.
+        let p = place_labels(&[10.0, 20.0, 30.0], &[400.0, 400.0, 400.0], 0.0, 1000.0);
+        assert_eq!(p.iter().map(|(_, l)| *l).collect::<Vec<_>>(), vec![0, 1, 0]);
     }
 }

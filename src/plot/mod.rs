@@ -35,7 +35,11 @@ pub enum Format {
 impl Format {
     /// `.svg` or `.png` (any case); anything else is an error message.
     pub fn from_path(path: &Path) -> Result<Format, String> {
-        match path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).as_deref() {
+        match path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+            .as_deref()
+        {
             Some("svg") => Ok(Format::Svg),
             Some("png") => Ok(Format::Png),
             Some(other) => Err(format!(
@@ -238,7 +242,10 @@ pub fn write_output(path: &Path, bytes: &[u8], force: bool) -> Result<(), WriteE
         path: shown.clone(),
         source,
     };
-    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
     if !dir.is_dir() {
         return Err(WriteError::NoDir {
             path: shown.clone(),
@@ -248,7 +255,10 @@ pub fn write_output(path: &Path, bytes: &[u8], force: bool) -> Result<(), WriteE
     if !force && path.symlink_metadata().is_ok() {
         return Err(WriteError::Exists(shown));
     }
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
     let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;

@@ -117,14 +117,32 @@ impl Canvas {
                 let (ly, hy) = (ay.min(by) - ny.abs(), ay.max(by) + ny.abs());
                 self.fill_rect(lx, ly, hx - lx, hy - ly, s.color, 1.0);
             } else {
-                self.fill_polygon(&[(ax + nx, ay + ny), (bx + nx, by + ny), (bx - nx, by - ny), (ax - nx, ay - ny)], s.color);
+                self.fill_polygon(
+                    &[
+                        (ax + nx, ay + ny),
+                        (bx + nx, by + ny),
+                        (bx - nx, by - ny),
+                        (ax - nx, ay - ny),
+                    ],
+                    s.color,
+                );
             }
         }
     }
 
     /// Text in the built-in bitmap font; `y` is the baseline.
     #[allow(clippy::too_many_arguments)]
-    pub fn text(&mut self, x: f64, y: f64, text: &str, scale: u32, anchor: Anchor, c: Color, bold: bool, vertical: bool) {
+    pub fn text(
+        &mut self,
+        x: f64,
+        y: f64,
+        text: &str,
+        scale: u32,
+        anchor: Anchor,
+        c: Color,
+        bold: bool,
+        vertical: bool,
+    ) {
         let w = font::text_width(text, scale);
         let offset = match anchor {
             Anchor::Start => 0.0,
@@ -142,7 +160,11 @@ impl Canvas {
                 let v = (i64::from(gy) - i64::from(font::ASCENT)) * s;
                 for dy in 0..s {
                     for dx in 0..s + i64::from(bold) {
-                        let (px, py) = if vertical { (bx + v + dy, by - u - dx) } else { (bx + u + dx, by + v + dy) };
+                        let (px, py) = if vertical {
+                            (bx + v + dy, by - u - dx)
+                        } else {
+                            (bx + u + dx, by + v + dy)
+                        };
                         self.blend(px, py, c, 1.0);
                     }
                 }

@@ -93,7 +93,12 @@ pub fn render(scene: &Scene) -> String {
             }
             Shape::Polygon { points, fill } => {
                 let pts: Vec<String> = points.iter().map(|(x, y)| format!("{},{}", num(*x), num(*y))).collect();
-                let _ = writeln!(s, r#"<polygon{attrs} points="{}" fill="{}"/>"#, pts.join(" "), fill.hex());
+                let _ = writeln!(
+                    s,
+                    r#"<polygon{attrs} points="{}" fill="{}"/>"#,
+                    pts.join(" "),
+                    fill.hex()
+                );
             }
             Shape::Text {
                 x,
