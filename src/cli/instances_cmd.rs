@@ -31,7 +31,7 @@ pub enum InstancesCommand {
     },
 }
 
-fn store_failure(e: StoreError) -> Failure {
+pub(super) fn store_failure(e: StoreError) -> Failure {
     match e {
         StoreError::BadName(_) | StoreError::Unknown(_) | StoreError::Write { .. } | StoreError::Read { .. } => {
             Failure::usage(e.to_string())

@@ -5,6 +5,7 @@ mod instances_cmd;
 mod rollout_cmd;
 mod bench_cmd;
 mod audit_cmd;
+mod plot_cmd;
 mod specs_cmd;
 mod validate_cmd;
 
@@ -92,6 +93,8 @@ pub enum Command {
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
+    /// Draw an instance set: a histogram per varied feature, its bounds, marked named instances.
+    Plot(plot_cmd::PlotArgs),
     /// Counts over all environments: features, share affecting dynamics/reward, share continuous.
     Stats {
         #[arg(long, value_enum, default_value_t = Format::Text)]
@@ -177,6 +180,7 @@ pub fn main() -> ExitCode {
         Command::Rollout(args) => rollout_cmd::run(&cli, args),
         Command::Instances(cmd) => instances_cmd::instances(&cli, cmd),
         Command::Freeze { names, out, force } => instances_cmd::freeze(&cli, names, out.as_ref(), *force),
+        Command::Plot(args) => plot_cmd::plot(&cli, args),
         Command::Sample {
             env,
             distribution,
