@@ -4,10 +4,16 @@
 //! * [`rng`]: the small deterministic stream used by `reset` (swappable).
 //! * [`classic`]: CartPole, Pendulum, MountainCar, MountainCarContinuous and Acrobot with
 //!   Gymnasium 1.4 dynamics, parameterised by an explicit context (`Params`) value.
+//! * [`registry`]: spec + context → runtime (`make`).
+//! * [`contextual`]: CARL's contextual wrapper (instance selection, context in observation/info).
 
 pub mod api;
 pub mod classic;
+pub mod contextual;
 pub mod registry;
 pub mod rng;
 
 pub use api::{Action, DType, Env, EnvError, Info, Space, Step, StepOutcome, TimeLimit, UnknownFeature};
+pub use contextual::{
+    ContextInfo, ContextSource, ContextualEnv, ContextualError, ContextualOptions, Features, Selection, Visibility,
+};
