@@ -14,6 +14,30 @@ use carl_spec::spec::model::{EnvSpec, Value};
 
 const SET: &str = "pendulum/q1_g_sigma_0_5";
 
+/// Counts heap allocations made by the current thread (tests run on parallel threads).
+struct CountingAlloc;
+
+thread_local! {
+    static ALLOCS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+unsafe impl std::alloc::GlobalAlloc for CountingAlloc {
+    unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
+        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
+        unsafe { std::alloc::System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
+        unsafe { std::alloc::System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: CountingAlloc = CountingAlloc;
+
+fn allocations() -> u64 {
+    ALLOCS.with(|c| c.get())
+}
+
 fn specs() -> SpecSet {
     SpecSet::bundled().unwrap()
 }
@@ -540,4 +564,25 @@ fn episodes_truncate_at_the_spec_limit() {
         }
     }
     assert_eq!(steps, 200);
+}
+
+#[test]
+fn stepping_and_set_resets_do_not_allocate() {
+    let mut env = pendulum_set(Selection::Random, Visibility::Visible(Features::All));
+    let mut obs = vec![0.0; env.obs_dim()];
+    let action = torque(0.7);
+    env.reset_into(Some(0), &mut obs).unwrap();
+    let before = allocations();
+    for episode in 0..20 {
+        env.reset_into(if episode % 2 == 0 { Some(episode) } else { None }, &mut obs)
+            .unwrap();
+        for _ in 0..50 {
+            env.step_into(&action, &mut obs).unwrap();
+        }
+    }
+    assert_eq!(allocations() - before, 0, "reset_into/step_into allocated");
+    // The counter does count.
+    let probe = std::hint::black_box(vec![0u8; 16]);
+    assert!(allocations() > before);
+    drop(probe);
 }

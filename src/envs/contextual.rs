@@ -87,6 +87,8 @@ pub const CONTEXT_STREAM: &str = "carl-spec/contextual/context";
 pub const ENV_STREAM: &str = "carl-spec/contextual/env";
 
 /// Where the contexts come from.
+// A `FrozenSet` is large, but a source is built once and consumed by `ContextualEnv::new`.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, PartialEq)]
 pub enum ContextSource {
     /// A frozen instance set (e.g. from [`Store::load`](crate::instances::Store::load)).
@@ -564,24 +566,6 @@ impl ContextualEnv {
         ))
     }
 
-    /// Draw a fresh context for a distribution and rebuild the single slot.
-    fn redraw(&mut self, name: &str, dist: &Distribution, context_seed: u64) -> Result<(), EnvError> {
-        let fail = |message: String| EnvError::Context { env: self.id, message };
-        let (names, rows) = sample_distribution(&self.spec, name, dist, 1, context_seed)
-            .map_err(|e| fail(format!("drawing from {name} with seed {context_seed}: {e}")))?;
-        let mut ctx = self.spec.default_context();
-        if let Some(row) = rows.into_iter().next() {
-            ctx.extend(names.into_iter().zip(row));
-        }
-        let who = format!("{name} draw with seed {context_seed}");
-        let mut slot = build_slot(&self.spec, &ctx, MakeOptions::default(), &who, None, None)
-            .and_then(|mut s| fill_visible(&self.spec, &mut s, &self.visible, &who).map(|_| s))
-            .map_err(|e| fail(e.to_string()))?;
-        slot.info.context_seed = Some(context_seed);
-        self.slots[0] = slot;
-        Ok(())
-    }
-
     fn write_context(&self, obs: &mut [f32]) {
         obs[self.base_dim..].copy_from_slice(&self.slots[self.current].ctx_obs);
     }
@@ -602,6 +586,27 @@ impl ContextualEnv {
         }
         info
     }
+}
+
+/// A fresh slot for one draw of a distribution (reset time only; allocates).
+fn draw_slot(
+    spec: &EnvSpec,
+    name: &str,
+    dist: &Distribution,
+    visible: &[String],
+    context_seed: u64,
+) -> Result<Slot, String> {
+    let (names, rows) = sample_distribution(spec, name, dist, 1, context_seed)
+        .map_err(|e| format!("drawing from {name} with seed {context_seed}: {e}"))?;
+    let mut ctx = spec.default_context();
+    if let Some(row) = rows.into_iter().next() {
+        ctx.extend(names.into_iter().zip(row));
+    }
+    let who = format!("{name} draw with seed {context_seed}");
+    let mut slot = build_slot(spec, &ctx, MakeOptions::default(), &who, None, None).map_err(|e| e.to_string())?;
+    fill_visible(spec, &mut slot, visible, &who).map_err(|e| e.to_string())?;
+    slot.info.context_seed = Some(context_seed);
+    Ok(slot)
 }
 
 impl Env for ContextualEnv {
@@ -636,8 +641,8 @@ impl Env for ContextualEnv {
             Mode::Fixed => 0,
             Mode::Distribution { name, dist } => {
                 let context_seed = self.context_rng.next_u64();
-                let (name, dist) = (name.clone(), dist.clone());
-                self.redraw(&name, &dist, context_seed)?;
+                self.slots[0] = draw_slot(&self.spec, name, dist, &self.visible, context_seed)
+                    .map_err(|message| EnvError::Context { env: self.id, message })?;
                 0
             }
         };
