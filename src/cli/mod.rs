@@ -1,11 +1,11 @@
 //! The `carl-spec` command line. Each subcommand lives in its own module; this file only parses
 //! arguments and maps outcomes to exit codes (0 ok, 1 invalid specs / failed check, 2 usage or I/O).
 
-mod instances_cmd;
-mod rollout_cmd;
-mod bench_cmd;
 mod audit_cmd;
+mod bench_cmd;
+mod instances_cmd;
 mod plot_cmd;
+mod rollout_cmd;
 mod specs_cmd;
 mod validate_cmd;
 

@@ -126,6 +126,10 @@ pub enum EnvError {
     },
     #[error("{env}: step() called before reset() or set_state()")]
     NeedsReset { env: &'static str },
+    /// A context could not be produced or applied at reset (e.g. a per-reset distribution draw
+    /// failed); raised by [`ContextualEnv`](crate::envs::contextual::ContextualEnv).
+    #[error("{env}: {message}")]
+    Context { env: &'static str, message: String },
 }
 
 /// A context feature name that an environment's `Params` does not know.

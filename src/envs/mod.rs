@@ -6,12 +6,18 @@
 //!   batch (auto-reset, structure-of-arrays CartPole kernel, multi-threaded).
 //! * [`classic`]: CartPole, Pendulum, MountainCar, MountainCarContinuous and Acrobot with
 //!   Gymnasium 1.4 dynamics, parameterised by an explicit context (`Params`) value.
+//! * [`registry`]: spec + context → runtime (`make`).
+//! * [`contextual`]: CARL's contextual wrapper (instance selection, context in observation/info).
 
 pub mod api;
 pub mod classic;
+pub mod contextual;
 mod pool;
 pub mod registry;
 pub mod rng;
 pub mod vec_env;
 
 pub use api::{Action, DType, Env, EnvError, Info, Space, Step, StepOutcome, TimeLimit, UnknownFeature};
+pub use contextual::{
+    ContextInfo, ContextSource, ContextualEnv, ContextualError, ContextualOptions, Features, Selection, Visibility,
+};

@@ -1,0 +1,705 @@
+//! CARL's contextual wrapper: one environment, many contexts.
+//!
+//! [`ContextualEnv`] picks a context at every reset, builds (or reuses) the runtime for it,
+//! optionally appends the context to the observation and reports it in the info. Unlike the
+//! Python reference it owns all of its state (no global RNG, no shared module state), and its
+//! instance selection honours `reset(seed)`.
+//!
+//! # Context sources
+//!
+//! * [`ContextSource::Set`]: a frozen instance set. One runtime per instance is built up front
+//!   (every instance is checked at construction), so a reset only switches an index and stepping
+//!   never allocates. Out-of-bounds values are accepted only when the set's definition declares
+//!   `allow_out_of_bounds` (e.g. Landing-in-Space's Jupiter); otherwise they are refused.
+//! * [`ContextSource::Distribution`]: a named distribution of the spec, sampled afresh at every
+//!   reset (one context per reset; the runtime is rebuilt then, never while stepping).
+//!   Out-of-bounds draws are refused.
+//! * [`ContextSource::Fixed`]: one context for every episode. Out-of-bounds values are refused.
+//!
+//! # Seeding: how the instance and the initial state derive from the seed
+//!
+//! The wrapper keeps three independent [`Pcg64`] streams, all derived from one seed `s`:
+//!
+//! | stream    | generator                                                        | used for |
+//! |-----------|------------------------------------------------------------------|----------|
+//! | selection | `Pcg64::new(s, stream_id("carl-spec/contextual/selection"))`     | [`Selection::Random`] |
+//! | context   | `Pcg64::new(s, stream_id("carl-spec/contextual/context"))`       | [`ContextSource::Distribution`] |
+//! | env       | `Pcg64::new(s, stream_id("carl-spec/contextual/env"))`           | the runtime's initial state |
+//!
+//! (`stream_id` is FNV-1a 64 of the UTF-8 name, [`crate::sampling::stream_id`].)
+//! `reset(Some(s))` re-creates all three streams from `s`; `reset(None)` continues them. Before the
+//! first explicit seed they are seeded with `s = 0` ([`DEFAULT_SEED`]), so an unseeded wrapper is
+//! still deterministic. At every reset, in this order:
+//!
+//! 1. **Instance** (sets only):
+//!    * `RoundRobin`: the `k`-th reset since construction (0-based) uses instance `k mod n`.
+//!      Seeds do not restart the cycle, so seeding every episode (`reset(Some(episode))`) still
+//!      visits every instance.
+//!    * `Random`: index = `below(selection, n)` ([`crate::sampling::dist::below`]: Lemire's
+//!      unbiased multiply-shift with rejection, one `next_u64` per draw except on rare rejections).
+//!      So after `reset(Some(s))` the instance is the first such draw of the selection stream
+//!      seeded with `s`, and each following `reset(None)` takes the next draw.
+//!    * `Static(i)`: always instance `i`.
+//! 2. **Context** (distributions only): `context_seed = context.next_u64()`, then the context is
+//!    [`sample_distribution`]`(spec, name, dist, 1, context_seed)`'s single row over the spec's
+//!    defaults. `context_seed` is reported in [`ContextInfo::context_seed`], so any episode's
+//!    context can be re-drawn on its own.
+//! 3. **Initial state**: the runtime is reset with `Some(env.next_u64())`.
+//!
+//! The draws of one stream never depend on another stream, so switching, e.g., from `RoundRobin`
+//! to `Random` leaves the initial-state seeds unchanged.
+//!
+//! # Context in the observation
+//!
+//! With [`Visibility::Visible`] the chosen features' values (canonical names, as `f32`) follow the
+//! runtime's observation, in spec order for [`Features::All`] or in the given order for
+//! [`Features::Only`]. The observation space is a `Box` of length `base + k` (flattened), with:
+//!
+//! * base components: the elementwise hull (min of lows, max of highs) of the runtime's space over
+//!   every instance of the source (a set's instances, the fixed context). For a distribution, the
+//!   space at the default context, with every component whose bounds change when a varied feature
+//!   changes (probed by rebuilding with that feature moved off its default) made unbounded
+//!   (`±inf`), because future draws are not known.
+//! * context components: the feature's spec bounds as `f32`; an open side (`null` in the spec) is
+//!   `-inf` / `+inf`, which is what Gymnasium's `Box(low=-np.inf, high=np.inf, dtype=float32)`
+//!   stores (Gymnasium keeps infinities for float dtypes; it does not substitute `f32::MAX`).
+//!   Bool features without bounds get `[0, 1]`. For sets and fixed contexts the bounds are widened
+//!   to include every value actually used, so a set that deliberately goes out of bounds still
+//!   produces observations inside the declared space.
+//!
+//! The action space is the current runtime's (contexts do not change it for the classic
+//! environments).
+
+use super::api::{Action, Env, EnvError, Info, Space, Step, StepOutcome, check_obs_len};
+use super::registry::{Context, MakeError, MakeOptions, SpecEnv, make_with, resolve_context};
+use super::rng::DEFAULT_SEED;
+use crate::instances::FrozenSet;
+use crate::instances::derive::{DeriveError, sample_distribution};
+use crate::sampling::{Pcg64, dist::below, stream_id};
+use crate::spec::model::{Distribution, EnvSpec, FeatureType, Value};
+use crate::suggest::did_you_mean;
+
+/// Stream name of the instance-selection generator (see the module docs).
+pub const SELECTION_STREAM: &str = "carl-spec/contextual/selection";
+/// Stream name of the per-reset distribution-seed generator.
+pub const CONTEXT_STREAM: &str = "carl-spec/contextual/context";
+/// Stream name of the runtime reset-seed generator.
+pub const ENV_STREAM: &str = "carl-spec/contextual/env";
+
+/// Where the contexts come from.
+// A `FrozenSet` is large, but a source is built once and consumed by `ContextualEnv::new`.
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug, Clone, PartialEq)]
+pub enum ContextSource {
+    /// A frozen instance set (e.g. from [`Store::load`](crate::instances::Store::load)).
+    Set(FrozenSet),
+    /// A distribution of the spec, sampled once per reset.
+    Distribution { name: String },
+    /// One context for every episode (missing features take their defaults).
+    Fixed(Context),
+}
+
+/// How a set's instance is chosen at reset. Ignored for distributions and fixed contexts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Selection {
+    /// Instance `k mod n` at the `k`-th reset since construction.
+    #[default]
+    RoundRobin,
+    /// Seeded uniform choice (see the module docs for the derivation).
+    Random,
+    /// Always this instance (position in the set, i.e. its id).
+    Static(usize),
+}
+
+/// Which features are appended to the observation.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Features {
+    /// Every feature with a numeric value, in spec order.
+    All,
+    /// These features (canonical names or aliases), in this order.
+    Only(Vec<String>),
+}
+
+/// Whether the context is part of the observation.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub enum Visibility {
+    #[default]
+    Hidden,
+    Visible(Features),
+}
+
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct ContextualOptions {
+    pub selection: Selection,
+    pub visibility: Visibility,
+}
+
+/// What the wrapper reports about the current episode's context.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContextInfo {
+    /// The instance's id in its set (`None` for distributions and fixed contexts).
+    pub instance_id: Option<usize>,
+    /// The instance's name, if the set names its instances.
+    pub instance_name: Option<String>,
+    /// Every feature's value (defaults filled in), canonical names in spec order.
+    pub context: Vec<(String, f64)>,
+    /// Distributions only: the seed this episode's context was drawn with.
+    pub context_seed: Option<u64>,
+    /// 0-based number of the reset that started this episode (counted since construction).
+    pub episode: u64,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum ContextualError {
+    #[error("instance set {set} belongs to \"{set_env}\", not to \"{env}\"")]
+    WrongEnv { set: String, set_env: String, env: String },
+    #[error("instance set {0} has no instances")]
+    EmptySet(String),
+    #[error("static instance index {index} is out of range: {set} has {len} instance(s)")]
+    StaticOutOfRange { index: usize, set: String, len: usize },
+    #[error("{env} has no distribution \"{name}\"{hint}")]
+    UnknownDistribution { env: String, name: String, hint: String },
+    #[error("{env} has no context feature \"{name}\" to show in the observation{hint}; valid names: {valid}")]
+    UnknownFeature {
+        env: String,
+        name: String,
+        hint: String,
+        valid: String,
+    },
+    #[error("{env}: context feature \"{name}\" is listed twice for the observation")]
+    DuplicateFeature { env: String, name: String },
+    #[error("{env}: feature \"{name}\" has no numeric value in {who}, so it cannot be observed")]
+    MissingValue { env: String, name: String, who: String },
+    #[error("{env}: the observation space is not a Box, so the context cannot be appended")]
+    NotBox { env: String },
+    #[error("{who}: {source}")]
+    Make {
+        who: String,
+        #[source]
+        source: MakeError,
+    },
+    #[error("{0}")]
+    Derive(#[from] DeriveError),
+}
+
+/// One ready runtime with its context.
+#[derive(Debug, Clone)]
+struct Slot {
+    env: SpecEnv,
+    info: ContextInfo,
+    /// The visible features' values, as appended to the observation.
+    ctx_obs: Vec<f32>,
+}
+
+#[derive(Debug, Clone)]
+enum Mode {
+    Set { selection: Selection },
+    Fixed,
+    Distribution { name: String, dist: Distribution },
+}
+
+/// A contextual environment: see the module docs.
+#[derive(Debug, Clone)]
+pub struct ContextualEnv {
+    spec: EnvSpec,
+    id: &'static str,
+    mode: Mode,
+    /// One per instance (sets), or a single slot (fixed, distribution).
+    slots: Vec<Slot>,
+    current: usize,
+    visible: Vec<String>,
+    base_dim: usize,
+    obs_space: Space,
+    selection_rng: Pcg64,
+    context_rng: Pcg64,
+    env_rng: Pcg64,
+    resets: u64,
+}
+
+fn make_err(who: &str) -> impl FnOnce(MakeError) -> ContextualError + '_ {
+    move |source| ContextualError::Make {
+        who: who.to_string(),
+        source,
+    }
+}
+
+/// Build the runtime for `ctx` and its info (visible values are filled in later).
+fn build_slot(
+    spec: &EnvSpec,
+    ctx: &Context,
+    opts: MakeOptions,
+    who: &str,
+    instance_id: Option<usize>,
+    instance_name: Option<String>,
+) -> Result<Slot, ContextualError> {
+    let context = resolve_context(spec, ctx, opts).map_err(make_err(who))?;
+    let env = make_with(spec, ctx, opts).map_err(make_err(who))?;
+    Ok(Slot {
+        env,
+        info: ContextInfo {
+            instance_id,
+            instance_name,
+            context,
+            context_seed: None,
+            episode: 0,
+        },
+        ctx_obs: Vec::new(),
+    })
+}
+
+fn fill_visible(spec: &EnvSpec, slot: &mut Slot, visible: &[String], who: &str) -> Result<(), ContextualError> {
+    slot.ctx_obs.clear();
+    for name in visible {
+        let x = slot
+            .info
+            .context
+            .iter()
+            .find(|(k, _)| k == name)
+            .map(|(_, x)| *x)
+            .ok_or_else(|| ContextualError::MissingValue {
+                env: spec.id.clone(),
+                name: name.clone(),
+                who: who.to_string(),
+            })?;
+        slot.ctx_obs.push(x as f32);
+    }
+    Ok(())
+}
+
+/// Canonical names of the observed features.
+fn visible_names(spec: &EnvSpec, visibility: &Visibility, first: &Slot) -> Result<Vec<String>, ContextualError> {
+    match visibility {
+        Visibility::Hidden => Ok(Vec::new()),
+        Visibility::Visible(Features::All) => Ok(first.info.context.iter().map(|(k, _)| k.clone()).collect()),
+        Visibility::Visible(Features::Only(names)) => {
+            let mut out: Vec<String> = Vec::with_capacity(names.len());
+            for name in names {
+                let f = spec.feature(name).ok_or_else(|| {
+                    let known = spec.feature_names();
+                    ContextualError::UnknownFeature {
+                        env: spec.id.clone(),
+                        name: name.clone(),
+                        hint: did_you_mean(name, known.clone())
+                            .map(|s| format!(" (did you mean \"{s}\"?)"))
+                            .unwrap_or_default(),
+                        valid: known.collect::<Vec<_>>().join(", "),
+                    }
+                })?;
+                if out.contains(&f.name) {
+                    return Err(ContextualError::DuplicateFeature {
+                        env: spec.id.clone(),
+                        name: f.name.clone(),
+                    });
+                }
+                out.push(f.name.clone());
+            }
+            Ok(out)
+        }
+    }
+}
+
+/// Elementwise hull of two Box spaces of equal length (anything else: `a` unchanged).
+fn hull(a: &mut Space, b: &Space) {
+    if let (Space::Box { low, high, .. }, Space::Box { low: l2, high: h2, .. }) = (a, b)
+        && low.len() == l2.len()
+    {
+        for (x, y) in low.iter_mut().zip(l2) {
+            *x = x.min(*y);
+        }
+        for (x, y) in high.iter_mut().zip(h2) {
+            *x = x.max(*y);
+        }
+    }
+}
+
+/// A context that moves `feature` off its default (for probing which bounds depend on it).
+fn probe_context(spec: &EnvSpec, feature: &str) -> Option<Context> {
+    let f = spec.feature(feature)?;
+    let probe = match (f.kind, &f.default) {
+        (FeatureType::Bool, Some(Value::Bool(b))) => Value::Bool(!b),
+        (FeatureType::Float | FeatureType::Int, d) => {
+            let d = match d {
+                Some(Value::Number(x)) => *x,
+                _ => 1.0,
+            };
+            Value::Number(d * 2.0 + 1.0)
+        }
+        _ => return None,
+    };
+    let mut ctx = spec.default_context();
+    ctx.insert(f.name.clone(), probe);
+    Some(ctx)
+}
+
+impl ContextualEnv {
+    /// Build the wrapper. Every set instance (or the fixed context) is checked and built now;
+    /// a distribution is checked by name now and sampled at each reset.
+    pub fn new(spec: &EnvSpec, source: ContextSource, options: ContextualOptions) -> Result<Self, ContextualError> {
+        let (mode, mut slots, labels): (Mode, Vec<Slot>, Vec<String>) = match source {
+            ContextSource::Set(set) => {
+                if !spec.matches_name(&set.env) {
+                    return Err(ContextualError::WrongEnv {
+                        set: set.qualified_name(),
+                        set_env: set.env.clone(),
+                        env: spec.id.clone(),
+                    });
+                }
+                let n = set.instances.len();
+                if n == 0 {
+                    return Err(ContextualError::EmptySet(set.qualified_name()));
+                }
+                if let Selection::Static(index) = options.selection
+                    && index >= n
+                {
+                    return Err(ContextualError::StaticOutOfRange {
+                        index,
+                        set: set.qualified_name(),
+                        len: n,
+                    });
+                }
+                let opts = MakeOptions {
+                    allow_out_of_bounds: set.provenance.definition.allow_out_of_bounds,
+                };
+                let mut slots = Vec::with_capacity(n);
+                let mut labels = Vec::with_capacity(n);
+                for inst in &set.instances {
+                    let who = format!("{} instance {}", set.qualified_name(), inst.label());
+                    let mut ctx = spec.default_context();
+                    ctx.extend(inst.context.iter().map(|(k, v)| (k.clone(), v.clone())));
+                    slots.push(build_slot(spec, &ctx, opts, &who, Some(inst.id), inst.name.clone())?);
+                    labels.push(who);
+                }
+                (
+                    Mode::Set {
+                        selection: options.selection,
+                    },
+                    slots,
+                    labels,
+                )
+            }
+            ContextSource::Fixed(ctx) => {
+                let who = format!("{} fixed context", spec.id);
+                let slot = build_slot(spec, &ctx, MakeOptions::default(), &who, None, None)?;
+                (Mode::Fixed, vec![slot], vec![who])
+            }
+            ContextSource::Distribution { name } => {
+                let dist = spec.distributions.get(&name).cloned().ok_or_else(|| {
+                    let known = spec.distributions.keys().map(String::as_str);
+                    ContextualError::UnknownDistribution {
+                        env: spec.id.clone(),
+                        hint: match did_you_mean(&name, known.clone()) {
+                            Some(s) => format!(" (did you mean \"{s}\"?)"),
+                            None => format!("; distributions: {}", known.collect::<Vec<_>>().join(", ")),
+                        },
+                        name: name.clone(),
+                    }
+                })?;
+                // Check the distribution compiles (names, types, bounds) before the first reset.
+                sample_distribution(spec, &name, &dist, 1, DEFAULT_SEED)?;
+                let who = format!("{} defaults (before the first reset of {name})", spec.id);
+                let slot = build_slot(spec, &spec.default_context(), MakeOptions::default(), &who, None, None)?;
+                (Mode::Distribution { name, dist }, vec![slot], vec![who])
+            }
+        };
+
+        let visible = visible_names(spec, &options.visibility, &slots[0])?;
+        for (slot, who) in slots.iter_mut().zip(&labels) {
+            fill_visible(spec, slot, &visible, who)?;
+        }
+
+        // Base observation space: hull over the slots, widened for distributions.
+        let mut base = slots[0].env.observation_space();
+        for s in &slots[1..] {
+            hull(&mut base, &s.env.observation_space());
+        }
+        if let Mode::Distribution { dist, .. } = &mode {
+            let allow = MakeOptions {
+                allow_out_of_bounds: true,
+            };
+            for fname in dist.features.keys() {
+                let Some(ctx) = probe_context(spec, fname) else {
+                    continue;
+                };
+                let Ok(probe) = make_with(spec, &ctx, allow) else {
+                    continue;
+                };
+                if let (Space::Box { low, high, .. }, Space::Box { low: pl, high: ph, .. }) =
+                    (&mut base, probe.observation_space())
+                    && low.len() == pl.len()
+                {
+                    for (x, y) in low.iter_mut().zip(&pl) {
+                        if x.to_bits() != y.to_bits() {
+                            *x = f32::NEG_INFINITY;
+                        }
+                    }
+                    for (x, y) in high.iter_mut().zip(&ph) {
+                        if x.to_bits() != y.to_bits() {
+                            *x = f32::INFINITY;
+                        }
+                    }
+                }
+            }
+        }
+        let base_dim = slots[0].env.obs_dim();
+        let obs_space = if visible.is_empty() {
+            base
+        } else {
+            let Space::Box {
+                mut low,
+                mut high,
+                dtype,
+                ..
+            } = base
+            else {
+                return Err(ContextualError::NotBox { env: spec.id.clone() });
+            };
+            for (k, name) in visible.iter().enumerate() {
+                let f = spec.feature(name).expect("visible names are canonical spec features");
+                let (mut lo, mut hi) = match (f.kind, f.bounds) {
+                    (FeatureType::Bool, [None, None]) => (0.0f32, 1.0f32),
+                    (_, [lo, hi]) => (
+                        lo.map_or(f32::NEG_INFINITY, |x| x as f32),
+                        hi.map_or(f32::INFINITY, |x| x as f32),
+                    ),
+                };
+                if !matches!(mode, Mode::Distribution { .. }) {
+                    for s in &slots {
+                        lo = lo.min(s.ctx_obs[k]);
+                        hi = hi.max(s.ctx_obs[k]);
+                    }
+                }
+                low.push(lo);
+                high.push(hi);
+            }
+            Space::Box {
+                shape: vec![low.len()],
+                low,
+                high,
+                dtype,
+            }
+        };
+
+        let current = match (&mode, options.selection) {
+            (Mode::Set { .. }, Selection::Static(i)) => i,
+            _ => 0,
+        };
+        let id = slots[0].env.id();
+        let mut env = ContextualEnv {
+            spec: spec.clone(),
+            id,
+            mode,
+            slots,
+            current,
+            visible,
+            base_dim,
+            obs_space,
+            selection_rng: Pcg64::new(0, 0),
+            context_rng: Pcg64::new(0, 0),
+            env_rng: Pcg64::new(0, 0),
+            resets: 0,
+        };
+        env.seed_streams(DEFAULT_SEED);
+        Ok(env)
+    }
+
+    fn seed_streams(&mut self, seed: u64) {
+        self.selection_rng = Pcg64::new(seed, stream_id(SELECTION_STREAM));
+        self.context_rng = Pcg64::new(seed, stream_id(CONTEXT_STREAM));
+        self.env_rng = Pcg64::new(seed, stream_id(ENV_STREAM));
+    }
+
+    /// The current episode's context (before the first reset: the initial slot's).
+    pub fn context_info(&self) -> &ContextInfo {
+        &self.slots[self.current].info
+    }
+
+    /// Number of instances (1 for fixed contexts and distributions).
+    pub fn num_instances(&self) -> usize {
+        self.slots.len()
+    }
+
+    /// Position of the current instance in the set (0 for fixed contexts and distributions).
+    pub fn instance_index(&self) -> usize {
+        self.current
+    }
+
+    /// Canonical names of the features appended to the observation, in order.
+    pub fn visible_features(&self) -> &[String] {
+        &self.visible
+    }
+
+    /// Length of the runtime's own observation (the context follows it).
+    pub fn base_obs_dim(&self) -> usize {
+        self.base_dim
+    }
+
+    /// The runtime of the current episode.
+    pub fn inner(&self) -> &SpecEnv {
+        &self.slots[self.current].env
+    }
+
+    /// Number of resets so far.
+    pub fn resets(&self) -> u64 {
+        self.resets
+    }
+
+    /// `reset` returning the wrapper's context info.
+    pub fn reset_with_info(&mut self, seed: Option<u64>) -> Result<(Vec<f32>, ContextInfo), EnvError> {
+        let mut obs = vec![0.0; self.obs_dim()];
+        self.reset_into(seed, &mut obs)?;
+        Ok((obs, self.context_info().clone()))
+    }
+
+    /// `step` returning the wrapper's context info.
+    pub fn step_with_info(&mut self, action: &Action) -> Result<(Step, ContextInfo), EnvError> {
+        let mut obs = vec![0.0; self.obs_dim()];
+        let out = self.step_into(action, &mut obs)?;
+        Ok((
+            Step {
+                obs,
+                reward: out.reward,
+                terminated: out.terminated,
+                truncated: out.truncated,
+                info: Info::new(),
+            },
+            self.context_info().clone(),
+        ))
+    }
+
+    fn write_context(&self, obs: &mut [f32]) {
+        obs[self.base_dim..].copy_from_slice(&self.slots[self.current].ctx_obs);
+    }
+
+    fn info_map(&self) -> Info {
+        let ci = self.context_info();
+        let mut info = Info::new();
+        if let Some(id) = ci.instance_id {
+            info.insert("instance_id".into(), id as f64);
+        }
+        if let Some(seed) = ci.context_seed {
+            // Exact below 2^53 only; the exact seed is in `ContextInfo::context_seed`.
+            info.insert("context_seed".into(), seed as f64);
+        }
+        info.insert("episode".into(), ci.episode as f64);
+        for (k, v) in &ci.context {
+            info.insert(format!("context.{k}"), *v);
+        }
+        info
+    }
+}
+
+/// A fresh slot for one draw of a distribution (reset time only; allocates).
+fn draw_slot(
+    spec: &EnvSpec,
+    name: &str,
+    dist: &Distribution,
+    visible: &[String],
+    context_seed: u64,
+) -> Result<Slot, String> {
+    let (names, rows) = sample_distribution(spec, name, dist, 1, context_seed)
+        .map_err(|e| format!("drawing from {name} with seed {context_seed}: {e}"))?;
+    let mut ctx = spec.default_context();
+    if let Some(row) = rows.into_iter().next() {
+        ctx.extend(names.into_iter().zip(row));
+    }
+    let who = format!("{name} draw with seed {context_seed}");
+    let mut slot = build_slot(spec, &ctx, MakeOptions::default(), &who, None, None).map_err(|e| e.to_string())?;
+    fill_visible(spec, &mut slot, visible, &who).map_err(|e| e.to_string())?;
+    slot.info.context_seed = Some(context_seed);
+    Ok(slot)
+}
+
+impl Env for ContextualEnv {
+    fn id(&self) -> &'static str {
+        self.id
+    }
+    fn obs_dim(&self) -> usize {
+        self.base_dim + self.visible.len()
+    }
+    fn state_dim(&self) -> usize {
+        self.slots[self.current].env.state_dim()
+    }
+    fn observation_space(&self) -> Space {
+        self.obs_space.clone()
+    }
+    fn action_space(&self) -> Space {
+        self.slots[self.current].env.action_space()
+    }
+
+    fn reset_into(&mut self, seed: Option<u64>, obs: &mut [f32]) -> Result<(), EnvError> {
+        check_obs_len(self.id, obs, self.obs_dim())?;
+        if let Some(s) = seed {
+            self.seed_streams(s);
+        }
+        let episode = self.resets;
+        let index = match &self.mode {
+            Mode::Set { selection } => match *selection {
+                Selection::RoundRobin => (episode % self.slots.len() as u64) as usize,
+                Selection::Random => below(&mut self.selection_rng, self.slots.len() as u64) as usize,
+                Selection::Static(i) => i,
+            },
+            Mode::Fixed => 0,
+            Mode::Distribution { name, dist } => {
+                let context_seed = self.context_rng.next_u64();
+                self.slots[0] = draw_slot(&self.spec, name, dist, &self.visible, context_seed)
+                    .map_err(|message| EnvError::Context { env: self.id, message })?;
+                0
+            }
+        };
+        let env_seed = self.env_rng.next_u64();
+        self.resets += 1;
+        self.current = index;
+        let slot = &mut self.slots[index];
+        slot.info.episode = episode;
+        slot.env.reset_into(Some(env_seed), &mut obs[..self.base_dim])?;
+        self.write_context(obs);
+        Ok(())
+    }
+
+    #[inline]
+    fn step_into(&mut self, action: &Action, obs: &mut [f32]) -> Result<StepOutcome, EnvError> {
+        check_obs_len(self.id, obs, self.base_dim + self.visible.len())?;
+        let out = self.slots[self.current]
+            .env
+            .step_into(action, &mut obs[..self.base_dim])?;
+        self.write_context(obs);
+        Ok(out)
+    }
+
+    fn observe_into(&self, obs: &mut [f32]) -> Result<(), EnvError> {
+        check_obs_len(self.id, obs, self.obs_dim())?;
+        self.slots[self.current].env.observe_into(&mut obs[..self.base_dim])?;
+        self.write_context(obs);
+        Ok(())
+    }
+
+    fn state(&self) -> Vec<f64> {
+        self.slots[self.current].env.state()
+    }
+
+    fn set_state(&mut self, state: &[f64]) -> Result<(), EnvError> {
+        self.slots[self.current].env.set_state(state)
+    }
+
+    /// Gymnasium's `reset`; the info holds `instance_id` (sets), `context_seed` (distributions),
+    /// `episode` and `context.<feature>` for every feature. Errors (only possible for a failed
+    /// distribution draw) leave the observation zeroed; use [`ContextualEnv::reset_with_info`] to
+    /// see them.
+    fn reset(&mut self, seed: Option<u64>) -> (Vec<f32>, Info) {
+        let mut obs = vec![0.0; self.obs_dim()];
+        let _ = self.reset_into(seed, &mut obs);
+        (obs, self.info_map())
+    }
+
+    fn step(&mut self, action: &Action) -> Result<Step, EnvError> {
+        let mut obs = vec![0.0; self.obs_dim()];
+        let out = self.step_into(action, &mut obs)?;
+        Ok(Step {
+            obs,
+            reward: out.reward,
+            terminated: out.terminated,
+            truncated: out.truncated,
+            info: self.info_map(),
+        })
+    }
+}
