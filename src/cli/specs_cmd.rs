@@ -101,8 +101,8 @@ fn render_env(e: &EnvSpec) -> String {
     let _ = writeln!(s, "  {}", e.description);
     let _ = writeln!(
         s,
-        "\n  {:<22} {:<11} {:>12}  {:<26} {:<8} {}",
-        "FEATURE", "TYPE", "DEFAULT", "BOUNDS", "UNIT", "AFFECTS"
+        "\n  {:<22} {:<11} {:>12}  {:<26} {:<8} AFFECTS",
+        "FEATURE", "TYPE", "DEFAULT", "BOUNDS", "UNIT"
     );
     for f in &e.features {
         let ty = match f.kind {

@@ -118,16 +118,19 @@ impl FrozenSet {
 }
 
 /// The digest of everything that determines a set's values.
+/// (name, type, default, bounds): the parts of a feature that determine sampled values.
+type FeatureBasis<'a> = (
+    &'a str,
+    &'a crate::spec::raw::FeatureType,
+    &'a Option<Value>,
+    &'a [Option<f64>; 2],
+);
+
 pub fn spec_digest(spec: &EnvSpec, set: &InstanceSet, dist: Option<&Distribution>) -> String {
     #[derive(Serialize)]
     struct Basis<'a> {
         env: &'a str,
-        features: Vec<(
-            &'a str,
-            &'a crate::spec::raw::FeatureType,
-            &'a Option<Value>,
-            &'a [Option<f64>; 2],
-        )>,
+        features: Vec<FeatureBasis<'a>>,
         set: &'a InstanceSet,
         distribution: Option<&'a Distribution>,
     }

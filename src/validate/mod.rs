@@ -153,7 +153,7 @@ pub fn run(inputs: &[Input]) -> (Vec<Resolved>, Report) {
     let mut files: Vec<SourceFile> = Vec::with_capacity(inputs.len());
     let mut docs: Vec<Option<RawDocument>> = Vec::with_capacity(inputs.len());
     for input in inputs {
-        let (file, doc, mut diags) = check_document(input, &checker);
+        let (file, doc, mut diags) = check_document(input, checker);
         files.push(file);
         docs.push(doc);
         early.append(&mut diags);

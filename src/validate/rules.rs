@@ -1,5 +1,8 @@
 //! Semantic rules the JSON Schema cannot express. Each rule id is stable and listed in the README.
 
+// `!(x > 0.0)` is deliberate throughout: it also rejects NaN, which `x <= 0.0` would let through.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use std::collections::{BTreeMap, BTreeSet};
 
 use super::Sink;
@@ -743,7 +746,8 @@ fn check_sampler(s: &Sampler, f: &Feature, file: usize, ptr: &str, sink: &mut Si
         Sampler::Constant { .. } => true,
         Sampler::Categorical { .. } => f.kind == FeatureType::Categorical,
         Sampler::IntUniform { .. } => numeric,
-        _ => numeric && !(f.kind == FeatureType::Int && !matches!(s, Sampler::IntUniform { .. })),
+        // Continuous samplers would give non-integers for int features.
+        _ => numeric && f.kind != FeatureType::Int,
     };
     if !compatible {
         let help = match f.kind {
