@@ -319,40 +319,39 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
             Some("remove choices, or make the feature categorical".into()),
         );
     }
-    match f.kind {
-        FeatureType::Float | FeatureType::Int => {
-            if f.kind == FeatureType::Int {
-                for (k, b) in [lo, hi].iter().enumerate() {
-                    if let Some(b) = b
-                        && !is_integral(*b)
-                    {
-                        sink.error(
-                            bounds_site.0,
-                            "int-not-integral",
-                            &format!("{}/{k}", bounds_site.1),
-                            format!("bound {b} of int feature \"{name}\" is not an integer"),
-                            Some("int features have integer bounds; round it or make the feature float".into()),
-                        );
-                    }
-                }
-            }
-            match &f.default {
-                Some(Value::Number(x)) => {
-                    if f.kind == FeatureType::Int && !is_integral(*x) {
-                        sink.error(
-                            dfile,
-                            "int-not-integral",
-                            &dptr,
-                            format!("default {x} of int feature \"{name}\" is not an integer"),
-                            Some("use an integer default or make the feature float".into()),
-                        );
-                    }
-                    check_in_bounds(*x, sink, "default", &dptr);
-                }
-                Some(other) => type_mismatch(other, type_name, name, dfile, &dptr, sink),
-                None => {}
+    // Integer kinds need integer bounds (for list_int they bound every element).
+    if matches!(f.kind, FeatureType::Int | FeatureType::ListInt) {
+        for (k, b) in [lo, hi].iter().enumerate() {
+            if let Some(b) = b
+                && !is_integral(*b)
+            {
+                sink.error(
+                    bounds_site.0,
+                    "int-not-integral",
+                    &format!("{}/{k}", bounds_site.1),
+                    format!("bound {b} of {type_name} feature \"{name}\" is not an integer"),
+                    Some("integer features have integer bounds: round it, or make the feature float".into()),
+                );
             }
         }
+    }
+    match f.kind {
+        FeatureType::Float | FeatureType::Int => match &f.default {
+            Some(Value::Number(x)) => {
+                if f.kind == FeatureType::Int && !is_integral(*x) {
+                    sink.error(
+                        dfile,
+                        "int-not-integral",
+                        &dptr,
+                        format!("default {x} of int feature \"{name}\" is not an integer"),
+                        Some("use an integer default or make the feature float".into()),
+                    );
+                }
+                check_in_bounds(*x, sink, "default", &dptr);
+            }
+            Some(other) => type_mismatch(other, type_name, name, dfile, &dptr, sink),
+            None => {}
+        },
         FeatureType::Bool => {
             if has_bounds {
                 sink.error(
@@ -435,40 +434,25 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
                 }
             }
         }
-        FeatureType::ListInt => {
-            for (k, b) in [lo, hi].iter().enumerate() {
-                if let Some(b) = b
-                    && !is_integral(*b)
-                {
-                    sink.error(
-                        bounds_site.0,
-                        "int-not-integral",
-                        &format!("{}/{k}", bounds_site.1),
-                        format!("bound {b} of list_int feature \"{name}\" is not an integer"),
-                        Some("list_int bounds apply to each element and must be integers".into()),
-                    );
-                }
-            }
-            match &f.default {
-                Some(Value::List(items)) => {
-                    for (i, x) in items.iter().enumerate() {
-                        let p = format!("{dptr}/{i}");
-                        if !is_integral(*x) {
-                            sink.error(
-                                dfile,
-                                "int-not-integral",
-                                &p,
-                                format!("element {x} of \"{name}\" is not an integer"),
-                                Some("list_int elements are integers".into()),
-                            );
-                        }
-                        check_in_bounds(*x, sink, "element", &p);
+        FeatureType::ListInt => match &f.default {
+            Some(Value::List(items)) => {
+                for (i, x) in items.iter().enumerate() {
+                    let p = format!("{dptr}/{i}");
+                    if !is_integral(*x) {
+                        sink.error(
+                            dfile,
+                            "int-not-integral",
+                            &p,
+                            format!("element {x} of \"{name}\" is not an integer"),
+                            Some("list_int elements are integers".into()),
+                        );
                     }
+                    check_in_bounds(*x, sink, "element", &p);
                 }
-                Some(other) => type_mismatch(other, type_name, name, dfile, &dptr, sink),
-                None => {}
             }
-        }
+            Some(other) => type_mismatch(other, type_name, name, dfile, &dptr, sink),
+            None => {}
+        },
     }
 }
 
