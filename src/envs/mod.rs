@@ -4,8 +4,10 @@
 //! * [`rng`]: the small deterministic stream used by `reset` (swappable).
 //! * [`classic`]: CartPole, Pendulum, MountainCar, MountainCarContinuous and Acrobot with
 //!   Gymnasium 1.4 dynamics, parameterised by an explicit context (`Params`) value.
+//! * [`box2d`]: LunarLander on rapier2d (each instance owns its physics world).
 
 pub mod api;
+pub mod box2d;
 pub mod classic;
 pub mod registry;
 pub mod rng;
