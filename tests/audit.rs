@@ -194,7 +194,7 @@ fn perturbed_values_stay_in_bounds() {
 
 #[test]
 fn env_without_runtime_is_an_error() {
-    let r = audit(&spec("lunar_lander"));
+    let r = audit(&spec("ant"));
     let e = r.unwrap_err().to_string();
     assert!(e.contains("no runtime") && e.contains("cartpole"), "{e}");
 }

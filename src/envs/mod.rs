@@ -8,8 +8,10 @@
 //!   Gymnasium 1.4 dynamics, parameterised by an explicit context (`Params`) value.
 //! * [`registry`]: spec + context → runtime (`make`).
 //! * [`contextual`]: CARL's contextual wrapper (instance selection, context in observation/info).
+//! * [`box2d`]: LunarLander on rapier2d (each instance owns its physics world).
 
 pub mod api;
+pub mod box2d;
 pub mod classic;
 pub mod contextual;
 mod pool;

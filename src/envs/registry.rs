@@ -8,6 +8,7 @@
 use std::collections::BTreeMap;
 
 use super::api::{Action, Env, EnvError, Space, StepOutcome, TimeLimit};
+use super::box2d::{LunarLander, LunarLanderParams};
 use super::classic::{Acrobot, CartPole, MountainCar, MountainCarContinuous, Pendulum};
 use crate::spec::model::{EnvSpec, FeatureType, Value};
 use crate::suggest::did_you_mean;
@@ -22,6 +23,7 @@ pub const RUNTIMES: &[&str] = &[
     "mountain_car",
     "mountain_car_continuous",
     "acrobot",
+    "lunar_lander",
 ];
 
 pub fn has_runtime(id: &str) -> bool {
@@ -57,7 +59,8 @@ pub enum MakeError {
     NotFinite { env: String, name: String, value: f64 },
 }
 
-/// The classic-control environments behind one type (static dispatch keeps stepping cheap).
+/// The runtime environments behind one type (static dispatch keeps stepping cheap): the
+/// classic-control ones and, boxed because it owns a physics world, LunarLander.
 #[derive(Debug, Clone)]
 pub enum ClassicEnv {
     CartPole(CartPole),
@@ -65,6 +68,17 @@ pub enum ClassicEnv {
     MountainCar(MountainCar),
     MountainCarContinuous(MountainCarContinuous),
     Acrobot(Acrobot),
+    LunarLander(Box<LunarLander>),
+}
+
+impl ClassicEnv {
+    /// The LunarLander inside, to set its options (continuous actions, crash penalty).
+    pub fn as_lunar_lander_mut(&mut self) -> Option<&mut LunarLander> {
+        match self {
+            ClassicEnv::LunarLander(l) => Some(l),
+            _ => None,
+        }
+    }
 }
 
 macro_rules! dispatch {
@@ -75,6 +89,7 @@ macro_rules! dispatch {
             ClassicEnv::MountainCar($e) => $body,
             ClassicEnv::MountainCarContinuous($e) => $body,
             ClassicEnv::Acrobot($e) => $body,
+            ClassicEnv::LunarLander($e) => $body,
         }
     };
 }
@@ -225,6 +240,18 @@ fn build(id: &str, values: &[(String, f64)]) -> Result<ClassicEnv, MakeError> {
             MountainCarContinuous
         ),
         "acrobot" => with_params!(AcrobotParams, Acrobot, Acrobot),
+        "lunar_lander" => {
+            let mut p = LunarLanderParams::default();
+            for (name, x) in values {
+                p.set(name, *x).map_err(|e| MakeError::UnknownFeature {
+                    env: id.to_string(),
+                    name: name.clone(),
+                    hint: " (the spec names a feature the runtime does not know)".into(),
+                    valid: e.known,
+                })?;
+            }
+            ClassicEnv::LunarLander(Box::new(LunarLander::new(p)))
+        }
         other => return Err(MakeError::NoRuntime(other.to_string())),
     })
 }

@@ -1,0 +1,869 @@
+//! LunarLander-v3 (Gymnasium 1.4 `LunarLander`) on rapier2d, with CARL's 16 context features.
+//!
+//! Same as Gymnasium: the lander polygon, leg boxes, densities (5 and 1), friction (0.1 lander
+//! and terrain, 0.2 legs and the bottom edge, combined as Box2D does with the geometric mean),
+//! restitution 0, collision filtering (lander and legs collide only with the ground), the leg
+//! revolute joints (anchors, limits, motor speed ±0.3, max torque `LEG_SPRING_TORQUE`), random
+//! terrain of 11 chunks with a flat helipad (including Python's `height[-1]` wrap in the
+//! smoothing), the random initial force `±INITIAL_RANDOM`, the engine impulses applied at points
+//! with the two dispersion draws per step, the 8-dimensional observation and its normalisation,
+//! the potential-based shaping reward with fuel costs 0.3/0.03, and termination by crash
+//! (lander body touches the ground), out-of-view (`|x| >= 1`) or rest ("not awake", +100).
+//! Like Gymnasium's `reset`, ours ends with one `step(noop)` whose observation it returns.
+//!
+//! Where this is not Box2D (documented deviations):
+//! * **Solver.** rapier's TGS-soft solver with [`LunarLanderOptions::solver_iterations`]
+//!   substeps replaces Box2D's sequential impulses with 6·30 velocity and 2·30 position
+//!   iterations.
+//! * **Leg motors.** Box2D's velocity motor (±0.3 rad/s, `LEG_SPRING_TORQUE`) pushes each leg
+//!   into a joint limit, where its 180 iterations let the motor impulse saturate: the leg is
+//!   preloaded with the full torque. rapier's velocity motor never saturates against a limit
+//!   (it requests only 0.3 rad/s per substep), so the legs had no preload and folded on
+//!   touchdown. We use a stiff position motor aimed 0.1 rad beyond that limit, capped at
+//!   `LEG_SPRING_TORQUE`. Even so, rapier's few iterations do not hold the 68:1 lander/leg mass
+//!   ratio as firmly as Box2D: legs yield more on hard touchdowns.
+//! * **First step.** Box2D creates the legs 0.05 rad off and `LEG_DOWN` away from their joint
+//!   anchors and lets the position solver snap them in place during the first step (moving
+//!   nothing else measurably). We create them already assembled: anchors coincident, joint
+//!   angle at the limit the motor drives it to (±0.4 rad).
+//! * **Rest ("not awake").** Box2D's island sleep test is reproduced explicitly rather than via
+//!   rapier's sleeping (disabled): the lander is at rest once the lander and both legs have had
+//!   linear speed ≤ 0.01·F m/s and angular speed ≤ 2·F °/s for 0.5 s (`b2_linearSleepTolerance`,
+//!   `b2_angularSleepTolerance`, `b2_timeToSleep`, F = [`REST_TOLERANCE_FACTOR`]). **Known
+//!   gap:** rapier's contact jitter on the legs still exceeds these tolerances, so the lander
+//!   rarely comes to rest: episodes that Gymnasium ends with +100 mostly run into the time limit
+//!   here with both legs down.
+//! * **Touching.** Box2D polygons carry a 0.01 m skin, so shapes "touch" (contact begins, leg
+//!   flag set, crash) when closer than 0.02 m. We use rapier's contact manifolds with the same
+//!   0.02 m threshold on the signed distance. A leg's flag is "touches any terrain segment" (Box2D
+//!   clears it when contact with *one* segment ends even if another still touches).
+//! * **Speed limits.** Box2D caps the motion per step at 2 m and π/2 rad inside its solver; we
+//!   cap the velocities after each step (only matters at very low FPS or extreme impulses).
+//! * **Continuous collision.** Box2D sub-steps dynamic-vs-static time of impact; we enable
+//!   rapier's CCD on the lander and legs, which serves the same purpose.
+
+use rapier2d::prelude::*;
+
+use crate::envs::api::{
+    Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features,
+};
+use crate::sampling::{Pcg64, dist};
+
+const ID: &str = "lunar_lander";
+
+/// Lander outline in pixels (Gymnasium's `LANDER_POLY`).
+pub const LANDER_POLY: [(f64, f64); 6] = [
+    (-14.0, 17.0),
+    (-17.0, 0.0),
+    (-17.0, -10.0),
+    (17.0, -10.0),
+    (17.0, 0.0),
+    (14.0, 17.0),
+];
+/// Main engine's distance below the lander origin, px (`MAIN_ENGINE_Y_LOCATION`).
+pub const MAIN_ENGINE_Y_LOCATION: f64 = 4.0;
+/// Terrain chunks (`CHUNKS`).
+pub const CHUNKS: usize = 11;
+/// Box2D's sleep criterion (b2Settings.h, 2.3).
+pub const LINEAR_SLEEP_TOLERANCE: f32 = 0.01;
+pub const ANGULAR_SLEEP_TOLERANCE: f32 = 2.0 / 180.0 * std::f32::consts::PI;
+/// Rest tolerances used here (see module docs): rapier's soft contacts leave a residual jitter
+/// of a few cm/s that Box2D's 180 velocity iterations do not, so the Box2D tolerances are
+/// widened by this factor.
+pub const REST_TOLERANCE_FACTOR: f32 = 10.0;
+pub const TIME_TO_SLEEP: f32 = 0.5;
+/// Two Box2D polygon skins (`2 * b2_polygonRadius`): closer than this counts as touching.
+pub const TOUCH_DISTANCE: f32 = 0.02;
+/// Box2D's per-step motion caps (`b2_maxTranslation`, `b2_maxRotation`).
+pub const MAX_TRANSLATION: f32 = 2.0;
+pub const MAX_ROTATION: f32 = 0.5 * std::f32::consts::PI;
+/// Length of [`LunarLander::state`]: 11 terrain heights, 3 bodies × (x, y, angle, vx, vy, ω),
+/// 2 leg contacts, game-over flag, rest time, has-previous-shaping flag, previous shaping.
+pub const STATE_DIM: usize = CHUNKS + 18 + 6;
+
+/// LunarLander context (CARL's 16 features). `Default` is Gymnasium's module constants with
+/// CARL's default gravity (0, -10).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LunarLanderParams {
+    pub fps: f64,
+    pub scale: f64,
+    pub main_engine_power: f64,
+    pub side_engine_power: f64,
+    pub initial_random: f64,
+    pub gravity_x: f64,
+    pub gravity_y: f64,
+    pub leg_away: f64,
+    pub leg_down: f64,
+    pub leg_w: f64,
+    pub leg_h: f64,
+    pub leg_spring_torque: f64,
+    pub side_engine_height: f64,
+    pub side_engine_away: f64,
+    pub viewport_w: f64,
+    pub viewport_h: f64,
+}
+
+impl Default for LunarLanderParams {
+    fn default() -> Self {
+        LunarLanderParams {
+            fps: 50.0,
+            scale: 30.0,
+            main_engine_power: 13.0,
+            side_engine_power: 0.6,
+            initial_random: 1000.0,
+            gravity_x: 0.0,
+            gravity_y: -10.0,
+            leg_away: 20.0,
+            leg_down: 18.0,
+            leg_w: 2.0,
+            leg_h: 8.0,
+            leg_spring_torque: 40.0,
+            side_engine_height: 14.0,
+            side_engine_away: 12.0,
+            viewport_w: 600.0,
+            viewport_h: 400.0,
+        }
+    }
+}
+
+context_features!(LunarLanderParams, "lunar_lander", {
+    fps: "FPS",
+    scale: "SCALE",
+    main_engine_power: "MAIN_ENGINE_POWER",
+    side_engine_power: "SIDE_ENGINE_POWER",
+    initial_random: "INITIAL_RANDOM",
+    gravity_x: "GRAVITY_X",
+    gravity_y: "GRAVITY_Y",
+    leg_away: "LEG_AWAY",
+    leg_down: "LEG_DOWN",
+    leg_w: "LEG_W",
+    leg_h: "LEG_H",
+    leg_spring_torque: "LEG_SPRING_TORQUE",
+    side_engine_height: "SIDE_ENGINE_HEIGHT",
+    side_engine_away: "SIDE_ENGINE_AWAY",
+    viewport_w: "VIEWPORT_W",
+    viewport_h: "VIEWPORT_H",
+});
+
+impl LunarLanderParams {
+    /// World width in metres (`VIEWPORT_W / SCALE`).
+    pub fn world_w(&self) -> f64 {
+        self.viewport_w / self.scale
+    }
+    /// World height in metres (`VIEWPORT_H / SCALE`).
+    pub fn world_h(&self) -> f64 {
+        self.viewport_h / self.scale
+    }
+    /// Helipad height (`H / 4`).
+    pub fn helipad_y(&self) -> f64 {
+        self.world_h() / 4.0
+    }
+}
+
+/// Options that are not context features.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LunarLanderOptions {
+    /// `LunarLanderContinuous`: actions are `[main, lateral]` in `[-1, 1]`.
+    pub continuous: bool,
+    /// Reward on crash / out of view is `-crash_penalty` (Gymnasium: 100; CARL's evaluation
+    /// in the paper: 10000).
+    pub crash_penalty: f64,
+    /// rapier solver substeps per step.
+    pub solver_iterations: usize,
+    /// rapier PGS iterations inside each substep.
+    pub pgs_iterations: usize,
+    /// Warm-start joint impulses across substeps and steps (Box2D warm-starts joints).
+    pub warmstart_joints: bool,
+}
+
+impl Default for LunarLanderOptions {
+    fn default() -> Self {
+        LunarLanderOptions {
+            continuous: false,
+            crash_penalty: 100.0,
+            solver_iterations: 4,
+            pgs_iterations: 1,
+            warmstart_joints: true,
+        }
+    }
+}
+
+/// How the last step ended (for evaluation statistics).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outcome {
+    Running,
+    /// Came to rest (+100).
+    Landed,
+    /// Lander body touched the ground.
+    Crashed,
+    /// `|x| >= 1`.
+    OutOfView,
+}
+
+/// Kinematic state of one body: origin position, (unwrapped) angle, COM velocity, ω.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct BodyState {
+    x: f32,
+    y: f32,
+    angle: f32,
+    vx: f32,
+    vy: f32,
+    w: f32,
+}
+
+struct World {
+    pw: PhysicsWorld,
+    lander: RigidBodyHandle,
+    legs: [RigidBodyHandle; 2],
+    lander_col: ColliderHandle,
+    leg_cols: [ColliderHandle; 2],
+}
+
+impl std::fmt::Debug for World {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("World").finish_non_exhaustive()
+    }
+}
+
+/// Joint limit the leg motors drive into (|angle| of Gymnasium's `0.9 - 0.5`), rad.
+const LEG_LIMIT_INNER: f32 = 0.4;
+/// Leg motor target beyond the limit (rad), stiffness and damping; see `World::build`.
+const MOTOR_OVERSHOOT: f32 = 0.1;
+const MOTOR_STIFFNESS: f32 = 1.0e10;
+const MOTOR_DAMPING: f32 = 0.0;
+const GROUND_GROUP: u32 = 0x0001;
+const LANDER_GROUP: u32 = 0x0010;
+const LEG_GROUP: u32 = 0x0020;
+
+fn groups(category: u32, mask: u32) -> InteractionGroups {
+    InteractionGroups::new(
+        Group::from_bits_truncate(category),
+        Group::from_bits_truncate(mask),
+        InteractionTestMode::And,
+    )
+}
+
+/// Shape sizes are floored at 1e-4 m so that out-of-bounds contexts cannot make degenerate shapes.
+fn size(x: f64) -> f32 {
+    (x as f32).max(1e-4)
+}
+
+fn wrap_pi(a: f32) -> f32 {
+    let tau = std::f32::consts::TAU;
+    a - tau * (a / tau).round()
+}
+
+impl World {
+    /// Build the world for `params` with terrain `smooth_y` and the three bodies' states.
+    fn build(
+        p: &LunarLanderParams,
+        opts: &LunarLanderOptions,
+        smooth_y: &[f64; CHUNKS],
+        bodies: &[BodyState; 3],
+    ) -> World {
+        let mut pw = PhysicsWorld::new();
+        pw.gravity = Vector::new(p.gravity_x as f32, p.gravity_y as f32);
+        let ip = &mut pw.integration_parameters;
+        ip.dt = if p.fps > 0.0 && p.fps.is_finite() {
+            (1.0 / p.fps) as f32
+        } else {
+            0.0
+        };
+        ip.num_solver_iterations = opts.solver_iterations.max(1);
+        ip.num_internal_pgs_iterations = opts.pgs_iterations.max(1);
+        ip.warmstart_joints = opts.warmstart_joints;
+        ip.max_ccd_substeps = 1;
+
+        let scale = p.scale;
+        let w = p.world_w();
+        // Terrain: a static body with the bottom edge and the 10 chunk segments.
+        let (ground, _) = pw.insert(
+            RigidBodyBuilder::fixed(),
+            ColliderBuilder::segment(Vector::new(0.0, 0.0), Vector::new(w as f32, 0.0))
+                .friction(0.2)
+                .friction_combine_rule(CoefficientCombineRule::GeometricMean)
+                .collision_groups(groups(GROUND_GROUP, 0xFFFF)),
+        );
+        for i in 0..CHUNKS - 1 {
+            let x1 = w / (CHUNKS - 1) as f64 * i as f64;
+            let x2 = w / (CHUNKS - 1) as f64 * (i + 1) as f64;
+            let c = ColliderBuilder::segment(
+                Vector::new(x1 as f32, smooth_y[i] as f32),
+                Vector::new(x2 as f32, smooth_y[i + 1] as f32),
+            )
+            .friction(0.1)
+            .friction_combine_rule(CoefficientCombineRule::GeometricMean)
+            .collision_groups(groups(GROUND_GROUP, 0xFFFF));
+            pw.insert_collider(c, Some(ground));
+        }
+
+        let dynamic = |b: &BodyState| {
+            RigidBodyBuilder::dynamic()
+                .translation(Vector::new(b.x, b.y))
+                .rotation(b.angle)
+                .linvel(Vector::new(b.vx, b.vy))
+                .angvel(b.w)
+                .can_sleep(false)
+                .ccd_enabled(true)
+        };
+        let s = size(scale) as f64;
+        let pts: Vec<Vector> = LANDER_POLY
+            .iter()
+            .map(|(x, y)| Vector::new((x / s) as f32, (y / s) as f32))
+            .collect();
+        let lander_shape = ColliderBuilder::convex_hull(&pts).unwrap_or_else(|| ColliderBuilder::cuboid(0.5, 0.5));
+        let (lander, lander_col) = pw.insert(
+            dynamic(&bodies[0]),
+            lander_shape
+                .density(5.0)
+                .friction(0.1)
+                .restitution(0.0)
+                .friction_combine_rule(CoefficientCombineRule::GeometricMean)
+                .collision_groups(groups(LANDER_GROUP, GROUND_GROUP)),
+        );
+        let mut legs = [lander; 2];
+        let mut leg_cols = [lander_col; 2];
+        for (k, i) in [-1.0f64, 1.0].into_iter().enumerate() {
+            let (leg, col) = pw.insert(
+                dynamic(&bodies[1 + k]),
+                ColliderBuilder::cuboid(size(p.leg_w / s), size(p.leg_h / s))
+                    .density(1.0)
+                    .friction(0.2)
+                    .restitution(0.0)
+                    .friction_combine_rule(CoefficientCombineRule::GeometricMean)
+                    .collision_groups(groups(LEG_GROUP, GROUND_GROUP)),
+            );
+            let (lo, hi) = if i < 0.0 { (0.9 - 0.5, 0.9) } else { (-0.9, -0.9 + 0.5) };
+            let joint = RevoluteJointBuilder::new()
+                .local_anchor1(Vector::new(0.0, 0.0))
+                .local_anchor2(Vector::new((i * p.leg_away / s) as f32, (p.leg_down / s) as f32))
+                .limits([lo, hi])
+                // Box2D's velocity motor pushes the leg into this limit and its iterative
+                // solver lets the motor impulse saturate there: the leg is preloaded with the
+                // full torque. A position motor aimed beyond the limit reproduces the preload.
+                .motor_model(MotorModel::ForceBased)
+                .motor_position(
+                    -(LEG_LIMIT_INNER - MOTOR_OVERSHOOT) * i as f32,
+                    MOTOR_STIFFNESS,
+                    MOTOR_DAMPING,
+                )
+                .motor_max_force(p.leg_spring_torque.max(0.0) as f32)
+                .contacts_enabled(false);
+            pw.insert_impulse_joint(lander, leg, joint);
+            legs[k] = leg;
+            leg_cols[k] = col;
+        }
+        World {
+            pw,
+            lander,
+            legs,
+            lander_col,
+            leg_cols,
+        }
+    }
+
+    fn body_state(&self, h: RigidBodyHandle, angle: f32) -> BodyState {
+        let b = &self.pw.bodies[h];
+        let t = b.translation();
+        let v = b.linvel();
+        BodyState {
+            x: t.x,
+            y: t.y,
+            angle,
+            vx: v.x,
+            vy: v.y,
+            w: b.angvel(),
+        }
+    }
+
+    fn touching(&self, c: ColliderHandle) -> bool {
+        self.pw.narrow_phase.contact_pairs_with(c).any(|pair| {
+            pair.manifolds()
+                .iter()
+                .any(|m| m.points.iter().any(|pt| pt.dist < TOUCH_DISTANCE))
+        })
+    }
+}
+
+/// Initial body states: lander at `(W/2, H)`, legs assembled at their joint limits.
+fn initial_bodies(p: &LunarLanderParams) -> [BodyState; 3] {
+    let s = p.scale;
+    let (x0, y0) = (p.world_w() / 2.0, p.world_h());
+    let mut out = [BodyState {
+        x: x0 as f32,
+        y: y0 as f32,
+        ..Default::default()
+    }; 3];
+    for (k, i) in [-1.0f64, 1.0].into_iter().enumerate() {
+        // Joint angle at the limit the motor drives it to: +0.4 for i = -1, -0.4 for i = +1.
+        let a = -0.4 * i;
+        // Anchor on the leg, (i·LEG_AWAY, LEG_DOWN)/SCALE, coincides with the lander origin.
+        let (ax, ay) = (i * p.leg_away / s, p.leg_down / s);
+        let (sn, cs) = a.sin_cos();
+        out[1 + k] = BodyState {
+            x: (x0 - (cs * ax - sn * ay)) as f32,
+            y: (y0 - (sn * ax + cs * ay)) as f32,
+            angle: a as f32,
+            ..Default::default()
+        };
+    }
+    out
+}
+
+/// Gymnasium's `LunarLander` with an explicit context; each instance owns its rapier world.
+#[derive(Debug)]
+pub struct LunarLander {
+    params: LunarLanderParams,
+    opts: LunarLanderOptions,
+    world: Option<World>,
+    smooth_y: [f64; CHUNKS],
+    /// Unwrapped angles of the lander and legs (Box2D keeps angles continuous).
+    angles: [f32; 3],
+    leg_contact: [bool; 2],
+    game_over: bool,
+    rest_time: f32,
+    prev_shaping: Option<f64>,
+    /// Force applied at reset, acting during the first step only (Box2D clears forces).
+    pending_force: bool,
+    outcome: Outcome,
+    rng: Pcg64,
+}
+
+/// Stream id of the lander's generator (FNV-1a of "lunar_lander").
+fn rng_for(seed: u64) -> Pcg64 {
+    Pcg64::new(seed, crate::sampling::stream_id(ID))
+}
+
+impl Clone for LunarLander {
+    /// The clone gets a world rebuilt from the full [`Env::state`]: bodies, terrain and episode
+    /// bookkeeping are equal, rapier's solver caches (warm-start impulses) start empty.
+    fn clone(&self) -> Self {
+        let mut c = LunarLander::with_options(self.params, self.opts);
+        c.rng = self.rng.clone();
+        if self.world.is_some() {
+            c.load_state(&self.state_array());
+            c.outcome = self.outcome;
+            c.pending_force = false;
+        }
+        c
+    }
+}
+
+impl Default for LunarLander {
+    fn default() -> Self {
+        LunarLander::new(LunarLanderParams::default())
+    }
+}
+
+impl LunarLander {
+    pub fn new(params: LunarLanderParams) -> Self {
+        Self::with_options(params, LunarLanderOptions::default())
+    }
+
+    pub fn with_options(params: LunarLanderParams, opts: LunarLanderOptions) -> Self {
+        LunarLander {
+            params,
+            opts,
+            world: None,
+            smooth_y: [0.0; CHUNKS],
+            angles: [0.0; 3],
+            leg_contact: [false; 2],
+            game_over: false,
+            rest_time: 0.0,
+            prev_shaping: None,
+            pending_force: false,
+            outcome: Outcome::Running,
+            rng: rng_for(crate::envs::rng::DEFAULT_SEED),
+        }
+    }
+
+    pub fn params(&self) -> &LunarLanderParams {
+        &self.params
+    }
+    /// Context changes take effect at the next reset (the world is built from it there).
+    pub fn params_mut(&mut self) -> &mut LunarLanderParams {
+        &mut self.params
+    }
+    pub fn options(&self) -> &LunarLanderOptions {
+        &self.opts
+    }
+    /// Option changes take effect at the next reset.
+    pub fn options_mut(&mut self) -> &mut LunarLanderOptions {
+        &mut self.opts
+    }
+    /// How the episode stands after the last step.
+    pub fn outcome(&self) -> Outcome {
+        self.outcome
+    }
+    /// Terrain heights at the 11 chunk boundaries (after smoothing).
+    pub fn terrain(&self) -> &[f64; CHUNKS] {
+        &self.smooth_y
+    }
+    /// Lander origin `(x, y)` in metres and its (unwrapped) angle, or `None` before reset.
+    pub fn lander_pose(&self) -> Option<(f64, f64, f64)> {
+        let w = self.world.as_ref()?;
+        let t = w.pw.bodies[w.lander].translation();
+        Some((t.x as f64, t.y as f64, self.angles[0] as f64))
+    }
+    /// Lander COM velocity `(vx, vy)` and angular velocity, or `None` before reset.
+    pub fn lander_velocity(&self) -> Option<(f64, f64, f64)> {
+        let w = self.world.as_ref()?;
+        let b = &w.pw.bodies[w.lander];
+        Some((b.linvel().x as f64, b.linvel().y as f64, b.angvel() as f64))
+    }
+    /// Lander mass (kg) as the physics engine computed it.
+    pub fn lander_mass(&self) -> Option<f64> {
+        let w = self.world.as_ref()?;
+        Some(w.pw.bodies[w.lander].mass() as f64)
+    }
+
+    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        dist::uniform(&mut self.rng, lo, hi)
+    }
+
+    fn generate_terrain(&mut self) {
+        let p = self.params;
+        let (w, h) = (p.world_w(), p.world_h());
+        let mut height = [0.0f64; CHUNKS + 1];
+        for v in height.iter_mut() {
+            *v = self.uniform(0.0, h / 2.0);
+        }
+        let helipad_y = p.helipad_y();
+        for v in &mut height[CHUNKS / 2 - 2..=CHUNKS / 2 + 2] {
+            *v = helipad_y;
+        }
+        let _ = w;
+        for i in 0..CHUNKS {
+            // Python's height[i - 1] for i = 0 is height[-1], the last element.
+            let prev = if i == 0 { height[CHUNKS] } else { height[i - 1] };
+            self.smooth_y[i] = 0.33 * (prev + height[i] + height[i + 1]);
+        }
+    }
+
+    /// Everything [`Env::state`] returns, as a fixed array.
+    fn state_array(&self) -> [f64; STATE_DIM] {
+        let mut s = [0.0; STATE_DIM];
+        s[..CHUNKS].copy_from_slice(&self.smooth_y);
+        if let Some(w) = &self.world {
+            let hs = [w.lander, w.legs[0], w.legs[1]];
+            for (k, h) in hs.into_iter().enumerate() {
+                let b = w.body_state(h, self.angles[k]);
+                let o = CHUNKS + 6 * k;
+                s[o..o + 6].copy_from_slice(&[b.x, b.y, b.angle, b.vx, b.vy, b.w].map(f64::from));
+            }
+        }
+        let o = CHUNKS + 18;
+        s[o] = f64::from(u8::from(self.leg_contact[0]));
+        s[o + 1] = f64::from(u8::from(self.leg_contact[1]));
+        s[o + 2] = f64::from(u8::from(self.game_over));
+        s[o + 3] = f64::from(self.rest_time);
+        s[o + 4] = f64::from(u8::from(self.prev_shaping.is_some()));
+        s[o + 5] = self.prev_shaping.unwrap_or(0.0);
+        s
+    }
+
+    fn load_state(&mut self, s: &[f64; STATE_DIM]) {
+        self.smooth_y.copy_from_slice(&s[..CHUNKS]);
+        let mut bodies = [BodyState::default(); 3];
+        for (k, b) in bodies.iter_mut().enumerate() {
+            let o = CHUNKS + 6 * k;
+            let v = |j: usize| s[o + j] as f32;
+            *b = BodyState {
+                x: v(0),
+                y: v(1),
+                angle: v(2),
+                vx: v(3),
+                vy: v(4),
+                w: v(5),
+            };
+            self.angles[k] = b.angle;
+        }
+        self.world = Some(World::build(&self.params, &self.opts, &self.smooth_y, &bodies));
+        let o = CHUNKS + 18;
+        self.leg_contact = [s[o] != 0.0, s[o + 1] != 0.0];
+        self.game_over = s[o + 2] != 0.0;
+        self.rest_time = s[o + 3] as f32;
+        self.prev_shaping = (s[o + 4] != 0.0).then_some(s[o + 5]);
+        self.pending_force = false;
+        self.outcome = Outcome::Running;
+    }
+
+    /// The observation of the current state in float64 (Gymnasium's `state` list).
+    fn state_f64(&self) -> [f64; 8] {
+        let Some(w) = &self.world else { return [0.0; 8] };
+        let p = &self.params;
+        let b = &w.pw.bodies[w.lander];
+        let pos = b.translation();
+        let vel = b.linvel();
+        let (hw, hh) = (p.world_w() / 2.0, p.world_h() / 2.0);
+        [
+            (pos.x as f64 - hw) / hw,
+            (pos.y as f64 - (p.helipad_y() + p.leg_down / p.scale)) / hh,
+            vel.x as f64 * hw / p.fps,
+            vel.y as f64 * hh / p.fps,
+            self.angles[0] as f64,
+            20.0 * b.angvel() as f64 / p.fps,
+            f64::from(u8::from(self.leg_contact[0])),
+            f64::from(u8::from(self.leg_contact[1])),
+        ]
+    }
+
+    /// Parse an action into (main power, side direction, side power), Gymnasium's rules.
+    fn engine_powers(&self, action: &Action) -> Result<(f64, f64, f64), EnvError> {
+        if self.opts.continuous {
+            let v = match action {
+                Action::Continuous(v) if v.len() == 2 => v,
+                Action::Continuous(v) => {
+                    return Err(EnvError::ActionLength {
+                        env: ID,
+                        expected: 2,
+                        got: v.len(),
+                    });
+                }
+                Action::Discrete(_) => {
+                    return Err(EnvError::ActionKind {
+                        env: ID,
+                        expected: "continuous",
+                        got: "discrete",
+                    });
+                }
+            };
+            // np.clip(action, -1, 1) in float64; NaN compares false everywhere (engines off).
+            let a0 = crate::envs::api::np_clip(v[0] as f64, -1.0, 1.0);
+            let a1 = crate::envs::api::np_clip(v[1] as f64, -1.0, 1.0);
+            let m = if a0 > 0.0 {
+                (a0.clamp(0.0, 1.0) + 1.0) * 0.5
+            } else {
+                0.0
+            };
+            let (dir, s) = if a1.abs() > 0.5 {
+                (a1.signum(), a1.abs().clamp(0.5, 1.0))
+            } else {
+                (0.0, 0.0)
+            };
+            Ok((m, dir, s))
+        } else {
+            let a = crate::envs::api::discrete_action(ID, action, 4)?;
+            Ok(match a {
+                2 => (1.0, 0.0, 0.0),
+                1 | 3 => (0.0, (a - 2) as f64, 1.0),
+                _ => (0.0, 0.0, 0.0),
+            })
+        }
+    }
+
+    /// One Gymnasium step with validated engine powers. Requires a world.
+    fn advance(&mut self, m_power: f64, direction: f64, s_power: f64) -> StepOutcome {
+        let p = self.params;
+        let scale = p.scale;
+        let angle = self.angles[0] as f64;
+        let tip = (angle.sin(), angle.cos());
+        let side = (-tip.1, tip.0);
+        let d0 = self.uniform(-1.0, 1.0) / scale;
+        let d1 = self.uniform(-1.0, 1.0) / scale;
+        let world = self.world.as_mut().expect("advance needs a world");
+        {
+            let lander = &mut world.pw.bodies[world.lander];
+            let t = lander.translation();
+            let (px, py) = (t.x as f64, t.y as f64);
+            if m_power > 0.0 {
+                let ox = tip.0 * (MAIN_ENGINE_Y_LOCATION / scale + 2.0 * d0) + side.0 * d1;
+                let oy = -tip.1 * (MAIN_ENGINE_Y_LOCATION / scale + 2.0 * d0) - side.1 * d1;
+                let at = Vector::new((px + ox) as f32, (py + oy) as f32);
+                let imp = Vector::new(
+                    (-ox * p.main_engine_power * m_power) as f32,
+                    (-oy * p.main_engine_power * m_power) as f32,
+                );
+                lander.apply_impulse_at_point(imp, at, true);
+            }
+            if s_power > 0.0 {
+                let lever = 3.0 * d1 + direction * p.side_engine_away / scale;
+                let ox = tip.0 * d0 + side.0 * lever;
+                let oy = -tip.1 * d0 - side.1 * lever;
+                let at = Vector::new(
+                    (px + ox - tip.0 * 17.0 / scale) as f32,
+                    (py + oy + tip.1 * p.side_engine_height / scale) as f32,
+                );
+                let imp = Vector::new(
+                    (-ox * p.side_engine_power * s_power) as f32,
+                    (-oy * p.side_engine_power * s_power) as f32,
+                );
+                lander.apply_impulse_at_point(imp, at, true);
+            }
+        }
+
+        world.pw.step();
+        let dt = world.pw.integration_parameters.dt;
+        if self.pending_force {
+            world.pw.bodies[world.lander].reset_forces(false);
+            self.pending_force = false;
+        }
+
+        // Box2D's motion caps, unwrapped angles and the rest criterion.
+        let hs = [world.lander, world.legs[0], world.legs[1]];
+        let mut resting = true;
+        for (k, h) in hs.into_iter().enumerate() {
+            let b = &mut world.pw.bodies[h];
+            let mut v = b.linvel();
+            let mut w = b.angvel();
+            let tr = v.length() * dt;
+            if tr > MAX_TRANSLATION && tr.is_finite() {
+                v *= MAX_TRANSLATION / tr;
+                b.set_linvel(v, false);
+            }
+            let rot = w.abs() * dt;
+            if rot > MAX_ROTATION && rot.is_finite() {
+                w *= MAX_ROTATION / rot;
+                b.set_angvel(w, false);
+            }
+            let a = b.rotation().angle();
+            self.angles[k] += wrap_pi(a - wrap_pi(self.angles[k]));
+            let (lt, at) = (
+                LINEAR_SLEEP_TOLERANCE * REST_TOLERANCE_FACTOR,
+                ANGULAR_SLEEP_TOLERANCE * REST_TOLERANCE_FACTOR,
+            );
+            if v.length_squared() > lt * lt || w * w > at * at {
+                resting = false;
+            }
+        }
+        self.rest_time = if resting { self.rest_time + dt } else { 0.0 };
+        let awake = self.rest_time < TIME_TO_SLEEP;
+
+        if world.touching(world.lander_col) {
+            self.game_over = true;
+        }
+        self.leg_contact = [world.touching(world.leg_cols[0]), world.touching(world.leg_cols[1])];
+
+        let s = self.state_f64();
+        let shaping = -100.0 * (s[0] * s[0] + s[1] * s[1]).sqrt()
+            - 100.0 * (s[2] * s[2] + s[3] * s[3]).sqrt()
+            - 100.0 * s[4].abs()
+            + 10.0 * s[6]
+            + 10.0 * s[7];
+        let mut reward = match self.prev_shaping {
+            Some(prev) => shaping - prev,
+            None => 0.0,
+        };
+        self.prev_shaping = Some(shaping);
+        reward -= m_power * 0.30;
+        reward -= s_power * 0.03;
+        let mut terminated = false;
+        self.outcome = Outcome::Running;
+        if self.game_over || s[0].abs() >= 1.0 {
+            terminated = true;
+            reward = -self.opts.crash_penalty;
+            self.outcome = if self.game_over {
+                Outcome::Crashed
+            } else {
+                Outcome::OutOfView
+            };
+        }
+        if !awake {
+            terminated = true;
+            reward = 100.0;
+            self.outcome = Outcome::Landed;
+        }
+        StepOutcome {
+            reward,
+            terminated,
+            truncated: false,
+        }
+    }
+
+    fn write_obs(&self, obs: &mut [f32]) {
+        for (o, s) in obs.iter_mut().zip(self.state_f64()) {
+            *o = s as f32;
+        }
+    }
+}
+
+impl Env for LunarLander {
+    fn id(&self) -> &'static str {
+        ID
+    }
+    fn obs_dim(&self) -> usize {
+        8
+    }
+    fn state_dim(&self) -> usize {
+        STATE_DIM
+    }
+    fn observation_space(&self) -> Space {
+        let tau = 2.0 * std::f32::consts::PI;
+        Space::Box {
+            low: vec![-2.5, -2.5, -10.0, -10.0, -tau, -10.0, -0.0, -0.0],
+            high: vec![2.5, 2.5, 10.0, 10.0, tau, 10.0, 1.0, 1.0],
+            shape: vec![8],
+            dtype: DType::Float32,
+        }
+    }
+    fn action_space(&self) -> Space {
+        if self.opts.continuous {
+            Space::Box {
+                low: vec![-1.0; 2],
+                high: vec![1.0; 2],
+                shape: vec![2],
+                dtype: DType::Float32,
+            }
+        } else {
+            Space::Discrete { n: 4, start: 0 }
+        }
+    }
+
+    fn reset_into(&mut self, seed: Option<u64>, obs: &mut [f32]) -> Result<(), EnvError> {
+        check_obs_len(ID, obs, 8)?;
+        if let Some(seed) = seed {
+            self.rng = rng_for(seed);
+        }
+        self.generate_terrain();
+        let bodies = initial_bodies(&self.params);
+        self.world = Some(World::build(&self.params, &self.opts, &self.smooth_y, &bodies));
+        self.angles = [bodies[0].angle, bodies[1].angle, bodies[2].angle];
+        self.leg_contact = [false; 2];
+        self.game_over = false;
+        self.rest_time = 0.0;
+        self.prev_shaping = None;
+        self.outcome = Outcome::Running;
+        let ir = self.params.initial_random;
+        let fx = self.uniform(-ir, ir);
+        let fy = self.uniform(-ir, ir);
+        if let Some(w) = self.world.as_mut() {
+            w.pw.bodies[w.lander].add_force(Vector::new(fx as f32, fy as f32), true);
+        }
+        self.pending_force = true;
+        // Gymnasium's reset returns the observation of `step(0)`.
+        self.advance(0.0, 0.0, 0.0);
+        self.write_obs(obs);
+        Ok(())
+    }
+
+    fn step_into(&mut self, action: &Action, obs: &mut [f32]) -> Result<StepOutcome, EnvError> {
+        let (m, dir, s) = self.engine_powers(action)?;
+        check_obs_len(ID, obs, 8)?;
+        if self.world.is_none() {
+            return Err(EnvError::NeedsReset { env: ID });
+        }
+        let out = self.advance(m, dir, s);
+        self.write_obs(obs);
+        Ok(out)
+    }
+
+    fn observe_into(&self, obs: &mut [f32]) -> Result<(), EnvError> {
+        check_obs_len(ID, obs, 8)?;
+        self.write_obs(obs);
+        Ok(())
+    }
+
+    /// 11 terrain heights; lander, leg 0, leg 1 as (x, y, angle, vx, vy, ω); leg contacts;
+    /// game over; rest time; has-previous-shaping; previous shaping.
+    fn state(&self) -> Vec<f64> {
+        self.state_array().to_vec()
+    }
+
+    fn set_state(&mut self, state: &[f64]) -> Result<(), EnvError> {
+        let s = check_state::<STATE_DIM>(ID, state)?;
+        self.load_state(&s);
+        // Bookkeeping cleared as after a reset.
+        self.game_over = false;
+        Ok(())
+    }
+}

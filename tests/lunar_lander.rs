@@ -1,0 +1,314 @@
+//! LunarLander on rapier2d: physics sanity, determinism, termination rules, context sensitivity,
+//! bad input, and the heuristic's qualitative behaviour across planets.
+
+use carl_spec::envs::box2d::{LunarLander, LunarLanderOptions, LunarLanderParams, Outcome, heuristic};
+use carl_spec::envs::registry::{Context, MakeOptions, make_with};
+use carl_spec::envs::{Action, Env, EnvError};
+use carl_spec::instances::Store;
+use carl_spec::spec::SpecSet;
+use carl_spec::spec::model::Value;
+
+fn planets() -> Vec<(String, f64)> {
+    let specs = SpecSet::bundled().unwrap();
+    let set = Store::new(&specs)
+        .load("lunar_lander/landing_in_space_test_planets")
+        .unwrap();
+    set.instances
+        .iter()
+        .map(|i| {
+            let g = match &i.context["GRAVITY_Y"] {
+                Value::Number(x) => *x,
+                v => panic!("{v:?}"),
+            };
+            (i.label(), g)
+        })
+        .collect()
+}
+
+fn lander(g: f64) -> LunarLander {
+    LunarLander::new(LunarLanderParams {
+        gravity_y: g,
+        ..Default::default()
+    })
+}
+
+/// Run the heuristic for one episode (≤ 1000 steps): (return, outcome, observations).
+fn heuristic_episode(env: &mut LunarLander, seed: u64) -> (f64, Outcome, Vec<Vec<f32>>) {
+    let (mut obs, _) = env.reset(Some(seed));
+    let mut trace = vec![obs.clone()];
+    let mut ret = 0.0;
+    for _ in 0..1000 {
+        let st = env.step(&Action::Discrete(heuristic(&obs))).unwrap();
+        ret += st.reward;
+        obs = st.obs;
+        trace.push(obs.clone());
+        if st.terminated {
+            break;
+        }
+    }
+    (ret, env.outcome(), trace)
+}
+
+#[test]
+fn free_fall_matches_half_g_t_squared() {
+    for (name, g) in planets() {
+        let p = LunarLanderParams {
+            gravity_y: g,
+            initial_random: 0.0,
+            ..Default::default()
+        };
+        let mut env = LunarLander::new(p);
+        env.reset(Some(0));
+        let dt = 1.0 / p.fps;
+        let y0 = p.world_h();
+        // Fall at most 4 m (the terrain is at most H/2 = 6.7 m high, the lander starts at 13.3 m).
+        let n_max = ((2.0 * 4.0 / -g).sqrt() / dt).floor().min(200.0) as u64;
+        let mut n = 1; // reset takes one step
+        let mut worst: f64 = 0.0;
+        while n < n_max {
+            env.step(&Action::Discrete(0)).unwrap();
+            n += 1;
+            let (x, y, angle) = env.lander_pose().unwrap();
+            let t = n as f64 * dt;
+            let exact = y0 + 0.5 * g * t * t;
+            // Semi-implicit Euler: y_n = y0 + g dt² n(n+1)/2, i.e. ½ g t² + ½ g dt t.
+            let bound = 0.5 * g.abs() * dt * t + 1e-3;
+            let err = (y - exact).abs();
+            worst = worst.max(err / bound);
+            assert!(err <= bound, "{name}: step {n}: y {y} vs ½gt² {exact} (bound {bound})");
+            assert!(
+                (x - p.world_w() / 2.0).abs() < 1e-4,
+                "{name}: drifted sideways to x = {x}"
+            );
+            // Internal joint/motor forces are balanced but leave an f32-solver-level rotation.
+            assert!(angle.abs() < 2e-3, "{name}: rotated to {angle}");
+            assert_eq!(env.outcome(), Outcome::Running);
+        }
+        eprintln!("{name}: {n} steps of free fall, worst error / Euler bound = {worst:.3}");
+    }
+}
+
+#[test]
+fn alternating_two_worlds_equals_each_alone() {
+    let (_, _, alone_a) = heuristic_episode(&mut lander(-9.80665), 3);
+    let (_, _, alone_b) = heuristic_episode(&mut lander(-1.6279039), 3);
+    let (mut a, mut b) = (lander(-9.80665), lander(-1.6279039));
+    let (mut oa, _) = a.reset(Some(3));
+    let (mut ob, _) = b.reset(Some(3));
+    let (mut ta, mut tb) = (vec![oa.clone()], vec![ob.clone()]);
+    let (mut done_a, mut done_b) = (false, false);
+    for _ in 0..1000 {
+        if !done_a {
+            let st = a.step(&Action::Discrete(heuristic(&oa))).unwrap();
+            done_a = st.terminated;
+            oa = st.obs;
+            ta.push(oa.clone());
+        }
+        if !done_b {
+            let st = b.step(&Action::Discrete(heuristic(&ob))).unwrap();
+            done_b = st.terminated;
+            ob = st.obs;
+            tb.push(ob.clone());
+        }
+    }
+    assert_eq!(ta, alone_a);
+    assert_eq!(tb, alone_b);
+    assert_ne!(ta, tb);
+}
+
+#[test]
+fn reset_is_reproducible_from_the_seed() {
+    let mut env = lander(-10.0);
+    let (r1, o1, t1) = heuristic_episode(&mut env, 11);
+    let (r2, o2, t2) = heuristic_episode(&mut env, 11);
+    assert_eq!((r1.to_bits(), o1), (r2.to_bits(), o2));
+    assert_eq!(t1, t2);
+    let terrain11 = *env.terrain();
+    env.reset(Some(12));
+    assert_ne!(&terrain11, env.terrain());
+    let (_, _, t3) = heuristic_episode(&mut env, 12);
+    assert_ne!(t1[0], t3[0]);
+}
+
+#[test]
+fn out_of_view_terminates_with_crash_reward() {
+    let p = LunarLanderParams {
+        gravity_x: 20.0,
+        gravity_y: -0.5,
+        ..Default::default()
+    };
+    let mut env = LunarLander::new(p);
+    let (mut obs, _) = env.reset(Some(0));
+    let mut last = None;
+    for _ in 0..1000 {
+        let st = env.step(&Action::Discrete(0)).unwrap();
+        obs = st.obs;
+        if st.terminated {
+            last = Some(st.reward);
+            break;
+        }
+    }
+    assert_eq!(env.outcome(), Outcome::OutOfView);
+    assert!(obs[0] >= 1.0, "x = {}", obs[0]);
+    assert_eq!(last, Some(-100.0));
+}
+
+#[test]
+fn crash_detection_and_crash_penalty_option() {
+    for penalty in [100.0, 10000.0] {
+        let p = LunarLanderParams {
+            gravity_y: -23.143694,
+            ..Default::default()
+        };
+        let mut env = LunarLander::with_options(
+            p,
+            LunarLanderOptions {
+                crash_penalty: penalty,
+                ..Default::default()
+            },
+        );
+        env.reset(Some(1));
+        let mut reward = None;
+        for _ in 0..1000 {
+            let st = env.step(&Action::Discrete(0)).unwrap();
+            if st.terminated {
+                reward = Some(st.reward);
+                break;
+            }
+        }
+        assert_eq!(env.outcome(), Outcome::Crashed);
+        assert_eq!(reward, Some(-penalty));
+    }
+}
+
+#[test]
+fn every_context_feature_changes_the_episode() {
+    let base = LunarLanderParams::default();
+    let (_, _, reference) = heuristic_episode(&mut LunarLander::new(base), 5);
+    for name in LunarLanderParams::FEATURES {
+        let mut p = base;
+        let v = p.get(name).unwrap();
+        let changed = match *name {
+            "GRAVITY_X" => 1.0,
+            "INITIAL_RANDOM" => 500.0,
+            "VIEWPORT_W" => 700.0,
+            "VIEWPORT_H" => 500.0,
+            // Between 40 and 50 the legs' preload never binds in rapier (see module docs);
+            // a weak spring does change the landing.
+            "LEG_SPRING_TORQUE" => 5.0,
+            _ => v * 1.25,
+        };
+        p.set(name, changed).unwrap();
+        let (_, _, trace) = heuristic_episode(&mut LunarLander::new(p), 5);
+        assert_ne!(trace, reference, "{name} = {changed} changed nothing");
+    }
+}
+
+#[test]
+fn bad_actions_are_errors_not_panics() {
+    let mut env = lander(-10.0);
+    assert!(matches!(
+        env.step(&Action::Discrete(0)),
+        Err(EnvError::NeedsReset { .. })
+    ));
+    env.reset(Some(0));
+    for a in [
+        Action::Discrete(4),
+        Action::Discrete(-1),
+        Action::Continuous(vec![0.0, 0.0]),
+    ] {
+        assert!(env.step(&a).is_err(), "{a:?}");
+    }
+    let mut buf = [0.0f32; 3];
+    assert!(env.step_into(&Action::Discrete(0), &mut buf).is_err());
+    assert!(env.set_state(&[1.0, 2.0]).is_err());
+    let mut nan = env.state();
+    nan[12] = f64::NAN;
+    assert!(env.set_state(&nan).is_err());
+
+    let mut cont = LunarLander::with_options(
+        LunarLanderParams::default(),
+        LunarLanderOptions {
+            continuous: true,
+            ..Default::default()
+        },
+    );
+    cont.reset(Some(0));
+    assert!(cont.step(&Action::Discrete(1)).is_err());
+    assert!(cont.step(&Action::Continuous(vec![1.0])).is_err());
+    for a in [
+        [f32::NAN, f32::NAN],
+        [f32::INFINITY, -f32::INFINITY],
+        [1e30, -1e30],
+        [0.7, -0.8],
+    ] {
+        let st = cont.step(&Action::Continuous(a.to_vec())).unwrap();
+        assert!(st.obs.iter().all(|x| x.is_finite()), "{a:?} -> {:?}", st.obs);
+    }
+}
+
+#[test]
+fn state_round_trip_and_clone() {
+    let mut env = lander(-3.7);
+    env.reset(Some(4));
+    for _ in 0..20 {
+        env.step(&Action::Discrete(2)).unwrap();
+    }
+    let s = env.state();
+    let mut c = env.clone();
+    assert_eq!(c.state(), s);
+    assert_eq!(c.observe(), env.observe());
+    c.set_state(&s).unwrap();
+    assert_eq!(c.observe(), env.observe());
+}
+
+#[test]
+fn registry_builds_lunar_lander_from_spec_and_instance_sets() {
+    let specs = SpecSet::bundled().unwrap();
+    let spec = specs.get("lunar_lander").unwrap();
+    let ctx = Context::from([("GRAVITY_Y".to_string(), Value::Number(-23.143694))]);
+    assert!(
+        make_with(spec, &ctx, MakeOptions::default()).is_err(),
+        "Jupiter is out of bounds"
+    );
+    let mut env = make_with(
+        spec,
+        &ctx,
+        MakeOptions {
+            allow_out_of_bounds: true,
+        },
+    )
+    .unwrap();
+    let (obs, _) = env.reset(Some(0));
+    assert_eq!(obs.len(), 8);
+    let mut steps = 0;
+    loop {
+        let st = env.step(&Action::Discrete(0)).unwrap();
+        steps += 1;
+        if st.terminated || st.truncated {
+            break;
+        }
+    }
+    assert!(steps < 1000);
+}
+
+/// Gymnasium (tests/fixtures/lunar_lander_heuristic_gymnasium.json, 50 seeds): the heuristic
+/// lands 92 % on Earth, 96 % on Mars, 78 % on the Moon and crashes 100 % on Jupiter. Here the
+/// lander rarely *comes to rest* (see the module docs), so we assert the part that carries over:
+/// touchdown without crashing on Earth, Mars and the Moon, crashing on Jupiter.
+#[test]
+fn heuristic_survives_where_gymnasium_lands_and_crashes_on_jupiter() {
+    let n = 16;
+    let rate = |g: f64, want: Outcome| {
+        let mut env = lander(g);
+        (0..n).filter(|s| heuristic_episode(&mut env, *s).1 == want).count() as f64 / n as f64
+    };
+    let crash = |g| rate(g, Outcome::Crashed);
+    let jupiter = crash(-23.143693999999996);
+    assert!(jupiter >= 0.9, "Jupiter crash rate {jupiter}");
+    for (name, g) in [("Earth", -9.80665), ("Mars", -3.6971070499999996), ("Moon", -1.6279039)] {
+        let c = crash(g);
+        assert!(c <= 0.2, "{name}: crash rate {c}");
+        assert!(c < jupiter);
+    }
+}
