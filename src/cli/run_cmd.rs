@@ -23,6 +23,7 @@ pub enum RunCommand {
     /// LunarLander across gravities: each test body of lunar_lander/landing_in_space_test_planets
     /// plus a sample of lunar_lander/landing_in_space_train. Episode k of row r resets with seed
     /// Pcg64::new(S, fnv1a64("landing_in_space/{r}/{k}")).next_u64().
+    #[command(name = "landing_in_space", alias = "landing-in-space")]
     LandingInSpace {
         #[arg(long, value_enum, default_value_t = RunPolicy::Heuristic)]
         policy: RunPolicy,
