@@ -168,7 +168,12 @@ impl Row {
         Row {
             body: body.to_string(),
             split: split.to_string(),
-            gravity: runs.iter().map(|r| r.gravity).sum::<f64>() / n,
+            // Exact for a single body (a mean of equal values can be off in the last digit).
+            gravity: if gmin == gmax {
+                gmin
+            } else {
+                runs.iter().map(|r| r.gravity).sum::<f64>() / n
+            },
             gravity_range: [gmin, gmax],
             episodes: runs.len(),
             mean_return: mean,
@@ -391,17 +396,17 @@ pub fn figure_svg(results: &Results) -> String {
         .map(|m| m * mag)
         .find(|st| *st >= raw)
         .unwrap_or(10.0 * mag);
-    let mut v = (lo / step).ceil() * step;
-    while v <= hi {
+    let decimals = (-step.log10().floor()).max(0.0) as usize;
+    for i in ((lo / step).ceil() as i64)..=((hi / step).floor() as i64) {
+        let v = i as f64 * step;
         let yy = y(v);
         s.push_str(&format!(
             "<line x1=\"{left}\" y1=\"{yy:.2}\" x2=\"{:.2}\" y2=\"{yy:.2}\" stroke=\"#dddddd\"/>\n<text x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"end\">{}</text>\n",
             w - right,
             left - 5.0,
             yy + 4.0,
-            v
+            format!("{v:.decimals$}")
         ));
-        v += step;
     }
     s.push_str(&format!(
         "<line x1=\"{left}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\" stroke=\"black\"/>\n",
