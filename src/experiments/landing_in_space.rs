@@ -325,8 +325,8 @@ pub fn table(results: &Results) -> String {
         results.policy, results.episodes_per_row, results.seed, results.crash_penalty
     );
     s.push_str(&format!(
-        "{:<8} {:>9} {:<20} {:>20} {:>7} {:>7} {:>8}\n",
-        "body", "gravity", "split", "return (mean ± std)", "landed", "crash", "timeout"
+        "{:<8} {:>9} {:<20} {:>20} {:>7} {:>7} {:>8} {:>8}\n",
+        "body", "gravity", "split", "return (mean ± std)", "landed", "crash", "(oov)", "timeout"
     ));
     for r in &results.rows {
         let g = if r.body == TRAIN_ROW {
@@ -335,16 +335,18 @@ pub fn table(results: &Results) -> String {
             format!("{:.3}", r.gravity)
         };
         s.push_str(&format!(
-            "{:<8} {:>9} {:<20} {:>20} {:>7.2} {:>7.2} {:>8.2}\n",
+            "{:<8} {:>9} {:<20} {:>20} {:>7.2} {:>7.2} {:>8.2} {:>8.2}\n",
             r.body,
             g,
             r.split,
             format!("{:.1} ± {:.1}", r.mean_return, r.std_return),
             r.landed_rate,
             r.crash_rate,
+            r.out_of_view_rate,
             r.timeout_rate
         ));
     }
+    s.push_str("rates: landed = came to rest (+100); crash = crashed or out of view, (oov) = out of view alone\n");
     s
 }
 
