@@ -91,10 +91,12 @@ pub fn run(cli: &Cli, cmd: &RunCommand) -> CmdResult {
                         line: String::new(),
                         space: None,
                     };
-                    (
-                        lis::evaluate(&specs, &cfg, "stdin", &mut d).map_err(Failure::usage)?,
-                        true,
-                    )
+                    match lis::evaluate(&specs, &cfg, "stdin", &mut d) {
+                        Ok(r) => (r, true),
+                        // The reader went away: stop quietly, as `rollout` does.
+                        Err(e) if e == CLOSED => return Ok(exit::OK),
+                        Err(e) => return Err(Failure::usage(e)),
+                    }
                 }
             };
             let table = lis::table(&results);

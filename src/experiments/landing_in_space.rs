@@ -403,11 +403,10 @@ pub fn figure_svg(results: &Results) -> String {
         let v = i as f64 * step;
         let yy = y(v);
         s.push_str(&format!(
-            "<line x1=\"{left}\" y1=\"{yy:.2}\" x2=\"{:.2}\" y2=\"{yy:.2}\" stroke=\"#dddddd\"/>\n<text x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"end\">{}</text>\n",
+            "<line x1=\"{left}\" y1=\"{yy:.2}\" x2=\"{:.2}\" y2=\"{yy:.2}\" stroke=\"#dddddd\"/>\n<text x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"end\">{v:.decimals$}</text>\n",
             w - right,
             left - 5.0,
             yy + 4.0,
-            format!("{v:.decimals$}")
         ));
     }
     s.push_str(&format!(
