@@ -11,6 +11,7 @@
 pub mod audit;
 pub mod cli;
 pub mod envs;
+pub mod experiments;
 pub mod instances;
 pub mod json;
 pub mod plot;

@@ -6,6 +6,7 @@ mod bench_cmd;
 mod instances_cmd;
 mod plot_cmd;
 mod rollout_cmd;
+mod run_cmd;
 mod specs_cmd;
 mod validate_cmd;
 
@@ -93,6 +94,9 @@ pub enum Command {
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
+    /// Run one of the paper's experiments end to end, e.g. `run landing_in_space`.
+    #[command(subcommand)]
+    Run(run_cmd::RunCommand),
     /// Draw an instance set: a histogram per varied feature, its bounds, marked named instances.
     Plot(plot_cmd::PlotArgs),
     /// Counts over all environments: features, share affecting dynamics/reward, share continuous.
@@ -178,6 +182,7 @@ pub fn main() -> ExitCode {
         Command::Schema => specs_cmd::schema(),
         Command::Stats { format } => specs_cmd::stats(&cli, *format),
         Command::Rollout(args) => rollout_cmd::run(&cli, args),
+        Command::Run(cmd) => run_cmd::run(&cli, cmd),
         Command::Instances(cmd) => instances_cmd::instances(&cli, cmd),
         Command::Freeze { names, out, force } => instances_cmd::freeze(&cli, names, out.as_ref(), *force),
         Command::Plot(args) => plot_cmd::plot(&cli, args),

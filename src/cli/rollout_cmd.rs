@@ -61,24 +61,24 @@ pub enum Policy {
 
 // Lines are structs so their keys come out in the documented order.
 #[derive(serde::Serialize)]
-struct ResetLine<'a> {
-    reset: ResetBody<'a>,
+pub(super) struct ResetLine<'a> {
+    pub(super) reset: ResetBody<'a>,
 }
 
 #[derive(serde::Serialize)]
-struct ResetBody<'a> {
-    obs: &'a [f32],
-    context: &'a serde_json::Map<String, serde_json::Value>,
+pub(super) struct ResetBody<'a> {
+    pub(super) obs: &'a [f32],
+    pub(super) context: &'a serde_json::Map<String, serde_json::Value>,
 }
 
 #[derive(serde::Serialize)]
-struct StepLine<'a> {
-    t: u64,
-    action: &'a serde_json::Value,
-    obs: &'a [f32],
-    reward: f64,
-    terminated: bool,
-    truncated: bool,
+pub(super) struct StepLine<'a> {
+    pub(super) t: u64,
+    pub(super) action: &'a serde_json::Value,
+    pub(super) obs: &'a [f32],
+    pub(super) reward: f64,
+    pub(super) terminated: bool,
+    pub(super) truncated: bool,
 }
 
 enum ActionSource {
@@ -249,7 +249,7 @@ pub fn run(cli: &Cli, args: &RolloutArgs) -> CmdResult {
 }
 
 /// Write one JSON line; false when stdout is closed (the reader went away: stop quietly).
-fn emit(w: &mut impl Write, v: &impl serde::Serialize, flush: bool) -> bool {
+pub(super) fn emit(w: &mut impl Write, v: &impl serde::Serialize, flush: bool) -> bool {
     serde_json::to_writer(&mut *w, v).is_ok() && w.write_all(b"\n").is_ok() && (!flush || w.flush().is_ok())
 }
 
@@ -267,7 +267,7 @@ fn random_action(rng: &mut Pcg64, space: &Space) -> serde_json::Value {
     }
 }
 
-fn parse_action(v: &serde_json::Value, space: &Space) -> Result<Action, String> {
+pub(super) fn parse_action(v: &serde_json::Value, space: &Space) -> Result<Action, String> {
     match space {
         Space::Discrete { n, start } => {
             let a = v

@@ -1,0 +1,208 @@
+//! `carl-spec run EXPERIMENT …`: the paper's experiments end to end (see `crate::experiments`).
+//!
+//! `run landing_in_space` evaluates a policy on every test body and on a train sample, prints a
+//! table, and optionally writes the results JSON (`--out`) and an SVG bar chart (`--figure`).
+//! With `--policy stdin` every episode is streamed on stdout as JSON lines, like `rollout
+//! --actions -`: `{"episode": {"body", "gravity", "seed"}}`, the reset line, then one line per step;
+//! after each observation line (flushed) one JSON action is read from stdin. The table then goes
+//! to stderr so stdout carries only JSON lines.
+
+use std::io::{BufRead, Write};
+use std::path::{Path, PathBuf};
+
+use clap::{Subcommand, ValueEnum};
+
+use super::rollout_cmd::{ResetBody, ResetLine, StepLine, emit, parse_action};
+use super::{Cli, CmdResult, Failure, exit, load_specs, out};
+use crate::envs::api::{Action, Space};
+use crate::experiments::landing_in_space::{self as lis, Config, Driver, EpisodeInfo, Heuristic};
+use crate::instances::frozen::write_atomic;
+
+#[derive(Subcommand, Debug)]
+pub enum RunCommand {
+    /// LunarLander across gravities: each test body of lunar_lander/landing_in_space_test_planets
+    /// plus a sample of lunar_lander/landing_in_space_train. Episode k of row r resets with seed
+    /// Pcg64::new(S, fnv1a64("landing_in_space/{r}/{k}")).next_u64().
+    #[command(name = "landing_in_space", alias = "landing-in-space")]
+    LandingInSpace {
+        #[arg(long, value_enum, default_value_t = RunPolicy::Heuristic)]
+        policy: RunPolicy,
+        /// Episodes per test body, and in total on the train set (round-robin over its instances).
+        #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u64).range(1..=100_000))]
+        episodes: u64,
+        /// Base seed S of the reset seeds.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Reward on crash / out of view is -P (Gymnasium 100; the paper's evaluation 10000).
+        #[arg(long, default_value_t = 100.0, value_name = "P", allow_hyphen_values = true)]
+        crash_penalty: f64,
+        /// Write the results (per row and per episode) as JSON.
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
+        /// Write an SVG bar chart of mean return ± std per body.
+        #[arg(long, value_name = "FILE")]
+        figure: Option<PathBuf>,
+        /// Replace existing --out / --figure files.
+        #[arg(long)]
+        force: bool,
+    },
+}
+
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+pub enum RunPolicy {
+    /// Gymnasium's hand-written landing controller.
+    Heuristic,
+    /// Read one JSON action per line from stdin (episodes streamed on stdout as JSON lines).
+    Stdin,
+}
+
+pub fn run(cli: &Cli, cmd: &RunCommand) -> CmdResult {
+    match cmd {
+        RunCommand::LandingInSpace {
+            policy,
+            episodes,
+            seed,
+            crash_penalty,
+            out: out_path,
+            figure,
+            force,
+        } => {
+            if !crash_penalty.is_finite() {
+                return Err(Failure::usage(format!("--crash-penalty {crash_penalty} is not finite")));
+            }
+            for p in [out_path, figure].into_iter().flatten() {
+                check_target(p, *force)?;
+            }
+            let specs = load_specs(cli)?;
+            let cfg = Config {
+                episodes: *episodes as usize,
+                seed: *seed,
+                crash_penalty: *crash_penalty,
+            };
+            let (results, interactive) = match policy {
+                RunPolicy::Heuristic => (
+                    lis::evaluate(&specs, &cfg, "heuristic", &mut Heuristic).map_err(Failure::usage)?,
+                    false,
+                ),
+                RunPolicy::Stdin => {
+                    let mut d = StdinDriver {
+                        w: std::io::BufWriter::new(std::io::stdout().lock()),
+                        r: std::io::stdin().lock(),
+                        line: String::new(),
+                        space: None,
+                    };
+                    match lis::evaluate(&specs, &cfg, "stdin", &mut d) {
+                        Ok(r) => (r, true),
+                        // The reader went away: stop quietly, as `rollout` does.
+                        Err(e) if e == CLOSED => return Ok(exit::OK),
+                        Err(e) => return Err(Failure::usage(e)),
+                    }
+                }
+            };
+            let table = lis::table(&results);
+            if interactive {
+                eprint!("{table}");
+            } else {
+                out(&table);
+            }
+            if let Some(p) = out_path {
+                let mut text = serde_json::to_string_pretty(&results)
+                    .map_err(|e| Failure::failed(format!("serialising results: {e}")))?;
+                text.push('\n');
+                write(p, &text)?;
+            }
+            if let Some(p) = figure {
+                write(p, &lis::figure_svg(&results))?;
+            }
+            Ok(exit::OK)
+        }
+    }
+}
+
+fn check_target(p: &Path, force: bool) -> Result<(), Failure> {
+    if p.exists() && !force {
+        return Err(Failure::usage(format!(
+            "{} exists; pass --force to replace it",
+            p.display()
+        )));
+    }
+    Ok(())
+}
+
+fn write(p: &Path, text: &str) -> Result<(), Failure> {
+    write_atomic(p, text).map_err(|e| Failure::usage(format!("cannot write {}: {e}", p.display())))
+}
+
+/// Streams episodes on stdout and reads actions from stdin.
+struct StdinDriver<W: Write, R: BufRead> {
+    w: W,
+    r: R,
+    line: String,
+    space: Option<Space>,
+}
+
+const CLOSED: &str = "stdout closed";
+
+impl<W: Write, R: BufRead> Driver for StdinDriver<W, R> {
+    fn begin(
+        &mut self,
+        info: &EpisodeInfo,
+        obs: &[f32],
+        context: &serde_json::Map<String, serde_json::Value>,
+    ) -> Result<(), String> {
+        self.space = Some(info.action_space.clone());
+        let ok = emit(&mut self.w, &serde_json::json!({ "episode": info }), false)
+            && emit(
+                &mut self.w,
+                &ResetLine {
+                    reset: ResetBody { obs, context },
+                },
+                true,
+            );
+        if ok { Ok(()) } else { Err(CLOSED.into()) }
+    }
+
+    fn act(&mut self, t: u64, _obs: &[f32]) -> Result<Action, String> {
+        loop {
+            self.line.clear();
+            match self.r.read_line(&mut self.line) {
+                Ok(0) => return Err(format!("stdin closed before the action of step {}", t + 1)),
+                Ok(_) if self.line.trim().is_empty() => continue,
+                Ok(_) => break,
+                Err(e) => return Err(format!("reading actions from stdin: {e}")),
+            }
+        }
+        let v: serde_json::Value = serde_json::from_str(self.line.trim())
+            .map_err(|e| format!("step {}: action \"{}\" is not JSON: {e}", t + 1, self.line.trim()))?;
+        let space = self.space.as_ref().ok_or("no episode has begun")?;
+        parse_action(&v, space).map_err(|m| format!("step {}: {m}", t + 1))
+    }
+
+    fn stepped(
+        &mut self,
+        t: u64,
+        action: &Action,
+        obs: &[f32],
+        reward: f64,
+        terminated: bool,
+        truncated: bool,
+    ) -> Result<(), String> {
+        let a = match action {
+            Action::Discrete(a) => serde_json::json!(a),
+            Action::Continuous(v) => serde_json::json!(v),
+        };
+        let line = StepLine {
+            t,
+            action: &a,
+            obs,
+            reward,
+            terminated,
+            truncated,
+        };
+        if emit(&mut self.w, &line, true) {
+            Ok(())
+        } else {
+            Err(CLOSED.into())
+        }
+    }
+}

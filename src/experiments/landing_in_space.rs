@@ -1,0 +1,479 @@
+//! "Landing in Space" (CARL paper, LunarLander with varied gravity) end to end: evaluate a policy
+//! on each named test body of `lunar_lander/landing_in_space_test_planets` and on a sample of
+//! `lunar_lander/landing_in_space_train`, and summarise returns and outcomes per row.
+//!
+//! * **Rows.** One per test body (in the frozen set's order, labelled with its `split`), then one
+//!   `train` row whose `episodes` are spread round-robin over the train set's instances (episode
+//!   `k` runs on instance `k mod len`).
+//! * **Seeds.** Episode `k` of row `r` (a body's name, or `train`) resets with
+//!   [`reset_seed`]`(S, r, k)`: the first output of `Pcg64::new(S, fnv1a64("landing_in_space/{r}/{k}"))`.
+//!   So every (seed, row, episode) has its own independent start, and adding rows or episodes never
+//!   changes the others.
+//! * **Outcomes.** `landed`: terminated with the +100 rest bonus; `crashed`: the lander body
+//!   touched the ground; `out_of_view`: `|x| >= 1`; `timeout`: truncated by the spec's episode limit
+//!   (1000 steps). `crash_rate` counts crashes and out-of-view together (both end with
+//!   `-crash_penalty`).
+//! * **Statistics.** Mean return and population standard deviation (ddof 0, NumPy's default).
+//!
+//! Known gap (see `envs::box2d::lunar_lander`): the rapier lander rarely comes to rest, so touchdowns
+//! that Gymnasium rewards with +100 mostly end as time-outs here.
+
+use serde::Serialize;
+use serde_json::json;
+
+use crate::envs::api::{Action, Env, Space};
+use crate::envs::box2d::{Outcome, PHYSICS_ENGINE, heuristic};
+use crate::envs::registry::{MakeOptions, make_with, resolve_context};
+use crate::instances::{FrozenSet, Store};
+use crate::sampling::{Pcg64, stream_id};
+use crate::spec::SpecSet;
+use crate::spec::raw::Split;
+
+pub const TEST_SET: &str = "lunar_lander/landing_in_space_test_planets";
+pub const TRAIN_SET: &str = "lunar_lander/landing_in_space_train";
+/// Name of the row that samples the train set.
+pub const TRAIN_ROW: &str = "train";
+
+/// What to run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Config {
+    /// Episodes per row (per test body, and in total on the train set).
+    pub episodes: usize,
+    /// Base seed `S` of [`reset_seed`].
+    pub seed: u64,
+    /// Reward on crash / out of view is `-crash_penalty` (Gymnasium 100, the paper's evaluation 10000).
+    pub crash_penalty: f64,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Config {
+            episodes: 20,
+            seed: 0,
+            crash_penalty: 100.0,
+        }
+    }
+}
+
+/// The reset seed of episode `k` of row `row` (a body's name or [`TRAIN_ROW`]) under base seed `seed`.
+pub fn reset_seed(seed: u64, row: &str, k: usize) -> u64 {
+    Pcg64::new(seed, stream_id(&format!("landing_in_space/{row}/{k}"))).next_u64()
+}
+
+/// The episode about to start, as a driver sees it.
+#[derive(Debug, Clone, Serialize)]
+pub struct EpisodeInfo {
+    /// Body name, or [`TRAIN_ROW`].
+    pub body: String,
+    pub gravity: f64,
+    pub seed: u64,
+    /// Index of the instance within its frozen set.
+    #[serde(skip)]
+    pub instance: usize,
+    /// Episode number within its row.
+    #[serde(skip)]
+    pub k: usize,
+    #[serde(skip)]
+    pub action_space: Space,
+}
+
+/// A policy under evaluation, with hooks to observe each episode (the CLI's `--policy stdin`
+/// streams them as JSON lines).
+pub trait Driver {
+    /// A new episode has been reset: `obs` is the reset observation, `context` the full context.
+    fn begin(
+        &mut self,
+        _info: &EpisodeInfo,
+        _obs: &[f32],
+        _context: &serde_json::Map<String, serde_json::Value>,
+    ) -> Result<(), String> {
+        Ok(())
+    }
+    /// The action for observation `obs` at step `t + 1`.
+    fn act(&mut self, t: u64, obs: &[f32]) -> Result<Action, String>;
+    /// Step `t` has been taken.
+    fn stepped(
+        &mut self,
+        _t: u64,
+        _action: &Action,
+        _obs: &[f32],
+        _reward: f64,
+        _terminated: bool,
+        _truncated: bool,
+    ) -> Result<(), String> {
+        Ok(())
+    }
+}
+
+/// Gymnasium's heuristic controller.
+pub struct Heuristic;
+
+impl Driver for Heuristic {
+    fn act(&mut self, _t: u64, obs: &[f32]) -> Result<Action, String> {
+        Ok(Action::Discrete(heuristic(obs)))
+    }
+}
+
+/// One episode's result.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EpisodeEnd {
+    Landed,
+    Crashed,
+    OutOfView,
+    Timeout,
+}
+
+#[derive(Debug, Clone, Serialize)]
+pub struct EpisodeResult {
+    pub instance: usize,
+    pub gravity: f64,
+    pub seed: u64,
+    #[serde(rename = "return")]
+    pub ret: f64,
+    pub length: u64,
+    pub end: EpisodeEnd,
+}
+
+/// One row of the table.
+#[derive(Debug, Clone, Serialize)]
+pub struct Row {
+    pub body: String,
+    /// `in_distribution`, `out_of_distribution` or `train`.
+    pub split: String,
+    /// The body's GRAVITY_Y; for the train row, the mean over its episodes.
+    pub gravity: f64,
+    /// Smallest and largest GRAVITY_Y among the row's episodes.
+    pub gravity_range: [f64; 2],
+    pub episodes: usize,
+    pub mean_return: f64,
+    pub std_return: f64,
+    pub landed_rate: f64,
+    /// Crashed or out of view.
+    pub crash_rate: f64,
+    pub out_of_view_rate: f64,
+    pub timeout_rate: f64,
+    pub mean_length: f64,
+    pub runs: Vec<EpisodeResult>,
+}
+
+impl Row {
+    fn from_runs(body: &str, split: &str, runs: Vec<EpisodeResult>) -> Row {
+        let n = runs.len().max(1) as f64;
+        let mean = runs.iter().map(|r| r.ret).sum::<f64>() / n;
+        let var = runs.iter().map(|r| (r.ret - mean).powi(2)).sum::<f64>() / n;
+        let rate = |f: &dyn Fn(EpisodeEnd) -> bool| runs.iter().filter(|r| f(r.end)).count() as f64 / n;
+        let gmin = runs.iter().map(|r| r.gravity).fold(f64::INFINITY, f64::min);
+        let gmax = runs.iter().map(|r| r.gravity).fold(f64::NEG_INFINITY, f64::max);
+        Row {
+            body: body.to_string(),
+            split: split.to_string(),
+            // Exact for a single body (a mean of equal values can be off in the last digit).
+            gravity: if gmin == gmax {
+                gmin
+            } else {
+                runs.iter().map(|r| r.gravity).sum::<f64>() / n
+            },
+            gravity_range: [gmin, gmax],
+            episodes: runs.len(),
+            mean_return: mean,
+            std_return: var.sqrt(),
+            landed_rate: rate(&|e| e == EpisodeEnd::Landed),
+            crash_rate: rate(&|e| matches!(e, EpisodeEnd::Crashed | EpisodeEnd::OutOfView)),
+            out_of_view_rate: rate(&|e| e == EpisodeEnd::OutOfView),
+            timeout_rate: rate(&|e| e == EpisodeEnd::Timeout),
+            mean_length: runs.iter().map(|r| r.length as f64).sum::<f64>() / n,
+            runs,
+        }
+    }
+}
+
+/// Everything `--out` writes.
+#[derive(Debug, Clone, Serialize)]
+pub struct Results {
+    pub experiment: &'static str,
+    pub policy: String,
+    pub episodes_per_row: usize,
+    pub seed: u64,
+    pub crash_penalty: f64,
+    pub seed_derivation: &'static str,
+    pub physics_engine: &'static str,
+    pub generator: String,
+    pub instance_sets: serde_json::Value,
+    pub rows: Vec<Row>,
+}
+
+/// Evaluate `driver` on every test body and on the train sample.
+pub fn evaluate(specs: &SpecSet, cfg: &Config, policy: &str, driver: &mut dyn Driver) -> Result<Results, String> {
+    if !cfg.crash_penalty.is_finite() {
+        return Err(format!("crash penalty {} is not finite", cfg.crash_penalty));
+    }
+    let store = Store::new(specs);
+    let test = store.load(TEST_SET).map_err(|e| e.to_string())?;
+    let train = store.load(TRAIN_SET).map_err(|e| e.to_string())?;
+    if train.instances.is_empty() {
+        return Err(format!("{TRAIN_SET} has no instances"));
+    }
+    let mut rows = Vec::new();
+    for (i, inst) in test.instances.iter().enumerate() {
+        let body = inst.label();
+        let split = match inst.split {
+            Some(Split::InDistribution) => "in_distribution",
+            Some(Split::OutOfDistribution) => "out_of_distribution",
+            None => "unlabelled",
+        };
+        let runs = (0..cfg.episodes)
+            .map(|k| run_episode(specs, &test, i, &body, k, cfg, driver))
+            .collect::<Result<Vec<_>, _>>()?;
+        rows.push(Row::from_runs(&body, split, runs));
+    }
+    let runs = (0..cfg.episodes)
+        .map(|k| run_episode(specs, &train, k % train.instances.len(), TRAIN_ROW, k, cfg, driver))
+        .collect::<Result<Vec<_>, _>>()?;
+    rows.push(Row::from_runs(TRAIN_ROW, TRAIN_ROW, runs));
+    Ok(Results {
+        experiment: "landing_in_space",
+        policy: policy.to_string(),
+        episodes_per_row: cfg.episodes,
+        seed: cfg.seed,
+        crash_penalty: cfg.crash_penalty,
+        seed_derivation: "reset seed of episode k of row r = Pcg64::new(seed, fnv1a64(\"landing_in_space/{r}/{k}\")).next_u64()",
+        physics_engine: PHYSICS_ENGINE,
+        generator: format!("carl-spec {}", env!("CARGO_PKG_VERSION")),
+        instance_sets: json!({
+            TEST_SET: test.content_hash,
+            TRAIN_SET: train.content_hash,
+        }),
+        rows,
+    })
+}
+
+fn run_episode(
+    specs: &SpecSet,
+    set: &FrozenSet,
+    i: usize,
+    row: &str,
+    k: usize,
+    cfg: &Config,
+    driver: &mut dyn Driver,
+) -> Result<EpisodeResult, String> {
+    let spec = specs.require(&set.env)?;
+    let ctx = set
+        .full_context(spec, i)
+        .ok_or_else(|| format!("{}/{} has no instance {i}", set.env, set.set))?;
+    let opts = MakeOptions {
+        allow_out_of_bounds: set.provenance.definition.allow_out_of_bounds,
+    };
+    let mut env = make_with(spec, &ctx, opts).map_err(|e| e.to_string())?;
+    let full: serde_json::Map<String, serde_json::Value> = resolve_context(spec, &ctx, opts)
+        .map_err(|e| e.to_string())?
+        .into_iter()
+        .map(|(k, v)| (k, json!(v)))
+        .collect();
+    let gravity = full.get("GRAVITY_Y").and_then(|v| v.as_f64()).unwrap_or(f64::NAN);
+    env.inner_mut()
+        .as_lunar_lander_mut()
+        .ok_or_else(|| format!("{} is not LunarLander", set.env))?
+        .options_mut()
+        .crash_penalty = cfg.crash_penalty;
+    let seed = reset_seed(cfg.seed, row, k);
+    let info = EpisodeInfo {
+        body: row.to_string(),
+        gravity,
+        seed,
+        instance: i,
+        k,
+        action_space: env.action_space(),
+    };
+    let mut obs = vec![0.0f32; env.obs_dim()];
+    env.reset_into(Some(seed), &mut obs).map_err(|e| e.to_string())?;
+    driver.begin(&info, &obs, &full)?;
+    let mut ret = 0.0;
+    let mut t = 0u64;
+    loop {
+        let action = driver.act(t, &obs)?;
+        let out = env
+            .step_into(&action, &mut obs)
+            .map_err(|e| format!("{row} episode {k}, step {}: {e}", t + 1))?;
+        t += 1;
+        ret += out.reward;
+        driver.stepped(t, &action, &obs, out.reward, out.terminated, out.truncated)?;
+        if out.terminated || out.truncated {
+            let outcome = env.inner_mut().as_lunar_lander_mut().map(|l| l.outcome());
+            let end = match (out.terminated, outcome) {
+                (true, Some(Outcome::Landed)) => EpisodeEnd::Landed,
+                (true, Some(Outcome::OutOfView)) => EpisodeEnd::OutOfView,
+                (true, _) => EpisodeEnd::Crashed,
+                (false, _) => EpisodeEnd::Timeout,
+            };
+            return Ok(EpisodeResult {
+                instance: i,
+                gravity,
+                seed,
+                ret,
+                length: t,
+                end,
+            });
+        }
+    }
+}
+
+/// The results as a text table.
+pub fn table(results: &Results) -> String {
+    let mut s = format!(
+        "Landing in Space: policy {}, {} episodes per row, seed {}, crash penalty {}\n",
+        results.policy, results.episodes_per_row, results.seed, results.crash_penalty
+    );
+    s.push_str(&format!(
+        "{:<8} {:>9} {:<20} {:>20} {:>7} {:>7} {:>8} {:>8}\n",
+        "body", "gravity", "split", "return (mean ± std)", "landed", "crash", "(oov)", "timeout"
+    ));
+    for r in &results.rows {
+        let g = if r.body == TRAIN_ROW {
+            format!("{:.1}..{:.1}", r.gravity_range[0], r.gravity_range[1])
+        } else {
+            format!("{:.3}", r.gravity)
+        };
+        s.push_str(&format!(
+            "{:<8} {:>9} {:<20} {:>20} {:>7.2} {:>7.2} {:>8.2} {:>8.2}\n",
+            r.body,
+            g,
+            r.split,
+            format!("{:.1} ± {:.1}", r.mean_return, r.std_return),
+            r.landed_rate,
+            r.crash_rate,
+            r.out_of_view_rate,
+            r.timeout_rate
+        ));
+    }
+    s.push_str("rates: landed = came to rest (+100); crash = crashed or out of view, (oov) = out of view alone\n");
+    s
+}
+
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// An SVG bar chart: mean return per body (weakest to strongest gravity, then the train sample)
+/// with ±std whiskers, coloured by split.
+pub fn figure_svg(results: &Results) -> String {
+    let mut rows: Vec<&Row> = results.rows.iter().filter(|r| r.body != TRAIN_ROW).collect();
+    rows.sort_by(|a, b| a.gravity.abs().total_cmp(&b.gravity.abs()));
+    rows.extend(results.rows.iter().filter(|r| r.body == TRAIN_ROW));
+    let (w, h) = (640.0f64, 400.0f64);
+    let (left, right, top, bottom) = (70.0, 20.0, 40.0, 70.0);
+    let lo = rows.iter().map(|r| r.mean_return - r.std_return).fold(0.0f64, f64::min);
+    let hi = rows.iter().map(|r| r.mean_return + r.std_return).fold(0.0f64, f64::max);
+    let (lo, hi) = if hi - lo < 1e-9 { (lo - 1.0, hi + 1.0) } else { (lo, hi) };
+    let pad = 0.05 * (hi - lo);
+    let (lo, hi) = (lo - pad, hi + pad);
+    let plot_h = h - top - bottom;
+    let y = |v: f64| top + (hi - v) / (hi - lo) * plot_h;
+    let slot = (w - left - right) / rows.len().max(1) as f64;
+    let colour = |split: &str| match split {
+        "in_distribution" => "#1f77b4",
+        "out_of_distribution" => "#d62728",
+        _ => "#7f7f7f",
+    };
+    let mut s = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" font-family=\"sans-serif\" font-size=\"12\">\n"
+    );
+    s.push_str(&format!("<rect width=\"{w}\" height=\"{h}\" fill=\"white\"/>\n"));
+    s.push_str(&format!(
+        "<text x=\"{}\" y=\"20\" text-anchor=\"middle\" font-size=\"14\">{}</text>\n",
+        w / 2.0,
+        esc(&format!(
+            "Landing in Space: {} policy, {} episodes per body, crash penalty {}",
+            results.policy, results.episodes_per_row, results.crash_penalty
+        ))
+    ));
+    // Axis with ticks at "nice" steps.
+    let raw = (hi - lo) / 6.0;
+    let mag = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * mag)
+        .find(|st| *st >= raw)
+        .unwrap_or(10.0 * mag);
+    let decimals = (-step.log10().floor()).max(0.0) as usize;
+    for i in ((lo / step).ceil() as i64)..=((hi / step).floor() as i64) {
+        let v = i as f64 * step;
+        let yy = y(v);
+        s.push_str(&format!(
+            "<line x1=\"{left}\" y1=\"{yy:.2}\" x2=\"{:.2}\" y2=\"{yy:.2}\" stroke=\"#dddddd\"/>\n<text x=\"{:.2}\" y=\"{:.2}\" text-anchor=\"end\">{v:.decimals$}</text>\n",
+            w - right,
+            left - 5.0,
+            yy + 4.0,
+        ));
+    }
+    s.push_str(&format!(
+        "<line x1=\"{left}\" y1=\"{:.2}\" x2=\"{:.2}\" y2=\"{:.2}\" stroke=\"black\"/>\n",
+        y(0.0),
+        w - right,
+        y(0.0)
+    ));
+    s.push_str(&format!(
+        "<line x1=\"{left}\" y1=\"{top}\" x2=\"{left}\" y2=\"{:.2}\" stroke=\"black\"/>\n",
+        h - bottom
+    ));
+    s.push_str(&format!(
+        "<text transform=\"translate(16 {:.2}) rotate(-90)\" text-anchor=\"middle\">mean return ± std</text>\n",
+        top + plot_h / 2.0
+    ));
+    for (j, r) in rows.iter().enumerate() {
+        let cx = left + slot * (j as f64 + 0.5);
+        let bw = slot * 0.6;
+        let (y0, y1) = (y(0.0), y(r.mean_return));
+        s.push_str(&format!(
+            "<rect x=\"{:.2}\" y=\"{:.2}\" width=\"{bw:.2}\" height=\"{:.2}\" fill=\"{}\"><title>{}</title></rect>\n",
+            cx - bw / 2.0,
+            y0.min(y1),
+            (y1 - y0).abs(),
+            colour(&r.split),
+            esc(&format!("{}: {:.1} ± {:.1}", r.body, r.mean_return, r.std_return))
+        ));
+        let (wa, wb) = (y(r.mean_return + r.std_return), y(r.mean_return - r.std_return));
+        s.push_str(&format!(
+            "<line x1=\"{cx:.2}\" y1=\"{wa:.2}\" x2=\"{cx:.2}\" y2=\"{wb:.2}\" stroke=\"black\"/>\n<line x1=\"{:.2}\" y1=\"{wa:.2}\" x2=\"{:.2}\" y2=\"{wa:.2}\" stroke=\"black\"/>\n<line x1=\"{:.2}\" y1=\"{wb:.2}\" x2=\"{:.2}\" y2=\"{wb:.2}\" stroke=\"black\"/>\n",
+            cx - bw / 6.0,
+            cx + bw / 6.0,
+            cx - bw / 6.0,
+            cx + bw / 6.0
+        ));
+        let g = if r.body == TRAIN_ROW {
+            format!("g {:.1}..{:.1}", r.gravity_range[0], r.gravity_range[1])
+        } else {
+            format!("g {:.2}", r.gravity)
+        };
+        s.push_str(&format!(
+            "<text x=\"{cx:.2}\" y=\"{:.2}\" text-anchor=\"middle\">{}</text>\n<text x=\"{cx:.2}\" y=\"{:.2}\" text-anchor=\"middle\" font-size=\"10\">{}</text>\n",
+            h - bottom + 16.0,
+            esc(&r.body),
+            h - bottom + 30.0,
+            esc(&g)
+        ));
+    }
+    // Legend.
+    for (j, (label, split)) in [
+        ("in distribution", "in_distribution"),
+        ("out of distribution", "out_of_distribution"),
+        ("train sample", "train"),
+    ]
+    .iter()
+    .enumerate()
+    {
+        let x = left + 160.0 * j as f64;
+        s.push_str(&format!(
+            "<rect x=\"{x:.2}\" y=\"{:.2}\" width=\"12\" height=\"12\" fill=\"{}\"/>\n<text x=\"{:.2}\" y=\"{:.2}\">{label}</text>\n",
+            h - 22.0,
+            colour(split),
+            x + 16.0,
+            h - 12.0
+        ));
+    }
+    s.push_str("</svg>\n");
+    s
+}
