@@ -3,10 +3,10 @@
 //!
 //! Layout: `spec` (the spec language and loading), `validate` (schema + semantic rules +
 //! diagnostics), `json` (JSON with source positions), `schema` (the generated JSON Schema),
-//! `sampling` (portable generator and samplers), `envs` (environment runtimes), `audit` (checks
-//! that each feature's `affects` claim matches the runtime), `cli`.
-//! `sampling` (portable generator and samplers), `envs` (environment runtimes), `plot` (figures of
-//! instance sets), `cli`.
+//! `sampling` (portable generator and samplers), `instances` (derive, freeze, load, verify sets),
+//! `envs` (environment runtimes, contextual wrapper, VecEnv), `audit` (checks each feature's
+//! `affects` claim against the runtime), `plot` (figures of instance sets), `experiments` (the
+//! paper's experiments end to end), `cli` (one module per subcommand).
 
 pub mod audit;
 pub mod cli;
