@@ -175,7 +175,7 @@ pub trait Env {
         let mut obs = vec![0.0; self.obs_dim()];
         // The buffer has the right length, so this cannot fail.
         let _ = self.reset_into(seed, &mut obs);
-        (obs, Info::new())
+        (obs, self.info())
     }
 
     /// Gymnasium's `step(action)`.
@@ -187,8 +187,13 @@ pub trait Env {
             reward: out.reward,
             terminated: out.terminated,
             truncated: out.truncated,
-            info: Info::new(),
+            info: self.info(),
         })
+    }
+
+    /// The `info` that `reset` and `step` return (empty unless a wrapper has something to say).
+    fn info(&self) -> Info {
+        Info::new()
     }
 
     /// Observation of the current state.

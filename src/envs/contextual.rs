@@ -681,25 +681,10 @@ impl Env for ContextualEnv {
         self.slots[self.current].env.set_state(state)
     }
 
-    /// Gymnasium's `reset`; the info holds `instance_id` (sets), `context_seed` (distributions),
-    /// `episode` and `context.<feature>` for every feature. Errors (only possible for a failed
-    /// distribution draw) leave the observation zeroed; use [`ContextualEnv::reset_with_info`] to
-    /// see them.
-    fn reset(&mut self, seed: Option<u64>) -> (Vec<f32>, Info) {
-        let mut obs = vec![0.0; self.obs_dim()];
-        let _ = self.reset_into(seed, &mut obs);
-        (obs, self.info_map())
-    }
-
-    fn step(&mut self, action: &Action) -> Result<Step, EnvError> {
-        let mut obs = vec![0.0; self.obs_dim()];
-        let out = self.step_into(action, &mut obs)?;
-        Ok(Step {
-            obs,
-            reward: out.reward,
-            terminated: out.terminated,
-            truncated: out.truncated,
-            info: self.info_map(),
-        })
+    /// The info of Gymnasium's `reset`/`step`: `instance_id` (sets), `context_seed` (distributions),
+    /// `episode` and `context.<feature>` for every feature. A failed distribution draw leaves
+    /// `reset`'s observation zeroed; use [`ContextualEnv::reset_with_info`] to see the error.
+    fn info(&self) -> Info {
+        self.info_map()
     }
 }
