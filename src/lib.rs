@@ -5,7 +5,7 @@
 //! diagnostics), `json` (JSON with source positions), `schema` (the generated JSON Schema),
 //! `sampling` (portable generator and samplers), `instances` (derive, freeze, load, verify sets),
 //! `envs` (environment runtimes, contextual wrapper, VecEnv), `audit` (checks each feature's
-//! `affects` claim against the runtime), `plot` (figures of instance sets), `experiments` (the
+//! `affects` claim against the runtime), `plot` (figures of instance sets), `render` (pictures of environment states for humans), `experiments` (the
 //! paper's experiments end to end), `cli` (one module per subcommand).
 
 pub mod audit;
@@ -15,6 +15,7 @@ pub mod experiments;
 pub mod instances;
 pub mod json;
 pub mod plot;
+pub mod render;
 pub mod sampling;
 pub mod schema;
 pub mod spec;

@@ -196,6 +196,12 @@ pub trait Env {
         Info::new()
     }
 
+    /// A picture of the current state for humans (Gymnasium's `render_mode="rgb_array"`), or
+    /// `None` for environments without a renderer. Never changes the simulation.
+    fn render(&self) -> Option<crate::render::Frame> {
+        None
+    }
+
     /// Observation of the current state.
     fn observe(&self) -> Vec<f32> {
         let mut obs = vec![0.0; self.obs_dim()];
@@ -234,6 +240,12 @@ impl<E: Env + ?Sized> Env for Box<E> {
     }
     fn set_state(&mut self, state: &[f64]) -> Result<(), EnvError> {
         (**self).set_state(state)
+    }
+    fn info(&self) -> Info {
+        (**self).info()
+    }
+    fn render(&self) -> Option<crate::render::Frame> {
+        (**self).render()
     }
 }
 
@@ -312,6 +324,12 @@ impl<E: Env> Env for TimeLimit<E> {
     }
     fn set_state(&mut self, state: &[f64]) -> Result<(), EnvError> {
         self.env.set_state(state)
+    }
+    fn info(&self) -> Info {
+        self.env.info()
+    }
+    fn render(&self) -> Option<crate::render::Frame> {
+        self.env.render()
     }
 }
 

@@ -687,4 +687,8 @@ impl Env for ContextualEnv {
     fn info(&self) -> Info {
         self.info_map()
     }
+
+    fn render(&self) -> Option<crate::render::Frame> {
+        self.slots[self.current].env.render()
+    }
 }

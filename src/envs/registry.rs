@@ -127,6 +127,12 @@ impl Env for ClassicEnv {
     fn set_state(&mut self, state: &[f64]) -> Result<(), EnvError> {
         dispatch!(self, e => e.set_state(state))
     }
+    fn info(&self) -> super::api::Info {
+        dispatch!(self, e => e.info())
+    }
+    fn render(&self) -> Option<crate::render::Frame> {
+        dispatch!(self, e => e.render())
+    }
 }
 
 /// A runtime environment as `make` returns it: the spec's episode limit around the dynamics.
