@@ -292,23 +292,50 @@ fn registry_builds_lunar_lander_from_spec_and_instance_sets() {
     assert!(steps < 1000);
 }
 
-/// Gymnasium (tests/fixtures/lunar_lander_heuristic_gymnasium.json, 50 seeds): the heuristic
-/// lands 92 % on Earth, 96 % on Mars, 78 % on the Moon and crashes 100 % on Jupiter. Here the
-/// lander rarely *comes to rest* (see the module docs), so we assert the part that carries over:
-/// touchdown without crashing on Earth, Mars and the Moon, crashing on Jupiter.
+/// The issue's bar: "a controller that lands reliably in Gymnasium at Earth and Mars gravity
+/// should land reliably here, and fail where it fails there". Gymnasium's own numbers come from
+/// `scripts/lunar_lander_heuristic_check.py` (tests/fixtures/lunar_lander_heuristic_gymnasium.json,
+/// 50 seeds per body). Terrains differ (other generator), so we compare rates over 50 seeds:
+/// within 0.15 of Gymnasium's landing and crash rates on every body but Neptune, where our legs
+/// yield more than Box2D's (documented in the module docs: lands ≥ 40 %, Gymnasium 80 %).
 #[test]
-fn heuristic_survives_where_gymnasium_lands_and_crashes_on_jupiter() {
-    let n = 16;
-    let rate = |g: f64, want: Outcome| {
+fn heuristic_lands_where_gymnasium_lands_and_crashes_where_it_crashes() {
+    let fixture: serde_json::Value =
+        serde_json::from_str(include_str!("fixtures/lunar_lander_heuristic_gymnasium.json")).unwrap();
+    let n = 50u64;
+    for (body, gym) in fixture["planets"].as_object().unwrap() {
+        let g = gym["gravity_y"].as_f64().unwrap();
         let mut env = lander(g);
-        (0..n).filter(|s| heuristic_episode(&mut env, *s).1 == want).count() as f64 / n as f64
-    };
-    let crash = |g| rate(g, Outcome::Crashed);
-    let jupiter = crash(-23.143693999999996);
-    assert!(jupiter >= 0.9, "Jupiter crash rate {jupiter}");
-    for (name, g) in [("Earth", -9.80665), ("Mars", -3.6971070499999996), ("Moon", -1.6279039)] {
-        let c = crash(g);
-        assert!(c <= 0.2, "{name}: crash rate {c}");
-        assert!(c < jupiter);
+        let outcomes: Vec<Outcome> = (0..n).map(|s| heuristic_episode(&mut env, s).1).collect();
+        let rate = |o: Outcome| outcomes.iter().filter(|x| **x == o).count() as f64 / n as f64;
+        let (landed, crashed) = (rate(Outcome::Landed), rate(Outcome::Crashed));
+        let (gym_landed, gym_crashed) = (
+            gym["landed_rate"].as_f64().unwrap(),
+            gym["crashed_rate"].as_f64().unwrap(),
+        );
+        eprintln!("{body}: landed {landed} (Gymnasium {gym_landed}), crashed {crashed} (Gymnasium {gym_crashed})");
+        if body == "Neptune" {
+            assert!(landed >= 0.4, "{body}: landed {landed}");
+            continue;
+        }
+        assert!(
+            (landed - gym_landed).abs() <= 0.15,
+            "{body}: landed {landed} vs Gymnasium {gym_landed}"
+        );
+        assert!(
+            (crashed - gym_crashed).abs() <= 0.15,
+            "{body}: crashed {crashed} vs Gymnasium {gym_crashed}"
+        );
     }
+    // Reliable where Gymnasium is reliable, failing where it fails.
+    for (g, min) in [(-9.80665, 0.85), (-3.6971070499999996, 0.85)] {
+        let mut env = lander(g);
+        let landed = (0..n)
+            .filter(|s| heuristic_episode(&mut env, *s).1 == Outcome::Landed)
+            .count() as f64
+            / n as f64;
+        assert!(landed >= min, "g = {g}: landed {landed}");
+    }
+    let mut env = lander(-23.143693999999996);
+    assert!((0..n).all(|s| heuristic_episode(&mut env, s).1 == Outcome::Crashed));
 }
