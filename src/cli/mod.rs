@@ -3,8 +3,10 @@
 
 mod audit_cmd;
 mod bench_cmd;
+mod context_args;
 mod instances_cmd;
 mod plot_cmd;
+mod render_cmd;
 mod rollout_cmd;
 mod run_cmd;
 mod specs_cmd;
@@ -99,6 +101,8 @@ pub enum Command {
     Run(run_cmd::RunCommand),
     /// Draw an instance set: a histogram per varied feature, its bounds, marked named instances.
     Plot(plot_cmd::PlotArgs),
+    /// Draw an instance: one PNG, an animated GIF of an episode, or a directory of PNG frames.
+    Render(render_cmd::RenderArgs),
     /// Counts over all environments: features, share affecting dynamics/reward, share continuous.
     Stats {
         #[arg(long, value_enum, default_value_t = Format::Text)]
@@ -186,6 +190,7 @@ pub fn main() -> ExitCode {
         Command::Instances(cmd) => instances_cmd::instances(&cli, cmd),
         Command::Freeze { names, out, force } => instances_cmd::freeze(&cli, names, out.as_ref(), *force),
         Command::Plot(args) => plot_cmd::plot(&cli, args),
+        Command::Render(args) => render_cmd::run(&cli, args),
         Command::Sample {
             env,
             distribution,

@@ -12,26 +12,17 @@ use std::path::PathBuf;
 use clap::Args;
 use serde_json::json;
 
-use super::{Cli, CmdResult, Failure, exit, load_specs};
+use super::{Cli, CmdResult, Failure, exit};
 use crate::envs::api::{Action, Env, Space};
-use crate::envs::registry::{Context, MakeOptions, has_runtime, make_with, resolve_context};
-use crate::instances::Store;
+use crate::envs::registry::{MakeOptions, make_with, resolve_context};
 use crate::sampling::{Pcg64, dist};
-use crate::spec::model::Value;
 
 #[derive(Args, Debug)]
 pub struct RolloutArgs {
     /// Environment id or alias (runtimes: cartpole, pendulum, mountain_car, mountain_car_continuous, acrobot).
     pub env: String,
-    /// Set a context feature, e.g. `--context gravity=3.7` (repeatable; canonical names or aliases).
-    #[arg(long = "context", value_name = "NAME=VALUE")]
-    pub context: Vec<String>,
-    /// Take the context from a frozen instance set (ENV/SET); `--context` values override it.
-    #[arg(long, value_name = "ENV/SET")]
-    pub instance_set: Option<String>,
-    /// Index of the instance within `--instance-set` (default 0).
-    #[arg(long, value_name = "I")]
-    pub instance: Option<usize>,
+    #[command(flatten)]
+    pub ctx: super::context_args::ContextArgs,
     /// Seed of the reset (initial state) and of the random policy.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -48,9 +39,6 @@ pub struct RolloutArgs {
     /// Stop after at most N steps (the episode may end earlier).
     #[arg(long, value_name = "N")]
     pub steps: Option<u64>,
-    /// Accept context values outside the spec's bounds.
-    #[arg(long)]
-    pub allow_out_of_bounds: bool,
 }
 
 #[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -87,64 +75,14 @@ enum ActionSource {
     Random(Pcg64),
 }
 
-fn parse_context(args: &RolloutArgs, cli: &Cli) -> Result<(crate::spec::SpecSet, Context, bool), Failure> {
-    let specs = load_specs(cli)?;
-    let spec = specs.require(&args.env).map_err(Failure::usage)?.clone();
-    let mut ctx = Context::new();
-    let mut allow = args.allow_out_of_bounds;
-    match (&args.instance_set, args.instance) {
-        (Some(name), i) => {
-            let store = Store::new(&specs);
-            let set = store.load(name).map_err(|e| Failure::usage(e.to_string()))?;
-            if set.env != spec.id {
-                return Err(Failure::usage(format!(
-                    "instance set {name} belongs to {}, not {}",
-                    set.env, spec.id
-                )));
-            }
-            let i = i.unwrap_or(0);
-            let inst = set.instances.get(i).ok_or_else(|| {
-                Failure::usage(format!(
-                    "{name} has {} instances (0..{}); no instance {i}",
-                    set.instances.len(),
-                    set.instances.len()
-                ))
-            })?;
-            ctx.extend(inst.context.clone());
-            // A set that deliberately goes out of bounds (e.g. Jupiter) is runnable as declared.
-            allow |= set.provenance.definition.allow_out_of_bounds;
-        }
-        (None, Some(_)) => return Err(Failure::usage("--instance needs --instance-set ENV/SET")),
-        (None, None) => {}
-    }
-    for kv in &args.context {
-        let (k, v) = kv
-            .split_once('=')
-            .ok_or_else(|| Failure::usage(format!("--context expects NAME=VALUE, got \"{kv}\"")))?;
-        let x: f64 = v
-            .trim()
-            .parse()
-            .map_err(|_| Failure::usage(format!("--context {k}: \"{v}\" is not a number")))?;
-        ctx.insert(k.trim().to_string(), Value::Number(x));
-    }
-    Ok((specs, ctx, allow))
-}
-
 pub fn run(cli: &Cli, args: &RolloutArgs) -> CmdResult {
-    let (specs, ctx, allow) = parse_context(args, cli)?;
-    let spec = specs.require(&args.env).map_err(Failure::usage)?;
-    if !has_runtime(&spec.id) {
-        return Err(Failure::usage(format!(
-            "{} has a spec but no runtime yet; rollout works for: {}",
-            spec.id,
-            crate::envs::registry::RUNTIMES.join(", ")
-        )));
-    }
+    let resolved = args.ctx.resolve(cli, &args.env, "rollout")?;
+    let (spec, ctx, allow) = (&resolved.spec, &resolved.context, resolved.allow_out_of_bounds);
     let opts = MakeOptions {
         allow_out_of_bounds: allow,
     };
-    let mut env = make_with(spec, &ctx, opts).map_err(|e| Failure::usage(e.to_string()))?;
-    let full: serde_json::Map<String, serde_json::Value> = resolve_context(spec, &ctx, opts)
+    let mut env = make_with(spec, ctx, opts).map_err(|e| Failure::usage(e.to_string()))?;
+    let full: serde_json::Map<String, serde_json::Value> = resolve_context(spec, ctx, opts)
         .map_err(|e| Failure::usage(e.to_string()))?
         .into_iter()
         .map(|(k, v)| (k, json!(v)))
@@ -253,7 +191,7 @@ pub(super) fn emit(w: &mut impl Write, v: &impl serde::Serialize, flush: bool) -
     serde_json::to_writer(&mut *w, v).is_ok() && w.write_all(b"\n").is_ok() && (!flush || w.flush().is_ok())
 }
 
-fn random_action(rng: &mut Pcg64, space: &Space) -> serde_json::Value {
+pub(super) fn random_action(rng: &mut Pcg64, space: &Space) -> serde_json::Value {
     match space {
         Space::Discrete { n, start } => json!(start + dist::below(rng, (*n).max(1) as u64) as i64),
         Space::Box { low, high, .. } => {

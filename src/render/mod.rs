@@ -4,6 +4,7 @@
 //! always gives the same bytes. [`encode`] writes frames as PNG files or an animated GIF.
 
 pub mod encode;
+pub mod lunar_lander;
 
 /// An RGB image, 3 bytes per pixel, rows top to bottom.
 #[derive(Debug, Clone, PartialEq, Eq)]

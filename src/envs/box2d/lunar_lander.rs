@@ -433,6 +433,8 @@ pub struct LunarLander {
     /// Force applied at reset, acting during the first step only (Box2D clears forces).
     pending_force: bool,
     outcome: Outcome,
+    /// Engine powers of the last step `(main, side direction, side)`, for rendering flames.
+    last_engines: (f64, f64, f64),
     rng: Pcg64,
 }
 
@@ -450,6 +452,7 @@ impl Clone for LunarLander {
         if self.world.is_some() {
             c.load_state(&self.state_array());
             c.outcome = self.outcome;
+            c.last_engines = self.last_engines;
             c.pending_force = false;
         }
         c
@@ -480,6 +483,7 @@ impl LunarLander {
             prev_shaping: None,
             pending_force: false,
             outcome: Outcome::Running,
+            last_engines: (0.0, 0.0, 0.0),
             rng: rng_for(crate::envs::rng::DEFAULT_SEED),
         }
     }
@@ -511,6 +515,24 @@ impl LunarLander {
         let w = self.world.as_ref()?;
         let t = w.pw.bodies[w.lander].translation();
         Some((t.x as f64, t.y as f64, self.angles[0] as f64))
+    }
+    /// Poses `(x, y, angle)` of the lander, leg 0 and leg 1 (body origins, metres), or `None`
+    /// before reset.
+    pub fn body_poses(&self) -> Option<[(f64, f64, f64); 3]> {
+        let w = self.world.as_ref()?;
+        let pose = |k: usize, h: RigidBodyHandle| {
+            let t = w.pw.bodies[h].translation();
+            (t.x as f64, t.y as f64, self.angles[k] as f64)
+        };
+        Some([pose(0, w.lander), pose(1, w.legs[0]), pose(2, w.legs[1])])
+    }
+    /// Leg ground contacts as in the observation.
+    pub fn leg_contacts(&self) -> [bool; 2] {
+        self.leg_contact
+    }
+    /// Engine powers of the last step: `(main, side direction -1/0/+1, side)`.
+    pub fn last_engines(&self) -> (f64, f64, f64) {
+        self.last_engines
     }
     /// Lander COM velocity `(vx, vy)` and angular velocity, or `None` before reset.
     pub fn lander_velocity(&self) -> Option<(f64, f64, f64)> {
@@ -593,6 +615,7 @@ impl LunarLander {
         self.prev_shaping = (s[o + 4] != 0.0).then_some(s[o + 5]);
         self.pending_force = false;
         self.outcome = Outcome::Running;
+        self.last_engines = (0.0, 0.0, 0.0);
     }
 
     /// The observation of the current state in float64 (Gymnasium's `state` list).
@@ -662,6 +685,7 @@ impl LunarLander {
     /// One Gymnasium step with validated engine powers. Requires a world.
     fn advance(&mut self, m_power: f64, direction: f64, s_power: f64) -> StepOutcome {
         let p = self.params;
+        self.last_engines = (m_power, direction, s_power);
         let scale = p.scale;
         let angle = self.angles[0] as f64;
         let tip = (angle.sin(), angle.cos());
@@ -871,6 +895,10 @@ impl Env for LunarLander {
     /// game over; rest time; has-previous-shaping; previous shaping.
     fn state(&self) -> Vec<f64> {
         self.state_array().to_vec()
+    }
+
+    fn render(&self) -> Option<crate::render::Frame> {
+        crate::render::lunar_lander::draw(self)
     }
 
     fn set_state(&mut self, state: &[f64]) -> Result<(), EnvError> {

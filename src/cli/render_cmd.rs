@@ -1,0 +1,198 @@
+//! `carl-spec render ENV …`: pictures of a configured instance. `--out frame.png` writes one
+//! frame (after `--steps` steps, default the reset state), `--out run.gif` an animation of the
+//! episode, `--out DIR/` a numbered PNG per frame. Files are written atomically and never
+//! replace existing ones without `--force`.
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+
+use super::context_args::ContextArgs;
+use super::rollout_cmd::{parse_action, random_action};
+use super::{Cli, CmdResult, Failure, exit};
+use crate::envs::api::{Action, Env};
+use crate::envs::registry::{MakeOptions, make_with};
+use crate::plot::write_output;
+use crate::render::Frame;
+use crate::render::encode::{gif_bytes, png_bytes};
+use crate::sampling::Pcg64;
+
+/// Frames an animation may have (a 600×400 GIF frame is ~100 kB).
+const MAX_FRAMES: usize = 2000;
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// Environment id or alias (renderers: lunar_lander and the other 2-D and 3-D physics envs).
+    pub env: String,
+    #[command(flatten)]
+    pub ctx: ContextArgs,
+    /// Seed of the reset (terrain, initial push) and of the random policy.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Steps to take: a PNG shows the state after them (default 0: the reset state); an
+    /// animation shows them all (default: until the episode ends).
+    #[arg(long, value_name = "N")]
+    pub steps: Option<u64>,
+    /// Who acts during the steps.
+    #[arg(long, value_enum, default_value_t = RenderPolicy::Random)]
+    pub policy: RenderPolicy,
+    /// Keep every K-th frame of an animation.
+    #[arg(long, value_name = "K", default_value_t = 2)]
+    pub every: u64,
+    /// GIF frame delay in hundredths of a second (default 4: with --every 2, real time at 50 FPS).
+    #[arg(long, value_name = "CS", default_value_t = 4)]
+    pub delay: u16,
+    /// Output: `*.png` (one frame), `*.gif` (animation) or a directory (`DIR/`: frame_00000.png, …).
+    #[arg(long, value_name = "PATH")]
+    pub out: PathBuf,
+    /// Replace existing output files.
+    #[arg(long)]
+    pub force: bool,
+}
+
+#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum RenderPolicy {
+    /// Uniform over the action space, seeded with `--seed`.
+    Random,
+    /// Action 0 (discrete) or all zeros (continuous).
+    Noop,
+    /// The environment's built-in controller (lunar_lander: Gymnasium's heuristic).
+    Heuristic,
+}
+
+enum Output {
+    Png(PathBuf),
+    Gif(PathBuf),
+    Frames(PathBuf),
+}
+
+fn output_kind(out: &Path) -> Result<Output, Failure> {
+    let text = out.to_string_lossy();
+    if out.is_dir() || text.ends_with('/') || text.ends_with(std::path::MAIN_SEPARATOR) {
+        return Ok(Output::Frames(out.to_path_buf()));
+    }
+    match out
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
+        Some("png") => Ok(Output::Png(out.to_path_buf())),
+        Some("gif") => Ok(Output::Gif(out.to_path_buf())),
+        _ => Err(Failure::usage(format!(
+            "--out {}: use a .png file (one frame), a .gif file (animation) or a directory ending in / (PNG frames)",
+            out.display()
+        ))),
+    }
+}
+
+pub fn run(cli: &Cli, args: &RenderArgs) -> CmdResult {
+    let output = output_kind(&args.out)?;
+    if args.every == 0 {
+        return Err(Failure::usage("--every must be at least 1"));
+    }
+    let resolved = args.ctx.resolve(cli, &args.env, "render")?;
+    let opts = MakeOptions {
+        allow_out_of_bounds: resolved.allow_out_of_bounds,
+    };
+    let mut env = make_with(&resolved.spec, &resolved.context, opts).map_err(|e| Failure::usage(e.to_string()))?;
+    let id = env.id();
+    if args.policy == RenderPolicy::Heuristic && id != "lunar_lander" {
+        return Err(Failure::usage(format!(
+            "{id} has no built-in controller; use --policy random or noop"
+        )));
+    }
+    let space = env.action_space();
+    let mut rng = Pcg64::new(args.seed, crate::sampling::stream_id("render-policy"));
+    let mut obs = vec![0.0f32; env.obs_dim()];
+    env.reset_into(Some(args.seed), &mut obs)
+        .map_err(|e| Failure::failed(e.to_string()))?;
+    let Some(first) = env.render() else {
+        return Err(Failure::usage(format!(
+            "{id} has no renderer yet; render works for the physics environments (e.g. lunar_lander)"
+        )));
+    };
+    let animated = !matches!(output, Output::Png(_));
+    let steps = args.steps.unwrap_or(if animated { u64::MAX } else { 0 });
+    let mut frames = vec![first];
+    let mut t = 0u64;
+    let mut last = None;
+    while t < steps {
+        let action = match args.policy {
+            RenderPolicy::Random => parse_action(&random_action(&mut rng, &space), &space).map_err(Failure::failed)?,
+            RenderPolicy::Noop => match &space {
+                crate::envs::Space::Discrete { start, .. } => Action::Discrete(*start),
+                crate::envs::Space::Box { low, .. } => Action::Continuous(vec![0.0; low.len()]),
+            },
+            RenderPolicy::Heuristic => Action::Discrete(crate::envs::box2d::heuristic(&obs)),
+        };
+        let out = env
+            .step_into(&action, &mut obs)
+            .map_err(|e| Failure::failed(format!("step {}: {e}", t + 1)))?;
+        t += 1;
+        let end = out.terminated || out.truncated;
+        if animated {
+            if t % args.every == 0 || end {
+                frames.push(env.render().ok_or_else(|| Failure::failed("renderer stopped"))?);
+            }
+            if frames.len() > MAX_FRAMES {
+                return Err(Failure::usage(format!(
+                    "more than {MAX_FRAMES} frames; pass --steps or a larger --every"
+                )));
+            }
+        }
+        if end {
+            last = Some(if out.terminated { "terminated" } else { "truncated" });
+            break;
+        }
+    }
+    if !animated {
+        frames = vec![env.render().ok_or_else(|| Failure::failed("renderer stopped"))?];
+    }
+    let title = format!("{id}, seed {}, step {t}", args.seed);
+    let io = |e: crate::plot::WriteError| Failure::usage(e.to_string());
+    let (w, h) = (frames[0].width, frames[0].height);
+    match &output {
+        Output::Png(p) => {
+            write_output(p, &png_bytes(&frames[0], &title).map_err(Failure::failed)?, args.force).map_err(io)?;
+        }
+        Output::Gif(p) => {
+            write_output(p, &gif_bytes(&frames, args.delay).map_err(Failure::failed)?, args.force).map_err(io)?;
+        }
+        Output::Frames(dir) => write_frames(dir, &frames, &title, args.force)?,
+    }
+    let ended = last.map(|s| format!(", episode {s}")).unwrap_or_default();
+    println!(
+        "wrote {} ({} frame{}, {w}x{h}, {id}, seed {}, {t} step{}{ended})",
+        args.out.display(),
+        frames.len(),
+        if frames.len() == 1 { "" } else { "s" },
+        args.seed,
+        if t == 1 { "" } else { "s" },
+    );
+    Ok(exit::OK)
+}
+
+/// `DIR/frame_00000.png`, …; the directory is created if its parent exists. Nothing is written
+/// if any frame file exists already (without `--force`).
+fn write_frames(dir: &Path, frames: &[Frame], title: &str, force: bool) -> Result<(), Failure> {
+    if !dir.is_dir() {
+        std::fs::create_dir(dir).map_err(|e| Failure::usage(format!("cannot create {}: {e}", dir.display())))?;
+    }
+    let paths: Vec<PathBuf> = (0..frames.len())
+        .map(|i| dir.join(format!("frame_{i:05}.png")))
+        .collect();
+    if !force {
+        if let Some(p) = paths.iter().find(|p| p.symlink_metadata().is_ok()) {
+            return Err(Failure::usage(format!(
+                "{} exists; pass --force to replace it",
+                p.display()
+            )));
+        }
+    }
+    for (f, p) in frames.iter().zip(&paths) {
+        let bytes = png_bytes(f, title).map_err(Failure::failed)?;
+        write_output(p, &bytes, force).map_err(|e| Failure::usage(e.to_string()))?;
+    }
+    Ok(())
+}
