@@ -13,8 +13,9 @@
 //!
 //! Where this is not Box2D (documented deviations):
 //! * **Solver.** rapier's TGS-soft solver with [`LunarLanderOptions::solver_iterations`] (8)
-//!   substeps replaces Box2D's sequential impulses with 6·30 velocity and 2·30 position
-//!   iterations; 4 substeps leave the 68:1 lander/leg mass ratio too soft (legs fold).
+//!   substeps near the ground (4 in free flight, where only the leg joints are solved)
+//!   replaces Box2D's sequential impulses with 6·30 velocity and 2·30 position iterations;
+//!   4 substeps on the ground leave the 68:1 lander/leg mass ratio too soft (legs fold).
 //! * **Leg springs.** Box2D's leg motor (speed ±0.3 rad/s towards the inner limit, max torque
 //!   `LEG_SPRING_TORQUE`) ends up pressed into that limit, where Box2D's 180 warm-started
 //!   iterations saturate it: a leg pushed away by the ground is resisted with the full torque.
@@ -173,8 +174,10 @@ pub struct LunarLanderOptions {
     /// Reward on crash / out of view is `-crash_penalty` (Gymnasium: 100; CARL's evaluation
     /// in the paper: 10000).
     pub crash_penalty: f64,
-    /// rapier solver substeps per step.
+    /// rapier solver substeps per step while the lander is near the ground (legs can touch).
     pub solver_iterations: usize,
+    /// Substeps per step in free flight, where only the two leg joints are solved.
+    pub flight_solver_iterations: usize,
     /// rapier PGS iterations inside each substep.
     pub pgs_iterations: usize,
     /// Warm-start joint impulses across substeps and steps (Box2D warm-starts joints).
@@ -187,6 +190,7 @@ impl Default for LunarLanderOptions {
             continuous: false,
             crash_penalty: 100.0,
             solver_iterations: 8,
+            flight_solver_iterations: 4,
             pgs_iterations: 1,
             warmstart_joints: true,
         }
@@ -268,6 +272,9 @@ impl World {
         bodies: &[BodyState; 3],
     ) -> World {
         let mut pw = PhysicsWorld::new();
+        // A dozen colliders: the broad phase's per-step incremental tree re-optimisation (10 % of
+        // a step) buys nothing here.
+        pw.broad_phase = BroadPhaseBvh::with_optimization_strategy(BvhOptimizationStrategy::None);
         pw.gravity = Vector::new(p.gravity_x as f32, p.gravity_y as f32);
         let ip = &mut pw.integration_parameters;
         ip.dt = if p.fps > 0.0 && p.fps.is_finite() {
@@ -390,6 +397,20 @@ impl World {
                 .any(|m| m.points.iter().any(|pt| pt.dist < TOUCH_DISTANCE))
         })
     }
+}
+
+/// Highest terrain point within ±1 chunk of `x` (a conservative ground height for the
+/// near-ground test; outside the terrain the nearest end counts).
+fn terrain_height(smooth_y: &[f64; CHUNKS], world_w: f64, x: f64) -> f64 {
+    let chunk = world_w / (CHUNKS - 1) as f64;
+    let i = if chunk > 0.0 && x.is_finite() {
+        (x / chunk).floor().clamp(0.0, (CHUNKS - 1) as f64) as usize
+    } else {
+        0
+    };
+    let lo = i.saturating_sub(1);
+    let hi = (i + 2).min(CHUNKS - 1);
+    smooth_y[lo..=hi].iter().copied().fold(f64::MIN, f64::max)
 }
 
 /// Initial body states: lander at `(W/2, H)`, legs assembled at their joint limits.
@@ -725,6 +746,20 @@ impl LunarLander {
 
         let before = [world.lander, world.legs[0], world.legs[1]].map(|h| world.pw.bodies[h].translation());
         let angles_before = self.angles;
+        // Contacts need the full substeps (the 68:1 lander/leg mass ratio); free flight does
+        // not. "Near" leaves a margin of two steps of travel plus the leg reach.
+        let near = {
+            let b = &world.pw.bodies[world.lander];
+            let (t, v) = (b.translation(), b.linvel());
+            let reach = (p.leg_down + p.leg_h + p.leg_w) / scale + 0.5;
+            let travel = 2.0 * f64::from(v.length()) * f64::from(world.pw.integration_parameters.dt);
+            f64::from(t.y) - terrain_height(&self.smooth_y, p.world_w(), f64::from(t.x)) < reach + travel
+        };
+        world.pw.integration_parameters.num_solver_iterations = if near {
+            self.opts.solver_iterations.max(1)
+        } else {
+            self.opts.flight_solver_iterations.max(1)
+        };
         world.pw.step();
         let dt = world.pw.integration_parameters.dt;
         if self.pending_force {
