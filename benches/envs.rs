@@ -83,6 +83,11 @@ mod single {
     fn acrobot(b: Bencher) {
         run(b, "acrobot");
     }
+    /// rapier2d world per instance; random actions, so episodes (and world rebuilds) are short.
+    #[divan::bench]
+    fn lunar_lander(b: Bencher) {
+        run(b, "lunar_lander");
+    }
 }
 
 mod vec {
@@ -132,5 +137,10 @@ mod vec {
     #[divan::bench(args = NUM_ENVS)]
     fn pendulum_2t(b: Bencher, n: usize) {
         run(b, "pendulum", n, 2);
+    }
+    /// envpool's reference point: 64 landers on 2 threads.
+    #[divan::bench(args = [64])]
+    fn lunar_lander_2t(b: Bencher, n: usize) {
+        run(b, "lunar_lander", n, 2);
     }
 }

@@ -36,8 +36,8 @@
 //!   measured as displacement per step, not from rapier's velocities, which keep the soft
 //!   constraints' correction terms of a body at rest.
 //! * **Landing rates.** With these, Gymnasium's heuristic controller (50 seeds per body, see
-//!   `tests/landing_in_space.rs`) lands 90 % on Earth (Gymnasium: 92 %), 94 % on Mars (96 %),
-//!   84 % on the Moon (78 %), 36 % on Pluto (34 %) and crashes 100 % on Jupiter (100 %); on
+//!   `tests/landing_in_space.rs`) lands 86 % on Earth (Gymnasium: 92 %), 94 % on Mars (96 %),
+//!   88 % on the Moon (78 %), 36 % on Pluto (34 %) and crashes 100 % on Jupiter (100 %); on
 //!   Neptune the legs yield more than Box2D's and it crashes 40 % (Gymnasium: 12 %).
 //! * **Touching.** Box2D polygons carry a 0.01 m skin, so shapes "touch" (contact begins, leg
 //!   flag set, crash) when closer than 0.02 m. We use rapier's contact manifolds with the same
