@@ -2,7 +2,7 @@
 //! instances and seeds, falling, lidar against flat ground and stumps, the scripted gait,
 //! context sensitivity, bad input and rendering.
 
-use carl_spec::envs::box2d::bipedal_walker::{Obstacle, STATE_DIM, START_JOINTS};
+use carl_spec::envs::box2d::bipedal_walker::{Obstacle, START_JOINTS, STATE_DIM};
 use carl_spec::envs::box2d::{BipedalWalker, BipedalWalkerOptions, BipedalWalkerParams, WalkerHeuristic};
 use carl_spec::envs::registry::{Context, make};
 use carl_spec::envs::{Action, Env, EnvError};
@@ -76,7 +76,11 @@ fn observation_layout_and_normalisation_at_reset() {
     assert!((h - 2.35).abs() < 0.05, "hull {h} m above the pad (Gymnasium: 2.35)");
     for i in 0..10 {
         let want = flat_fraction(i, h, p.lidar_range);
-        assert!((obs[14 + i] as f64 - want).abs() < 1e-5, "ray {i}: {} vs {want}", obs[14 + i]);
+        assert!(
+            (obs[14 + i] as f64 - want).abs() < 1e-5,
+            "ray {i}: {} vs {want}",
+            obs[14 + i]
+        );
     }
     assert!(env.observation_space().contains_obs(&obs));
 }
@@ -226,7 +230,11 @@ fn extreme_contexts_stay_finite() {
             let mut h = WalkerHeuristic::default();
             let mut obs = obs;
             for k in 0..200 {
-                let a = if k % 2 == 0 { h.act(&obs) } else { [1.0, -1.0, -1.0, 1.0] };
+                let a = if k % 2 == 0 {
+                    h.act(&obs)
+                } else {
+                    [1.0, -1.0, -1.0, 1.0]
+                };
                 let st = env.step(&act(a)).unwrap();
                 assert!(
                     st.obs.iter().all(|x| x.is_finite()) && st.reward.is_finite(),
@@ -248,8 +256,8 @@ fn leaving_the_course_to_the_left_terminates_with_minus_100() {
     let mut env = walker(BipedalWalkerParams::default());
     env.reset(Some(0));
     let mut s = env.state();
-    s[8] = 0.02; // hull x
-    s[11] = -5.0; // moving left at 5 m/s
+    s[0] = 0.02; // hull x
+    s[3] = -5.0; // moving left at 5 m/s
     env.set_state(&s).unwrap();
     let st = env.step(&act([0.0; 4])).unwrap();
     assert!(st.terminated);
@@ -265,10 +273,10 @@ fn crossing_the_finish_line_terminates_without_penalty() {
     let mut s = env.state();
     let terrain = env.terrain().unwrap().clone();
     let x = p.finish_x() + 0.05;
-    let dy = terrain.height_at(x) - terrain.height_at(s[8]);
-    s[8] = x;
-    s[9] += dy + 0.3;
-    s[25] = 0.0; // no previous shaping: the first reward is 0 minus the (zero) torque cost
+    let dy = terrain.height_at(x) - terrain.height_at(s[0]);
+    s[0] = x;
+    s[1] += dy + 0.3;
+    s[17] = 0.0; // no previous shaping: the first reward is 0 minus the (zero) torque cost
     env.set_state(&s).unwrap();
     let st = env.step(&act([0.0; 4])).unwrap();
     assert!(st.terminated);
@@ -280,7 +288,7 @@ fn crossing_the_finish_line_terminates_without_penalty() {
     });
     short.reset(Some(0));
     let mut s = short.state();
-    s[8] = (100.0 - 10.0) * p.terrain_step + 0.05;
+    s[0] = (100.0 - 10.0) * p.terrain_step + 0.05;
     short.set_state(&s).unwrap();
     assert!(short.step(&act([0.0; 4])).unwrap().terminated);
 }
@@ -304,9 +312,9 @@ fn lidar_sees_a_stump_closer_than_the_ground() {
         let (x0, y0) = q[0];
         // Hull 1.5 m before the stump's left face, 2 m above its base.
         let mut s = env.state();
-        let dy = y0 + 2.0 - s[9];
-        s[8] = x0 - 1.5;
-        s[9] += dy;
+        let dy = y0 + 2.0 - s[1];
+        s[0] = x0 - 1.5;
+        s[1] += dy;
         env.set_state(&s).unwrap();
         let obs = env.observe();
         let pos = env.body_states().unwrap()[0];
@@ -412,14 +420,27 @@ fn state_round_trip_and_bad_input() {
 
     assert!(matches!(
         env.step(&Action::Continuous(vec![0.0; 3])),
-        Err(EnvError::ActionLength { expected: 4, got: 3, .. })
+        Err(EnvError::ActionLength {
+            expected: 4,
+            got: 3,
+            ..
+        })
     ));
-    assert!(matches!(env.step(&Action::Discrete(1)), Err(EnvError::ActionKind { .. })));
+    assert!(matches!(
+        env.step(&Action::Discrete(1)),
+        Err(EnvError::ActionKind { .. })
+    ));
     assert!(matches!(env.set_state(&s[..5]), Err(EnvError::StateLength { .. })));
     let mut bad = s.clone();
-    bad[9] = f64::NAN;
-    assert!(matches!(env.set_state(&bad), Err(EnvError::StateNotFinite { index: 9, .. })));
-    assert!(matches!(env.observe_into(&mut [0.0; 3]), Err(EnvError::ObsBufferLength { .. })));
+    bad[1] = f64::NAN;
+    assert!(matches!(
+        env.set_state(&bad),
+        Err(EnvError::StateNotFinite { index: 1, .. })
+    ));
+    assert!(matches!(
+        env.observe_into(&mut [0.0; 3]),
+        Err(EnvError::ObsBufferLength { .. })
+    ));
     // Out-of-range actions are clipped as in Gymnasium (torque ≤ MOTORS_TORQUE), NaN is "off".
     let st = env.step(&act([7.0, -7.0, f32::NAN, 0.0])).unwrap();
     assert!(st.obs.iter().all(|x| x.is_finite()));

@@ -56,15 +56,17 @@
 //!   changes the push. Here the terrain has its own seeded stream (its seed drawn from the
 //!   environment's stream at reset) and the push comes from the environment's stream.
 //!
-//! **State** ([`Env::state`], [`STATE_DIM`] = 27 values): the terrain's generator record
-//! (seed, `TERRAIN_STEP`, `TERRAIN_LENGTH`, `TERRAIN_HEIGHT`, `TERRAIN_GRASS`,
-//! `TERRAIN_STARTPAD`, roughness `SCALE`, hardcore flag), the hull's origin, angle, centre-of-mass
-//! velocity and angular velocity, the 4 joint angles and 4 joint speeds (hip 0, knee 0, hip 1,
-//! knee 1: reduced coordinates — the leg poses follow from the hull and the joints), the two
-//! lower-leg contact flags, game over, and the previous shaping (flag, value). The course is
-//! regenerated from its record, so it does not depend on the context `set_state` is called under;
-//! physical properties (friction, shapes, masses, gravity, motors) come from the context.
-//! `set_state` rebuilds the world assembled from the joint angles: the small joint stretch of
+//! **State** ([`Env::state`], [`STATE_DIM`] = 27 values): the hull's origin `x, y`, angle,
+//! centre-of-mass velocity and angular velocity (0–5); the 4 joint angles (6–9) and joint speeds
+//! (10–13), hip 0, knee 0, hip 1, knee 1 — reduced coordinates: the leg poses follow from the hull
+//! and the joints; the two lower-leg contact flags (14, 15), game over (16), the previous shaping
+//! as flag and value (17, 18); and the terrain's generator record (19–26: seed,
+//! `TERRAIN_STEP`, `TERRAIN_LENGTH`, `TERRAIN_HEIGHT`, `TERRAIN_GRASS`, `TERRAIN_STARTPAD`,
+//! roughness `SCALE`, hardcore flag). The course is regenerated from its record, so it does not
+//! depend on the context `set_state` is called under (the terrain features act at reset, when the
+//! course is generated, and on the finish line); physical properties (friction, shapes, masses,
+//! gravity, motors) come from the context. `set_state` rebuilds the world assembled from the
+//! joint angles: the small joint stretch of
 //! rapier's soft joints and the solver's warm-start caches are not part of the state.
 
 pub mod heuristic;
@@ -73,7 +75,9 @@ pub mod terrain;
 
 use rapier2d::prelude::*;
 
-use crate::envs::api::{Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features};
+use crate::envs::api::{
+    Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features,
+};
 use crate::sampling::{Pcg64, dist};
 pub use heuristic::WalkerHeuristic;
 pub use terrain::{Obstacle, Terrain, TerrainSpec};
@@ -276,7 +280,8 @@ impl Pose {
         let h = self.hull;
         let com = rot(h.angle, hull_centroid(size(p.scale)));
         let com = (h.x + com.0, h.y + com.1);
-        let point_vel = |b: &BodyState, c: (f64, f64), pt: (f64, f64)| (b.vx - b.w * (pt.1 - c.1), b.vy + b.w * (pt.0 - c.0));
+        let point_vel =
+            |b: &BodyState, c: (f64, f64), pt: (f64, f64)| (b.vx - b.w * (pt.1 - c.1), b.vy + b.w * (pt.0 - c.0));
         let half = size(p.leg_h) / 2.0;
         let mut out = [h; 5];
         for leg in 0..2 {
@@ -329,6 +334,37 @@ fn groups(category: u32, mask: u32) -> InteractionGroups {
     )
 }
 
+/// The terrain's collision shapes, built once per course and shared (reference-counted) by every
+/// world built on it: `set_state` then does not rebuild the surface's bounding-volume tree.
+#[derive(Clone)]
+struct GroundShapes {
+    surface: SharedShape,
+    quads: Vec<SharedShape>,
+}
+
+impl std::fmt::Debug for GroundShapes {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("GroundShapes")
+            .field("quads", &self.quads.len())
+            .finish_non_exhaustive()
+    }
+}
+
+impl GroundShapes {
+    fn new(terrain: &Terrain) -> GroundShapes {
+        let pts: Vec<Vector> = terrain.x.iter().zip(&terrain.y).map(|(x, y)| v2(*x, *y)).collect();
+        let quads = terrain
+            .quads
+            .iter()
+            .filter_map(|q| SharedShape::convex_hull(&q.map(|(x, y)| v2(x, y))))
+            .collect();
+        GroundShapes {
+            surface: SharedShape::polyline(pts, None),
+            quads,
+        }
+    }
+}
+
 struct World {
     pw: PhysicsWorld,
     /// Hull, upper 0, lower 0, upper 1, lower 1 (Gymnasium's `hull` and `legs` order).
@@ -350,7 +386,12 @@ fn v2(x: f64, y: f64) -> Vector {
 }
 
 impl World {
-    fn build(p: &BipedalWalkerParams, opts: &BipedalWalkerOptions, terrain: &Terrain, bodies: &[BodyState; 5]) -> World {
+    fn build(
+        p: &BipedalWalkerParams,
+        opts: &BipedalWalkerOptions,
+        ground: &GroundShapes,
+        bodies: &[BodyState; 5],
+    ) -> World {
         let mut pw = PhysicsWorld::new();
         pw.gravity = v2(p.gravity_x, p.gravity_y);
         let ip = &mut pw.integration_parameters;
@@ -370,13 +411,12 @@ impl World {
                 .friction_combine_rule(CoefficientCombineRule::GeometricMean)
                 .collision_groups(groups(GROUND_GROUP, 0xFFFF))
         };
-        let pts: Vec<Vector> = terrain.x.iter().zip(&terrain.y).map(|(x, y)| v2(*x, *y)).collect();
-        let (ground, _) = pw.insert(RigidBodyBuilder::fixed(), ground_col(ColliderBuilder::polyline(pts, None)));
-        for q in &terrain.quads {
-            let pts: Vec<Vector> = q.iter().map(|(x, y)| v2(*x, *y)).collect();
-            if let Some(c) = ColliderBuilder::convex_hull(&pts) {
-                pw.insert_collider(ground_col(c), Some(ground));
-            }
+        let (fixed, _) = pw.insert(
+            RigidBodyBuilder::fixed(),
+            ground_col(ColliderBuilder::new(ground.surface.clone())),
+        );
+        for q in &ground.quads {
+            pw.insert_collider(ground_col(ColliderBuilder::new(q.clone())), Some(fixed));
         }
 
         let dynamic = |b: &BodyState| {
@@ -482,6 +522,8 @@ pub struct BipedalWalker {
     opts: BipedalWalkerOptions,
     world: Option<World>,
     terrain: Option<Terrain>,
+    /// Collision shapes of `terrain`.
+    ground: Option<GroundShapes>,
     /// Unwrapped hull angle (Box2D keeps angles continuous).
     hull_angle: f64,
     ground_contact: [bool; 2],
@@ -503,6 +545,7 @@ impl Clone for BipedalWalker {
         let mut c = BipedalWalker::with_options(self.params, self.opts);
         c.rng = self.rng.clone();
         c.terrain = self.terrain.clone();
+        c.ground = self.ground.clone();
         if self.world.is_some() {
             c.load_state(&self.state_array());
         }
@@ -527,6 +570,7 @@ impl BipedalWalker {
             opts,
             world: None,
             terrain: None,
+            ground: None,
             hull_angle: 0.0,
             ground_contact: [false; 2],
             game_over: false,
@@ -569,7 +613,11 @@ impl BipedalWalker {
             BodyState {
                 x: t.x as f64,
                 y: t.y as f64,
-                angle: if k == 0 { self.hull_angle } else { b.rotation().angle() as f64 },
+                angle: if k == 0 {
+                    self.hull_angle
+                } else {
+                    b.rotation().angle() as f64
+                },
                 vx: v.x as f64,
                 vy: v.y as f64,
                 w: b.angvel() as f64,
@@ -656,9 +704,19 @@ impl BipedalWalker {
     /// Everything [`Env::state`] returns, as a fixed array.
     fn state_array(&self) -> [f64; STATE_DIM] {
         let mut s = [0.0; STATE_DIM];
+        let pose = self.current_pose();
+        let h = pose.hull;
+        s[..6].copy_from_slice(&[h.x, h.y, h.angle, h.vx, h.vy, h.w]);
+        s[6..10].copy_from_slice(&pose.q);
+        s[10..14].copy_from_slice(&pose.dq);
+        s[14] = f64::from(u8::from(self.ground_contact[0]));
+        s[15] = f64::from(u8::from(self.ground_contact[1]));
+        s[16] = f64::from(u8::from(self.game_over));
+        s[17] = f64::from(u8::from(self.prev_shaping.is_some()));
+        s[18] = self.prev_shaping.unwrap_or(0.0);
         if let Some(t) = &self.terrain {
             let ts = &t.spec;
-            s[..8].copy_from_slice(&[
+            s[19..].copy_from_slice(&[
                 ts.seed as f64,
                 ts.step,
                 ts.length as f64,
@@ -669,58 +727,54 @@ impl BipedalWalker {
                 f64::from(u8::from(ts.hardcore)),
             ]);
         }
-        let pose = self.current_pose();
-        let h = pose.hull;
-        s[8..14].copy_from_slice(&[h.x, h.y, h.angle, h.vx, h.vy, h.w]);
-        s[14..18].copy_from_slice(&pose.q);
-        s[18..22].copy_from_slice(&pose.dq);
-        s[22] = f64::from(u8::from(self.ground_contact[0]));
-        s[23] = f64::from(u8::from(self.ground_contact[1]));
-        s[24] = f64::from(u8::from(self.game_over));
-        s[25] = f64::from(u8::from(self.prev_shaping.is_some()));
-        s[26] = self.prev_shaping.unwrap_or(0.0);
         s
     }
 
     fn load_state(&mut self, s: &[f64; STATE_DIM]) {
         let int = |x: f64, lo: f64, hi: f64| x.round().clamp(lo, hi);
+        let t = &s[19..];
         let spec = TerrainSpec {
-            seed: int(s[0], 0.0, (TERRAIN_SEED_LIMIT - 1) as f64) as u64,
-            step: s[1],
-            length: int(s[2], 2.0, (1 << 20) as f64) as usize,
-            height: s[3],
-            grass: int(s[4], -1e9, 1e9) as i64,
-            startpad: int(s[5], -1e9, 1e9) as i64,
-            scale: s[6],
-            hardcore: s[7] >= 0.5,
+            seed: int(t[0], 0.0, (TERRAIN_SEED_LIMIT - 1) as f64) as u64,
+            step: t[1],
+            length: int(t[2], 2.0, (1 << 20) as f64) as usize,
+            height: t[3],
+            grass: int(t[4], -1e9, 1e9) as i64,
+            startpad: int(t[5], -1e9, 1e9) as i64,
+            scale: t[6],
+            hardcore: t[7] >= 0.5,
         };
         if self.terrain.as_ref().map(|t| t.spec) != Some(spec) {
-            self.terrain = Some(Terrain::generate(spec));
+            self.set_terrain(Terrain::generate(spec));
         }
         let pose = Pose {
             hull: BodyState {
-                x: s[8],
-                y: s[9],
-                angle: s[10],
-                vx: s[11],
-                vy: s[12],
-                w: s[13],
+                x: s[0],
+                y: s[1],
+                angle: s[2],
+                vx: s[3],
+                vy: s[4],
+                w: s[5],
             },
-            q: [s[14], s[15], s[16], s[17]],
-            dq: [s[18], s[19], s[20], s[21]],
+            q: [s[6], s[7], s[8], s[9]],
+            dq: [s[10], s[11], s[12], s[13]],
         };
         self.place(&pose);
-        self.ground_contact = [s[22] != 0.0, s[23] != 0.0];
-        self.game_over = s[24] != 0.0;
-        self.prev_shaping = (s[25] != 0.0).then_some(s[26]);
+        self.ground_contact = [s[14] != 0.0, s[15] != 0.0];
+        self.game_over = s[16] != 0.0;
+        self.prev_shaping = (s[17] != 0.0).then_some(s[18]);
         self.pending_force = false;
+    }
+
+    fn set_terrain(&mut self, terrain: Terrain) {
+        self.ground = Some(GroundShapes::new(&terrain));
+        self.terrain = Some(terrain);
     }
 
     /// Build the world with the walker at `pose` on the current terrain.
     fn place(&mut self, pose: &Pose) {
         let bodies = pose.bodies(&self.params);
-        let terrain = self.terrain.as_ref().expect("place needs a terrain");
-        self.world = Some(World::build(&self.params, &self.opts, terrain, &bodies));
+        let ground = self.ground.as_ref().expect("place needs a terrain");
+        self.world = Some(World::build(&self.params, &self.opts, ground, &bodies));
         self.hull_angle = pose.hull.angle;
     }
 
@@ -875,7 +929,9 @@ impl Env for BipedalWalker {
     }
     fn observation_space(&self) -> Space {
         let pi = std::f32::consts::PI;
-        let mut low = vec![-pi, -5.0, -5.0, -5.0, -pi, -5.0, -pi, -5.0, -0.0, -pi, -5.0, -pi, -5.0, -0.0];
+        let mut low = vec![
+            -pi, -5.0, -5.0, -5.0, -pi, -5.0, -pi, -5.0, -0.0, -pi, -5.0, -pi, -5.0, -0.0,
+        ];
         let mut high = vec![pi, 5.0, 5.0, 5.0, pi, 5.0, pi, 5.0, 5.0, pi, 5.0, pi, 5.0, 5.0];
         low.extend([-1.0; LIDAR_RAYS]);
         high.extend([1.0; LIDAR_RAYS]);
@@ -904,7 +960,7 @@ impl Env for BipedalWalker {
         let spec = self.terrain_spec(terrain_seed);
         let terrain = Terrain::generate(spec);
         let ground = terrain.height_at(self.params.init_x());
-        self.terrain = Some(terrain);
+        self.set_terrain(terrain);
         let pose = self.start_pose(ground);
         self.place(&pose);
         self.ground_contact = [false; 2];

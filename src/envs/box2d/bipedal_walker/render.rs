@@ -59,7 +59,9 @@ pub(super) fn render(env: &BipedalWalker) -> Option<Frame> {
         c.fill_polygon(&poly, GROUND);
     }
     for (q, _) in terrain.quads.iter().zip(&terrain.kinds) {
-        let (x0, x1) = q.iter().fold((f64::MAX, f64::MIN), |(l, h), p| (l.min(p.0), h.max(p.0)));
+        let (x0, x1) = q
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(l, h), p| (l.min(p.0), h.max(p.0)));
         if !visible(x0, x1) {
             continue;
         }

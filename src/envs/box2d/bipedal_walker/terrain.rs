@@ -227,7 +227,9 @@ impl Terrain {
             }
         }
         for q in &self.quads {
-            let (qx0, qx1) = q.iter().fold((f64::MAX, f64::MIN), |(l, h), p| (l.min(p.0), h.max(p.0)));
+            let (qx0, qx1) = q
+                .iter()
+                .fold((f64::MAX, f64::MIN), |(l, h), p| (l.min(p.0), h.max(p.0)));
             if qx1 < xmin || qx0 > xmax || point_in_quad(p1, q) {
                 // Box2D's polygon ray cast reports nothing for a ray starting inside.
                 continue;
