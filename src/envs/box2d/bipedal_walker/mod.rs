@@ -225,6 +225,9 @@ impl Default for BipedalWalkerOptions {
     }
 }
 
+/// One lidar ray: start (hull origin), end at `LIDAR_RANGE`, fraction to the closest hit.
+pub type LidarRay = ((f64, f64), (f64, f64), f64);
+
 /// Kinematic state of one body: origin position, angle, centre-of-mass velocity, ω.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct BodyState {
@@ -631,7 +634,7 @@ impl BipedalWalker {
     }
 
     /// The lidar's end points `(p1, p2)` and fractions for the current hull position.
-    pub fn lidar(&self) -> Option<[((f64, f64), (f64, f64), f64); LIDAR_RAYS]> {
+    pub fn lidar(&self) -> Option<[LidarRay; LIDAR_RAYS]> {
         let (w, t) = (self.world.as_ref()?, self.terrain.as_ref()?);
         let pos = w.pw.bodies[w.bodies[0]].translation();
         let p1 = (pos.x as f64, pos.y as f64);
