@@ -829,8 +829,9 @@ impl BipedalWalker {
         }
     }
 
-    /// One Gymnasium step with a validated action. Requires a world.
-    fn advance(&mut self, a: &[f64; 4]) -> StepOutcome {
+    /// One Gymnasium step with a validated action, writing the observation (f64) to `obs`.
+    /// Requires a world.
+    fn advance(&mut self, a: &[f64; 4], obs: &mut [f64; OBS_DIM]) -> StepOutcome {
         let p = self.params;
         let world = self.world.as_mut().expect("advance needs a world");
         for (j, &aj) in a.iter().enumerate() {
@@ -879,9 +880,9 @@ impl BipedalWalker {
         }
         self.ground_contact = [world.touching(world.lower_cols[0]), world.touching(world.lower_cols[1])];
 
-        let s = self.state_f64();
+        *obs = self.state_f64();
         let x = world_x(self.world.as_ref());
-        let shaping = 130.0 * x / p.scale - 5.0 * s[0].abs();
+        let shaping = 130.0 * x / p.scale - 5.0 * obs[0].abs();
         let mut reward = match self.prev_shaping {
             Some(prev) => shaping - prev,
             None => 0.0,
@@ -906,13 +907,17 @@ impl BipedalWalker {
     }
 
     fn write_obs(&self, obs: &mut [f32]) {
-        for (o, s) in obs.iter_mut().zip(self.state_f64()) {
-            *o = s as f32;
-        }
+        write_f32(obs, &self.state_f64());
     }
 
     fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
         dist::uniform(&mut self.rng, lo, hi)
+    }
+}
+
+fn write_f32(obs: &mut [f32], s: &[f64; OBS_DIM]) {
+    for (o, s) in obs.iter_mut().zip(s) {
+        *o = *s as f32;
     }
 }
 
@@ -976,8 +981,9 @@ impl Env for BipedalWalker {
         }
         self.pending_force = true;
         // Gymnasium's reset returns the observation of `step([0, 0, 0, 0])`.
-        self.advance(&[0.0; 4]);
-        self.write_obs(obs);
+        let mut o = [0.0; OBS_DIM];
+        self.advance(&[0.0; 4], &mut o);
+        write_f32(obs, &o);
         Ok(())
     }
 
@@ -987,8 +993,9 @@ impl Env for BipedalWalker {
         if self.world.is_none() {
             return Err(EnvError::NeedsReset { env: ID });
         }
-        let out = self.advance(&a);
-        self.write_obs(obs);
+        let mut o = [0.0; OBS_DIM];
+        let out = self.advance(&a, &mut o);
+        write_f32(obs, &o);
         Ok(out)
     }
 

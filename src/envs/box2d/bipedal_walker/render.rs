@@ -48,7 +48,8 @@ pub(super) fn render(env: &BipedalWalker) -> Option<Frame> {
     let visible = |x0: f64, x1: f64| x1 >= left && x0 <= left + w as f64 / scale;
     let mut c = Canvas::new(w, h, SKY);
 
-    // Ground below the surface, then the surface edges (alternating greens).
+    // Ground below the surface, the surface edges (alternating greens), then the obstacles on
+    // top (Gymnasium's draw list puts the edges first).
     for i in 0..terrain.x.len().saturating_sub(1) {
         let (x0, x1) = (terrain.x[i], terrain.x[i + 1]);
         if !visible(x0, x1) {
@@ -57,17 +58,6 @@ pub(super) fn render(env: &BipedalWalker) -> Option<Frame> {
         let (y0, y1) = (terrain.y[i], terrain.y[i + 1]);
         let poly = [(x0, y0), (x1, y1), (x1, 0.0), (x0, 0.0)].map(to_px);
         c.fill_polygon(&poly, GROUND);
-    }
-    for (q, _) in terrain.quads.iter().zip(&terrain.kinds) {
-        let (x0, x1) = q
-            .iter()
-            .fold((f64::MAX, f64::MIN), |(l, h), p| (l.min(p.0), h.max(p.0)));
-        if !visible(x0, x1) {
-            continue;
-        }
-        let poly = q.map(to_px);
-        c.fill_polygon(&poly, OBSTACLE_FILL);
-        outline(&mut c, &poly, OBSTACLE_EDGE);
     }
     for i in 0..terrain.x.len().saturating_sub(1) {
         let (x0, x1) = (terrain.x[i], terrain.x[i + 1]);
@@ -83,6 +73,17 @@ pub(super) fn render(env: &BipedalWalker) -> Option<Frame> {
         c.line(to_px((x0, terrain.y[i])), to_px((x1, terrain.y[i + 1])), s);
     }
 
+    for (q, _) in terrain.quads.iter().zip(&terrain.kinds) {
+        let (x0, x1) = q
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(l, h), p| (l.min(p.0), h.max(p.0)));
+        if !visible(x0, x1) {
+            continue;
+        }
+        let poly = q.map(to_px);
+        c.fill_polygon(&poly, OBSTACLE_FILL);
+        outline(&mut c, &poly, OBSTACLE_EDGE);
+    }
     if env.options().render_lidar {
         if let Some(rays) = env.lidar() {
             for (p1, p2, f) in rays {
