@@ -24,17 +24,29 @@ fn env(id: &str) -> SpecEnv {
     make(specs.get(id).expect("spec"), &Context::new()).expect("make")
 }
 
-/// `len` random actions of `space`, flattened (discrete as i64, continuous as f32).
+/// `len` random actions of `space`, flattened (discrete as i64, continuous as f32, `dim` values
+/// per action).
 fn actions(space: &Space, len: usize) -> (Vec<i64>, Vec<f32>) {
     let mut rng = EnvRng::from_seed(7);
     match space {
         Space::Discrete { n, .. } => ((0..len).map(|_| (rng.next_u64() % *n as u64) as i64).collect(), vec![]),
         Space::Box { low, high, .. } => (
             vec![],
-            (0..len)
-                .map(|_| (low[0] as f64 + (high[0] - low[0]) as f64 * rng.next_f64()) as f32)
+            (0..len * low.len())
+                .map(|k| {
+                    let i = k % low.len();
+                    (low[i] as f64 + (high[i] - low[i]) as f64 * rng.next_f64()) as f32
+                })
                 .collect(),
         ),
+    }
+}
+
+/// Components per action of `space`.
+fn dim(space: &Space) -> usize {
+    match space {
+        Space::Discrete { .. } => 1,
+        Space::Box { low, .. } => low.len(),
     }
 }
 
@@ -45,7 +57,9 @@ mod single {
         let mut e = env(id);
         let (d, c) = actions(&e.action_space(), TABLE);
         let acts: Vec<Action> = if d.is_empty() {
-            c.iter().map(|x| Action::Continuous(vec![*x])).collect()
+            c.chunks(dim(&e.action_space()))
+                .map(|x| Action::Continuous(x.to_vec()))
+                .collect()
         } else {
             d.into_iter().map(Action::Discrete).collect()
         };
@@ -88,6 +102,10 @@ mod single {
     fn lunar_lander(b: Bencher) {
         run(b, "lunar_lander");
     }
+    #[divan::bench]
+    fn bipedal_walker(b: Bencher) {
+        run(b, "bipedal_walker");
+    }
 }
 
 mod vec {
@@ -110,11 +128,12 @@ mod vec {
         v.reset(0);
         let batches = (65_536 / n).clamp(1, 64);
         let (d, c) = actions(&v.action_space(), batches * n);
+        let m = n * dim(&v.action_space());
         let mut k = 0usize;
         bencher.counter(ItemsCount::new(n)).bench_local(move || {
             k = (k + 1) % batches;
             let a = if d.is_empty() {
-                VecActions::Continuous(&c[k * n..(k + 1) * n])
+                VecActions::Continuous(&c[k * m..(k + 1) * m])
             } else {
                 VecActions::Discrete(&d[k * n..(k + 1) * n])
             };
@@ -142,5 +161,10 @@ mod vec {
     #[divan::bench(args = [64])]
     fn lunar_lander_2t(b: Bencher, n: usize) {
         run(b, "lunar_lander", n, 2);
+    }
+    /// A physics world per environment: 64 walkers only (1024 take minutes per sample).
+    #[divan::bench(args = [64])]
+    fn bipedal_walker_2t(b: Bencher, n: usize) {
+        run(b, "bipedal_walker", n, 2);
     }
 }

@@ -46,8 +46,9 @@ fn bundled_classic_control_specs_pass() {
             }
         }
     }
-    // Generous even for a loaded debug build; the audit takes well under a second.
-    assert!(t.elapsed().as_secs() < 20, "audit took {:?}", t.elapsed());
+    // Generous for a loaded machine: the classic-control audits take well under a second,
+    // LunarLander and BipedalWalker (a physics world rebuilt per probe) a few seconds each.
+    assert!(t.elapsed().as_secs() < 60, "audit took {:?}", t.elapsed());
 }
 
 #[test]

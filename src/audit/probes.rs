@@ -77,7 +77,7 @@ pub fn perturbed_values(f: &Feature) -> Vec<f64> {
 }
 
 /// One step's action set: every discrete action; for a Box, a grid over `[low, high]`
-/// (5 points for a 1-D box, 3 per dimension up to 4 dimensions, else centre and per-axis extremes).
+/// (5 points for a 1-D box, 3 per dimension up to 3 dimensions, else centre and per-axis extremes).
 pub fn probe_actions(space: &Space) -> Vec<Action> {
     match space {
         Space::Discrete { n, start } => (*start..*start + *n).map(Action::Discrete).collect(),
@@ -90,7 +90,7 @@ pub fn probe_actions(space: &Space) -> Vec<Action> {
                     .map(|t| Action::Continuous(vec![lerp(0, *t)]))
                     .collect();
             }
-            if dims <= 4 {
+            if dims <= 3 {
                 let mut out = vec![Vec::new()];
                 for i in 0..dims {
                     out = out
@@ -135,12 +135,16 @@ fn random_action(space: &Space, rng: &mut EnvRng) -> Action {
 
 /// Full ranges of state components whose observation does not show them directly (angles seen
 /// through cos/sin), so the box also covers e.g. Acrobot's swung-up, terminal states that random
-/// actions never reach. Velocities span the default velocity limits.
+/// actions never reach. Velocities span the default velocity limits. A hint covers the state's
+/// leading components.
 fn state_range_hint(id: &str) -> Option<&'static [(f64, f64)]> {
     use std::f64::consts::PI;
     match id {
         "pendulum" => Some(&[(-PI, PI), (-8.0, 8.0)]),
         "acrobot" => Some(&[(-PI, PI), (-PI, PI), (-4.0 * PI, 4.0 * PI), (-9.0 * PI, 9.0 * PI)]),
+        // Hull x over the whole default course (200 steps of 14/30 m = 93.3 m) and a little
+        // beyond both ends, so states reach `x < 0` and the finish line `(LENGTH - GRASS)·STEP`.
+        "bipedal_walker" => Some(&[(-1.0, 95.0)]),
         _ => None,
     }
 }

@@ -17,6 +17,9 @@ use crate::render::Frame;
 use crate::render::encode::{gif_bytes, png_bytes};
 use crate::sampling::Pcg64;
 
+/// Environments with a built-in controller for `--policy heuristic`.
+const HEURISTICS: &[&str] = &["lunar_lander", "bipedal_walker"];
+
 /// Frames an animation may have (a 600×400 GIF frame is ~100 kB).
 const MAX_FRAMES: usize = 2000;
 
@@ -56,7 +59,7 @@ pub enum RenderPolicy {
     Random,
     /// Action 0 (discrete) or all zeros (continuous).
     Noop,
-    /// The environment's built-in controller (lunar_lander: Gymnasium's heuristic).
+    /// The environment's built-in controller (lunar_lander, bipedal_walker: Gymnasium's heuristics).
     Heuristic,
 }
 
@@ -97,7 +100,7 @@ pub fn run(cli: &Cli, args: &RenderArgs) -> CmdResult {
     };
     let mut env = make_with(&resolved.spec, &resolved.context, opts).map_err(|e| Failure::usage(e.to_string()))?;
     let id = env.id();
-    if args.policy == RenderPolicy::Heuristic && id != "lunar_lander" {
+    if args.policy == RenderPolicy::Heuristic && !HEURISTICS.contains(&id) {
         return Err(Failure::usage(format!(
             "{id} has no built-in controller; use --policy random or noop"
         )));
@@ -114,6 +117,7 @@ pub fn run(cli: &Cli, args: &RenderArgs) -> CmdResult {
     };
     let animated = !matches!(output, Output::Png(_));
     let steps = args.steps.unwrap_or(if animated { u64::MAX } else { 0 });
+    let mut walker = crate::envs::box2d::WalkerHeuristic::default();
     let mut frames = vec![first];
     let mut t = 0u64;
     let mut last = None;
@@ -124,6 +128,7 @@ pub fn run(cli: &Cli, args: &RenderArgs) -> CmdResult {
                 crate::envs::Space::Discrete { start, .. } => Action::Discrete(*start),
                 crate::envs::Space::Box { low, .. } => Action::Continuous(vec![0.0; low.len()]),
             },
+            RenderPolicy::Heuristic if id == "bipedal_walker" => Action::Continuous(walker.act(&obs).to_vec()),
             RenderPolicy::Heuristic => Action::Discrete(crate::envs::box2d::heuristic(&obs)),
         };
         let out = env

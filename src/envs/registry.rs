@@ -8,7 +8,7 @@
 use std::collections::BTreeMap;
 
 use super::api::{Action, Env, EnvError, Space, StepOutcome, TimeLimit};
-use super::box2d::{LunarLander, LunarLanderParams};
+use super::box2d::{BipedalWalker, BipedalWalkerParams, LunarLander, LunarLanderParams};
 use super::classic::{Acrobot, CartPole, MountainCar, MountainCarContinuous, Pendulum};
 use crate::spec::model::{EnvSpec, FeatureType, Value};
 use crate::suggest::did_you_mean;
@@ -24,6 +24,7 @@ pub const RUNTIMES: &[&str] = &[
     "mountain_car_continuous",
     "acrobot",
     "lunar_lander",
+    "bipedal_walker",
 ];
 
 pub fn has_runtime(id: &str) -> bool {
@@ -60,7 +61,7 @@ pub enum MakeError {
 }
 
 /// The runtime environments behind one type (static dispatch keeps stepping cheap): the
-/// classic-control ones and, boxed because it owns a physics world, LunarLander.
+/// classic-control ones and, boxed because they own a physics world, LunarLander and BipedalWalker.
 #[derive(Debug, Clone)]
 pub enum ClassicEnv {
     CartPole(CartPole),
@@ -69,6 +70,7 @@ pub enum ClassicEnv {
     MountainCarContinuous(MountainCarContinuous),
     Acrobot(Acrobot),
     LunarLander(Box<LunarLander>),
+    BipedalWalker(Box<BipedalWalker>),
 }
 
 impl ClassicEnv {
@@ -76,6 +78,14 @@ impl ClassicEnv {
     pub fn as_lunar_lander_mut(&mut self) -> Option<&mut LunarLander> {
         match self {
             ClassicEnv::LunarLander(l) => Some(l),
+            _ => None,
+        }
+    }
+
+    /// The BipedalWalker inside, to set its options (hardcore terrain, solver, lidar drawing).
+    pub fn as_bipedal_walker_mut(&mut self) -> Option<&mut BipedalWalker> {
+        match self {
+            ClassicEnv::BipedalWalker(w) => Some(w),
             _ => None,
         }
     }
@@ -90,6 +100,7 @@ macro_rules! dispatch {
             ClassicEnv::MountainCarContinuous($e) => $body,
             ClassicEnv::Acrobot($e) => $body,
             ClassicEnv::LunarLander($e) => $body,
+            ClassicEnv::BipedalWalker($e) => $body,
         }
     };
 }
@@ -257,6 +268,18 @@ fn build(id: &str, values: &[(String, f64)]) -> Result<ClassicEnv, MakeError> {
                 })?;
             }
             ClassicEnv::LunarLander(Box::new(LunarLander::new(p)))
+        }
+        "bipedal_walker" => {
+            let mut p = BipedalWalkerParams::default();
+            for (name, x) in values {
+                p.set(name, *x).map_err(|e| MakeError::UnknownFeature {
+                    env: id.to_string(),
+                    name: name.clone(),
+                    hint: " (the spec names a feature the runtime does not know)".into(),
+                    valid: e.known,
+                })?;
+            }
+            ClassicEnv::BipedalWalker(Box::new(BipedalWalker::new(p)))
         }
         other => return Err(MakeError::NoRuntime(other.to_string())),
     })

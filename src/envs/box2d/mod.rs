@@ -3,14 +3,18 @@
 //! * [`lunar_lander`]: Gymnasium's `LunarLander-v3` (discrete and continuous) with all of
 //!   CARL's 16 context features, each instance owning its own physics world.
 //! * [`heuristic`]: Gymnasium's hand-written landing controller (same control law).
+//! * [`bipedal_walker`]: Gymnasium's `BipedalWalker-v3` (and the hardcore terrain) with all of
+//!   CARL's 20 context features, plus Gymnasium's scripted gait ([`WalkerHeuristic`]).
 //!
 //! Physics is not Box2D, so trajectories are not bit-identical to Gymnasium; the geometry,
 //! masses, joints, engine impulses, observation, reward and termination rules are the same,
 //! and the deviations that remain are listed in [`lunar_lander`]'s module docs.
 
+pub mod bipedal_walker;
 pub mod heuristic;
 pub mod lunar_lander;
 
+pub use bipedal_walker::{BipedalWalker, BipedalWalkerOptions, BipedalWalkerParams, WalkerHeuristic};
 pub use heuristic::{heuristic, heuristic_continuous};
 pub use lunar_lander::{LunarLander, LunarLanderOptions, LunarLanderParams, Outcome};
 

@@ -1,0 +1,1024 @@
+//! BipedalWalker-v3 (Gymnasium 1.4 `BipedalWalker`) on rapier2d, with CARL's 20 context features.
+//!
+//! Same as Gymnasium (CARL overrides the module constants; here each instance has its own
+//! [`BipedalWalkerParams`]):
+//! * **Terrain** ([`terrain`]): the generator's state machine — flat start pad of
+//!   `TERRAIN_STARTPAD` steps at `TERRAIN_HEIGHT`, then a damped random walk with roughness
+//!   `U(-1,1)/SCALE` per step, grass stretches of `integers(TERRAIN_GRASS/2, TERRAIN_GRASS)` steps
+//!   and, in the hardcore variant ([`BipedalWalkerOptions::hardcore`]), stumps, stairs and pits
+//!   between them. Terrain friction `FRICTION`.
+//! * **Walker**: hull polygon `HULL_POLY / SCALE` (density 5, friction 0.1), upper legs
+//!   `LEG_W × LEG_H` and lower legs `0.8·LEG_W × LEG_H` (density 1, friction 0.2), restitution 0,
+//!   Box2D's friction mixing `sqrt(f1·f2)`; walker parts collide only with the terrain. Hips at
+//!   `(0, LEG_DOWN)` on the hull, limits `[-0.8, 1.1]`; knees limits `[-1.6, -0.1]`.
+//! * **Motors**: `motorSpeed = SPEED_{HIP,KNEE}·sign(a)`, `maxMotorTorque = MOTORS_TORQUE·clip(|a|,0,1)`.
+//! * **Start**: hull at `x = TERRAIN_STEP·TERRAIN_STARTPAD/2`, a horizontal force
+//!   `U(-INITIAL_RANDOM, INITIAL_RANDOM)` on the hull during the first step; like Gymnasium's
+//!   `reset`, ours ends with `step([0,0,0,0])` and returns its observation.
+//! * **Observation** (24 × f32): hull angle, `2ω/FPS`, `0.3·vx·(VIEWPORT_W/SCALE)/FPS`,
+//!   `0.3·vy·(VIEWPORT_H/SCALE)/FPS`, then per leg: hip angle, hip speed / `SPEED_HIP`, knee
+//!   angle + 1, knee speed / `SPEED_KNEE`, lower-leg ground contact; then 10 lidar fractions
+//!   (rays from the hull origin at `1.5·i/10` rad from straight down, length `LIDAR_RANGE`,
+//!   closest terrain hit).
+//! * **Reward**: shaping `130·x/SCALE − 5·|hull angle|` differenced, minus
+//!   `0.00035·MOTORS_TORQUE·clip(|a_i|,0,1)` per joint; −100 when the hull touches the ground or
+//!   `x < 0` (terminated). Reaching `x > (TERRAIN_LENGTH − TERRAIN_GRASS)·TERRAIN_STEP` terminates.
+//!   The time limit (1600 steps) is the registry's `TimeLimit`.
+//!
+//! Where this is not Box2D (documented deviations):
+//! * **Solver.** rapier's TGS-soft solver with [`BipedalWalkerOptions::solver_iterations`]
+//!   substeps replaces Box2D's sequential impulses with 6·30 velocity and 2·30 position
+//!   iterations. Joints are soft constraints: they stretch slightly under load where Box2D's
+//!   position iterations hold them rigid.
+//! * **Motors.** Box2D's velocity motor is reproduced by rapier's velocity motor (force-based,
+//!   stiffness 0, very high damping) with `max_force = MOTORS_TORQUE·clip(|a|,0,1)`: it reaches
+//!   the target speed unless the torque saturates, like Box2D's.
+//! * **Start pose.** Box2D creates the legs `2·|LEG_DOWN|` above their hip anchors (the sign of
+//!   `LEG_DOWN` in Gymnasium's leg position) at ±0.05 rad with knees at 0 (outside their limit);
+//!   over the first two steps its position-only solver reassembles them while the feet meet the
+//!   ground, folding the walker into a crouch (hips ≈ 0.44 / 0.34, knees ≈ −0.88, hull ≈ 2.35 m
+//!   above the pad at default legs, measured with Gymnasium 1.4). rapier corrects joint errors
+//!   with velocities, which launches the walker, so we create it already assembled in that
+//!   crouch ([`START_JOINTS`]) with the hull level at the height where the lowest foot corner is
+//!   5 mm above the pad (2.34 m at default legs). `LEG_DOWN`, `LEG_H`, `LEG_W` and `SCALE` shape
+//!   that pose as Gymnasium's do.
+//! * **Touching.** Box2D's polygons and edges carry a 0.01 m skin, so contact begins when closer
+//!   than 0.02 m. We use rapier's contact manifolds with the same 0.02 m threshold on the signed
+//!   distance. A lower leg's flag is "touches any terrain" (Box2D clears it when contact with *one*
+//!   terrain body ends even if another still touches).
+//! * **Lidar.** Exact ray/segment intersection against the generated terrain (surface edges and
+//!   obstacle sides) in f64, instead of Box2D's f32 `RayCast`; like Box2D's polygon ray cast, an
+//!   obstacle whose inside contains the ray origin is not reported.
+//! * **Speed limits.** Box2D caps the motion per step at 2 m and π/2 rad inside its solver; we
+//!   cap the velocities after each step.
+//! * **Random stream.** Terrain, clouds (not drawn here) and the initial push draw from NumPy's
+//!   generator in one stream in Gymnasium, so e.g. `TERRAIN_LENGTH` (number of cloud draws)
+//!   changes the push. Here the terrain has its own seeded stream (its seed drawn from the
+//!   environment's stream at reset) and the push comes from the environment's stream.
+//!
+//! **State** ([`Env::state`], [`STATE_DIM`] = 27 values): the hull's origin `x, y`, angle,
+//! centre-of-mass velocity and angular velocity (0–5); the 4 joint angles (6–9) and joint speeds
+//! (10–13), hip 0, knee 0, hip 1, knee 1 — reduced coordinates: the leg poses follow from the hull
+//! and the joints; the two lower-leg contact flags (14, 15), game over (16), the previous shaping
+//! as flag and value (17, 18); and the terrain's generator record (19–26: seed,
+//! `TERRAIN_STEP`, `TERRAIN_LENGTH`, `TERRAIN_HEIGHT`, `TERRAIN_GRASS`, `TERRAIN_STARTPAD`,
+//! roughness `SCALE`, hardcore flag). The course is regenerated from its record, so it does not
+//! depend on the context `set_state` is called under (the terrain features act at reset, when the
+//! course is generated, and on the finish line); physical properties (friction, shapes, masses,
+//! gravity, motors) come from the context. `set_state` rebuilds the world assembled from the
+//! joint angles: the small joint stretch of
+//! rapier's soft joints and the solver's warm-start caches are not part of the state.
+
+pub mod heuristic;
+mod render;
+pub mod terrain;
+
+use rapier2d::prelude::*;
+
+use crate::envs::api::{
+    Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features,
+};
+use crate::sampling::{Pcg64, dist};
+pub use heuristic::WalkerHeuristic;
+pub use terrain::{Obstacle, Terrain, TerrainSpec};
+
+const ID: &str = "bipedal_walker";
+
+/// Hull outline in pixels (Gymnasium's `HULL_POLY`).
+pub const HULL_POLY: [(f64, f64); 5] = [(-30.0, 9.0), (6.0, 9.0), (34.0, 1.0), (34.0, -8.0), (-30.0, -8.0)];
+/// Hip joint limits (rad).
+pub const HIP_LIMITS: [f64; 2] = [-0.8, 1.1];
+/// Knee joint limits (rad).
+pub const KNEE_LIMITS: [f64; 2] = [-1.6, -0.1];
+/// Number of lidar rays.
+pub const LIDAR_RAYS: usize = 10;
+/// Observation length.
+pub const OBS_DIM: usize = 24;
+/// Length of [`BipedalWalker::state`] (see the module docs).
+pub const STATE_DIM: usize = 27;
+/// Two Box2D skins (`2 * b2_polygonRadius`): closer than this counts as touching.
+pub const TOUCH_DISTANCE: f32 = 0.02;
+/// Box2D's per-step motion caps (`b2_maxTranslation`, `b2_maxRotation`).
+pub const MAX_TRANSLATION: f32 = 2.0;
+pub const MAX_ROTATION: f32 = 0.5 * std::f32::consts::PI;
+/// Damping of the velocity motors (force-based): large enough to act as Box2D's rigid motor
+/// constraint, limited only by the maximum torque.
+pub const MOTOR_DAMPING: f32 = 1.0e6;
+/// Joint angles at reset (hip 0, knee 0, hip 1, knee 1): the crouch Box2D's position solver
+/// leaves Gymnasium's walker in after reassembling its misplaced legs (measured with Gymnasium
+/// 1.4, seed 0, second observation: hips 0.44 / 0.34, knees −0.88 / −0.88, hull 2.35 m above
+/// the pad); see the module docs.
+pub const START_JOINTS: [f64; 4] = [0.45, -0.9, 0.35, -0.9];
+/// Gap between the lowest foot corner and the start pad at reset, m.
+pub const START_CLEARANCE: f64 = 0.005;
+/// Seeds of the terrain stream are below this (exact in an f64 state component).
+const TERRAIN_SEED_LIMIT: u64 = 1 << 53;
+
+/// BipedalWalker context (CARL's 20 features). `Default` is CARL's defaults: Gymnasium's module
+/// constants with `TERRAIN_HEIGHT = 5` (CARL) instead of Gymnasium's `VIEWPORT_H/SCALE/4`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BipedalWalkerParams {
+    pub fps: f64,
+    pub friction: f64,
+    pub gravity_x: f64,
+    pub gravity_y: f64,
+    pub initial_random: f64,
+    pub leg_down: f64,
+    pub leg_h: f64,
+    pub leg_w: f64,
+    pub lidar_range: f64,
+    pub motors_torque: f64,
+    pub scale: f64,
+    pub speed_hip: f64,
+    pub speed_knee: f64,
+    pub terrain_grass: f64,
+    pub terrain_height: f64,
+    pub terrain_length: f64,
+    pub terrain_startpad: f64,
+    pub terrain_step: f64,
+    pub viewport_h: f64,
+    pub viewport_w: f64,
+}
+
+impl Default for BipedalWalkerParams {
+    fn default() -> Self {
+        BipedalWalkerParams {
+            fps: 50.0,
+            friction: 2.5,
+            gravity_x: 0.0,
+            gravity_y: -10.0,
+            initial_random: 5.0,
+            leg_down: -8.0 / 30.0,
+            leg_h: 34.0 / 30.0,
+            leg_w: 8.0 / 30.0,
+            lidar_range: 160.0 / 30.0,
+            motors_torque: 80.0,
+            scale: 30.0,
+            speed_hip: 4.0,
+            speed_knee: 6.0,
+            terrain_grass: 10.0,
+            terrain_height: 5.0,
+            terrain_length: 200.0,
+            terrain_startpad: 20.0,
+            terrain_step: 14.0 / 30.0,
+            viewport_h: 400.0,
+            viewport_w: 600.0,
+        }
+    }
+}
+
+context_features!(BipedalWalkerParams, "bipedal_walker", {
+    fps: "FPS",
+    friction: "FRICTION",
+    gravity_x: "GRAVITY_X",
+    gravity_y: "GRAVITY_Y",
+    initial_random: "INITIAL_RANDOM",
+    leg_down: "LEG_DOWN",
+    leg_h: "LEG_H",
+    leg_w: "LEG_W",
+    lidar_range: "LIDAR_RANGE",
+    motors_torque: "MOTORS_TORQUE",
+    scale: "SCALE",
+    speed_hip: "SPEED_HIP",
+    speed_knee: "SPEED_KNEE",
+    terrain_grass: "TERRAIN_GRASS",
+    terrain_height: "TERRAIN_HEIGHT",
+    terrain_length: "TERRAIN_LENGTH",
+    terrain_startpad: "TERRAIN_STARTPAD",
+    terrain_step: "TERRAIN_STEP",
+    viewport_h: "VIEWPORT_H",
+    viewport_w: "VIEWPORT_W",
+});
+
+impl BipedalWalkerParams {
+    /// The finish line `(TERRAIN_LENGTH − TERRAIN_GRASS)·TERRAIN_STEP`, m.
+    pub fn finish_x(&self) -> f64 {
+        Terrain::finish_x(self.terrain_length, self.terrain_grass, self.terrain_step)
+    }
+    /// Start position of the hull's x, `TERRAIN_STEP·TERRAIN_STARTPAD/2`.
+    pub fn init_x(&self) -> f64 {
+        self.terrain_step * self.terrain_startpad / 2.0
+    }
+}
+
+/// Options that are not context features.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BipedalWalkerOptions {
+    /// `BipedalWalkerHardcore`: stumps, stairs and pits between grass stretches.
+    pub hardcore: bool,
+    /// rapier solver substeps per step.
+    pub solver_iterations: usize,
+    /// rapier PGS iterations inside each substep.
+    pub pgs_iterations: usize,
+    /// Draw the 10 lidar rays (up to their hits) in `render`.
+    pub render_lidar: bool,
+}
+
+impl Default for BipedalWalkerOptions {
+    fn default() -> Self {
+        BipedalWalkerOptions {
+            hardcore: false,
+            solver_iterations: 4,
+            pgs_iterations: 2,
+            render_lidar: true,
+        }
+    }
+}
+
+/// One lidar ray: start (hull origin), end at `LIDAR_RANGE`, fraction to the closest hit.
+pub type LidarRay = ((f64, f64), (f64, f64), f64);
+
+/// Kinematic state of one body: origin position, angle, centre-of-mass velocity, ω.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct BodyState {
+    pub x: f64,
+    pub y: f64,
+    pub angle: f64,
+    pub vx: f64,
+    pub vy: f64,
+    pub w: f64,
+}
+
+/// The walker in reduced coordinates: hull plus joint angles and speeds.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct Pose {
+    hull: BodyState,
+    q: [f64; 4],
+    dq: [f64; 4],
+}
+
+fn rot(a: f64, (x, y): (f64, f64)) -> (f64, f64) {
+    let (s, c) = a.sin_cos();
+    (c * x - s * y, s * x + c * y)
+}
+
+/// Centroid of the hull polygon in metres (its centre of mass at uniform density).
+fn hull_centroid(scale: f64) -> (f64, f64) {
+    let (mut a2, mut cx, mut cy) = (0.0, 0.0, 0.0);
+    let n = HULL_POLY.len();
+    for k in 0..n {
+        let (x0, y0) = HULL_POLY[k];
+        let (x1, y1) = HULL_POLY[(k + 1) % n];
+        let cr = x0 * y1 - x1 * y0;
+        a2 += cr;
+        cx += (x0 + x1) * cr;
+        cy += (y0 + y1) * cr;
+    }
+    (cx / (3.0 * a2) / scale, cy / (3.0 * a2) / scale)
+}
+
+/// Shape sizes are floored at 1e-4 m so that out-of-bounds contexts cannot make degenerate shapes.
+fn size(x: f64) -> f64 {
+    x.abs().max(1e-4)
+}
+
+fn wrap_pi(a: f64) -> f64 {
+    let tau = std::f64::consts::TAU;
+    a - tau * (a / tau).round()
+}
+
+impl Pose {
+    /// The five bodies (hull, upper 0, lower 0, upper 1, lower 1) from the reduced coordinates.
+    fn bodies(&self, p: &BipedalWalkerParams) -> [BodyState; 5] {
+        let h = self.hull;
+        let com = rot(h.angle, hull_centroid(size(p.scale)));
+        let com = (h.x + com.0, h.y + com.1);
+        let point_vel =
+            |b: &BodyState, c: (f64, f64), pt: (f64, f64)| (b.vx - b.w * (pt.1 - c.1), b.vy + b.w * (pt.0 - c.0));
+        let half = size(p.leg_h) / 2.0;
+        let mut out = [h; 5];
+        for leg in 0..2 {
+            let (qh, qk) = (self.q[2 * leg], self.q[2 * leg + 1]);
+            let (wh, wk) = (self.dq[2 * leg], self.dq[2 * leg + 1]);
+            let a_off = rot(h.angle, (0.0, p.leg_down));
+            let hip = (h.x + a_off.0, h.y + a_off.1);
+            let v_hip = point_vel(&h, com, hip);
+            let au = h.angle + qh;
+            let wu = h.w + wh;
+            let d = rot(au, (0.0, -half));
+            let cu = (hip.0 + d.0, hip.1 + d.1);
+            let knee = (hip.0 + 2.0 * d.0, hip.1 + 2.0 * d.1);
+            let upper = BodyState {
+                x: cu.0,
+                y: cu.1,
+                angle: au,
+                vx: v_hip.0 - wu * (cu.1 - hip.1),
+                vy: v_hip.1 + wu * (cu.0 - hip.0),
+                w: wu,
+            };
+            let v_knee = (v_hip.0 - wu * (knee.1 - hip.1), v_hip.1 + wu * (knee.0 - hip.0));
+            let al = au + qk;
+            let wl = wu + wk;
+            let d = rot(al, (0.0, -half));
+            let cl = (knee.0 + d.0, knee.1 + d.1);
+            let lower = BodyState {
+                x: cl.0,
+                y: cl.1,
+                angle: al,
+                vx: v_knee.0 - wl * (cl.1 - knee.1),
+                vy: v_knee.1 + wl * (cl.0 - knee.0),
+                w: wl,
+            };
+            out[1 + 2 * leg] = upper;
+            out[2 + 2 * leg] = lower;
+        }
+        out
+    }
+}
+
+const GROUND_GROUP: u32 = 0x0001;
+const WALKER_GROUP: u32 = 0x0020;
+
+fn groups(category: u32, mask: u32) -> InteractionGroups {
+    InteractionGroups::new(
+        Group::from_bits_truncate(category),
+        Group::from_bits_truncate(mask),
+        InteractionTestMode::And,
+    )
+}
+
+/// The terrain's collision shapes, built once per course and shared (reference-counted) by every
+/// world built on it: `set_state` then does not rebuild the surface's bounding-volume tree.
+#[derive(Clone)]
+struct GroundShapes {
+    surface: SharedShape,
+    quads: Vec<SharedShape>,
+}
+
+impl std::fmt::Debug for GroundShapes {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("GroundShapes")
+            .field("quads", &self.quads.len())
+            .finish_non_exhaustive()
+    }
+}
+
+impl GroundShapes {
+    fn new(terrain: &Terrain) -> GroundShapes {
+        let pts: Vec<Vector> = terrain.x.iter().zip(&terrain.y).map(|(x, y)| v2(*x, *y)).collect();
+        let quads = terrain
+            .quads
+            .iter()
+            .filter_map(|q| SharedShape::convex_hull(&q.map(|(x, y)| v2(x, y))))
+            .collect();
+        GroundShapes {
+            surface: SharedShape::polyline(pts, None),
+            quads,
+        }
+    }
+}
+
+struct World {
+    pw: PhysicsWorld,
+    /// Hull, upper 0, lower 0, upper 1, lower 1 (Gymnasium's `hull` and `legs` order).
+    bodies: [RigidBodyHandle; 5],
+    /// Hip 0, knee 0, hip 1, knee 1 (Gymnasium's `joints` order).
+    joints: [ImpulseJointHandle; 4],
+    hull_col: ColliderHandle,
+    lower_cols: [ColliderHandle; 2],
+}
+
+impl std::fmt::Debug for World {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("World").finish_non_exhaustive()
+    }
+}
+
+fn v2(x: f64, y: f64) -> Vector {
+    Vector::new(x as f32, y as f32)
+}
+
+impl World {
+    fn build(
+        p: &BipedalWalkerParams,
+        opts: &BipedalWalkerOptions,
+        ground: &GroundShapes,
+        bodies: &[BodyState; 5],
+    ) -> World {
+        let mut pw = PhysicsWorld::new();
+        pw.gravity = v2(p.gravity_x, p.gravity_y);
+        let ip = &mut pw.integration_parameters;
+        ip.dt = if p.fps > 0.0 && p.fps.is_finite() {
+            (1.0 / p.fps) as f32
+        } else {
+            0.0
+        };
+        ip.num_solver_iterations = opts.solver_iterations.max(1);
+        ip.num_internal_pgs_iterations = opts.pgs_iterations.max(1);
+        ip.max_ccd_substeps = 1;
+
+        let friction = p.friction.max(0.0) as f32;
+        let ground_col = |c: ColliderBuilder| {
+            c.friction(friction)
+                .restitution(0.0)
+                .friction_combine_rule(CoefficientCombineRule::GeometricMean)
+                .collision_groups(groups(GROUND_GROUP, 0xFFFF))
+        };
+        let (fixed, _) = pw.insert(
+            RigidBodyBuilder::fixed(),
+            ground_col(ColliderBuilder::new(ground.surface.clone())),
+        );
+        for q in &ground.quads {
+            pw.insert_collider(ground_col(ColliderBuilder::new(q.clone())), Some(fixed));
+        }
+
+        let dynamic = |b: &BodyState| {
+            RigidBodyBuilder::dynamic()
+                .translation(v2(b.x, b.y))
+                .rotation(b.angle as f32)
+                .linvel(v2(b.vx, b.vy))
+                .angvel(b.w as f32)
+                .can_sleep(false)
+                .ccd_enabled(true)
+        };
+        let walker_col = |c: ColliderBuilder, density: f32, friction: f32| {
+            c.density(density)
+                .friction(friction)
+                .restitution(0.0)
+                .friction_combine_rule(CoefficientCombineRule::GeometricMean)
+                .collision_groups(groups(WALKER_GROUP, GROUND_GROUP))
+        };
+        let s = size(p.scale);
+        let hull_pts: Vec<Vector> = HULL_POLY.iter().map(|(x, y)| v2(x / s, y / s)).collect();
+        let hull_shape = ColliderBuilder::convex_hull(&hull_pts).unwrap_or_else(|| ColliderBuilder::cuboid(0.5, 0.2));
+        let (hull, hull_col) = pw.insert(dynamic(&bodies[0]), walker_col(hull_shape, 5.0, 0.1));
+        let (lw, lh) = (size(p.leg_w) as f32, size(p.leg_h) as f32);
+        let mut handles = [hull; 5];
+        let mut joints = Vec::with_capacity(4);
+        let mut lower_cols = [hull_col; 2];
+        for leg in 0..2 {
+            let (upper, _) = pw.insert(
+                dynamic(&bodies[1 + 2 * leg]),
+                walker_col(ColliderBuilder::cuboid(lw / 2.0, lh / 2.0), 1.0, 0.2),
+            );
+            let (lower, lower_col) = pw.insert(
+                dynamic(&bodies[2 + 2 * leg]),
+                walker_col(ColliderBuilder::cuboid(0.8 * lw / 2.0, lh / 2.0), 1.0, 0.2),
+            );
+            let joint = |a1: Vector, a2: Vector, limits: [f64; 2]| {
+                RevoluteJointBuilder::new()
+                    .local_anchor1(a1)
+                    .local_anchor2(a2)
+                    .limits([limits[0] as f32, limits[1] as f32])
+                    .motor_model(MotorModel::ForceBased)
+                    .motor_velocity(0.0, MOTOR_DAMPING)
+                    .motor_max_force(0.0)
+                    .contacts_enabled(false)
+            };
+            let hip = pw.insert_impulse_joint(
+                hull,
+                upper,
+                joint(v2(0.0, p.leg_down), Vector::new(0.0, lh / 2.0), HIP_LIMITS),
+            );
+            let knee = pw.insert_impulse_joint(
+                upper,
+                lower,
+                joint(Vector::new(0.0, -lh / 2.0), Vector::new(0.0, lh / 2.0), KNEE_LIMITS),
+            );
+            handles[1 + 2 * leg] = upper;
+            handles[2 + 2 * leg] = lower;
+            joints.push(hip);
+            joints.push(knee);
+            lower_cols[leg] = lower_col;
+        }
+        World {
+            pw,
+            bodies: handles,
+            joints: [joints[0], joints[1], joints[2], joints[3]],
+            hull_col,
+            lower_cols,
+        }
+    }
+
+    fn touching(&self, c: ColliderHandle) -> bool {
+        self.pw.narrow_phase.contact_pairs_with(c).any(|pair| {
+            pair.manifolds()
+                .iter()
+                .any(|m| m.points.iter().any(|pt| pt.dist < TOUCH_DISTANCE))
+        })
+    }
+
+    fn angle(&self, k: usize) -> f64 {
+        self.pw.bodies[self.bodies[k]].rotation().angle() as f64
+    }
+    fn angvel(&self, k: usize) -> f64 {
+        self.pw.bodies[self.bodies[k]].angvel() as f64
+    }
+
+    /// Joint angles and speeds (Box2D's `angle = angleB − angleA`, `speed = ωB − ωA`).
+    fn joints(&self) -> ([f64; 4], [f64; 4]) {
+        let pairs = [(0, 1), (1, 2), (0, 3), (3, 4)];
+        let mut q = [0.0; 4];
+        let mut dq = [0.0; 4];
+        for (j, (a, b)) in pairs.into_iter().enumerate() {
+            q[j] = wrap_pi(self.angle(b) - self.angle(a));
+            dq[j] = self.angvel(b) - self.angvel(a);
+        }
+        (q, dq)
+    }
+}
+
+/// Gymnasium's `BipedalWalker` with an explicit context; each instance owns its rapier world.
+#[derive(Debug)]
+pub struct BipedalWalker {
+    params: BipedalWalkerParams,
+    opts: BipedalWalkerOptions,
+    world: Option<World>,
+    terrain: Option<Terrain>,
+    /// Collision shapes of `terrain`.
+    ground: Option<GroundShapes>,
+    /// Unwrapped hull angle (Box2D keeps angles continuous).
+    hull_angle: f64,
+    ground_contact: [bool; 2],
+    game_over: bool,
+    prev_shaping: Option<f64>,
+    /// Force applied at reset, acting during the first step only (Box2D clears forces).
+    pending_force: bool,
+    rng: Pcg64,
+}
+
+fn rng_for(seed: u64) -> Pcg64 {
+    Pcg64::new(seed, crate::sampling::stream_id(ID))
+}
+
+impl Clone for BipedalWalker {
+    /// The clone gets a world rebuilt from the full [`Env::state`]: bodies, terrain and episode
+    /// bookkeeping are equal, rapier's solver caches (warm-start impulses) start empty.
+    fn clone(&self) -> Self {
+        let mut c = BipedalWalker::with_options(self.params, self.opts);
+        c.rng = self.rng.clone();
+        c.terrain = self.terrain.clone();
+        c.ground = self.ground.clone();
+        if self.world.is_some() {
+            c.load_state(&self.state_array());
+        }
+        c
+    }
+}
+
+impl Default for BipedalWalker {
+    fn default() -> Self {
+        BipedalWalker::new(BipedalWalkerParams::default())
+    }
+}
+
+impl BipedalWalker {
+    pub fn new(params: BipedalWalkerParams) -> Self {
+        Self::with_options(params, BipedalWalkerOptions::default())
+    }
+
+    pub fn with_options(params: BipedalWalkerParams, opts: BipedalWalkerOptions) -> Self {
+        BipedalWalker {
+            params,
+            opts,
+            world: None,
+            terrain: None,
+            ground: None,
+            hull_angle: 0.0,
+            ground_contact: [false; 2],
+            game_over: false,
+            prev_shaping: None,
+            pending_force: false,
+            rng: rng_for(crate::envs::rng::DEFAULT_SEED),
+        }
+    }
+
+    pub fn params(&self) -> &BipedalWalkerParams {
+        &self.params
+    }
+    /// Context changes take effect at the next reset.
+    pub fn params_mut(&mut self) -> &mut BipedalWalkerParams {
+        &mut self.params
+    }
+    pub fn options(&self) -> &BipedalWalkerOptions {
+        &self.opts
+    }
+    /// Option changes take effect at the next reset.
+    pub fn options_mut(&mut self) -> &mut BipedalWalkerOptions {
+        &mut self.opts
+    }
+    /// The current course, or `None` before reset.
+    pub fn terrain(&self) -> Option<&Terrain> {
+        self.terrain.as_ref()
+    }
+    /// Whether the hull has touched the ground this episode.
+    pub fn game_over(&self) -> bool {
+        self.game_over
+    }
+    /// Poses of hull, upper 0, lower 0, upper 1, lower 1 as the physics engine has them, or
+    /// `None` before reset.
+    pub fn body_states(&self) -> Option<[BodyState; 5]> {
+        let w = self.world.as_ref()?;
+        Some(std::array::from_fn(|k| {
+            let b = &w.pw.bodies[w.bodies[k]];
+            let t = b.translation();
+            let v = b.linvel();
+            BodyState {
+                x: t.x as f64,
+                y: t.y as f64,
+                angle: if k == 0 {
+                    self.hull_angle
+                } else {
+                    b.rotation().angle() as f64
+                },
+                vx: v.x as f64,
+                vy: v.y as f64,
+                w: b.angvel() as f64,
+            }
+        }))
+    }
+    /// Hull mass (kg) as the physics engine computed it.
+    pub fn hull_mass(&self) -> Option<f64> {
+        let w = self.world.as_ref()?;
+        Some(w.pw.bodies[w.bodies[0]].mass() as f64)
+    }
+
+    /// The lidar's end points `(p1, p2)` and fractions for the current hull position.
+    pub fn lidar(&self) -> Option<[LidarRay; LIDAR_RAYS]> {
+        let (w, t) = (self.world.as_ref()?, self.terrain.as_ref()?);
+        let pos = w.pw.bodies[w.bodies[0]].translation();
+        let p1 = (pos.x as f64, pos.y as f64);
+        let r = self.params.lidar_range;
+        Some(std::array::from_fn(|i| {
+            let a = 1.5 * i as f64 / 10.0;
+            let p2 = (p1.0 + a.sin() * r, p1.1 - a.cos() * r);
+            (p1, p2, t.ray_fraction(p1, p2))
+        }))
+    }
+
+    fn terrain_spec(&self, seed: u64) -> TerrainSpec {
+        let p = &self.params;
+        let int = |x: f64| if x.is_finite() { x.round() as i64 } else { 0 };
+        TerrainSpec {
+            seed,
+            step: p.terrain_step,
+            length: int(p.terrain_length).clamp(2, 1 << 20) as usize,
+            height: p.terrain_height,
+            grass: int(p.terrain_grass),
+            startpad: int(p.terrain_startpad),
+            scale: p.scale,
+            hardcore: self.opts.hardcore,
+        }
+    }
+
+    /// The start pose ([`START_JOINTS`]): the hull level at Gymnasium's
+    /// `x = TERRAIN_STEP·TERRAIN_STARTPAD/2`, at the height where the lowest foot corner is
+    /// [`START_CLEARANCE`] above `ground`.
+    fn start_pose(&self, ground: f64) -> Pose {
+        let p = &self.params;
+        let mut pose = Pose {
+            hull: BodyState {
+                x: p.init_x(),
+                y: p.terrain_height + 2.0 * p.leg_h,
+                ..Default::default()
+            },
+            q: START_JOINTS,
+            dq: [0.0; 4],
+        };
+        let (hw, hh) = (0.8 * size(p.leg_w) / 2.0, size(p.leg_h) / 2.0);
+        let bodies = pose.bodies(p);
+        let lowest = [bodies[2], bodies[4]]
+            .iter()
+            .flat_map(|b| [(-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh)].map(|c| b.y + rot(b.angle, c).1))
+            .fold(f64::INFINITY, f64::min);
+        pose.hull.y += ground + START_CLEARANCE - lowest;
+        pose
+    }
+
+    fn current_pose(&self) -> Pose {
+        let Some(w) = &self.world else { return Pose::default() };
+        let b = &w.pw.bodies[w.bodies[0]];
+        let (t, v) = (b.translation(), b.linvel());
+        let (q, dq) = w.joints();
+        Pose {
+            hull: BodyState {
+                x: t.x as f64,
+                y: t.y as f64,
+                angle: self.hull_angle,
+                vx: v.x as f64,
+                vy: v.y as f64,
+                w: b.angvel() as f64,
+            },
+            q,
+            dq,
+        }
+    }
+
+    /// Everything [`Env::state`] returns, as a fixed array.
+    fn state_array(&self) -> [f64; STATE_DIM] {
+        let mut s = [0.0; STATE_DIM];
+        let pose = self.current_pose();
+        let h = pose.hull;
+        s[..6].copy_from_slice(&[h.x, h.y, h.angle, h.vx, h.vy, h.w]);
+        s[6..10].copy_from_slice(&pose.q);
+        s[10..14].copy_from_slice(&pose.dq);
+        s[14] = f64::from(u8::from(self.ground_contact[0]));
+        s[15] = f64::from(u8::from(self.ground_contact[1]));
+        s[16] = f64::from(u8::from(self.game_over));
+        s[17] = f64::from(u8::from(self.prev_shaping.is_some()));
+        s[18] = self.prev_shaping.unwrap_or(0.0);
+        if let Some(t) = &self.terrain {
+            let ts = &t.spec;
+            s[19..].copy_from_slice(&[
+                ts.seed as f64,
+                ts.step,
+                ts.length as f64,
+                ts.height,
+                ts.grass as f64,
+                ts.startpad as f64,
+                ts.scale,
+                f64::from(u8::from(ts.hardcore)),
+            ]);
+        }
+        s
+    }
+
+    fn load_state(&mut self, s: &[f64; STATE_DIM]) {
+        let int = |x: f64, lo: f64, hi: f64| x.round().clamp(lo, hi);
+        let t = &s[19..];
+        let spec = TerrainSpec {
+            seed: int(t[0], 0.0, (TERRAIN_SEED_LIMIT - 1) as f64) as u64,
+            step: t[1],
+            length: int(t[2], 2.0, (1 << 20) as f64) as usize,
+            height: t[3],
+            grass: int(t[4], -1e9, 1e9) as i64,
+            startpad: int(t[5], -1e9, 1e9) as i64,
+            scale: t[6],
+            hardcore: t[7] >= 0.5,
+        };
+        if self.terrain.as_ref().map(|t| t.spec) != Some(spec) {
+            self.set_terrain(Terrain::generate(spec));
+        }
+        let pose = Pose {
+            hull: BodyState {
+                x: s[0],
+                y: s[1],
+                angle: s[2],
+                vx: s[3],
+                vy: s[4],
+                w: s[5],
+            },
+            q: [s[6], s[7], s[8], s[9]],
+            dq: [s[10], s[11], s[12], s[13]],
+        };
+        self.place(&pose);
+        self.ground_contact = [s[14] != 0.0, s[15] != 0.0];
+        self.game_over = s[16] != 0.0;
+        self.prev_shaping = (s[17] != 0.0).then_some(s[18]);
+        self.pending_force = false;
+    }
+
+    fn set_terrain(&mut self, terrain: Terrain) {
+        self.ground = Some(GroundShapes::new(&terrain));
+        self.terrain = Some(terrain);
+    }
+
+    /// Build the world with the walker at `pose` on the current terrain.
+    fn place(&mut self, pose: &Pose) {
+        let bodies = pose.bodies(&self.params);
+        let ground = self.ground.as_ref().expect("place needs a terrain");
+        self.world = Some(World::build(&self.params, &self.opts, ground, &bodies));
+        self.hull_angle = pose.hull.angle;
+    }
+
+    /// The observation of the current state in f64 (Gymnasium's `state` list).
+    fn state_f64(&self) -> [f64; OBS_DIM] {
+        let mut s = [0.0; OBS_DIM];
+        let Some(w) = &self.world else { return s };
+        let p = &self.params;
+        let b = &w.pw.bodies[w.bodies[0]];
+        let v = b.linvel();
+        let (q, dq) = w.joints();
+        s[0] = self.hull_angle;
+        s[1] = 2.0 * b.angvel() as f64 / p.fps;
+        s[2] = 0.3 * v.x as f64 * (p.viewport_w / p.scale) / p.fps;
+        s[3] = 0.3 * v.y as f64 * (p.viewport_h / p.scale) / p.fps;
+        for leg in 0..2 {
+            let o = 4 + 5 * leg;
+            s[o] = q[2 * leg];
+            s[o + 1] = dq[2 * leg] / p.speed_hip;
+            s[o + 2] = q[2 * leg + 1] + 1.0;
+            s[o + 3] = dq[2 * leg + 1] / p.speed_knee;
+            s[o + 4] = f64::from(u8::from(self.ground_contact[leg]));
+        }
+        if let Some(lidar) = self.lidar() {
+            for (i, (_, _, f)) in lidar.iter().enumerate() {
+                s[14 + i] = *f;
+            }
+        }
+        s
+    }
+
+    /// Validate an action: 4 finite-or-NaN components (NaN means "motor off").
+    fn parse_action(action: &Action) -> Result<[f64; 4], EnvError> {
+        match action {
+            Action::Continuous(v) if v.len() == 4 => Ok(std::array::from_fn(|i| {
+                let a = v[i] as f64;
+                if a.is_nan() { 0.0 } else { a }
+            })),
+            Action::Continuous(v) => Err(EnvError::ActionLength {
+                env: ID,
+                expected: 4,
+                got: v.len(),
+            }),
+            Action::Discrete(_) => Err(EnvError::ActionKind {
+                env: ID,
+                expected: "continuous",
+                got: "discrete",
+            }),
+        }
+    }
+
+    /// One Gymnasium step with a validated action, writing the observation (f64) to `obs`.
+    /// Requires a world.
+    fn advance(&mut self, a: &[f64; 4], obs: &mut [f64; OBS_DIM]) -> StepOutcome {
+        let p = self.params;
+        let world = self.world.as_mut().expect("advance needs a world");
+        for (j, &aj) in a.iter().enumerate() {
+            let speed = if j % 2 == 0 { p.speed_hip } else { p.speed_knee };
+            let sign = if aj > 0.0 {
+                1.0
+            } else if aj < 0.0 {
+                -1.0
+            } else {
+                0.0
+            };
+            let torque = (p.motors_torque * aj.abs().clamp(0.0, 1.0)).max(0.0);
+            if let Some(joint) = world.pw.impulse_joints.get_mut(world.joints[j], false) {
+                joint
+                    .data
+                    .set_motor_velocity(JointAxis::AngX, (speed * sign) as f32, MOTOR_DAMPING)
+                    .set_motor_max_force(JointAxis::AngX, torque as f32);
+            }
+        }
+
+        world.pw.step();
+        let dt = world.pw.integration_parameters.dt;
+        if self.pending_force {
+            world.pw.bodies[world.bodies[0]].reset_forces(false);
+            self.pending_force = false;
+        }
+        for k in 0..5 {
+            let b = &mut world.pw.bodies[world.bodies[k]];
+            let mut v = b.linvel();
+            let mut w = b.angvel();
+            let tr = v.length() * dt;
+            if tr > MAX_TRANSLATION && tr.is_finite() {
+                v *= MAX_TRANSLATION / tr;
+                b.set_linvel(v, false);
+            }
+            let r = w.abs() * dt;
+            if r > MAX_ROTATION && r.is_finite() {
+                w *= MAX_ROTATION / r;
+                b.set_angvel(w, false);
+            }
+        }
+        let a_now = world.angle(0);
+        self.hull_angle += wrap_pi(a_now - wrap_pi(self.hull_angle));
+        if world.touching(world.hull_col) {
+            self.game_over = true;
+        }
+        self.ground_contact = [world.touching(world.lower_cols[0]), world.touching(world.lower_cols[1])];
+
+        *obs = self.state_f64();
+        let x = world_x(self.world.as_ref());
+        let shaping = 130.0 * x / p.scale - 5.0 * obs[0].abs();
+        let mut reward = match self.prev_shaping {
+            Some(prev) => shaping - prev,
+            None => 0.0,
+        };
+        self.prev_shaping = Some(shaping);
+        for aj in a {
+            reward -= 0.00035 * p.motors_torque * aj.abs().clamp(0.0, 1.0);
+        }
+        let mut terminated = false;
+        if self.game_over || x < 0.0 {
+            reward = -100.0;
+            terminated = true;
+        }
+        if x > p.finish_x() {
+            terminated = true;
+        }
+        StepOutcome {
+            reward,
+            terminated,
+            truncated: false,
+        }
+    }
+
+    fn write_obs(&self, obs: &mut [f32]) {
+        write_f32(obs, &self.state_f64());
+    }
+
+    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        dist::uniform(&mut self.rng, lo, hi)
+    }
+}
+
+fn write_f32(obs: &mut [f32], s: &[f64; OBS_DIM]) {
+    for (o, s) in obs.iter_mut().zip(s) {
+        *o = *s as f32;
+    }
+}
+
+fn world_x(w: Option<&World>) -> f64 {
+    w.map_or(0.0, |w| w.pw.bodies[w.bodies[0]].translation().x as f64)
+}
+
+impl Env for BipedalWalker {
+    fn id(&self) -> &'static str {
+        ID
+    }
+    fn obs_dim(&self) -> usize {
+        OBS_DIM
+    }
+    fn state_dim(&self) -> usize {
+        STATE_DIM
+    }
+    fn observation_space(&self) -> Space {
+        let pi = std::f32::consts::PI;
+        let mut low = vec![
+            -pi, -5.0, -5.0, -5.0, -pi, -5.0, -pi, -5.0, -0.0, -pi, -5.0, -pi, -5.0, -0.0,
+        ];
+        let mut high = vec![pi, 5.0, 5.0, 5.0, pi, 5.0, pi, 5.0, 5.0, pi, 5.0, pi, 5.0, 5.0];
+        low.extend([-1.0; LIDAR_RAYS]);
+        high.extend([1.0; LIDAR_RAYS]);
+        Space::Box {
+            low,
+            high,
+            shape: vec![OBS_DIM],
+            dtype: DType::Float32,
+        }
+    }
+    fn action_space(&self) -> Space {
+        Space::Box {
+            low: vec![-1.0; 4],
+            high: vec![1.0; 4],
+            shape: vec![4],
+            dtype: DType::Float32,
+        }
+    }
+
+    fn reset_into(&mut self, seed: Option<u64>, obs: &mut [f32]) -> Result<(), EnvError> {
+        check_obs_len(ID, obs, OBS_DIM)?;
+        if let Some(seed) = seed {
+            self.rng = rng_for(seed);
+        }
+        let terrain_seed = self.rng.next_u64() % TERRAIN_SEED_LIMIT;
+        let spec = self.terrain_spec(terrain_seed);
+        let terrain = Terrain::generate(spec);
+        let ground = terrain.height_at(self.params.init_x());
+        self.set_terrain(terrain);
+        let pose = self.start_pose(ground);
+        self.place(&pose);
+        self.ground_contact = [false; 2];
+        self.game_over = false;
+        self.prev_shaping = None;
+        let ir = self.params.initial_random;
+        let fx = self.uniform(-ir, ir);
+        if let Some(w) = self.world.as_mut() {
+            w.pw.bodies[w.bodies[0]].add_force(v2(fx, 0.0), true);
+        }
+        self.pending_force = true;
+        // Gymnasium's reset returns the observation of `step([0, 0, 0, 0])`.
+        let mut o = [0.0; OBS_DIM];
+        self.advance(&[0.0; 4], &mut o);
+        write_f32(obs, &o);
+        Ok(())
+    }
+
+    fn step_into(&mut self, action: &Action, obs: &mut [f32]) -> Result<StepOutcome, EnvError> {
+        let a = Self::parse_action(action)?;
+        check_obs_len(ID, obs, OBS_DIM)?;
+        if self.world.is_none() {
+            return Err(EnvError::NeedsReset { env: ID });
+        }
+        let mut o = [0.0; OBS_DIM];
+        let out = self.advance(&a, &mut o);
+        write_f32(obs, &o);
+        Ok(out)
+    }
+
+    fn observe_into(&self, obs: &mut [f32]) -> Result<(), EnvError> {
+        check_obs_len(ID, obs, OBS_DIM)?;
+        self.write_obs(obs);
+        Ok(())
+    }
+
+    /// See the module docs for the layout.
+    fn state(&self) -> Vec<f64> {
+        self.state_array().to_vec()
+    }
+
+    fn set_state(&mut self, state: &[f64]) -> Result<(), EnvError> {
+        let s = check_state::<STATE_DIM>(ID, state)?;
+        self.load_state(&s);
+        // Bookkeeping cleared as after a reset.
+        self.game_over = false;
+        Ok(())
+    }
+
+    fn render(&self) -> Option<crate::render::Frame> {
+        render::render(self)
+    }
+}

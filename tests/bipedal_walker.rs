@@ -1,0 +1,477 @@
+//! BipedalWalker on rapier2d: observation layout and normalisation, determinism across
+//! instances and seeds, falling, lidar against flat ground and stumps, the scripted gait,
+//! context sensitivity, bad input and rendering.
+
+use carl_spec::envs::box2d::bipedal_walker::{Obstacle, START_JOINTS, STATE_DIM};
+use carl_spec::envs::box2d::{BipedalWalker, BipedalWalkerOptions, BipedalWalkerParams, WalkerHeuristic};
+use carl_spec::envs::registry::{Context, make};
+use carl_spec::envs::{Action, Env, EnvError};
+use carl_spec::spec::SpecSet;
+use carl_spec::spec::model::Value;
+
+fn walker(p: BipedalWalkerParams) -> BipedalWalker {
+    BipedalWalker::new(p)
+}
+
+fn act(a: [f32; 4]) -> Action {
+    Action::Continuous(a.to_vec())
+}
+
+/// Run the scripted gait for at most `n` steps: (observations, rewards, terminated).
+fn gait(env: &mut BipedalWalker, seed: u64, n: usize) -> (Vec<Vec<f32>>, Vec<f64>, bool) {
+    let mut h = WalkerHeuristic::default();
+    let (mut obs, _) = env.reset(Some(seed));
+    let mut trace = vec![obs.clone()];
+    let mut rewards = Vec::new();
+    for _ in 0..n {
+        let st = env.step(&act(h.act(&obs))).unwrap();
+        obs = st.obs;
+        trace.push(obs.clone());
+        rewards.push(st.reward);
+        if st.terminated {
+            return (trace, rewards, true);
+        }
+    }
+    (trace, rewards, false)
+}
+
+/// Lidar fraction of ray `i` from height `h` above flat ground (Gymnasium's ray directions).
+fn flat_fraction(i: usize, h: f64, range: f64) -> f64 {
+    let a = 1.5 * i as f64 / 10.0;
+    (h / (a.cos() * range)).min(1.0)
+}
+
+#[test]
+fn observation_layout_and_normalisation_at_reset() {
+    let p = BipedalWalkerParams::default();
+    let mut env = walker(p);
+    let (obs, _) = env.reset(Some(0));
+    assert_eq!(obs.len(), 24);
+    assert!(env.observation_space().flat_dim() == 24 && env.action_space().flat_dim() == 4);
+    let b = env.body_states().unwrap();
+    let hull = b[0];
+    // Hull: angle, 2ω/FPS, 0.3·v·(VIEWPORT/SCALE)/FPS.
+    assert_eq!(obs[0], hull.angle as f32);
+    assert_eq!(obs[1], (2.0 * hull.w / p.fps) as f32);
+    assert_eq!(obs[2], (0.3 * hull.vx * (p.viewport_w / p.scale) / p.fps) as f32);
+    assert_eq!(obs[3], (0.3 * hull.vy * (p.viewport_h / p.scale) / p.fps) as f32);
+    // One step of free fall onto the pad: vy ≈ g·dt = -0.2 m/s, as in Gymnasium (obs[3] = -0.016).
+    assert!((obs[3] + 0.016).abs() < 0.002, "{}", obs[3]);
+    // Joints: hip angle, hip speed / SPEED_HIP, knee angle + 1, knee speed / SPEED_KNEE.
+    for leg in 0..2 {
+        let o = 4 + 5 * leg;
+        let (hull_b, upper, lower) = (b[0], b[1 + 2 * leg], b[2 + 2 * leg]);
+        let hip = upper.angle - hull_b.angle;
+        let knee = lower.angle - upper.angle;
+        assert!((obs[o] as f64 - hip).abs() < 1e-5, "leg {leg}: {} vs {hip}", obs[o]);
+        assert!((obs[o] as f64 - START_JOINTS[2 * leg]).abs() < 0.05, "{}", obs[o]);
+        assert!((obs[o + 1] as f64 - (upper.w - hull_b.w) / p.speed_hip).abs() < 1e-5);
+        assert!((obs[o + 2] as f64 - (knee + 1.0)).abs() < 1e-5);
+        assert!((obs[o + 3] as f64 - (lower.w - upper.w) / p.speed_knee).abs() < 1e-5);
+        // The walker starts with both feet on the pad.
+        assert_eq!(obs[o + 4], 1.0, "leg {leg} contact");
+    }
+    // Lidar over the flat start pad: fraction = min(1, h / (cos(angle)·LIDAR_RANGE)).
+    let h = hull.y - p.terrain_height;
+    assert!((h - 2.35).abs() < 0.05, "hull {h} m above the pad (Gymnasium: 2.35)");
+    for i in 0..10 {
+        let want = flat_fraction(i, h, p.lidar_range);
+        assert!(
+            (obs[14 + i] as f64 - want).abs() < 1e-5,
+            "ray {i}: {} vs {want}",
+            obs[14 + i]
+        );
+    }
+    assert!(env.observation_space().contains_obs(&obs));
+}
+
+trait ContainsObs {
+    fn contains_obs(&self, obs: &[f32]) -> bool;
+}
+impl ContainsObs for carl_spec::envs::Space {
+    fn contains_obs(&self, obs: &[f32]) -> bool {
+        self.contains(&Action::Continuous(obs.to_vec()))
+    }
+}
+
+#[test]
+fn normalisations_follow_the_context() {
+    let base = BipedalWalkerParams::default();
+    let mut a = walker(base);
+    a.reset(Some(5));
+    for _ in 0..20 {
+        a.step(&act([0.5, -0.5, 0.3, 0.8])).unwrap();
+    }
+    let s = a.state();
+    let oa = a.observe();
+    let scaled = BipedalWalkerParams {
+        viewport_w: 2.0 * base.viewport_w,
+        viewport_h: 3.0 * base.viewport_h,
+        speed_hip: 2.0 * base.speed_hip,
+        speed_knee: 4.0 * base.speed_knee,
+        lidar_range: 2.0 * base.lidar_range,
+        ..base
+    };
+    let mut b = walker(scaled);
+    b.reset(Some(5));
+    b.set_state(&s).unwrap();
+    let ob = b.observe();
+    let close = |x: f32, y: f32| (x - y).abs() <= 1e-5 * (1.0 + x.abs());
+    assert!(close(ob[2], 2.0 * oa[2]) && close(ob[3], 3.0 * oa[3]), "{oa:?} {ob:?}");
+    for leg in 0..2 {
+        let o = 4 + 5 * leg;
+        assert!(close(ob[o + 1], oa[o + 1] / 2.0) && close(ob[o + 3], oa[o + 3] / 4.0));
+        assert_eq!((ob[o], ob[o + 2], ob[o + 4]), (oa[o], oa[o + 2], oa[o + 4]));
+    }
+    // Doubling the lidar range halves every fraction that hit something.
+    for i in 14..24 {
+        if oa[i] < 0.45 {
+            assert!(close(ob[i], oa[i] / 2.0), "ray {}: {} vs {}", i - 14, ob[i], oa[i]);
+        }
+    }
+}
+
+#[test]
+fn alternating_two_walkers_equals_each_alone() {
+    let pa = BipedalWalkerParams::default();
+    let pb = BipedalWalkerParams {
+        gravity_y: -4.0,
+        motors_torque: 150.0,
+        ..Default::default()
+    };
+    let n = 300;
+    let (alone_a, ra, _) = gait(&mut walker(pa), 7, n);
+    let (alone_b, rb, _) = gait(&mut walker(pb), 7, n);
+    let (mut a, mut b) = (walker(pa), walker(pb));
+    let (mut ha, mut hb) = (WalkerHeuristic::default(), WalkerHeuristic::default());
+    let (mut oa, _) = a.reset(Some(7));
+    let (mut ob, _) = b.reset(Some(7));
+    let (mut ta, mut tb) = (vec![oa.clone()], vec![ob.clone()]);
+    let (mut rwa, mut rwb) = (Vec::new(), Vec::new());
+    let (mut done_a, mut done_b) = (false, false);
+    for _ in 0..n {
+        if !done_a {
+            let st = a.step(&act(ha.act(&oa))).unwrap();
+            done_a = st.terminated;
+            oa = st.obs;
+            ta.push(oa.clone());
+            rwa.push(st.reward);
+        }
+        if !done_b {
+            let st = b.step(&act(hb.act(&ob))).unwrap();
+            done_b = st.terminated;
+            ob = st.obs;
+            tb.push(ob.clone());
+            rwb.push(st.reward);
+        }
+    }
+    assert_eq!(ta, alone_a);
+    assert_eq!(tb, alone_b);
+    assert_eq!((rwa, rwb), (ra, rb));
+    assert_ne!(ta, tb);
+}
+
+#[test]
+fn seeds_reproduce_runs_and_change_the_terrain() {
+    let mut env = walker(BipedalWalkerParams::default());
+    let (t1, r1, _) = gait(&mut env, 11, 200);
+    let terrain11 = env.terrain().unwrap().clone();
+    let (t2, r2, _) = gait(&mut env, 11, 200);
+    assert_eq!((t1, r1), (t2, r2));
+    assert_eq!(&terrain11, env.terrain().unwrap());
+    env.reset(Some(12));
+    let terrain12 = env.terrain().unwrap();
+    assert_ne!(terrain11.y, terrain12.y);
+    // The start pad is the same flat stretch for every seed; the course after it differs.
+    assert_eq!(terrain11.y[..=20], terrain12.y[..=20]);
+    // Hardcore courses differ in their obstacles too.
+    let hc = BipedalWalkerOptions {
+        hardcore: true,
+        ..Default::default()
+    };
+    let mut h = BipedalWalker::with_options(BipedalWalkerParams::default(), hc);
+    h.reset(Some(1));
+    let q1 = h.terrain().unwrap().quads.clone();
+    h.reset(Some(2));
+    assert!(!q1.is_empty());
+    assert_ne!(&q1, &h.terrain().unwrap().quads);
+}
+
+#[test]
+fn zero_action_falls_with_minus_100_and_stays_finite() {
+    let mut env = walker(BipedalWalkerParams::default());
+    env.reset(Some(0));
+    let mut last = None;
+    for k in 0..500 {
+        let st = env.step(&act([0.0; 4])).unwrap();
+        assert!(st.obs.iter().all(|x| x.is_finite()));
+        if st.terminated {
+            last = Some((k, st.reward));
+            break;
+        }
+    }
+    // Gymnasium's walker, limp, folds at the knees and tips over onto its hull (~60 steps).
+    let (k, r) = last.expect("the limp walker never fell");
+    assert_eq!(r, -100.0);
+    assert!(env.game_over());
+    assert!((20..400).contains(&k), "fell after {k} steps");
+}
+
+#[test]
+fn extreme_contexts_stay_finite() {
+    let specs = SpecSet::bundled().unwrap();
+    let spec = specs.get("bipedal_walker").unwrap();
+    for f in &spec.features {
+        for bound in f.bounds.iter().flatten() {
+            let ctx = Context::from([(f.name.clone(), Value::Number(*bound))]);
+            let mut env = make(spec, &ctx).unwrap();
+            let (obs, _) = env.reset(Some(3));
+            assert!(obs.iter().all(|x| x.is_finite()), "{} = {bound}: {obs:?}", f.name);
+            let mut h = WalkerHeuristic::default();
+            let mut obs = obs;
+            for k in 0..200 {
+                let a = if k % 2 == 0 {
+                    h.act(&obs)
+                } else {
+                    [1.0, -1.0, -1.0, 1.0]
+                };
+                let st = env.step(&act(a)).unwrap();
+                assert!(
+                    st.obs.iter().all(|x| x.is_finite()) && st.reward.is_finite(),
+                    "{} = {bound}, step {k}: {:?}",
+                    f.name,
+                    st.obs
+                );
+                obs = st.obs;
+                if st.terminated {
+                    break;
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn leaving_the_course_to_the_left_terminates_with_minus_100() {
+    let mut env = walker(BipedalWalkerParams::default());
+    env.reset(Some(0));
+    let mut s = env.state();
+    s[0] = 0.02; // hull x
+    s[3] = -5.0; // moving left at 5 m/s
+    env.set_state(&s).unwrap();
+    let st = env.step(&act([0.0; 4])).unwrap();
+    assert!(st.terminated);
+    assert_eq!(st.reward, -100.0);
+    assert!(!env.game_over(), "terminated by x < 0, not by a hull contact");
+}
+
+#[test]
+fn crossing_the_finish_line_terminates_without_penalty() {
+    let p = BipedalWalkerParams::default();
+    let mut env = walker(p);
+    env.reset(Some(0));
+    let mut s = env.state();
+    let terrain = env.terrain().unwrap().clone();
+    let x = p.finish_x() + 0.05;
+    let dy = terrain.height_at(x) - terrain.height_at(s[0]);
+    s[0] = x;
+    s[1] += dy + 0.3;
+    s[17] = 0.0; // no previous shaping: the first reward is 0 minus the (zero) torque cost
+    env.set_state(&s).unwrap();
+    let st = env.step(&act([0.0; 4])).unwrap();
+    assert!(st.terminated);
+    assert_eq!(st.reward, 0.0);
+    // A shorter course ends earlier.
+    let mut short = walker(BipedalWalkerParams {
+        terrain_length: 100.0,
+        ..p
+    });
+    short.reset(Some(0));
+    let mut s = short.state();
+    s[0] = (100.0 - 10.0) * p.terrain_step + 0.05;
+    short.set_state(&s).unwrap();
+    assert!(short.step(&act([0.0; 4])).unwrap().terminated);
+}
+
+#[test]
+fn lidar_sees_a_stump_closer_than_the_ground() {
+    let p = BipedalWalkerParams::default();
+    let opts = BipedalWalkerOptions {
+        hardcore: true,
+        ..Default::default()
+    };
+    let mut env = BipedalWalker::with_options(p, opts);
+    let mut found = false;
+    for seed in 0..20 {
+        env.reset(Some(seed));
+        let terrain = env.terrain().unwrap().clone();
+        let Some(k) = terrain.kinds.iter().position(|k| *k == Obstacle::Stump) else {
+            continue;
+        };
+        let q = terrain.quads[k];
+        let (x0, y0) = q[0];
+        // Hull 1.5 m before the stump's left face, 2 m above its base.
+        let mut s = env.state();
+        let dy = y0 + 2.0 - s[1];
+        s[0] = x0 - 1.5;
+        s[1] += dy;
+        env.set_state(&s).unwrap();
+        let obs = env.observe();
+        let pos = env.body_states().unwrap()[0];
+        let mut flat = terrain.clone();
+        flat.quads.clear();
+        let mut shorter = 0;
+        for i in 0..10 {
+            let a = 1.5 * i as f64 / 10.0;
+            let p1 = (pos.x, pos.y);
+            let p2 = (pos.x + a.sin() * p.lidar_range, pos.y - a.cos() * p.lidar_range);
+            let with = terrain.ray_fraction(p1, p2);
+            let without = flat.ray_fraction(p1, p2);
+            assert_eq!(obs[14 + i], with as f32);
+            assert!(with <= without);
+            if with < without - 0.01 {
+                shorter += 1;
+            }
+        }
+        assert!(shorter >= 2, "seed {seed}: only {shorter} rays see the stump");
+        found = true;
+        break;
+    }
+    assert!(found, "no stump in 20 hardcore courses");
+}
+
+#[test]
+fn scripted_gait_walks_forward() {
+    let p = BipedalWalkerParams::default();
+    let mut env = walker(p);
+    let mut best: f64 = 0.0;
+    for seed in 0..4 {
+        let (trace, rewards, _) = gait(&mut env, seed, 1600);
+        let x = env.body_states().unwrap()[0].x;
+        best = best.max(x - p.init_x());
+        // Positive mean forward speed (observation 2) while walking.
+        let n = trace.len().min(120);
+        let mean_v: f32 = trace[..n].iter().map(|o| o[2]).sum::<f32>() / n as f32;
+        assert!(mean_v > 0.05, "seed {seed}: mean speed {mean_v}");
+        // Shaping pays for progress: the return before any fall is positive.
+        let before_fall: f64 = rewards.iter().filter(|r| **r > -100.0).sum();
+        assert!(before_fall > 0.0, "seed {seed}: {before_fall}");
+    }
+    assert!(best > 5.0, "the gait covered only {best} m");
+}
+
+#[test]
+fn context_changes_the_dynamics() {
+    let run = |p: BipedalWalkerParams| gait(&mut walker(p), 2, 60).0;
+    let base = run(BipedalWalkerParams::default());
+    for p in [
+        BipedalWalkerParams {
+            friction: 0.3,
+            ..Default::default()
+        },
+        BipedalWalkerParams {
+            motors_torque: 20.0,
+            ..Default::default()
+        },
+        BipedalWalkerParams {
+            leg_h: 1.5,
+            ..Default::default()
+        },
+        BipedalWalkerParams {
+            speed_knee: 2.0,
+            ..Default::default()
+        },
+        BipedalWalkerParams {
+            gravity_x: 3.0,
+            ..Default::default()
+        },
+    ] {
+        assert_ne!(run(p), base, "{p:?}");
+    }
+}
+
+#[test]
+fn state_round_trip_and_bad_input() {
+    let mut env = walker(BipedalWalkerParams::default());
+    let mut obs = vec![0.0; 24];
+    assert_eq!(
+        env.step_into(&act([0.0; 4]), &mut obs),
+        Err(EnvError::NeedsReset { env: "bipedal_walker" })
+    );
+    env.reset(Some(4));
+    for _ in 0..30 {
+        env.step(&act([0.3, -0.2, -0.4, 0.9])).unwrap();
+    }
+    let s = env.state();
+    assert_eq!(s.len(), STATE_DIM);
+    let o = env.observe();
+    let mut c = walker(BipedalWalkerParams::default());
+    c.set_state(&s).unwrap();
+    let s2 = c.state();
+    for (i, (x, y)) in s.iter().zip(&s2).enumerate() {
+        assert!((x - y).abs() <= 1e-4 * (1.0 + x.abs()), "component {i}: {x} vs {y}");
+    }
+    for (x, y) in o.iter().zip(c.observe()) {
+        assert!((x - y).abs() < 1e-4);
+    }
+    // Clones continue identically to each other.
+    let mut d = c.clone();
+    assert_eq!(c.step(&act([1.0; 4])).unwrap(), d.step(&act([1.0; 4])).unwrap());
+
+    assert!(matches!(
+        env.step(&Action::Continuous(vec![0.0; 3])),
+        Err(EnvError::ActionLength {
+            expected: 4,
+            got: 3,
+            ..
+        })
+    ));
+    assert!(matches!(
+        env.step(&Action::Discrete(1)),
+        Err(EnvError::ActionKind { .. })
+    ));
+    assert!(matches!(env.set_state(&s[..5]), Err(EnvError::StateLength { .. })));
+    let mut bad = s.clone();
+    bad[1] = f64::NAN;
+    assert!(matches!(
+        env.set_state(&bad),
+        Err(EnvError::StateNotFinite { index: 1, .. })
+    ));
+    assert!(matches!(
+        env.observe_into(&mut [0.0; 3]),
+        Err(EnvError::ObsBufferLength { .. })
+    ));
+    // Out-of-range actions are clipped as in Gymnasium (torque ≤ MOTORS_TORQUE), NaN is "off".
+    let st = env.step(&act([7.0, -7.0, f32::NAN, 0.0])).unwrap();
+    assert!(st.obs.iter().all(|x| x.is_finite()));
+}
+
+#[test]
+fn render_draws_sky_ground_and_hull() {
+    let p = BipedalWalkerParams::default();
+    let mut env = walker(p);
+    env.reset(Some(0));
+    let f = env.render().unwrap();
+    assert_eq!((f.width, f.height), (600, 400));
+    let hull = env.body_states().unwrap()[0];
+    let left = (hull.x - p.viewport_w / p.scale / 5.0).max(0.0);
+    let px = |x: f64, y: f64| (((x - left) * p.scale) as u32, (p.viewport_h - y * p.scale) as u32);
+    // Hull body (a point inside the polygon, right of the hip anchors' lidar origin).
+    let (hx, hy) = px(hull.x - 0.5, hull.y + 0.1);
+    assert_eq!(f.pixel(hx, hy), [127, 51, 229]);
+    // Ground under the start pad, sky above the walker.
+    let (gx, gy) = px(hull.x + 2.0, p.terrain_height - 1.0);
+    assert_eq!(f.pixel(gx, gy), [102, 153, 76]);
+    assert_eq!(f.pixel(590, 5), [215, 215, 255]);
+    // A lidar ray (red) between the hull and the ground straight below it.
+    let (lx, ly) = px(hull.x, hull.y - 1.0);
+    let red = (lx.saturating_sub(1)..=lx + 1).any(|x| {
+        let c = f.pixel(x, ly);
+        c[0] > 200 && c[1] < 120
+    });
+    assert!(red, "no lidar ray at ({lx}, {ly})");
+    // Rendering never changes the simulation.
+    let s = env.state();
+    env.render();
+    assert_eq!(s, env.state());
+}
