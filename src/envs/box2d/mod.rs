@@ -3,6 +3,8 @@
 //! * [`lunar_lander`]: Gymnasium's `LunarLander-v3` (discrete and continuous) with all of
 //!   CARL's 16 context features, each instance owning its own physics world.
 //! * [`heuristic`]: Gymnasium's hand-written landing controller (same control law).
+//! * [`vehicle_racing`]: Gymnasium's `CarRacing-v3` with CARL's 29 vehicles (pixel observations
+//!   drawn in software; its rigid-body physics is plain Rust, see its module docs).
 //!
 //! Physics is not Box2D, so trajectories are not bit-identical to Gymnasium; the geometry,
 //! masses, joints, engine impulses, observation, reward and termination rules are the same,
@@ -10,9 +12,11 @@
 
 pub mod heuristic;
 pub mod lunar_lander;
+pub mod vehicle_racing;
 
 pub use heuristic::{heuristic, heuristic_continuous};
 pub use lunar_lander::{LunarLander, LunarLanderOptions, LunarLanderParams, Outcome};
+pub use vehicle_racing::{VehicleRacing, VehicleRacingOptions, VehicleRacingParams};
 
 /// The physics engine behind these environments, pinned exactly in `Cargo.toml`. Recorded in
 /// results files: changing it can change every trajectory.
