@@ -83,8 +83,9 @@ pub const WINDOW_H: f64 = 800.0;
 pub const ZOOM: f64 = 2.7;
 pub const GRASS_DIM: f64 = PLAYFIELD / 20.0;
 pub const OBS_DIM: usize = STATE_W * STATE_H * 3;
-/// Supersampling factor of the observation (samples per output pixel per axis).
-pub const OBS_SUPERSAMPLE: usize = 4;
+/// Default supersampling factor of the observation (samples per output pixel per axis; see
+/// [`VehicleRacingOptions::obs_supersample`]).
+pub const OBS_SUPERSAMPLE: usize = 2;
 /// Supersampling factor of `render()`.
 pub const RENDER_SUPERSAMPLE: usize = 2;
 
@@ -148,6 +149,10 @@ pub struct VehicleRacingOptions {
     /// `continuous=True`: actions `[steer, gas, brake]`; otherwise 5 discrete actions.
     pub continuous: bool,
     pub lap_complete_percent: f64,
+    /// Samples per observation pixel per axis (1..=8). pygame averages about 10×8 surface
+    /// pixels per observation pixel; 2 (4 samples) is 2.8× cheaper than 4 and differs only
+    /// along edges.
+    pub obs_supersample: usize,
 }
 
 impl Default for VehicleRacingOptions {
@@ -155,6 +160,7 @@ impl Default for VehicleRacingOptions {
         VehicleRacingOptions {
             continuous: true,
             lap_complete_percent: 0.95,
+            obs_supersample: OBS_SUPERSAMPLE,
         }
     }
 }
@@ -995,7 +1001,7 @@ impl VehicleRacing {
                 let y0 = GRASS_DIM * f64::from(gy);
                 let cx = x0 + GRASS_DIM / 2.0 - pos.x;
                 let cy = y0 + GRASS_DIM / 2.0 - pos.y;
-                if cx.hypot(cy) > view_r + GRASS_DIM {
+                if cx * cx + cy * cy > (view_r + GRASS_DIM).powi(2) {
                     continue;
                 }
                 let pts = [
@@ -1009,7 +1015,7 @@ impl VehicleRacing {
         }
         for (i, q) in track.tiles.iter().enumerate() {
             let (cx, cy) = (q.pts[0].0 - pos.x, q.pts[0].1 - pos.y);
-            if cx.hypot(cy) > view_r + 20.0 {
+            if cx * cx + cy * cy > (view_r + 20.0).powi(2) {
                 continue;
             }
             let color = if self.visited.get(i).copied().unwrap_or(false) {
@@ -1021,7 +1027,7 @@ impl VehicleRacing {
         }
         for q in &track.borders {
             let (cx, cy) = (q.pts[0].0 - pos.x, q.pts[0].1 - pos.y);
-            if cx.hypot(cy) > view_r + 20.0 {
+            if cx * cx + cy * cy > (view_r + 20.0).powi(2) {
                 continue;
             }
             poly(canvas, &mut q.pts.into_iter(), q.color);
@@ -1149,7 +1155,7 @@ impl VehicleRacing {
     }
 
     fn render_obs(&self, obs: &mut [f32]) {
-        let k = OBS_SUPERSAMPLE;
+        let k = self.opts.obs_supersample.clamp(1, 8);
         let mut guard = self.canvas.lock().unwrap_or_else(|e| e.into_inner());
         self.draw(&mut guard, STATE_W * k, STATE_H * k);
         guard.downsample_into(k, obs);

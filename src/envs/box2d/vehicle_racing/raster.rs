@@ -13,6 +13,19 @@ pub struct Canvas {
     pub px: Vec<u32>,
 }
 
+/// `ceil(x)` clamped to `[0, max]`, without a libm call (baseline x86-64 has no `roundsd`).
+#[inline]
+fn ceil_clamped(x: f64, max: usize) -> usize {
+    if x.is_nan() || x <= 0.0 {
+        return 0;
+    }
+    if x >= max as f64 {
+        return max;
+    }
+    let t = x as usize;
+    if (t as f64) < x { t + 1 } else { t }
+}
+
 #[inline]
 fn pack(c: [u8; 3]) -> u32 {
     (u32::from(c[0]) << 16) | (u32::from(c[1]) << 8) | u32::from(c[2])
@@ -36,7 +49,7 @@ impl Canvas {
     /// Fill the polygon `pts` (canvas coordinates, any orientation, up to 16 vertices).
     pub fn fill_polygon(&mut self, pts: &[(f64, f64)], color: [u8; 3]) {
         let n = pts.len();
-        if n < 3 || n > 16 {
+        if !(3..=16).contains(&n) {
             return;
         }
         let (mut ymin, mut ymax) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -54,8 +67,8 @@ impl Canvas {
             return;
         }
         // Sample rows whose centres j + 0.5 lie in [ymin, ymax).
-        let j0 = ((ymin - 0.5).ceil().max(0.0)) as usize;
-        let j1 = ((ymax - 0.5).ceil().min(self.h as f64)).max(0.0) as usize;
+        let j0 = ceil_clamped(ymin - 0.5, self.h);
+        let j1 = ceil_clamped(ymax - 0.5, self.h);
         let mut xs = [0.0f64; 16];
         let color = pack(color);
         for j in j0..j1 {
@@ -73,8 +86,8 @@ impl Canvas {
             xs.sort_unstable_by(f64::total_cmp);
             let row = j * self.w;
             for pair in xs.chunks_exact(2) {
-                let a = ((pair[0] - 0.5).ceil().max(0.0)) as usize;
-                let b = ((pair[1] - 0.5).ceil().min(self.w as f64)).max(0.0) as usize;
+                let a = ceil_clamped(pair[0] - 0.5, self.w);
+                let b = ceil_clamped(pair[1] - 0.5, self.w);
                 if b > a {
                     self.px[row + a..row + b].fill(color);
                 }
@@ -82,25 +95,29 @@ impl Canvas {
         }
     }
 
-    /// Average `k × k` blocks into `out` (`(w/k) × (h/k) × 3`, HWC), rounded to integers.
+    /// Average `k × k` blocks into `out` (`(w/k) × (h/k) × 3`, HWC), rounded half up.
     pub fn downsample_into(&self, k: usize, out: &mut [f32]) {
         let (ow, oh) = (self.w / k, self.h / k);
         let kk = (k * k) as u32;
+        // floor((acc + kk/2) / kk) as a multiply-shift, exact for acc < 2^16 and kk <= 64.
+        let magic = (1u64 << 32).div_ceil(u64::from(kk));
+        let mut acc = vec![0u32; 3 * ow];
         for oy in 0..oh {
-            for ox in 0..ow {
-                let mut acc = [0u32; 3];
-                for sy in 0..k {
-                    let row = (oy * k + sy) * self.w + ox * k;
-                    for &p in &self.px[row..row + k] {
-                        acc[0] += (p >> 16) & 0xFF;
-                        acc[1] += (p >> 8) & 0xFF;
-                        acc[2] += p & 0xFF;
+            acc.fill(0);
+            for sy in 0..k {
+                let row = &self.px[(oy * k + sy) * self.w..(oy * k + sy) * self.w + ow * k];
+                for (ox, block) in row.chunks_exact(k).enumerate() {
+                    let a = &mut acc[3 * ox..3 * ox + 3];
+                    for &p in block {
+                        a[0] += (p >> 16) & 0xFF;
+                        a[1] += (p >> 8) & 0xFF;
+                        a[2] += p & 0xFF;
                     }
                 }
-                let d = 3 * (oy * ow + ox);
-                for c in 0..3 {
-                    out[d + c] = ((acc[c] + kk / 2) / kk) as f32;
-                }
+            }
+            let dst = &mut out[3 * oy * ow..3 * (oy + 1) * ow];
+            for (d, &a) in dst.iter_mut().zip(&acc) {
+                *d = ((u64::from(a + kk / 2) * magic) >> 32) as f32;
             }
         }
     }
