@@ -224,6 +224,50 @@ fn the_race_car_accelerates_like_gymnasiums() {
 }
 
 #[test]
+fn every_kind_of_vehicle_accelerates_like_carl_benchs() {
+    // carl-bench's parking-garage classes (automl/CARL 14c8fee4) in Gymnasium 1.4 CarRacing-v3,
+    // Box2D 2.3.10: full gas from rest for 41 steps (seed 0, straight start), hull speed after 11,
+    // 21, 41 steps; then the speed after 10 steps of full brake.
+    let reference: [(usize, [f64; 3], f64, f64); 12] = [
+        (1, [11.389, 20.1437, 37.6531], 27.1038, 2e-3),
+        (3, [5.9707, 10.5309, 19.6514], 5.7529, 2e-3),
+        (6, [3.514, 6.6619, 12.9451], 1.6777, 0.03),
+        (9, [8.3726, 15.212, 23.6684], 10.5028, 2e-3),
+        (11, [14.9692, 23.6625, 35.173], 21.9486, 2e-3),
+        (16, [3.5668, 7.432, 14.5337], 0.2301, 0.03),
+        (18, [7.678, 14.0338, 26.72], 3.5897, 2e-3),
+        (21, [3.8809, 7.0406, 13.3493], 1.234, 2e-3),
+        (24, [1.6618, 3.208, 6.296], 1.604, 0.03),
+        (26, [3.6441, 7.1906, 14.2653], 7.7306, 0.03),
+        (27, [16.9578, 27.9586, 42.4462], 25.993, 2e-3),
+        (28, [8.672, 16.5222, 29.1316], 9.0497, 2e-3),
+    ];
+    for (v, speeds, braked, tol) in reference {
+        let mut env = racer(v);
+        env.reset(Some(0));
+        let mut got = Vec::new();
+        for i in 0..41 {
+            env.step(&act(0.0, 1.0, 0.0)).unwrap();
+            if [10, 20, 40].contains(&i) {
+                got.push(env.hull_speed());
+            }
+        }
+        for _ in 0..10 {
+            env.step(&act(0.0, 0.0, 1.0)).unwrap();
+        }
+        let name = VEHICLES[v].name;
+        for (g, r) in got.iter().zip(speeds) {
+            assert!((g - r).abs() <= tol * r.max(1.0), "{name}: {got:?} vs {speeds:?}");
+        }
+        assert!(
+            (env.hull_speed() - braked).abs() <= tol * braked.max(1.0),
+            "{name}: braked {}",
+            env.hull_speed()
+        );
+    }
+}
+
+#[test]
 fn visiting_tiles_pays_and_the_step_costs() {
     let mut env = racer(0);
     env.reset(Some(11));

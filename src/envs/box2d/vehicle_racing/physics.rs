@@ -1,6 +1,7 @@
 //! A minimal Box2D-style rigid-body stepper for the vehicles: compound rigid bodies (a hull or
 //! trailer together with the wheels pinned to it), revolute joints between them (point
-//! constraint, optional angle limit, optional motor at speed 0 as hinge friction), symplectic
+//! constraint, optional angle limit, optional motor at speed 0 as hinge friction), soft distance
+//! joints (Box2D's spring formulation), symplectic
 //! Euler integration with Box2D's per-step motion caps, and Box2D 2.3's position correction.
 //! See the parent module's docs for why this replaces a rapier world.
 
@@ -234,6 +235,20 @@ pub struct Revolute {
     pub motor_torque: Option<f64>,
 }
 
+/// A soft distance joint (Box2D 2.3 `b2DistanceJoint` with `frequencyHz > 0`): a spring of
+/// `length` between the anchors, solved at velocity level with Box2D's soft-constraint bias and
+/// no position correction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Distance {
+    pub a: usize,
+    pub b: usize,
+    pub anchor_a: V2,
+    pub anchor_b: V2,
+    pub length: f64,
+    pub frequency_hz: f64,
+    pub damping_ratio: f64,
+}
+
 /// Box2D 2.3 constants (b2Settings.h).
 pub const LINEAR_SLOP: f64 = 0.005;
 pub const ANGULAR_SLOP: f64 = 2.0 / 180.0 * std::f64::consts::PI;
@@ -264,8 +279,62 @@ fn solve_k(k11: f64, k12: f64, k22: f64, b: V2) -> V2 {
     V2::new(det * (k22 * b.x - k12 * b.y), det * (k11 * b.y - k12 * b.x))
 }
 
-/// Advance `bodies` by `dt` under their accumulated forces and the `joints`; clears the forces.
-pub fn step(bodies: &mut [Body], joints: &[Revolute], dt: f64) {
+/// Per-step data of a distance joint (`InitVelocityConstraints`).
+struct RodRow {
+    u: V2,
+    ra: V2,
+    rb: V2,
+    mass: f64,
+    gamma: f64,
+    bias: f64,
+    acc: f64,
+}
+
+fn rod_row(bodies: &[Body], j: &Distance, dt: f64) -> RodRow {
+    let (ba, bb) = (&bodies[j.a], &bodies[j.b]);
+    let (sa, ca) = ba.sin_cos();
+    let (sb, cb) = bb.sin_cos();
+    let ra = (j.anchor_a - ba.props.com).rot(sa, ca);
+    let rb = (j.anchor_b - bb.props.com).rot(sb, cb);
+    let mut u = bb.com_world() + rb - ba.com_world() - ra;
+    let length = u.len();
+    u = if length > LINEAR_SLOP {
+        u * (1.0 / length)
+    } else {
+        V2::ZERO
+    };
+    let (ma, mb) = (ba.inv_mass(), bb.inv_mass());
+    let (ia, ib) = (ba.inv_inertia(), bb.inv_inertia());
+    let cra = ra.cross(u);
+    let crb = rb.cross(u);
+    let mut inv_mass = ma + ia * cra * cra + mb + ib * crb * crb;
+    let mut mass = if inv_mass != 0.0 { 1.0 / inv_mass } else { 0.0 };
+    let (mut gamma, mut bias) = (0.0, 0.0);
+    if j.frequency_hz > 0.0 {
+        let c = length - j.length;
+        let omega = 2.0 * std::f64::consts::PI * j.frequency_hz;
+        let d = 2.0 * mass * j.damping_ratio * omega;
+        let k = mass * omega * omega;
+        gamma = dt * (d + dt * k);
+        gamma = if gamma != 0.0 { 1.0 / gamma } else { 0.0 };
+        bias = c * dt * k * gamma;
+        inv_mass += gamma;
+        mass = if inv_mass != 0.0 { 1.0 / inv_mass } else { 0.0 };
+    }
+    RodRow {
+        u,
+        ra,
+        rb,
+        mass,
+        gamma,
+        bias,
+        acc: 0.0,
+    }
+}
+
+/// Advance `bodies` by `dt` under their accumulated forces, the revolute `joints` and the soft
+/// distance joints `rods`; clears the forces.
+pub fn step(bodies: &mut [Body], joints: &[Revolute], rods: &[Distance], dt: f64) {
     // Integrate velocities.
     for b in bodies.iter_mut() {
         let (im, ii) = (b.inv_mass(), b.inv_inertia());
@@ -292,7 +361,8 @@ pub fn step(bodies: &mut [Body], joints: &[Revolute], dt: f64) {
             None => LimitState::Inactive,
         })
         .collect();
-    if !joints.is_empty() {
+    let mut rod_rows: Vec<RodRow> = rods.iter().map(|j| rod_row(bodies, j, dt)).collect();
+    if !joints.is_empty() || !rods.is_empty() {
         let mut motor_acc = vec![0.0f64; joints.len()];
         let mut limit_acc = vec![0.0f64; joints.len()];
         for _ in 0..VELOCITY_ITERATIONS {
@@ -341,6 +411,19 @@ pub fn step(bodies: &mut [Body], joints: &[Revolute], dt: f64) {
                 bodies[j.a].s.w = wa;
                 bodies[j.b].s.vel = vb;
                 bodies[j.b].s.w = wb;
+            }
+            for (j, r) in rods.iter().zip(rod_rows.iter_mut()) {
+                let (ba, bb) = (bodies[j.a], bodies[j.b]);
+                let vpa = ba.s.vel + r.ra.perp_scaled(ba.s.w);
+                let vpb = bb.s.vel + r.rb.perp_scaled(bb.s.w);
+                let cdot = r.u.dot(vpb - vpa);
+                let imp = -r.mass * (cdot + r.bias + r.gamma * r.acc);
+                r.acc += imp;
+                let p = r.u * imp;
+                bodies[j.a].s.vel = ba.s.vel - p * ba.inv_mass();
+                bodies[j.a].s.w = ba.s.w - ba.inv_inertia() * r.ra.cross(p);
+                bodies[j.b].s.vel = bb.s.vel + p * bb.inv_mass();
+                bodies[j.b].s.w = bb.s.w + bb.inv_inertia() * r.rb.cross(p);
             }
         }
     }
