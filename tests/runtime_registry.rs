@@ -83,6 +83,7 @@ fn runtime_default(id: &str, name: &str) -> f64 {
         "mountain_car_continuous" => MountainCarContinuousParams::default().get(name),
         "acrobot" => AcrobotParams::default().get(name),
         "lunar_lander" => carl_spec::envs::box2d::LunarLanderParams::default().get(name),
+        "vehicle_racing" => carl_spec::envs::box2d::VehicleRacingParams::default().get(name),
         _ => unreachable!(),
     }
     .unwrap_or_else(|e| panic!("{id}: runtime lacks spec feature {name}: {e}"))

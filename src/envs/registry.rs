@@ -61,7 +61,8 @@ pub enum MakeError {
 }
 
 /// The runtime environments behind one type (static dispatch keeps stepping cheap): the
-/// classic-control ones and, boxed because it owns a physics world, LunarLander.
+/// classic-control ones and, boxed because they own physics worlds and tracks, LunarLander and
+/// VehicleRacing.
 #[derive(Debug, Clone)]
 pub enum ClassicEnv {
     CartPole(CartPole),
