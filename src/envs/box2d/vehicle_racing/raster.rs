@@ -5,12 +5,13 @@
 //! Polygons are filled with the even–odd rule at sample centres; there is no per-edge blending,
 //! so abutting road tiles leave no seams.
 
-/// An RGB canvas of `w × h` samples, one `0x00RRGGBB` word per sample.
+/// An RGB canvas of `w × h` samples. Each sample is one `u64` with red, green and blue in
+/// 16-bit fields (bits 32, 16, 0), so summing up to 257 samples is one integer addition each.
 #[derive(Debug, Clone, Default)]
 pub struct Canvas {
     pub w: usize,
     pub h: usize,
-    pub px: Vec<u32>,
+    pub px: Vec<u64>,
 }
 
 /// `ceil(x)` clamped to `[0, max]`, without a libm call (baseline x86-64 has no `roundsd`).
@@ -27,8 +28,8 @@ fn ceil_clamped(x: f64, max: usize) -> usize {
 }
 
 #[inline]
-fn pack(c: [u8; 3]) -> u32 {
-    (u32::from(c[0]) << 16) | (u32::from(c[1]) << 8) | u32::from(c[2])
+fn pack(c: [u8; 3]) -> u64 {
+    (u64::from(c[0]) << 32) | (u64::from(c[1]) << 16) | u64::from(c[2])
 }
 
 impl Canvas {
@@ -43,7 +44,7 @@ impl Canvas {
     /// The sample at column `x`, row `y`.
     pub fn sample(&self, x: usize, y: usize) -> [u8; 3] {
         let p = self.px[y * self.w + x];
-        [(p >> 16) as u8, (p >> 8) as u8, p as u8]
+        [(p >> 32) as u8, (p >> 16) as u8, p as u8]
     }
 
     /// Fill the polygon `pts` (canvas coordinates, any orientation, up to 16 vertices).
@@ -95,29 +96,29 @@ impl Canvas {
         }
     }
 
-    /// Average `k × k` blocks into `out` (`(w/k) × (h/k) × 3`, HWC), rounded half up.
+    /// Average `k × k` blocks into `out` (`(w/k) × (h/k) × 3`, HWC), rounded half up
+    /// (`k` at most 16).
     pub fn downsample_into(&self, k: usize, out: &mut [f32]) {
         let (ow, oh) = (self.w / k, self.h / k);
-        let kk = (k * k) as u32;
-        // floor((acc + kk/2) / kk) as a multiply-shift, exact for acc < 2^16 and kk <= 64.
-        let magic = (1u64 << 32).div_ceil(u64::from(kk));
-        let mut acc = vec![0u32; 3 * ow];
+        let kk = (k * k) as u64;
+        // floor((acc + kk/2) / kk) as a multiply-shift, exact for acc < 2^16 and kk <= 256.
+        let magic = (1u64 << 32).div_ceil(kk);
+        let mut acc = vec![0u64; ow];
         for oy in 0..oh {
             acc.fill(0);
             for sy in 0..k {
-                let row = &self.px[(oy * k + sy) * self.w..(oy * k + sy) * self.w + ow * k];
-                for (ox, block) in row.chunks_exact(k).enumerate() {
-                    let a = &mut acc[3 * ox..3 * ox + 3];
-                    for &p in block {
-                        a[0] += (p >> 16) & 0xFF;
-                        a[1] += (p >> 8) & 0xFF;
-                        a[2] += p & 0xFF;
-                    }
+                let start = (oy * k + sy) * self.w;
+                let row = &self.px[start..start + ow * k];
+                for (a, block) in acc.iter_mut().zip(row.chunks_exact(k)) {
+                    *a += block.iter().sum::<u64>();
                 }
             }
             let dst = &mut out[3 * oy * ow..3 * (oy + 1) * ow];
-            for (d, &a) in dst.iter_mut().zip(&acc) {
-                *d = ((u64::from(a + kk / 2) * magic) >> 32) as f32;
+            for (d, &a) in dst.chunks_exact_mut(3).zip(&acc) {
+                for (c, shift) in d.iter_mut().zip([32u32, 16, 0]) {
+                    let v = (a >> shift) & 0xFFFF;
+                    *c = (((v + kk / 2) * magic) >> 32) as f32;
+                }
             }
         }
     }
