@@ -84,6 +84,7 @@ fn runtime_default(id: &str, name: &str) -> f64 {
         "acrobot" => AcrobotParams::default().get(name),
         "lunar_lander" => carl_spec::envs::box2d::LunarLanderParams::default().get(name),
         "bipedal_walker" => carl_spec::envs::box2d::BipedalWalkerParams::default().get(name),
+        "vehicle_racing" => carl_spec::envs::box2d::VehicleRacingParams::default().get(name),
         _ => unreachable!(),
     }
     .unwrap_or_else(|e| panic!("{id}: runtime lacks spec feature {name}: {e}"))

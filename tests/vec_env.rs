@@ -40,8 +40,8 @@ fn random_actions(space: &Space, n: usize, rng: &mut EnvRng) -> Acts {
     match space {
         Space::Discrete { n: k, .. } => Acts::Discrete((0..n).map(|_| (rng.next_u64() % *k as u64) as i64).collect()),
         // Beyond the bounds on purpose: the environments clip.
-        Space::Box { low, .. } => Acts::Continuous(
-            (0..n * low.len())
+        Space::Box { .. } => Acts::Continuous(
+            (0..n * space.flat_dim())
                 .map(|_| (rng.next_f64() * 5.0 - 2.5) as f32)
                 .collect(),
         ),
@@ -66,7 +66,7 @@ fn compare(id: &str, n: usize, steps: usize, opts: VecOptions) {
         assert_eq!(bits(&o), bits(&first[i * d..(i + 1) * d]), "{id} reset env {i}");
     }
     let space = venv.action_space();
-    let dim = space.flat_dim();
+    let adim = space.flat_dim();
     let mut rng = EnvRng::from_seed(99);
     let mut obs = vec![0.0f32; d];
     let mut episodes = 0;
@@ -86,7 +86,7 @@ fn compare(id: &str, n: usize, steps: usize, opts: VecOptions) {
         for (i, e) in scalar.iter_mut().enumerate() {
             let action = match &acts {
                 Acts::Discrete(a) => Action::Discrete(a[i]),
-                Acts::Continuous(a) => Action::Continuous(a[i * dim..(i + 1) * dim].to_vec()),
+                Acts::Continuous(a) => Action::Continuous(a[i * adim..(i + 1) * adim].to_vec()),
             };
             let out = e.step_into(&action, &mut obs).unwrap();
             let ctx = format!("{id} threads={} step {t} env {i}", venv.threads());
@@ -114,8 +114,13 @@ fn compare(id: &str, n: usize, steps: usize, opts: VecOptions) {
 #[test]
 fn vec_env_equals_scalar_envs_for_every_runtime() {
     for id in RUNTIMES {
-        // Long enough for every time limit (MountainCarContinuous: 999) to truncate.
-        let steps = if *id == "mountain_car_continuous" { 1010 } else { 520 };
+        // Long enough for every time limit (MountainCarContinuous: 999, VehicleRacing: 1000) to
+        // truncate.
+        let steps = if matches!(*id, "mountain_car_continuous" | "vehicle_racing") {
+            1010
+        } else {
+            520
+        };
         compare(id, 5, steps, VecOptions::default());
         // Enough environments for several work-sharing blocks (>= 16 envs each) across threads.
         compare(

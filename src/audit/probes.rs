@@ -5,7 +5,7 @@
 use crate::envs::registry::ClassicEnv;
 use crate::envs::rng::{EnvRng, uniform};
 use crate::envs::{Action, Env, EnvError, Space};
-use crate::spec::model::{Feature, FeatureType};
+use crate::spec::model::{Feature, FeatureType, Scalar};
 
 use super::AuditOptions;
 
@@ -16,11 +16,32 @@ pub const ZERO_OFFSETS: [f64; 3] = [0.01, 0.1, 1.0];
 /// Fractions of the way from a zero default to a finite, non-zero bound.
 pub const BOUND_FRACTIONS: [f64; 3] = [0.1, 0.5, 1.0];
 
+/// Other choices a categorical feature is audited with: at most this many, spread evenly over
+/// its choice list (a categorical feature has no order, so "near the default" means nothing; the
+/// spread covers different kinds of choices, e.g. a car, a bus and a tuk-tuk).
+pub const MAX_CATEGORICAL_PROBES: usize = 4;
+
+/// The numeric choices of a categorical feature, in spec order.
+fn numeric_choices(f: &Feature) -> Vec<f64> {
+    f.choices
+        .iter()
+        .flatten()
+        .filter_map(|c| match c {
+            Scalar::Number(x) if x.is_finite() => Some(*x),
+            _ => None,
+        })
+        .collect()
+}
+
 /// Why a feature cannot be perturbed (the audit reports it and skips the feature).
 pub fn unauditable_reason(f: &Feature) -> Option<String> {
     match f.kind {
         FeatureType::Float | FeatureType::Int | FeatureType::Bool => {}
-        FeatureType::Categorical | FeatureType::ListInt => {
+        FeatureType::Categorical if !numeric_choices(f).is_empty() => {}
+        FeatureType::Categorical => {
+            return Some("categorical features without numeric choices are not perturbed by the audit".into());
+        }
+        FeatureType::ListInt => {
             return Some(format!("{:?} features are not perturbed by the audit", f.kind).to_lowercase());
         }
     }
@@ -37,7 +58,8 @@ pub fn unauditable_reason(f: &Feature) -> Option<String> {
 /// * zero default: per side, `{0.1, 0.5, 1}·bound` toward a finite non-zero bound, or
 ///   `±{0.01, 0.1, 1}` toward an unbounded side;
 /// * both finite bounds themselves (effects that appear only at the extremes);
-/// * `int` features rounded, `bool` features flipped.
+/// * `int` features rounded, `bool` features flipped;
+/// * categorical features: up to [`MAX_CATEGORICAL_PROBES`] other choices, evenly spread.
 pub fn perturbed_values(f: &Feature) -> Vec<f64> {
     if unauditable_reason(f).is_some() {
         return Vec::new();
@@ -47,6 +69,22 @@ pub fn perturbed_values(f: &Feature) -> Vec<f64> {
     };
     if f.kind == FeatureType::Bool {
         return vec![if d == 0.0 { 1.0 } else { 0.0 }];
+    }
+    if f.kind == FeatureType::Categorical {
+        let others: Vec<f64> = numeric_choices(f).into_iter().filter(|x| *x != d).collect();
+        let n = others.len();
+        let k = MAX_CATEGORICAL_PROBES.min(n);
+        let mut out: Vec<f64> = (0..k)
+            .map(|i| {
+                others[if k > 1 {
+                    (i * (n - 1) + (k - 1) / 2) / (k - 1)
+                } else {
+                    n - 1
+                }]
+            })
+            .collect();
+        out.dedup();
+        return out;
     }
     let [lo, hi] = f.bounds;
     let mut v: Vec<f64> = Vec::new();

@@ -69,6 +69,21 @@ pub fn single_ns_per_step(spec: &EnvSpec, steps: u64) -> Result<f64, Failure> {
     Ok(t0.elapsed().as_secs_f64() * 1e9 / steps.max(1) as f64)
 }
 
+/// Nanoseconds per `observe_into` of one environment after a reset (the cost of producing the
+/// observation alone; for pixel environments, the rendering).
+pub fn observe_ns_per_call(spec: &EnvSpec, calls: u64) -> Result<f64, Failure> {
+    let mut env = make(spec, &Context::new()).map_err(|e| Failure::usage(e.to_string()))?;
+    let mut obs = vec![0.0f32; env.obs_dim()];
+    env.reset_into(Some(0), &mut obs)
+        .map_err(|e| Failure::failed(e.to_string()))?;
+    let t0 = Instant::now();
+    for _ in 0..calls {
+        env.observe_into(&mut obs).map_err(|e| Failure::failed(e.to_string()))?;
+        black_box(&obs);
+    }
+    Ok(t0.elapsed().as_secs_f64() * 1e9 / calls.max(1) as f64)
+}
+
 /// Environment steps per second of a `VecEnv` of `num_envs` default environments.
 pub fn vec_steps_per_sec(spec: &EnvSpec, num_envs: usize, threads: usize, steps: u64) -> Result<f64, Failure> {
     let contexts = vec![Context::new(); num_envs];
@@ -126,10 +141,12 @@ pub fn run(cli: &Cli, env: &str, num_envs: usize, steps: u64, threads: Option<us
         .clamp(1, num_envs);
     let single_ns = single_ns_per_step(spec, steps)?;
     let vec_sps = vec_steps_per_sec(spec, num_envs, threads, steps)?;
+    let observe_ns = observe_ns_per_call(spec, steps.min(10_000))?;
     let line = serde_json::json!({
         "env": spec.id,
         "single_steps_per_sec": (1e9 / single_ns).round(),
         "single_ns_per_step": (single_ns * 100.0).round() / 100.0,
+        "observe_ns_per_call": (observe_ns * 100.0).round() / 100.0,
         "vec_steps_per_sec": vec_sps.round(),
         "num_envs": num_envs,
         "threads": threads,

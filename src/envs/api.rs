@@ -26,6 +26,8 @@ pub enum Action {
 pub enum DType {
     Float32,
     Float64,
+    /// Integers 0..=255 (image observations); delivered as `f32` values in observation buffers.
+    UInt8,
 }
 
 /// Observation / action space (`gymnasium.spaces.Box` / `Discrete`).

@@ -8,9 +8,11 @@
 use std::collections::BTreeMap;
 
 use super::api::{Action, Env, EnvError, Space, StepOutcome, TimeLimit};
-use super::box2d::{BipedalWalker, BipedalWalkerParams, LunarLander, LunarLanderParams};
+use super::box2d::{
+    BipedalWalker, BipedalWalkerParams, LunarLander, LunarLanderParams, VehicleRacing, VehicleRacingParams,
+};
 use super::classic::{Acrobot, CartPole, MountainCar, MountainCarContinuous, Pendulum};
-use crate::spec::model::{EnvSpec, FeatureType, Value};
+use crate::spec::model::{EnvSpec, FeatureType, Scalar, Value};
 use crate::suggest::did_you_mean;
 
 /// Feature values by name (canonical names or aliases); missing features take their defaults.
@@ -25,6 +27,7 @@ pub const RUNTIMES: &[&str] = &[
     "acrobot",
     "lunar_lander",
     "bipedal_walker",
+    "vehicle_racing",
 ];
 
 pub fn has_runtime(id: &str) -> bool {
@@ -61,7 +64,8 @@ pub enum MakeError {
 }
 
 /// The runtime environments behind one type (static dispatch keeps stepping cheap): the
-/// classic-control ones and, boxed because they own a physics world, LunarLander and BipedalWalker.
+/// classic-control ones and, boxed because they own physics worlds and tracks, LunarLander,
+/// BipedalWalker and VehicleRacing.
 #[derive(Debug, Clone)]
 pub enum ClassicEnv {
     CartPole(CartPole),
@@ -71,6 +75,7 @@ pub enum ClassicEnv {
     Acrobot(Acrobot),
     LunarLander(Box<LunarLander>),
     BipedalWalker(Box<BipedalWalker>),
+    VehicleRacing(Box<VehicleRacing>),
 }
 
 impl ClassicEnv {
@@ -89,6 +94,14 @@ impl ClassicEnv {
             _ => None,
         }
     }
+
+    /// The VehicleRacing inside, to set its options (discrete actions).
+    pub fn as_vehicle_racing_mut(&mut self) -> Option<&mut VehicleRacing> {
+        match self {
+            ClassicEnv::VehicleRacing(v) => Some(v),
+            _ => None,
+        }
+    }
 }
 
 macro_rules! dispatch {
@@ -101,6 +114,7 @@ macro_rules! dispatch {
             ClassicEnv::Acrobot($e) => $body,
             ClassicEnv::LunarLander($e) => $body,
             ClassicEnv::BipedalWalker($e) => $body,
+            ClassicEnv::VehicleRacing($e) => $body,
         }
     };
 }
@@ -193,6 +207,25 @@ pub fn resolve_context(spec: &EnvSpec, context: &Context, opts: MakeOptions) -> 
         let x = match (f.kind, value) {
             (FeatureType::Float | FeatureType::Int, Value::Number(x)) => *x,
             (FeatureType::Bool, Value::Bool(b)) => f64::from(u8::from(*b)),
+            // A categorical feature takes one of its numeric choices, or the label of one.
+            (FeatureType::Categorical, Value::Number(x)) => *x,
+            (FeatureType::Categorical, Value::String(label)) => {
+                let idx = f
+                    .choice_labels
+                    .as_ref()
+                    .and_then(|labels| labels.iter().position(|l| l == label));
+                match idx.and_then(|i| f.choices.as_ref()?.get(i)) {
+                    Some(Scalar::Number(x)) => *x,
+                    _ => {
+                        return Err(MakeError::BadValue {
+                            env,
+                            name: f.name.clone(),
+                            expected: "choice or choice label",
+                            got: label.clone(),
+                        });
+                    }
+                }
+            }
             (_, v) => {
                 return Err(MakeError::BadValue {
                     env,
@@ -216,6 +249,29 @@ pub fn resolve_context(spec: &EnvSpec, context: &Context, opts: MakeOptions) -> 
                 expected: "integer",
                 got: x.to_string(),
             });
+        }
+        if f.kind == FeatureType::Categorical && given.is_some() && !opts.allow_out_of_bounds {
+            let choices = f.choices.as_deref().unwrap_or_default();
+            let numeric = choices.iter().any(|c| matches!(c, Scalar::Number(_)));
+            if numeric && !choices.iter().any(|c| matches!(c, Scalar::Number(v) if *v == x)) {
+                return Err(MakeError::OutOfBounds {
+                    env,
+                    name: f.name.clone(),
+                    value: x,
+                    bounds: format!(
+                        "choices {}",
+                        crate::validate::value_text(&Value::List(
+                            choices
+                                .iter()
+                                .filter_map(|c| match c {
+                                    Scalar::Number(v) => Some(*v),
+                                    _ => None,
+                                })
+                                .collect()
+                        ))
+                    ),
+                });
+            }
         }
         if given.is_some() && !opts.allow_out_of_bounds && !f.in_bounds(x) {
             let b = |v: Option<f64>, inf: &str| v.map_or(inf.to_string(), |v| v.to_string());
@@ -280,6 +336,24 @@ fn build(id: &str, values: &[(String, f64)]) -> Result<ClassicEnv, MakeError> {
                 })?;
             }
             ClassicEnv::BipedalWalker(Box::new(BipedalWalker::new(p)))
+        }
+        "vehicle_racing" => {
+            let mut p = VehicleRacingParams::default();
+            for (name, x) in values {
+                p.set(name, *x).map_err(|e| MakeError::UnknownFeature {
+                    env: id.to_string(),
+                    name: name.clone(),
+                    hint: " (the spec names a feature the runtime does not know)".into(),
+                    valid: e.known,
+                })?;
+            }
+            let env = VehicleRacing::new(p).map_err(|message| MakeError::BadValue {
+                env: id.to_string(),
+                name: "VEHICLE".into(),
+                expected: "vehicle index in 0..=28",
+                got: message,
+            })?;
+            ClassicEnv::VehicleRacing(Box::new(env))
         }
         other => return Err(MakeError::NoRuntime(other.to_string())),
     })

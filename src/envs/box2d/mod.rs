@@ -5,6 +5,8 @@
 //! * [`heuristic`]: Gymnasium's hand-written landing controller (same control law).
 //! * [`bipedal_walker`]: Gymnasium's `BipedalWalker-v3` (and the hardcore terrain) with all of
 //!   CARL's 20 context features, plus Gymnasium's scripted gait ([`WalkerHeuristic`]).
+//! * [`vehicle_racing`]: Gymnasium's `CarRacing-v3` with CARL's 29 vehicles (pixel observations
+//!   drawn in software; its rigid-body physics is plain Rust, see its module docs).
 //!
 //! Physics is not Box2D, so trajectories are not bit-identical to Gymnasium; the geometry,
 //! masses, joints, engine impulses, observation, reward and termination rules are the same,
@@ -13,10 +15,12 @@
 pub mod bipedal_walker;
 pub mod heuristic;
 pub mod lunar_lander;
+pub mod vehicle_racing;
 
 pub use bipedal_walker::{BipedalWalker, BipedalWalkerOptions, BipedalWalkerParams, WalkerHeuristic};
 pub use heuristic::{heuristic, heuristic_continuous};
 pub use lunar_lander::{LunarLander, LunarLanderOptions, LunarLanderParams, Outcome};
+pub use vehicle_racing::{VehicleRacing, VehicleRacingOptions, VehicleRacingParams};
 
 /// The physics engine behind these environments, pinned exactly in `Cargo.toml`. Recorded in
 /// results files: changing it can change every trajectory.
