@@ -186,9 +186,26 @@ pub enum AuditError {
     Env { env: String, source: EnvError },
 }
 
-/// Audit `spec` with the default probes.
+impl AuditOptions {
+    /// The probes used for environment `id`: the defaults, or fewer for the articulated robots,
+    /// whose transitions cost five 3-D multibody physics steps and a world rebuild each.
+    pub fn for_env(id: &str) -> AuditOptions {
+        if crate::envs::robots::is_robot(id) {
+            AuditOptions {
+                trajectory_seeds: 3,
+                trajectory_steps: 8,
+                random_states: 8,
+                reset_seeds: 4,
+            }
+        } else {
+            AuditOptions::default()
+        }
+    }
+}
+
+/// Audit `spec` with the probes of [`AuditOptions::for_env`].
 pub fn audit(spec: &EnvSpec) -> Result<AuditReport, AuditError> {
-    audit_with(spec, &AuditOptions::default())
+    audit_with(spec, &AuditOptions::for_env(&spec.id))
 }
 
 /// Per-effect accumulator.

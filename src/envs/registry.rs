@@ -24,6 +24,7 @@ pub const RUNTIMES: &[&str] = &[
     "mountain_car_continuous",
     "acrobot",
     "lunar_lander",
+    "ant",
 ];
 
 pub fn has_runtime(id: &str) -> bool {
@@ -60,7 +61,7 @@ pub enum MakeError {
 }
 
 /// The runtime environments behind one type (static dispatch keeps stepping cheap): the
-/// classic-control ones and, boxed because it owns a physics world, LunarLander.
+/// classic-control ones and, boxed because they own a physics world, LunarLander and the robots.
 #[derive(Debug, Clone)]
 pub enum ClassicEnv {
     CartPole(CartPole),
@@ -69,6 +70,8 @@ pub enum ClassicEnv {
     MountainCarContinuous(MountainCarContinuous),
     Acrobot(Acrobot),
     LunarLander(Box<LunarLander>),
+    /// An articulated robot on rapier3d (see [`crate::envs::robots`]).
+    Robot(Box<super::robots::Locomotion>),
 }
 
 impl ClassicEnv {
@@ -90,6 +93,7 @@ macro_rules! dispatch {
             ClassicEnv::MountainCarContinuous($e) => $body,
             ClassicEnv::Acrobot($e) => $body,
             ClassicEnv::LunarLander($e) => $body,
+            ClassicEnv::Robot($e) => $body,
         }
     };
 }
@@ -258,6 +262,20 @@ fn build(id: &str, values: &[(String, f64)]) -> Result<ClassicEnv, MakeError> {
             }
             ClassicEnv::LunarLander(Box::new(LunarLander::new(p)))
         }
-        other => return Err(MakeError::NoRuntime(other.to_string())),
+        other => {
+            let Some(mut p) = super::robots::blank_params(other) else {
+                return Err(MakeError::NoRuntime(other.to_string()));
+            };
+            for (name, x) in values {
+                p.set(name, *x).map_err(|e| MakeError::UnknownFeature {
+                    env: id.to_string(),
+                    name: name.clone(),
+                    hint: " (the spec names a feature the runtime does not know)".into(),
+                    valid: e.known,
+                })?;
+            }
+            let env = super::robots::make_robot(other, p).ok_or_else(|| MakeError::NoRuntime(other.to_string()))?;
+            ClassicEnv::Robot(Box::new(env))
+        }
     })
 }
