@@ -155,6 +155,64 @@ def ant():
     return "ant", links, joints
 
 
+def tiny_link(name):
+    return (
+        f'  <link name="{name}">\n    <inertial>\n      <origin xyz="0 0 0" rpy="0 0 0"/>\n'
+        f'      <mass value="0.0001"/>\n'
+        f'      <inertia ixx="1e-06" ixy="0" ixz="0" iyy="1e-06" iyz="0" izz="1e-06"/>\n'
+        f"    </inertial>\n  </link>"
+    )
+
+
+def half_cheetah():
+    """Gymnasium HalfCheetah-v5 (half_cheetah.xml): torso capsule r=0.046 from x=-0.5 to 0.5 at
+    height 0.7 with a head capsule, back and front thigh/shin/foot capsules (positions, tilts
+    and half-lengths of the XML), hinges about y with the XML's ranges; a planar root of two
+    slides (x, z) and a pitch hinge on massless carrier links. Masses proportional to the
+    capsule volumes with a 14 kg total (the XML's settotalmass); the torso mass is a context
+    feature."""
+    r = 0.046
+
+    def caps(pos, angle, half):
+        d = [math.sin(angle), 0.0, math.cos(angle)]
+        a = [p - half * x for p, x in zip(pos, d)]
+        b = [p + half * x for p, x in zip(pos, d)]
+        return a, b
+
+    def vol(a, b):
+        L = norm(sub(b, a))
+        return PI * r * r * L + 4.0 / 3.0 * PI * r ** 3
+
+    torso = ([-0.5, 0, 0], [0.5, 0, 0])
+    head = caps([0.6, 0, 0.1], 0.87, 0.15)
+    segs = [  # name, parent, joint pos in parent, geom (pos, angle, half), range
+        ("bthigh", "torso", [-0.5, 0, 0], ([0.1, 0, -0.13], -3.8, 0.145), (-0.52, 1.05)),
+        ("bshin", "bthigh", [0.16, 0, -0.25], ([-0.14, 0, -0.07], -2.03, 0.15), (-0.785, 0.785)),
+        ("bfoot", "bshin", [-0.28, 0, -0.14], ([0.03, 0, -0.097], -0.27, 0.094), (-0.4, 0.785)),
+        ("fthigh", "torso", [0.5, 0, 0], ([-0.07, 0, -0.12], 0.52, 0.133), (-1.0, 0.7)),
+        ("fshin", "fthigh", [-0.14, 0, -0.24], ([0.065, 0, -0.09], -0.6, 0.106), (-1.2, 0.87)),
+        ("ffoot", "fshin", [0.13, 0, -0.18], ([0.045, 0, -0.07], -0.6, 0.07), (-0.5, 0.5)),
+    ]
+    caps_of = {name: caps(*g) for name, _, _, g, _ in segs}
+    total_v = vol(*torso) + vol(*head) + sum(vol(*c) for c in caps_of.values())
+    mass = lambda a, b: 14.0 * vol(a, b) / total_v
+    links = ["  <link name=\"world\">\n    <inertial>\n      <origin xyz=\"0 0 0\" rpy=\"0 0 0\"/>\n"
+             "      <mass value=\"1\"/>\n      <inertia ixx=\"1\" ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"1\"/>\n"
+             "    </inertial>\n  </link>", tiny_link("slider_x"), tiny_link("slider_z")]
+    links.append(link_xml("torso", [("capsule", *torso, r), ("capsule", *head, r)],
+                          [capsule_part(mass(*torso), *torso, r), capsule_part(mass(*head), *head, r)]))
+    joints = [
+        joint_xml("rootx", "world", "slider_x", [0, 0, 0.7], [1, 0, 0], -1000.0, 1000.0, kind="prismatic"),
+        joint_xml("rootz", "slider_x", "slider_z", [0, 0, 0], [0, 0, 1], -1000.0, 1000.0, kind="prismatic"),
+        joint_xml("rooty", "slider_z", "torso", [0, 0, 0], [0, 1, 0], 0, 0, kind="continuous"),
+    ]
+    for name, parent, jpos, _, (lo, hi) in segs:
+        a, b = caps_of[name]
+        links.append(link_xml(name, [("capsule", a, b, r)], [capsule_part(mass(a, b), a, b, r)]))
+        joints.append(joint_xml(name, parent, name, jpos, [0, 1, 0], lo, hi))
+    return "half_cheetah", links, joints
+
+
 def write(name, links, joints, doc):
     body = "\n".join(links + joints)
     text = (
@@ -167,6 +225,6 @@ def write(name, links, joints, doc):
 
 
 if __name__ == "__main__":
-    for make in (ant,):
+    for make in (ant, half_cheetah):
         name, links, joints = make()
         write(name, links, joints, " ".join(make.__doc__.split()))

@@ -54,6 +54,14 @@ fn robots_load_from_urdf() {
     p.set("mass_shin_3", 2.5).unwrap();
     assert!(p.set("mass_nose", 1.0).is_err());
     let w = RobotWorld::build(&ant, &p, &ant_in_air(2.0));
+    let cheetah = RobotModel::load("half_cheetah").unwrap();
+    // world, two slide carriers, torso, three segments per leg.
+    assert_eq!(cheetah.link_names.len(), 10);
+    assert_eq!(cheetah.joint_names[..3], ["rootx", "rootz", "rooty"]);
+    assert_eq!(cheetah.num_actuators(), 6);
+    // MuJoCo's settotalmass=14 split by capsule volume (torso 6.25 kg, back thigh 1.54 kg).
+    assert!((cheetah.link_mass("torso").unwrap() - 6.2502).abs() < 1e-3);
+    assert!((cheetah.link_mass("bthigh").unwrap() - 1.5435).abs() < 1e-3);
     assert!((w.link_mass(0) - 4.0).abs() < 1e-5);
     let shin3 = ant.link_names.iter().position(|n| n == "shin_3").unwrap();
     assert!((w.link_mass(shin3) - 2.5).abs() < 1e-5);
@@ -412,10 +420,12 @@ fn diverging_instance_terminates_with_a_flag() {
 
 #[test]
 fn audit_passes_for_the_robots() {
-    let r = audit(&spec("ant")).unwrap();
-    assert!(r.passed, "{:#?}", r.contradictions);
-    for f in &r.features {
-        assert!(f.skipped.is_none(), "{}", f.name);
+    for id in ["ant", "half_cheetah"] {
+        let r = audit(&spec(id)).unwrap();
+        assert!(r.passed, "{id}: {:#?}", r.contradictions);
+        for f in &r.features {
+            assert!(f.skipped.is_none(), "{id}: {}", f.name);
+        }
     }
 }
 
@@ -457,4 +467,103 @@ fn render_draws_the_robot_over_the_ground() {
     assert_ne!(e.render().unwrap(), f);
     // Same state, same bytes.
     assert_eq!(e.render().unwrap(), e.render().unwrap());
+}
+
+#[test]
+fn half_cheetah_rests_and_stays_finite_at_the_spec_bounds() {
+    let mut e = env_with("half_cheetah", &[]);
+    let (obs, _) = e.reset(Some(0));
+    // Gymnasium v5 layout: qpos[1:] (rootz, rooty, 6 joints) + qvel (9).
+    assert_eq!(obs.len(), 17);
+    let mut heights = Vec::new();
+    for _ in 0..120 {
+        let s = e.step(&zeros(6)).unwrap();
+        assert!(!s.terminated, "HalfCheetah never terminates");
+        heights.push(e.state()[1]);
+    }
+    let mean = |w: &[f64]| w.iter().sum::<f64>() / w.len() as f64;
+    let (m1, m2) = (mean(&heights[60..90]), mean(&heights[90..120]));
+    assert!((m1 - m2).abs() < 2e-3, "torso height drifts: {m1} -> {m2}");
+    // Standing on its legs: the torso (0.7 m at rootz = 0) is lower but well above the ground.
+    assert!(m2 > -0.6 && m2 < 0.0, "rootz at rest {m2}");
+
+    let spec = spec("half_cheetah");
+    let actions = random_actions(6, 40, 3);
+    for (name, value) in extremes("half_cheetah") {
+        let ctx = Context::from([(name.clone(), Value::Number(value))]);
+        let mut e = make_with(
+            &spec,
+            &ctx,
+            carl_spec::envs::registry::MakeOptions {
+                allow_out_of_bounds: true,
+            },
+        )
+        .unwrap();
+        e.reset(Some(1));
+        for a in &actions {
+            let s = e.step(a).unwrap();
+            assert!(s.obs.iter().all(|x| x.is_finite()), "{name} = {value}");
+            if s.info["diverged"] != 0.0 {
+                assert!(s.terminated, "{name} = {value}: a diverged step terminates");
+                e.reset(None);
+            }
+        }
+    }
+}
+
+#[test]
+fn half_cheetah_motors_features_and_reward() {
+    let model = RobotModel::load("half_cheetah").unwrap();
+    // Each motor turns its joint in the positive direction (torso held high above the ground).
+    for (k, a) in model.side.actuators.iter().enumerate() {
+        let j = model.joint_names.iter().position(|n| *n == a.joint).unwrap();
+        let mut e = env_with("half_cheetah", &[]);
+        e.reset(Some(0));
+        let mut s = vec![0.0; e.state_dim()];
+        s[1] = 3.0; // rootz
+        e.set_state(&s).unwrap();
+        let mut act = vec![0.0f32; 6];
+        act[k] = 1.0;
+        e.step(&Action::Continuous(act)).unwrap();
+        let q = e.state()[j];
+        assert!(q > 0.01, "{}: +1 moved the joint to {q}", a.joint);
+    }
+    // Every context feature changes the trajectory. The passive springs keep the joints inside
+    // their ranges, so the back foot starts beyond its lower limit (-0.4 rad), where the limit
+    // spring (`joint_stiffness`) acts.
+    let actions = random_actions(6, 10, 5);
+    let run = |ctx: &[(&str, f64)]| {
+        let mut e = env_with("half_cheetah", ctx);
+        e.reset(Some(0));
+        let mut s = e.state();
+        s[5] = -0.6;
+        e.set_state(&s).unwrap();
+        for a in &actions {
+            e.step(a).unwrap();
+        }
+        e.state()
+    };
+    let base = run(&[]);
+    for (name, value) in [
+        ("gravity", -5.0),
+        ("friction", 1.2),
+        ("angular_damping", -2.0),
+        ("joint_angular_damping", 5.0),
+        ("joint_stiffness", 50.0),
+        ("torso_mass", 20.0),
+    ] {
+        let other = run(&[(name, value)]);
+        let diff = base.iter().zip(&other).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        assert!(diff > 1e-3, "{name} = {value} barely changes the trajectory ({diff})");
+    }
+    // HalfCheetah-v5 reward: forward velocity minus 0.1·Σa².
+    let mut e = env_with("half_cheetah", &[]);
+    e.reset(Some(0));
+    let a = [0.5f32, -0.5, 1.0, 0.0, 0.25, -1.0];
+    let x0 = e.state()[0];
+    let s = e.step(&Action::Continuous(a.to_vec())).unwrap();
+    let ctrl: f64 = a.iter().map(|x| f64::from(*x).powi(2)).sum::<f64>() * 0.1;
+    let v = (e.state()[0] - x0) / 0.05;
+    assert!((s.reward - (v - ctrl)).abs() < 1e-9, "{} vs {}", s.reward, v - ctrl);
+    assert!((s.info["x_velocity"] - v).abs() < 1e-9);
 }

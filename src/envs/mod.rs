@@ -9,7 +9,7 @@
 //! * [`registry`]: spec + context → runtime (`make`).
 //! * [`contextual`]: CARL's contextual wrapper (instance selection, context in observation/info).
 //! * [`box2d`]: LunarLander on rapier2d (each instance owns its physics world).
-//! * [`robots`]: articulated robots from URDF on rapier3d (Ant).
+//! * [`robots`]: articulated robots from URDF on rapier3d (Ant, HalfCheetah).
 
 pub mod api;
 pub mod box2d;

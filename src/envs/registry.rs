@@ -25,6 +25,7 @@ pub const RUNTIMES: &[&str] = &[
     "acrobot",
     "lunar_lander",
     "ant",
+    "half_cheetah",
 ];
 
 pub fn has_runtime(id: &str) -> bool {

@@ -7,7 +7,7 @@
 //! * [`params`]: the context (Brax's physics parameters as CARL sets them, per-link masses).
 //! * [`world`]: one instance's physics world, built from model + context; nothing is shared
 //!   between instances.
-//! * [`locomotion`]: Gymnasium v5 tasks (Ant).
+//! * [`locomotion`]: Gymnasium v5 tasks (Ant, HalfCheetah).
 //! * [`render`]: software rendering of a world to a [`Frame`](crate::render::Frame).
 
 pub mod locomotion;
@@ -35,6 +35,10 @@ pub fn default_params(id: &str) -> Option<RobotParams> {
             p.torso_mass = Some(10.0);
             p.actuator_strength = Some(300.0);
         }
+        "half_cheetah" => {
+            p.joint_stiffness = 15000.0;
+            p.torso_mass = Some(9.457333);
+        }
         _ => return None,
     }
     Some(p)
@@ -48,6 +52,7 @@ pub fn is_robot(id: &str) -> bool {
 fn robot_of(id: &str) -> Option<&'static str> {
     match id {
         "ant" => Some("ant"),
+        "half_cheetah" => Some("half_cheetah"),
         _ => None,
     }
 }
@@ -55,6 +60,7 @@ fn robot_of(id: &str) -> Option<&'static str> {
 fn env_id(id: &str) -> Option<&'static str> {
     match id {
         "ant" => Some("ant"),
+        "half_cheetah" => Some("half_cheetah"),
         _ => None,
     }
 }
@@ -64,6 +70,7 @@ pub fn make_robot(id: &str, params: RobotParams) -> Option<Locomotion> {
     let model = RobotModel::load(robot_of(id)?).ok()?;
     match id {
         "ant" => Some(Locomotion::new("ant", model, params, TaskConfig::ANT)),
+        "half_cheetah" => Some(Locomotion::new("half_cheetah", model, params, TaskConfig::HALF_CHEETAH)),
         _ => None,
     }
 }

@@ -26,6 +26,14 @@ pub struct ActuatorSpec {
     pub gear: f64,
 }
 
+/// A passive spring on one joint.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointSpring {
+    pub joint: String,
+    pub stiffness: f64,
+}
+
 /// The side file `robots/<name>.actuators.json`.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -39,6 +47,15 @@ pub struct SideFile {
     /// rapier solver iterations (substeps) per physics step.
     pub solver_iterations: usize,
     pub root: RootKind,
+    /// The link `torso_mass` sets and the camera follows (default: the first URDF link).
+    #[serde(default)]
+    pub torso_link: Option<String>,
+    /// Reflected rotor inertia (kg·m²) added to every robot joint (MuJoCo's `armature`).
+    #[serde(default)]
+    pub joint_armature: f64,
+    /// Passive joint springs towards 0 (MuJoCo's joint `stiffness`), N·m/rad.
+    #[serde(default)]
+    pub joint_springs: Vec<JointSpring>,
     /// Joints of the URDF that stand for the root's degrees of freedom (a planar robot's
     /// slides and pitch hinge): not damped like robot joints.
     #[serde(default)]
@@ -72,6 +89,8 @@ pub struct RobotModel {
     /// Movable (revolute/prismatic/continuous) joint names in file order: the generalized
     /// coordinates after the root's.
     pub joint_names: Vec<String>,
+    /// Index of the torso link (see [`SideFile::torso_link`]).
+    pub torso: usize,
 }
 
 /// Why a robot description could not be loaded (only possible if an embedded file is broken;
@@ -85,11 +104,18 @@ pub enum ModelError {
 }
 
 /// The embedded robot files: (name, URDF text, side-file text).
-pub const ROBOT_FILES: &[(&str, &str, &str)] = &[(
-    "ant",
-    include_str!("../../../robots/ant.urdf"),
-    include_str!("../../../robots/ant.actuators.json"),
-)];
+pub const ROBOT_FILES: &[(&str, &str, &str)] = &[
+    (
+        "ant",
+        include_str!("../../../robots/ant.urdf"),
+        include_str!("../../../robots/ant.actuators.json"),
+    ),
+    (
+        "half_cheetah",
+        include_str!("../../../robots/half_cheetah.urdf"),
+        include_str!("../../../robots/half_cheetah.actuators.json"),
+    ),
+];
 
 pub fn is_movable(kind: &urdf_rs::JointType) -> bool {
     matches!(
@@ -137,6 +163,21 @@ impl RobotModel {
                 });
             }
         }
+        for name in side.joint_springs.iter().map(|s| &s.joint).chain(&side.root_joints) {
+            if !joint_names.contains(name) {
+                return Err(ModelError::Side {
+                    robot,
+                    message: format!("joint {name} is not a movable joint of the URDF"),
+                });
+            }
+        }
+        let torso = side.torso_link.clone().unwrap_or_else(|| link_names[0].clone());
+        let Some(torso) = link_names.iter().position(|l| *l == torso) else {
+            return Err(ModelError::Side {
+                robot,
+                message: format!("torso link {torso} is not a link of the URDF"),
+            });
+        };
         for l in &urdf.links {
             if l.inertial.mass.value <= 0.0 {
                 return Err(ModelError::Urdf {
@@ -152,6 +193,7 @@ impl RobotModel {
             });
         }
         Ok(RobotModel {
+            torso,
             name: robot,
             urdf,
             side,

@@ -34,9 +34,9 @@ pub struct Camera {
 }
 
 impl Camera {
-    /// The default view of a world: 4 m to the side (−y) and 1.5 m above the root link.
+    /// The default view of a world: 4 m to the side (−y) and 1.5 m above the torso.
     pub fn following(world: &RobotWorld) -> Camera {
-        let root = world.link_pose(0).translation;
+        let root = world.link_pose(world.torso).translation;
         let target = Vector::new(root.x, root.y, root.z.clamp(0.3, 3.0) * 0.6);
         Camera {
             eye: target + Vector::new(0.0, -4.0, 1.5),

@@ -51,6 +51,8 @@ pub struct RobotWorld {
     /// Colliders of each URDF link.
     pub link_colliders: Vec<Vec<ColliderHandle>>,
     pub ground: ColliderHandle,
+    /// Index of the torso link.
+    pub torso: usize,
     mb: MultibodyIndex,
     joints: Vec<JointDof>,
     root_dofs: usize,
@@ -81,7 +83,7 @@ impl RobotWorld {
         for (i, link) in robot.links.iter_mut().enumerate() {
             let base = link.inertial.mass.value;
             let mut m = base;
-            if i == 0 {
+            if i == model.torso {
                 if let Some(t) = params.torso_mass {
                     m = t;
                 }
@@ -192,6 +194,8 @@ impl RobotWorld {
             .multibody_joints
             .get_multibody_mut(mb_index)
             .expect("multibody exists");
+        // Settle the root type (a fixed root has no DoFs) before reading DoF indices.
+        mb.forward_kinematics(&pw.bodies, true);
         let root_dofs = mb.root().joint().ndofs();
 
         // Movable joints in URDF order.
@@ -234,8 +238,18 @@ impl RobotWorld {
         let jd = finite_or(params.joint_angular_damping, 0.0).max(0.0) as f32;
         mb.damping_mut().fill(0.0);
         for (j, name) in joints.iter().zip(&model.joint_names) {
-            if !j.prismatic && !side.root_joints.contains(name) {
+            if side.root_joints.contains(name) {
+                continue;
+            }
+            if !j.prismatic {
                 mb.damping_mut()[j.dof] = jd;
+            }
+            mb.armature_mut()[j.dof] = side.joint_armature as f32;
+            if let Some(s) = side.joint_springs.iter().find(|s| s.joint == *name) {
+                let axis = if j.prismatic { 0 } else { 3 };
+                if let Some(link) = mb.link_mut(j.link_id) {
+                    link.joint.set_spring(axis, s.stiffness as f32, 0.0);
+                }
             }
         }
         // Configuration: joint coordinates as displacements from the loader's zero pose.
@@ -280,6 +294,7 @@ impl RobotWorld {
             links,
             link_colliders,
             ground,
+            torso: model.torso,
             mb: mb_index,
             joints,
             root_dofs,
