@@ -24,15 +24,19 @@ fn env(id: &str) -> SpecEnv {
     make(specs.get(id).expect("spec"), &Context::new()).expect("make")
 }
 
-/// `len` random actions of `space`, flattened (discrete as i64, continuous as f32).
+/// `len` random actions of `space`, flattened (discrete as i64, continuous as f32, `dim` values
+/// per action).
 fn actions(space: &Space, len: usize) -> (Vec<i64>, Vec<f32>) {
     let mut rng = EnvRng::from_seed(7);
     match space {
         Space::Discrete { n, .. } => ((0..len).map(|_| (rng.next_u64() % *n as u64) as i64).collect(), vec![]),
         Space::Box { low, high, .. } => (
             vec![],
-            (0..len)
-                .map(|_| (low[0] as f64 + (high[0] - low[0]) as f64 * rng.next_f64()) as f32)
+            (0..len * low.len())
+                .map(|k| {
+                    let i = k % low.len();
+                    (low[i] as f64 + (high[i] - low[i]) as f64 * rng.next_f64()) as f32
+                })
                 .collect(),
         ),
     }
@@ -44,8 +48,9 @@ mod single {
     fn run(bencher: Bencher, id: &str) {
         let mut e = env(id);
         let (d, c) = actions(&e.action_space(), TABLE);
+        let dim = e.action_space().flat_dim();
         let acts: Vec<Action> = if d.is_empty() {
-            c.iter().map(|x| Action::Continuous(vec![*x])).collect()
+            c.chunks(dim).map(|x| Action::Continuous(x.to_vec())).collect()
         } else {
             d.into_iter().map(Action::Discrete).collect()
         };
@@ -83,6 +88,15 @@ mod single {
     fn acrobot(b: Bencher) {
         run(b, "acrobot");
     }
+    /// 3-D multibody robots on rapier3d (5 physics steps per env step).
+    #[divan::bench(sample_count = 20, sample_size = 20)]
+    fn ant(b: Bencher) {
+        run(b, "ant");
+    }
+    #[divan::bench(sample_count = 20, sample_size = 20)]
+    fn half_cheetah(b: Bencher) {
+        run(b, "half_cheetah");
+    }
 }
 
 mod vec {
@@ -105,11 +119,12 @@ mod vec {
         v.reset(0);
         let batches = (65_536 / n).clamp(1, 64);
         let (d, c) = actions(&v.action_space(), batches * n);
+        let dim = v.action_space().flat_dim();
         let mut k = 0usize;
         bencher.counter(ItemsCount::new(n)).bench_local(move || {
             k = (k + 1) % batches;
             let a = if d.is_empty() {
-                VecActions::Continuous(&c[k * n..(k + 1) * n])
+                VecActions::Continuous(&c[k * n * dim..(k + 1) * n * dim])
             } else {
                 VecActions::Discrete(&d[k * n..(k + 1) * n])
             };
@@ -132,5 +147,16 @@ mod vec {
     #[divan::bench(args = NUM_ENVS)]
     fn pendulum_2t(b: Bencher, n: usize) {
         run(b, "pendulum", n, 2);
+    }
+
+    const ROBOT_ENVS: &[usize] = &[16];
+
+    #[divan::bench(args = ROBOT_ENVS, sample_count = 10, sample_size = 2)]
+    fn ant_1t(b: Bencher, n: usize) {
+        run(b, "ant", n, 1);
+    }
+    #[divan::bench(args = ROBOT_ENVS, sample_count = 10, sample_size = 2)]
+    fn ant_2t(b: Bencher, n: usize) {
+        run(b, "ant", n, 2);
     }
 }
