@@ -40,7 +40,11 @@ fn random_actions(space: &Space, n: usize, rng: &mut EnvRng) -> Acts {
     match space {
         Space::Discrete { n: k, .. } => Acts::Discrete((0..n).map(|_| (rng.next_u64() % *k as u64) as i64).collect()),
         // Beyond the bounds on purpose: the environments clip.
-        Space::Box { .. } => Acts::Continuous((0..n).map(|_| (rng.next_f64() * 5.0 - 2.5) as f32).collect()),
+        Space::Box { .. } => Acts::Continuous(
+            (0..n * space.flat_dim())
+                .map(|_| (rng.next_f64() * 5.0 - 2.5) as f32)
+                .collect(),
+        ),
     }
 }
 
@@ -81,7 +85,10 @@ fn compare(id: &str, n: usize, steps: usize, opts: VecOptions) {
         for (i, e) in scalar.iter_mut().enumerate() {
             let action = match &acts {
                 Acts::Discrete(a) => Action::Discrete(a[i]),
-                Acts::Continuous(a) => Action::Continuous(a[i..i + 1].to_vec()),
+                Acts::Continuous(a) => {
+                    let k = space.flat_dim();
+                    Action::Continuous(a[i * k..(i + 1) * k].to_vec())
+                }
             };
             let out = e.step_into(&action, &mut obs).unwrap();
             let ctx = format!("{id} threads={} step {t} env {i}", venv.threads());
@@ -109,6 +116,20 @@ fn compare(id: &str, n: usize, steps: usize, opts: VecOptions) {
 #[test]
 fn vec_env_equals_scalar_envs_for_every_runtime() {
     for id in RUNTIMES {
+        if carl_spec::envs::robots::is_robot(id) {
+            // 3-D robots: a few environments, past the 1000-step time limit.
+            compare(id, 2, 1003, VecOptions::default());
+            compare(
+                id,
+                3,
+                1003,
+                VecOptions {
+                    threads: 2,
+                    ..Default::default()
+                },
+            );
+            continue;
+        }
         // Long enough for every time limit (MountainCarContinuous: 999) to truncate.
         let steps = if *id == "mountain_car_continuous" { 1010 } else { 520 };
         compare(id, 5, steps, VecOptions::default());

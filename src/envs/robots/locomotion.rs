@@ -6,14 +6,17 @@
 //! reset noise (uniform ±scale on positions, scale·N(0,1) on velocities), frame skip 5 at a
 //! 0.01 s physics step, and the observation layout `qpos[skip..] ++ qvel (++ clip(cfrc_ext))`.
 //!
-//! Where it differs (documented deviations):
+//! Where it differs (documented deviations and known gaps):
 //! * the bodies are the URDF's links: Ant has 9 (torso with its four hip connectors, as in
 //!   Brax, then thigh and shin per leg), so its contact block has 9·6 values instead of 13·6;
 //! * `cfrc_ext` is computed from rapier's normal contact impulses (no friction part), the
 //!   torque about each link's centre of mass;
 //! * the root's generalized velocity is rapier's: world-frame linear and angular velocity;
 //! * masses, damping, gravity and actuator torques come from CARL's (Brax) context, not from
-//!   MuJoCo's geom densities and gears.
+//!   MuJoCo's geom densities and gears;
+//! * rapier's soft contacts leave a few millimetres of vertical jitter at rest, and an Ant left
+//!   alone for many seconds slowly turns about its vertical axis (its hips drift by about
+//!   0.03 rad/s with zero controls): contact solver noise that MuJoCo's does not show.
 //!
 //! A simulation that diverges (non-finite or faster than the side file's `max_speed`) is rolled
 //! back to the state before the step and the step terminates with `info["diverged"] = 1`.
@@ -99,8 +102,6 @@ pub struct Locomotion {
     cfrc: Vec<f64>,
     rng: EnvRng,
     info: StepInfo,
-    /// Scratch: state before the current step (for the divergence roll-back).
-    before: Vec<f64>,
     init_root: Vec<f64>,
     nq: usize,
     nv: usize,
@@ -141,7 +142,6 @@ impl Locomotion {
             cfrc,
             rng: EnvRng::from_seed(crate::envs::rng::DEFAULT_SEED),
             info: StepInfo::default(),
-            before: Vec::new(),
             init_root,
             nq,
             nv,
@@ -367,7 +367,6 @@ impl Env for Locomotion {
             reward_survive,
             diverged,
         };
-        self.before = before;
         self.write_obs(obs);
         Ok(StepOutcome {
             reward: reward_forward + reward_survive + reward_ctrl + reward_contact,
