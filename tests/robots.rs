@@ -357,6 +357,15 @@ fn bad_input_is_an_error() {
     ));
     // Out-of-range controls are clipped like MuJoCo's ctrlrange, not refused.
     assert!(e.step(&Action::Continuous(vec![5.0; 8])).is_ok());
+    // Absurd but finite states neither panic nor leak non-finite numbers.
+    let mut s = e.state();
+    for (i, v) in s.iter_mut().enumerate() {
+        *v = if i % 2 == 0 { 1e12 } else { -1e30 };
+    }
+    e.set_state(&s).unwrap();
+    let out = e.step(&zeros(8)).unwrap();
+    assert!(out.obs.iter().all(|x| x.is_finite()));
+    assert!(out.terminated);
 }
 
 #[test]
@@ -431,7 +440,13 @@ fn audit_passes_for_the_robots() {
 
 #[test]
 fn render_draws_the_robot_over_the_ground() {
-    let mut e = env_with("ant", &[]);
+    for id in ["ant", "half_cheetah"] {
+        render_checks(id);
+    }
+}
+
+fn render_checks(id: &str) {
+    let mut e = env_with(id, &[]);
     assert!(e.render().is_none(), "nothing to draw before reset");
     e.reset(Some(0));
     let f = e.render().unwrap();
@@ -455,14 +470,15 @@ fn render_draws_the_robot_over_the_ground() {
         }
     }
     let total = f.width * f.height;
-    assert!(robot > total / 100, "robot pixels {robot}");
+    assert!(robot > total / 100, "{id}: robot pixels {robot}");
     assert!(
         sky_px > total / 10 && ground_px > total / 10,
-        "sky {sky_px} ground {ground_px}"
+        "{id}: sky {sky_px} ground {ground_px}"
     );
-    // The picture follows the state.
+    // The picture follows the state (the torso height: qpos[2] of a free root, rootz of a
+    // planar one).
     let mut s = e.state();
-    s[2] = 2.0;
+    s[if id == "ant" { 2 } else { 1 }] = 2.0;
     e.set_state(&s).unwrap();
     assert_ne!(e.render().unwrap(), f);
     // Same state, same bytes.

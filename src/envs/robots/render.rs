@@ -1,11 +1,11 @@
 //! Software rendering of a robot world: a perspective camera looking at the root link from the
 //! side and above, every collider projected to a filled silhouette (convex hull of its projected
-//! outline), drawn far to near (painter's order) over a checkered ground.
+//! outline), drawn far to near (painter's order) over a gridded ground.
 
 use rapier3d::prelude::*;
 
 use crate::plot::png::Canvas;
-use crate::plot::scene::{Color, Stroke};
+use crate::plot::scene::Color;
 use crate::render::Frame;
 
 use super::world::RobotWorld;
@@ -141,6 +141,72 @@ fn outline(shape: &dyn Shape, pose: &Pose, out: &mut Vec<Vector>) {
     }
 }
 
+/// Sutherland–Hodgman clip of a polygon to the canvas (plus a 2-pixel margin): `fill_polygon`
+/// scans the polygon's bounding box, so far off-screen vertices must not reach it.
+fn clip_to_screen(poly: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let (lo_x, lo_y) = (-2.0, -2.0);
+    let (hi_x, hi_y) = (f64::from(WIDTH) + 2.0, f64::from(HEIGHT) + 2.0);
+    // Each edge: inside test and intersection with the clip line.
+    let mut out: Vec<(f64, f64)> = poly.to_vec();
+    for edge in 0..4 {
+        if out.is_empty() {
+            break;
+        }
+        let inside = |p: (f64, f64)| match edge {
+            0 => p.0 >= lo_x,
+            1 => p.0 <= hi_x,
+            2 => p.1 >= lo_y,
+            _ => p.1 <= hi_y,
+        };
+        let cut = |a: (f64, f64), b: (f64, f64)| {
+            let t = match edge {
+                0 => (lo_x - a.0) / (b.0 - a.0),
+                1 => (hi_x - a.0) / (b.0 - a.0),
+                2 => (lo_y - a.1) / (b.1 - a.1),
+                _ => (hi_y - a.1) / (b.1 - a.1),
+            };
+            (a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1))
+        };
+        let input = std::mem::take(&mut out);
+        for i in 0..input.len() {
+            let (a, b) = (input[(i + input.len() - 1) % input.len()], input[i]);
+            match (inside(a), inside(b)) {
+                (true, true) => out.push(b),
+                (true, false) => out.push(cut(a, b)),
+                (false, true) => {
+                    out.push(cut(a, b));
+                    out.push(b);
+                }
+                (false, false) => {}
+            }
+        }
+    }
+    out
+}
+
+fn fill(canvas: &mut Canvas, poly: &[(f64, f64)], c: Color) {
+    let clipped = clip_to_screen(poly);
+    if clipped.len() >= 3 {
+        canvas.fill_polygon(&clipped, c);
+    }
+}
+
+/// A straight line of width `w` as a clipped quad.
+fn stroke(canvas: &mut Canvas, a: (f64, f64), b: (f64, f64), w: f64, c: Color) {
+    let len = (b.0 - a.0).hypot(b.1 - a.1);
+    if len == 0.0 || !len.is_finite() {
+        return;
+    }
+    let (nx, ny) = (-(b.1 - a.1) / len * w / 2.0, (b.0 - a.0) / len * w / 2.0);
+    let quad = [
+        (a.0 + nx, a.1 + ny),
+        (b.0 + nx, b.1 + ny),
+        (b.0 - nx, b.1 - ny),
+        (a.0 - nx, a.1 - ny),
+    ];
+    fill(canvas, &quad, c);
+}
+
 fn shade(c: Color, k: f32) -> Color {
     let f = |v: u8| (f32::from(v) * k).clamp(0.0, 255.0) as u8;
     Color(f(c.0), f(c.1), f(c.2))
@@ -154,26 +220,36 @@ type Silhouette = (f32, Vec<(f64, f64)>, Color);
 pub fn render_with(world: &RobotWorld, extra: &[(Vector, f32, Color)]) -> Frame {
     let cam = Camera::following(world);
     let mut canvas = Canvas::new(WIDTH, HEIGHT, SKY);
-    // Ground: checkered 1 m tiles around the target, drawn as projected quads.
-    let cx = cam.target.x.floor() as i32;
-    let cy = cam.target.y.floor() as i32;
-    for i in -12..12 {
-        for j in -4..14 {
-            let (x0, y0) = ((cx + i) as f32, (cy + j) as f32);
-            let corners = [(x0, y0), (x0 + 1.0, y0), (x0 + 1.0, y0 + 1.0), (x0, y0 + 1.0)];
-            let pts: Option<Vec<(f64, f64)>> = corners
-                .iter()
-                .map(|&(x, y)| cam.project(Vector::new(x, y, 0.0)).map(|(u, v, _)| (u, v)))
-                .collect();
-            if let Some(pts) = pts {
-                let c = if (cx + i + cy + j).rem_euclid(2) == 0 {
-                    GROUND_A
-                } else {
-                    GROUND_B
-                };
-                canvas.fill_polygon(&pts, c);
-            }
+    // Ground: one projected quad from just in front of the camera to the horizon region, with
+    // 1 m grid lines (a single polygon fill keeps rendering cheap).
+    let (x_lo, x_hi) = (cam.target.x - 14.0, cam.target.x + 14.0);
+    let (y_lo, y_hi) = (cam.eye.y + 0.6, cam.eye.y + 24.0);
+    let quad = [(x_lo, y_lo), (x_hi, y_lo), (x_hi, y_hi), (x_lo, y_hi)];
+    let pts: Option<Vec<(f64, f64)>> = quad
+        .iter()
+        .map(|&(x, y)| cam.project(Vector::new(x, y, 0.0)).map(|(u, v, _)| (u, v)))
+        .collect();
+    if let Some(pts) = pts {
+        fill(&mut canvas, &pts, GROUND_A);
+    }
+    let line3 = |canvas: &mut Canvas, a: Vector, b: Vector| {
+        if let (Some(p), Some(q)) = (cam.project(a), cam.project(b)) {
+            stroke(canvas, (p.0, p.1), (q.0, q.1), 1.5, GROUND_B);
         }
+    };
+    for i in (x_lo.ceil() as i32)..=(x_hi.floor() as i32) {
+        line3(
+            &mut canvas,
+            Vector::new(i as f32, y_lo, 0.0),
+            Vector::new(i as f32, y_hi, 0.0),
+        );
+    }
+    for j in (y_lo.ceil() as i32)..=(y_hi.floor() as i32) {
+        line3(
+            &mut canvas,
+            Vector::new(x_lo, j as f32, 0.0),
+            Vector::new(x_hi, j as f32, 0.0),
+        );
     }
     // Shapes: (depth, polygon, colour), drawn far to near.
     let mut items: Vec<Silhouette> = Vec::new();
@@ -207,10 +283,10 @@ pub fn render_with(world: &RobotWorld, extra: &[(Vector, f32, Color)]) -> Frame 
     }
     items.sort_by(|a, b| b.0.total_cmp(&a.0));
     for (_, poly, color) in &items {
-        canvas.fill_polygon(poly, *color);
+        fill(&mut canvas, poly, *color);
         for k in 0..poly.len() {
             let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
-            canvas.line(a, b, Stroke::solid(shade(*color, 0.6), 1.0));
+            stroke(&mut canvas, a, b, 1.0, shade(*color, 0.6));
         }
     }
     Frame::from_canvas(&canvas)

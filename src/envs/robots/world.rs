@@ -74,6 +74,12 @@ fn finite_or(x: f64, fallback: f64) -> f64 {
     if x.is_finite() { x } else { fallback }
 }
 
+/// A state coordinate as `f32`: non-finite values become 0 and magnitudes are capped at 1e6, so
+/// that no state handed to `set_state` can put infinities into the physics engine.
+fn coord(x: f64) -> f32 {
+    finite_or(x, 0.0).clamp(-1e6, 1e6) as f32
+}
+
 impl RobotWorld {
     /// Build the world for `model` under `params`, in configuration `q`.
     pub fn build(model: &RobotModel, params: &RobotParams, q: &Configuration) -> RobotWorld {
@@ -111,14 +117,14 @@ impl RobotWorld {
         let restitution = side.restitution as f32;
         let root_pose = if side.root == RootKind::Free && q.root.len() == 7 {
             let r = &q.root;
-            let mut rot = Rotation::from_xyzw(r[4] as f32, r[5] as f32, r[6] as f32, r[3] as f32);
+            let mut rot = Rotation::from_xyzw(coord(r[4]), coord(r[5]), coord(r[6]), coord(r[3]));
             let n = rot.length();
             rot = if n.is_finite() && n > 1e-6 {
                 rot / n
             } else {
                 Rotation::IDENTITY
             };
-            Pose::from_parts(Vector::new(r[0] as f32, r[1] as f32, r[2] as f32), rot)
+            Pose::from_parts(Vector::new(coord(r[0]), coord(r[1]), coord(r[2])), rot)
         } else {
             Pose::IDENTITY
         };
@@ -256,7 +262,7 @@ impl RobotWorld {
         let ndofs = mb.ndofs();
         let mut disp = vec![0.0f32; ndofs];
         for (j, x) in joints.iter().zip(&q.joints) {
-            disp[j.dof] = finite_or(*x, 0.0) as f32;
+            disp[j.dof] = coord(*x);
         }
         mb.apply_displacements(&disp);
         mb.forward_kinematics(&pw.bodies, true);
@@ -264,11 +270,11 @@ impl RobotWorld {
         {
             let mut v = mb.generalized_velocity_mut();
             for i in 0..root_dofs.min(q.vel.len()) {
-                v[i] = finite_or(q.vel[i], 0.0) as f32;
+                v[i] = coord(q.vel[i]);
             }
             for (k, j) in joints.iter().enumerate() {
                 if let Some(x) = q.vel.get(root_dofs + k) {
-                    v[j.dof] = finite_or(*x, 0.0) as f32;
+                    v[j.dof] = coord(*x);
                 }
             }
         }
