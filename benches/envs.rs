@@ -106,6 +106,15 @@ mod single {
     fn bipedal_walker(b: Bencher) {
         run(b, "bipedal_walker");
     }
+    /// 3-D multibody robots on rapier3d (5 physics steps per env step).
+    #[divan::bench(sample_count = 20, sample_size = 20)]
+    fn ant(b: Bencher) {
+        run(b, "ant");
+    }
+    #[divan::bench(sample_count = 20, sample_size = 20)]
+    fn half_cheetah(b: Bencher) {
+        run(b, "half_cheetah");
+    }
 }
 
 mod vec {
@@ -166,6 +175,16 @@ mod vec {
     #[divan::bench(args = [64])]
     fn bipedal_walker_2t(b: Bencher, n: usize) {
         run(b, "bipedal_walker", n, 2);
+    }
+    const ROBOT_ENVS: &[usize] = &[16];
+
+    #[divan::bench(args = ROBOT_ENVS, sample_count = 10, sample_size = 2)]
+    fn ant_1t(b: Bencher, n: usize) {
+        run(b, "ant", n, 1);
+    }
+    #[divan::bench(args = ROBOT_ENVS, sample_count = 10, sample_size = 2)]
+    fn ant_2t(b: Bencher, n: usize) {
+        run(b, "ant", n, 2);
     }
 }
 

@@ -70,8 +70,22 @@ fn unknown_and_out_of_bounds_features_are_refused() {
 #[test]
 fn specs_without_runtime_say_so() {
     let specs = SpecSet::bundled().unwrap();
-    let e = make(specs.get("ant").unwrap(), &Context::new()).unwrap_err();
-    assert!(matches!(e, MakeError::NoRuntime(_)));
+    // Every spec with numeric defaults and no runtime (yet) says so.
+    let mut checked = 0;
+    for spec in specs.envs() {
+        use carl_spec::spec::model::FeatureType;
+        let numeric = spec
+            .features
+            .iter()
+            .all(|f| matches!(f.kind, FeatureType::Float | FeatureType::Int | FeatureType::Bool));
+        if carl_spec::envs::registry::has_runtime(&spec.id) || !numeric {
+            continue;
+        }
+        let e = make(spec, &Context::new()).unwrap_err();
+        assert!(matches!(e, MakeError::NoRuntime(_)), "{}: {e}", spec.id);
+        checked += 1;
+    }
+    assert!(checked > 0);
 }
 
 fn runtime_default(id: &str, name: &str) -> f64 {
@@ -85,6 +99,9 @@ fn runtime_default(id: &str, name: &str) -> f64 {
         "lunar_lander" => carl_spec::envs::box2d::LunarLanderParams::default().get(name),
         "bipedal_walker" => carl_spec::envs::box2d::BipedalWalkerParams::default().get(name),
         "vehicle_racing" => carl_spec::envs::box2d::VehicleRacingParams::default().get(name),
+        robot if carl_spec::envs::robots::is_robot(robot) => {
+            carl_spec::envs::robots::default_params(robot).unwrap().get(name)
+        }
         _ => unreachable!(),
     }
     .unwrap_or_else(|e| panic!("{id}: runtime lacks spec feature {name}: {e}"))

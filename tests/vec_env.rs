@@ -114,6 +114,20 @@ fn compare(id: &str, n: usize, steps: usize, opts: VecOptions) {
 #[test]
 fn vec_env_equals_scalar_envs_for_every_runtime() {
     for id in RUNTIMES {
+        if carl_spec::envs::robots::is_robot(id) {
+            // 3-D robots: a few environments, past the 1000-step time limit.
+            compare(id, 2, 1003, VecOptions::default());
+            compare(
+                id,
+                3,
+                1003,
+                VecOptions {
+                    threads: 2,
+                    ..Default::default()
+                },
+            );
+            continue;
+        }
         // Long enough for every time limit (MountainCarContinuous: 999, VehicleRacing: 1000) to
         // truncate.
         let steps = if matches!(*id, "mountain_car_continuous" | "vehicle_racing") {

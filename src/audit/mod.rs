@@ -44,8 +44,8 @@ pub struct AuditOptions {
 }
 
 impl AuditOptions {
-    /// The probes used for environment `id`: the defaults, lighter for BipedalWalker, whose
-    /// probes each rebuild a physics world and whose 4-D action grid is larger (a probe costs
+    /// The probes used for environment `id`: the defaults, lighter for BipedalWalker and the
+    /// robots. BipedalWalker's probes each rebuild a physics world and whose 4-D action grid is larger (a probe costs
     /// ~40 µs there against well under 1 µs for classic control).
     pub fn for_env(id: &str) -> AuditOptions {
         match id {
@@ -54,6 +54,13 @@ impl AuditOptions {
                 trajectory_steps: 24,
                 random_states: 128,
                 reset_seeds: 8,
+            },
+            // Articulated robots: each transition is five 3-D multibody physics steps.
+            robot if crate::envs::robots::is_robot(robot) => AuditOptions {
+                trajectory_seeds: 3,
+                trajectory_steps: 8,
+                random_states: 8,
+                reset_seeds: 4,
             },
             _ => AuditOptions::default(),
         }

@@ -9,6 +9,7 @@
 //! * [`registry`]: spec + context → runtime (`make`).
 //! * [`contextual`]: CARL's contextual wrapper (instance selection, context in observation/info).
 //! * [`box2d`]: LunarLander on rapier2d (each instance owns its physics world).
+//! * [`robots`]: articulated robots from URDF on rapier3d (Ant, HalfCheetah).
 
 pub mod api;
 pub mod box2d;
@@ -17,6 +18,7 @@ pub mod contextual;
 mod pool;
 pub mod registry;
 pub mod rng;
+pub mod robots;
 pub mod vec_env;
 
 pub use api::{Action, DType, Env, EnvError, Info, Space, Step, StepOutcome, TimeLimit, UnknownFeature};

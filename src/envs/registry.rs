@@ -28,6 +28,8 @@ pub const RUNTIMES: &[&str] = &[
     "lunar_lander",
     "bipedal_walker",
     "vehicle_racing",
+    "ant",
+    "half_cheetah",
 ];
 
 pub fn has_runtime(id: &str) -> bool {
@@ -65,7 +67,7 @@ pub enum MakeError {
 
 /// The runtime environments behind one type (static dispatch keeps stepping cheap): the
 /// classic-control ones and, boxed because they own physics worlds and tracks, LunarLander,
-/// BipedalWalker and VehicleRacing.
+/// BipedalWalker, VehicleRacing and the robots.
 #[derive(Debug, Clone)]
 pub enum ClassicEnv {
     CartPole(CartPole),
@@ -76,6 +78,8 @@ pub enum ClassicEnv {
     LunarLander(Box<LunarLander>),
     BipedalWalker(Box<BipedalWalker>),
     VehicleRacing(Box<VehicleRacing>),
+    /// An articulated robot on rapier3d (see [`crate::envs::robots`]).
+    Robot(Box<super::robots::Locomotion>),
 }
 
 impl ClassicEnv {
@@ -115,6 +119,7 @@ macro_rules! dispatch {
             ClassicEnv::LunarLander($e) => $body,
             ClassicEnv::BipedalWalker($e) => $body,
             ClassicEnv::VehicleRacing($e) => $body,
+            ClassicEnv::Robot($e) => $body,
         }
     };
 }
@@ -355,6 +360,20 @@ fn build(id: &str, values: &[(String, f64)]) -> Result<ClassicEnv, MakeError> {
             })?;
             ClassicEnv::VehicleRacing(Box::new(env))
         }
-        other => return Err(MakeError::NoRuntime(other.to_string())),
+        other => {
+            let Some(mut p) = super::robots::blank_params(other) else {
+                return Err(MakeError::NoRuntime(other.to_string()));
+            };
+            for (name, x) in values {
+                p.set(name, *x).map_err(|e| MakeError::UnknownFeature {
+                    env: id.to_string(),
+                    name: name.clone(),
+                    hint: " (the spec names a feature the runtime does not know)".into(),
+                    valid: e.known,
+                })?;
+            }
+            let env = super::robots::make_robot(other, p).ok_or_else(|| MakeError::NoRuntime(other.to_string()))?;
+            ClassicEnv::Robot(Box::new(env))
+        }
     })
 }

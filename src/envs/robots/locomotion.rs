@@ -1,0 +1,432 @@
+//! Gymnasium MuJoCo v5 locomotion tasks (Ant, HalfCheetah) on a URDF robot.
+//!
+//! Same as Gymnasium v5: reward `healthy_reward + forward_reward_weight·ẋ − ctrl_cost_weight·Σa²
+//! − contact_cost_weight·Σclip(cfrc_ext, ±1)²` (each term with the task's weights), the torso's
+//! x velocity measured over the whole frame-skipped step, the healthy z range and termination,
+//! reset noise (uniform ±scale on positions, scale·N(0,1) on velocities), frame skip 5 at a
+//! 0.01 s physics step, and the observation layout `qpos[skip..] ++ qvel (++ clip(cfrc_ext))`.
+//!
+//! Where it differs (documented deviations and known gaps):
+//! * the bodies are the URDF's links: Ant has 9 (torso with its four hip connectors, as in
+//!   Brax, then thigh and shin per leg), so its contact block has 9·6 values instead of 13·6;
+//! * `cfrc_ext` is computed from rapier's normal contact impulses (no friction part), the
+//!   torque about each link's centre of mass;
+//! * the root's generalized velocity is rapier's: world-frame linear and angular velocity;
+//! * masses, damping, gravity and actuator torques come from CARL's (Brax) context, not from
+//!   MuJoCo's geom densities and gears;
+//! * rapier's soft contacts leave a few millimetres of vertical jitter at rest, and an Ant left
+//!   alone for many seconds slowly turns about its vertical axis (its hips drift by about
+//!   0.03 rad/s with zero controls): contact solver noise that MuJoCo's does not show.
+//!
+//! A simulation that diverges (non-finite or faster than the side file's `max_speed`) is rolled
+//! back to the state before the step and the step terminates with `info["diverged"] = 1`.
+
+use std::sync::Arc;
+
+use crate::envs::api::{Action, DType, Env, EnvError, Info, Space, StepOutcome, check_obs_len};
+use crate::envs::rng::{EnvRng, normal, uniform};
+
+use super::model::{RobotModel, RootKind};
+use super::params::RobotParams;
+use super::world::{Configuration, RobotWorld};
+
+/// Task constants of a Gymnasium v5 locomotion environment.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TaskConfig {
+    pub forward_reward_weight: f64,
+    pub ctrl_cost_weight: f64,
+    pub contact_cost_weight: f64,
+    pub healthy_reward: f64,
+    /// Healthy range of the root height (`qpos[2]` for a free root, `qpos[1]` for a planar one).
+    pub healthy_z_range: Option<(f64, f64)>,
+    pub terminate_when_unhealthy: bool,
+    pub contact_force_range: (f64, f64),
+    pub reset_noise_scale: f64,
+    /// Leading position coordinates left out of the observation (the x/y position).
+    pub obs_skip_qpos: usize,
+    pub include_cfrc_ext: bool,
+}
+
+impl TaskConfig {
+    /// Gymnasium `Ant-v5` defaults.
+    pub const ANT: TaskConfig = TaskConfig {
+        forward_reward_weight: 1.0,
+        ctrl_cost_weight: 0.5,
+        contact_cost_weight: 5e-4,
+        healthy_reward: 1.0,
+        healthy_z_range: Some((0.2, 1.0)),
+        terminate_when_unhealthy: true,
+        contact_force_range: (-1.0, 1.0),
+        reset_noise_scale: 0.1,
+        obs_skip_qpos: 2,
+        include_cfrc_ext: true,
+    };
+    /// Gymnasium `HalfCheetah-v5` defaults.
+    pub const HALF_CHEETAH: TaskConfig = TaskConfig {
+        forward_reward_weight: 1.0,
+        ctrl_cost_weight: 0.1,
+        contact_cost_weight: 0.0,
+        healthy_reward: 0.0,
+        healthy_z_range: None,
+        terminate_when_unhealthy: false,
+        contact_force_range: (-1.0, 1.0),
+        reset_noise_scale: 0.1,
+        obs_skip_qpos: 1,
+        include_cfrc_ext: false,
+    };
+}
+
+/// Reward terms and positions of the last step (Gymnasium's `info`).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct StepInfo {
+    pub x_position: f64,
+    pub y_position: f64,
+    pub x_velocity: f64,
+    pub reward_forward: f64,
+    pub reward_ctrl: f64,
+    pub reward_contact: f64,
+    pub reward_survive: f64,
+    /// The physics diverged during the last step (rolled back, episode terminated).
+    pub diverged: bool,
+}
+
+/// A locomotion environment: robot model, context, task and the instance's own world.
+#[derive(Debug)]
+pub struct Locomotion {
+    id: &'static str,
+    model: Arc<RobotModel>,
+    params: RobotParams,
+    task: TaskConfig,
+    world: Option<RobotWorld>,
+    /// Raw (unclipped) contact wrenches, 6 per link.
+    cfrc: Vec<f64>,
+    rng: EnvRng,
+    info: StepInfo,
+    init_root: Vec<f64>,
+    nq: usize,
+    nv: usize,
+}
+
+impl Clone for Locomotion {
+    /// The clone gets a world rebuilt from the full [`Env::state`]: positions, velocities and
+    /// contact wrenches are equal, rapier's solver caches (warm-start impulses) start empty.
+    fn clone(&self) -> Self {
+        let mut c = Locomotion::new(self.id, self.model.clone(), self.params.clone(), self.task);
+        c.rng = self.rng.clone();
+        c.info = self.info;
+        if self.world.is_some() {
+            c.load(&self.state_vec());
+        }
+        c
+    }
+}
+
+impl Locomotion {
+    pub fn new(id: &'static str, model: Arc<RobotModel>, params: RobotParams, task: TaskConfig) -> Self {
+        let nj = model.joint_names.len();
+        let free = model.side.root == RootKind::Free;
+        let init_root = if free {
+            vec![0.0, 0.0, model.side.root_height, 1.0, 0.0, 0.0, 0.0]
+        } else {
+            Vec::new()
+        };
+        let nq = init_root.len() + nj;
+        let nv = if free { 6 } else { 0 } + nj;
+        let cfrc = vec![0.0; 6 * model.link_names.len()];
+        Locomotion {
+            id,
+            model,
+            params,
+            task,
+            world: None,
+            cfrc,
+            rng: EnvRng::from_seed(crate::envs::rng::DEFAULT_SEED),
+            info: StepInfo::default(),
+            init_root,
+            nq,
+            nv,
+        }
+    }
+
+    pub fn params(&self) -> &RobotParams {
+        &self.params
+    }
+    pub fn model(&self) -> &RobotModel {
+        &self.model
+    }
+    pub fn task(&self) -> &TaskConfig {
+        &self.task
+    }
+    pub fn world(&self) -> Option<&RobotWorld> {
+        self.world.as_ref()
+    }
+    pub fn last_info(&self) -> StepInfo {
+        self.info
+    }
+    /// Environment step duration (s): physics step × frame skip.
+    pub fn dt(&self) -> f64 {
+        self.model.side.timestep * self.model.side.frame_skip as f64
+    }
+    pub fn nq(&self) -> usize {
+        self.nq
+    }
+    pub fn nv(&self) -> usize {
+        self.nv
+    }
+    fn num_links(&self) -> usize {
+        self.model.link_names.len()
+    }
+
+    /// Generalized positions `qpos` (MuJoCo layout: free root `[x y z qw qx qy qz]`, then joints).
+    pub fn qpos(&self) -> Vec<f64> {
+        let s = self.state_vec();
+        s[..self.nq].to_vec()
+    }
+
+    fn root_z_index(&self) -> usize {
+        if self.model.side.root == RootKind::Free { 2 } else { 1 }
+    }
+
+    fn state_vec(&self) -> Vec<f64> {
+        let mut s = Vec::with_capacity(self.state_dim());
+        match &self.world {
+            Some(w) => {
+                let c = w.configuration();
+                s.extend(&c.root);
+                s.extend(&c.joints);
+                s.extend(&c.vel);
+            }
+            None => {
+                s.extend(&self.init_root);
+                s.resize(self.nq + self.nv, 0.0);
+            }
+        }
+        s.extend(&self.cfrc);
+        s
+    }
+
+    fn load(&mut self, s: &[f64]) {
+        let root_len = self.init_root.len();
+        let q = Configuration {
+            root: s[..root_len].to_vec(),
+            joints: s[root_len..self.nq].to_vec(),
+            vel: s[self.nq..self.nq + self.nv].to_vec(),
+        };
+        self.world = Some(RobotWorld::build(&self.model, &self.params, &q));
+        self.cfrc.copy_from_slice(&s[self.nq + self.nv..]);
+    }
+
+    fn clipped_cfrc(&self, i: usize) -> f64 {
+        let (lo, hi) = self.task.contact_force_range;
+        crate::envs::api::np_clip(self.cfrc[i], lo, hi)
+    }
+
+    fn write_obs(&self, obs: &mut [f32]) {
+        let s = self.state_vec();
+        let mut k = 0;
+        for v in &s[self.task.obs_skip_qpos..self.nq + self.nv] {
+            obs[k] = *v as f32;
+            k += 1;
+        }
+        if self.task.include_cfrc_ext {
+            for i in 0..self.cfrc.len() {
+                obs[k] = self.clipped_cfrc(i) as f32;
+                k += 1;
+            }
+        }
+    }
+
+    fn is_healthy(&self, s: &[f64]) -> bool {
+        let finite = s.iter().all(|x| x.is_finite());
+        match self.task.healthy_z_range {
+            Some((lo, hi)) => {
+                let z = s[self.root_z_index()];
+                finite && lo <= z && z <= hi
+            }
+            None => finite,
+        }
+    }
+
+    fn controls<'a>(&self, action: &'a Action) -> Result<&'a [f32], EnvError> {
+        let n = self.model.num_actuators();
+        match action {
+            Action::Continuous(v) if v.len() == n => Ok(v),
+            Action::Continuous(v) => Err(EnvError::ActionLength {
+                env: self.id,
+                expected: n,
+                got: v.len(),
+            }),
+            Action::Discrete(_) => Err(EnvError::ActionKind {
+                env: self.id,
+                expected: "continuous",
+                got: "discrete",
+            }),
+        }
+    }
+}
+
+impl Env for Locomotion {
+    fn id(&self) -> &'static str {
+        self.id
+    }
+    fn obs_dim(&self) -> usize {
+        self.nq - self.task.obs_skip_qpos
+            + self.nv
+            + if self.task.include_cfrc_ext {
+                6 * self.num_links()
+            } else {
+                0
+            }
+    }
+    fn state_dim(&self) -> usize {
+        self.nq + self.nv + 6 * self.num_links()
+    }
+    fn observation_space(&self) -> Space {
+        let n = self.obs_dim();
+        Space::Box {
+            low: vec![f32::NEG_INFINITY; n],
+            high: vec![f32::INFINITY; n],
+            shape: vec![n],
+            dtype: DType::Float64,
+        }
+    }
+    fn action_space(&self) -> Space {
+        let n = self.model.num_actuators();
+        let [lo, hi] = self.model.side.ctrl_range;
+        Space::Box {
+            low: vec![lo as f32; n],
+            high: vec![hi as f32; n],
+            shape: vec![n],
+            dtype: DType::Float32,
+        }
+    }
+
+    fn reset_into(&mut self, seed: Option<u64>, obs: &mut [f32]) -> Result<(), EnvError> {
+        check_obs_len(self.id, obs, self.obs_dim())?;
+        if let Some(seed) = seed {
+            self.rng = EnvRng::from_seed(seed);
+        }
+        let ns = self.task.reset_noise_scale;
+        let mut s = vec![0.0; self.state_dim()];
+        s[..self.init_root.len()].copy_from_slice(&self.init_root);
+        for v in &mut s[..self.nq] {
+            *v += uniform(&mut self.rng, -ns, ns);
+        }
+        for v in &mut s[self.nq..self.nq + self.nv] {
+            *v = ns * normal(&mut self.rng, 0.0, 1.0);
+        }
+        self.load(&s);
+        self.info = StepInfo::default();
+        self.info.x_position = s[0];
+        self.info.y_position = if self.init_root.is_empty() { 0.0 } else { s[1] };
+        self.write_obs(obs);
+        Ok(())
+    }
+
+    fn step_into(&mut self, action: &Action, obs: &mut [f32]) -> Result<StepOutcome, EnvError> {
+        let ctrl = self.controls(action)?;
+        check_obs_len(self.id, obs, self.obs_dim())?;
+        if self.world.is_none() {
+            return Err(EnvError::NeedsReset { env: self.id });
+        }
+        let before = self.state_vec();
+        let world = self.world.as_mut().expect("checked");
+        for _ in 0..self.model.side.frame_skip {
+            world.step(ctrl);
+        }
+        let diverged = !world.is_sane(self.model.side.max_speed);
+        if diverged {
+            self.load(&before);
+        } else {
+            let w = self.world.as_ref().expect("checked");
+            let mut cfrc = std::mem::take(&mut self.cfrc);
+            w.contact_wrenches(&mut cfrc);
+            self.cfrc = cfrc;
+        }
+        let after = self.state_vec();
+        let dt = self.dt();
+        let x_velocity = (after[0] - before[0]) / dt;
+        let y_position = if self.init_root.is_empty() { 0.0 } else { after[1] };
+        let reward_forward = self.task.forward_reward_weight * x_velocity;
+        let reward_ctrl = -self.task.ctrl_cost_weight * ctrl.iter().map(|a| f64::from(*a).powi(2)).sum::<f64>();
+        let reward_contact = if self.task.contact_cost_weight != 0.0 {
+            -self.task.contact_cost_weight * (0..self.cfrc.len()).map(|i| self.clipped_cfrc(i).powi(2)).sum::<f64>()
+        } else {
+            0.0
+        };
+        let healthy = !diverged && self.is_healthy(&after);
+        let reward_survive = if healthy { self.task.healthy_reward } else { 0.0 };
+        let terminated = diverged || (self.task.terminate_when_unhealthy && !healthy);
+        self.info = StepInfo {
+            x_position: after[0],
+            y_position,
+            x_velocity,
+            reward_forward,
+            reward_ctrl,
+            reward_contact,
+            reward_survive,
+            diverged,
+        };
+        self.write_obs(obs);
+        Ok(StepOutcome {
+            reward: reward_forward + reward_survive + reward_ctrl + reward_contact,
+            terminated,
+            truncated: false,
+        })
+    }
+
+    fn observe_into(&self, obs: &mut [f32]) -> Result<(), EnvError> {
+        check_obs_len(self.id, obs, self.obs_dim())?;
+        self.write_obs(obs);
+        Ok(())
+    }
+
+    /// `qpos ++ qvel ++ cfrc_ext` (6 per link, raw).
+    fn state(&self) -> Vec<f64> {
+        self.state_vec()
+    }
+
+    fn set_state(&mut self, state: &[f64]) -> Result<(), EnvError> {
+        if state.len() != self.state_dim() {
+            return Err(EnvError::StateLength {
+                env: self.id,
+                expected: self.state_dim(),
+                got: state.len(),
+            });
+        }
+        if let Some((index, value)) = state.iter().copied().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(EnvError::StateNotFinite {
+                env: self.id,
+                index,
+                value,
+            });
+        }
+        self.load(state);
+        self.info = StepInfo::default();
+        Ok(())
+    }
+
+    fn info(&self) -> Info {
+        let i = &self.info;
+        let mut m = Info::new();
+        m.insert("x_position".into(), i.x_position);
+        if !self.init_root.is_empty() {
+            m.insert("y_position".into(), i.y_position);
+        }
+        m.insert("x_velocity".into(), i.x_velocity);
+        m.insert("reward_forward".into(), i.reward_forward);
+        m.insert("reward_ctrl".into(), i.reward_ctrl);
+        if self.task.contact_cost_weight != 0.0 {
+            m.insert("reward_contact".into(), i.reward_contact);
+        }
+        if self.task.healthy_reward != 0.0 {
+            m.insert("reward_survive".into(), i.reward_survive);
+        }
+        m.insert("diverged".into(), f64::from(u8::from(i.diverged)));
+        m
+    }
+
+    fn render(&self) -> Option<crate::render::Frame> {
+        self.world.as_ref().map(super::render::render_world)
+    }
+}

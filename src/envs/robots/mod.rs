@@ -1,0 +1,83 @@
+//! Articulated robots from URDF on rapier3d (reduced-coordinate multibody joints).
+//!
+//! * [`model`]: the embedded robot descriptions: `robots/<name>.urdf` (links, collision
+//!   shapes, masses, joints; authored for this project from the published geometry) and
+//!   `robots/<name>.actuators.json` (motors, control range, time step, contact and solver
+//!   settings that URDF cannot express).
+//! * [`params`]: the context (Brax's physics parameters as CARL sets them, per-link masses).
+//! * [`world`]: one instance's physics world, built from model + context; nothing is shared
+//!   between instances.
+//! * [`locomotion`]: Gymnasium v5 tasks (Ant, HalfCheetah).
+//! * [`render`]: software rendering of a world to a [`Frame`](crate::render::Frame).
+
+pub mod locomotion;
+pub mod model;
+pub mod params;
+pub mod render;
+pub mod world;
+
+pub use locomotion::{Locomotion, StepInfo, TaskConfig};
+pub use model::RobotModel;
+pub use params::RobotParams;
+pub use world::RobotWorld;
+
+/// The physics engine behind these environments, pinned exactly in `Cargo.toml`.
+pub const PHYSICS_ENGINE: &str =
+    "rapier3d =0.36.1 + rapier3d-urdf =0.36.1 (features: enhanced-determinism; f32, dim3, multibody joints)";
+
+/// Default context of a robot environment (the spec's defaults, for direct construction).
+pub fn default_params(id: &str) -> Option<RobotParams> {
+    let model = RobotModel::load(robot_of(id)?).ok()?;
+    let mut p = RobotParams::new(env_id(id)?, model.link_names.clone());
+    match id {
+        "ant" => {
+            p.joint_angular_damping = 35.0;
+            p.torso_mass = Some(10.0);
+            p.actuator_strength = Some(300.0);
+        }
+        "half_cheetah" => {
+            p.joint_stiffness = 15000.0;
+            p.torso_mass = Some(9.457333);
+        }
+        _ => return None,
+    }
+    Some(p)
+}
+
+/// Whether `id` is one of the robot environments of this module.
+pub fn is_robot(id: &str) -> bool {
+    robot_of(id).is_some()
+}
+
+fn robot_of(id: &str) -> Option<&'static str> {
+    match id {
+        "ant" => Some("ant"),
+        "half_cheetah" => Some("half_cheetah"),
+        _ => None,
+    }
+}
+
+fn env_id(id: &str) -> Option<&'static str> {
+    match id {
+        "ant" => Some("ant"),
+        "half_cheetah" => Some("half_cheetah"),
+        _ => None,
+    }
+}
+
+/// Build the environment `id` with context `params`, or `None` if `id` is not a robot.
+pub fn make_robot(id: &str, params: RobotParams) -> Option<Locomotion> {
+    let model = RobotModel::load(robot_of(id)?).ok()?;
+    match id {
+        "ant" => Some(Locomotion::new("ant", model, params, TaskConfig::ANT)),
+        "half_cheetah" => Some(Locomotion::new("half_cheetah", model, params, TaskConfig::HALF_CHEETAH)),
+        _ => None,
+    }
+}
+
+/// The empty context of robot `id` (every feature at the model's value) for the registry to
+/// fill in, or `None` if `id` is not a robot.
+pub fn blank_params(id: &str) -> Option<RobotParams> {
+    let model = RobotModel::load(robot_of(id)?).ok()?;
+    Some(RobotParams::new(env_id(id)?, model.link_names.clone()))
+}
