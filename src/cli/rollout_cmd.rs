@@ -19,7 +19,7 @@ use crate::sampling::{Pcg64, dist};
 
 #[derive(Args, Debug)]
 pub struct RolloutArgs {
-    /// Environment id or alias (runtimes: cartpole, pendulum, mountain_car, mountain_car_continuous, acrobot).
+    /// Environment id or alias (any environment with a runtime; `carl-spec list` shows them all).
     pub env: String,
     #[command(flatten)]
     pub ctx: super::context_args::ContextArgs,
