@@ -292,18 +292,29 @@ pub fn resolve_context(spec: &EnvSpec, context: &Context, opts: MakeOptions) -> 
     Ok(out)
 }
 
+/// Write every `(feature, value)` into a runtime's parameters with `set`; a name the runtime does
+/// not know means the spec and the runtime disagree.
+fn apply(
+    id: &str,
+    values: &[(String, f64)],
+    mut set: impl FnMut(&str, f64) -> Result<(), super::api::UnknownFeature>,
+) -> Result<(), MakeError> {
+    for (name, x) in values {
+        set(name, *x).map_err(|e| MakeError::UnknownFeature {
+            env: id.to_string(),
+            name: name.clone(),
+            hint: " (the spec names a feature the runtime does not know)".into(),
+            valid: e.known,
+        })?;
+    }
+    Ok(())
+}
+
 fn build(id: &str, values: &[(String, f64)]) -> Result<ClassicEnv, MakeError> {
     macro_rules! with_params {
         ($params:ty, $env:ident, $variant:ident) => {{
             let mut p = <$params>::default();
-            for (name, x) in values {
-                p.set(name, *x).map_err(|e| MakeError::UnknownFeature {
-                    env: id.to_string(),
-                    name: name.clone(),
-                    hint: " (the spec names a feature the runtime does not know)".into(),
-                    valid: e.known,
-                })?;
-            }
+            apply(id, values, |name, x| p.set(name, x))?;
             ClassicEnv::$variant($env::new(p))
         }};
     }
@@ -320,38 +331,17 @@ fn build(id: &str, values: &[(String, f64)]) -> Result<ClassicEnv, MakeError> {
         "acrobot" => with_params!(AcrobotParams, Acrobot, Acrobot),
         "lunar_lander" => {
             let mut p = LunarLanderParams::default();
-            for (name, x) in values {
-                p.set(name, *x).map_err(|e| MakeError::UnknownFeature {
-                    env: id.to_string(),
-                    name: name.clone(),
-                    hint: " (the spec names a feature the runtime does not know)".into(),
-                    valid: e.known,
-                })?;
-            }
+            apply(id, values, |name, x| p.set(name, x))?;
             ClassicEnv::LunarLander(Box::new(LunarLander::new(p)))
         }
         "bipedal_walker" => {
             let mut p = BipedalWalkerParams::default();
-            for (name, x) in values {
-                p.set(name, *x).map_err(|e| MakeError::UnknownFeature {
-                    env: id.to_string(),
-                    name: name.clone(),
-                    hint: " (the spec names a feature the runtime does not know)".into(),
-                    valid: e.known,
-                })?;
-            }
+            apply(id, values, |name, x| p.set(name, x))?;
             ClassicEnv::BipedalWalker(Box::new(BipedalWalker::new(p)))
         }
         "vehicle_racing" => {
             let mut p = VehicleRacingParams::default();
-            for (name, x) in values {
-                p.set(name, *x).map_err(|e| MakeError::UnknownFeature {
-                    env: id.to_string(),
-                    name: name.clone(),
-                    hint: " (the spec names a feature the runtime does not know)".into(),
-                    valid: e.known,
-                })?;
-            }
+            apply(id, values, |name, x| p.set(name, x))?;
             let env = VehicleRacing::new(p).map_err(|message| MakeError::BadValue {
                 env: id.to_string(),
                 name: "VEHICLE".into(),
@@ -364,14 +354,7 @@ fn build(id: &str, values: &[(String, f64)]) -> Result<ClassicEnv, MakeError> {
             let Some(mut p) = super::robots::blank_params(other) else {
                 return Err(MakeError::NoRuntime(other.to_string()));
             };
-            for (name, x) in values {
-                p.set(name, *x).map_err(|e| MakeError::UnknownFeature {
-                    env: id.to_string(),
-                    name: name.clone(),
-                    hint: " (the spec names a feature the runtime does not know)".into(),
-                    valid: e.known,
-                })?;
-            }
+            apply(id, values, |name, x| p.set(name, x))?;
             let env = super::robots::make_robot(other, p).ok_or_else(|| MakeError::NoRuntime(other.to_string()))?;
             ClassicEnv::Robot(Box::new(env))
         }
