@@ -46,7 +46,7 @@ pub fn default_params(id: &str) -> Option<RobotParams> {
             p.joint_angular_damping = 50.0;
             p.joint_stiffness = 40000.0;
             p.actuator_strength = Some(100.0);
-            p.torso_mass = Some(3.761);
+            p.torso_mass = Some(1.0);
             p.target_distance = 0.5;
             p.target_radius = 0.02;
         }
