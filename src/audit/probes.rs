@@ -183,6 +183,15 @@ fn state_range_hint(id: &str) -> Option<&'static [(f64, f64)]> {
         // Hull x over the whole default course (200 steps of 14/30 m = 93.3 m) and a little
         // beyond both ends, so states reach `x < 0` and the finish line `(LENGTH - GRASS)·STEP`.
         "bipedal_walker" => Some(&[(-1.0, 95.0)]),
+        // UR5e joint angles beyond the ±2π joint limits (where joint_stiffness acts).
+        "ur5e" => Some(&[
+            (-8.0, 8.0),
+            (-8.0, 8.0),
+            (-8.0, 8.0),
+            (-8.0, 8.0),
+            (-8.0, 8.0),
+            (-8.0, 8.0),
+        ]),
         _ => None,
     }
 }
@@ -247,9 +256,16 @@ pub fn base_states(env: &ClassicEnv, opts: &AuditOptions) -> Result<Vec<Vec<f64>
             *b = (b.0.min(h.0), b.1.max(h.1));
         }
     }
+    // Goal states: a reach task's trajectory states with the target just touching the end
+    // effector, where the target radius decides the reward.
+    let goal_states = match &env {
+        ClassicEnv::Reach(r) => r.states_near_target(&states)?,
+        _ => Vec::new(),
+    };
     let mut rng = EnvRng::from_seed(0xA0D1_7000);
     for _ in 0..opts.random_states {
         states.push(bounds.iter().map(|(l, h)| uniform(&mut rng, *l, *h)).collect());
     }
+    states.extend(goal_states);
     Ok(states)
 }

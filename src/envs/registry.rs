@@ -30,6 +30,7 @@ pub const RUNTIMES: &[&str] = &[
     "vehicle_racing",
     "ant",
     "half_cheetah",
+    "ur5e",
 ];
 
 pub fn has_runtime(id: &str) -> bool {
@@ -80,6 +81,8 @@ pub enum ClassicEnv {
     VehicleRacing(Box<VehicleRacing>),
     /// An articulated robot on rapier3d (see [`crate::envs::robots`]).
     Robot(Box<super::robots::Locomotion>),
+    /// The UR5e reach task on rapier3d (see [`crate::envs::robots::reach`]).
+    Reach(Box<super::robots::Reach>),
 }
 
 impl ClassicEnv {
@@ -120,6 +123,7 @@ macro_rules! dispatch {
             ClassicEnv::BipedalWalker($e) => $body,
             ClassicEnv::VehicleRacing($e) => $body,
             ClassicEnv::Robot($e) => $body,
+            ClassicEnv::Reach($e) => $body,
         }
     };
 }
@@ -355,8 +359,13 @@ fn build(id: &str, values: &[(String, f64)]) -> Result<ClassicEnv, MakeError> {
                 return Err(MakeError::NoRuntime(other.to_string()));
             };
             apply(id, values, |name, x| p.set(name, x))?;
-            let env = super::robots::make_robot(other, p).ok_or_else(|| MakeError::NoRuntime(other.to_string()))?;
-            ClassicEnv::Robot(Box::new(env))
+            if other == "ur5e" {
+                let env = super::robots::make_reach(p).ok_or_else(|| MakeError::NoRuntime(other.to_string()))?;
+                ClassicEnv::Reach(Box::new(env))
+            } else {
+                let env = super::robots::make_robot(other, p).ok_or_else(|| MakeError::NoRuntime(other.to_string()))?;
+                ClassicEnv::Robot(Box::new(env))
+            }
         }
     })
 }

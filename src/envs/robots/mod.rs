@@ -13,12 +13,14 @@
 pub mod locomotion;
 pub mod model;
 pub mod params;
+pub mod reach;
 pub mod render;
 pub mod world;
 
 pub use locomotion::{Locomotion, StepInfo, TaskConfig};
 pub use model::RobotModel;
 pub use params::RobotParams;
+pub use reach::Reach;
 pub use world::RobotWorld;
 
 /// The physics engine behind these environments, pinned exactly in `Cargo.toml`.
@@ -39,6 +41,15 @@ pub fn default_params(id: &str) -> Option<RobotParams> {
             p.joint_stiffness = 15000.0;
             p.torso_mass = Some(9.457333);
         }
+        "ur5e" => {
+            p.gravity = -9.81;
+            p.joint_angular_damping = 50.0;
+            p.joint_stiffness = 40000.0;
+            p.actuator_strength = Some(100.0);
+            p.torso_mass = Some(1.0);
+            p.target_distance = 0.5;
+            p.target_radius = 0.02;
+        }
         _ => return None,
     }
     Some(p)
@@ -53,6 +64,7 @@ fn robot_of(id: &str) -> Option<&'static str> {
     match id {
         "ant" => Some("ant"),
         "half_cheetah" => Some("half_cheetah"),
+        "ur5e" => Some("ur5e"),
         _ => None,
     }
 }
@@ -61,8 +73,14 @@ fn env_id(id: &str) -> Option<&'static str> {
     match id {
         "ant" => Some("ant"),
         "half_cheetah" => Some("half_cheetah"),
+        "ur5e" => Some("ur5e"),
         _ => None,
     }
+}
+
+/// Build the UR5e reach environment with context `params`.
+pub fn make_reach(params: RobotParams) -> Option<Reach> {
+    Some(Reach::new(RobotModel::load("ur5e").ok()?, params))
 }
 
 /// Build the environment `id` with context `params`, or `None` if `id` is not a robot.

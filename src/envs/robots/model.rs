@@ -74,8 +74,16 @@ pub struct SideFile {
     pub restitution: f64,
     /// Whether links of the robot collide with each other.
     pub self_collisions: bool,
+    /// Whether the robot's links collide with the ground (default true; Brax's ur5e has no
+    /// contacts at all).
+    #[serde(default = "yes")]
+    pub ground_contacts: bool,
     /// Any link faster than this (m/s or rad/s) counts as a diverged simulation.
     pub max_speed: f64,
+}
+
+fn yes() -> bool {
+    true
 }
 
 /// A parsed robot description, shared read-only by all instances of one environment.
@@ -114,6 +122,11 @@ pub const ROBOT_FILES: &[(&str, &str, &str)] = &[
         "half_cheetah",
         include_str!("../../../robots/half_cheetah.urdf"),
         include_str!("../../../robots/half_cheetah.actuators.json"),
+    ),
+    (
+        "ur5e",
+        include_str!("../../../robots/ur5e.urdf"),
+        include_str!("../../../robots/ur5e.actuators.json"),
     ),
 ];
 

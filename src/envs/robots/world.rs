@@ -184,7 +184,12 @@ impl RobotWorld {
                 .translation(Vector::new(0.0, 0.0, -1.0))
                 .friction(friction)
                 .restitution(restitution)
-                .friction_combine_rule(CoefficientCombineRule::Average),
+                .friction_combine_rule(CoefficientCombineRule::Average)
+                .collision_groups(if side.ground_contacts {
+                    InteractionGroups::default()
+                } else {
+                    InteractionGroups::none()
+                }),
         );
 
         for &h in &links {
