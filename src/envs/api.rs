@@ -351,15 +351,25 @@ pub(crate) fn check_obs_len(env: &'static str, obs: &[f32], expected: usize) -> 
 }
 
 pub(crate) fn check_state<const N: usize>(env: &'static str, state: &[f64]) -> Result<[f64; N], EnvError> {
-    let arr: [f64; N] = state.try_into().map_err(|_| EnvError::StateLength {
-        env,
-        expected: N,
-        got: state.len(),
-    })?;
-    if let Some((index, value)) = arr.iter().copied().enumerate().find(|(_, v)| !v.is_finite()) {
+    check_state_len(env, state, N)?;
+    let mut arr = [0.0; N];
+    arr.copy_from_slice(state);
+    Ok(arr)
+}
+
+/// [`check_state`] for environments whose state length is known only at run time (the robots).
+pub(crate) fn check_state_len(env: &'static str, state: &[f64], expected: usize) -> Result<(), EnvError> {
+    if state.len() != expected {
+        return Err(EnvError::StateLength {
+            env,
+            expected,
+            got: state.len(),
+        });
+    }
+    if let Some((index, value)) = state.iter().copied().enumerate().find(|(_, v)| !v.is_finite()) {
         return Err(EnvError::StateNotFinite { env, index, value });
     }
-    Ok(arr)
+    Ok(())
 }
 
 /// Validate a discrete action in `0..n`.

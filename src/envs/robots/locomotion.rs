@@ -387,20 +387,7 @@ impl Env for Locomotion {
     }
 
     fn set_state(&mut self, state: &[f64]) -> Result<(), EnvError> {
-        if state.len() != self.state_dim() {
-            return Err(EnvError::StateLength {
-                env: self.id,
-                expected: self.state_dim(),
-                got: state.len(),
-            });
-        }
-        if let Some((index, value)) = state.iter().copied().enumerate().find(|(_, v)| !v.is_finite()) {
-            return Err(EnvError::StateNotFinite {
-                env: self.id,
-                index,
-                value,
-            });
-        }
+        crate::envs::api::check_state_len(self.id, state, self.state_dim())?;
         self.load(state);
         self.info = StepInfo::default();
         Ok(())

@@ -329,20 +329,7 @@ impl Env for Reach {
     }
 
     fn set_state(&mut self, state: &[f64]) -> Result<(), EnvError> {
-        if state.len() != self.state_dim() {
-            return Err(EnvError::StateLength {
-                env: "ur5e",
-                expected: self.state_dim(),
-                got: state.len(),
-            });
-        }
-        if let Some((index, value)) = state.iter().copied().enumerate().find(|(_, v)| !v.is_finite()) {
-            return Err(EnvError::StateNotFinite {
-                env: "ur5e",
-                index,
-                value,
-            });
-        }
+        crate::envs::api::check_state_len("ur5e", state, self.state_dim())?;
         self.load(state);
         self.info = ReachInfo::default();
         Ok(())
