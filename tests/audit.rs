@@ -201,7 +201,7 @@ fn perturbed_values_stay_in_bounds() {
 
 #[test]
 fn env_without_runtime_is_an_error() {
-    let r = audit(&spec("humanoid"));
+    let r = audit(&spec("mario"));
     let e = r.unwrap_err().to_string();
     assert!(e.contains("no runtime") && e.contains("cartpole"), "{e}");
 }

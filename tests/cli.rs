@@ -165,7 +165,7 @@ fn audit_exit_codes_and_formats() {
     assert_eq!(v.as_array().unwrap().len(), carl_spec::envs::registry::RUNTIMES.len());
 
     // Unknown environment, environment without runtime, nothing named: usage errors listing runtimes.
-    for args in [&["audit", "cartpol"][..], &["audit", "humanoid"], &["audit"]] {
+    for args in [&["audit", "cartpol"][..], &["audit", "mario"], &["audit"]] {
         let o = carl(args);
         assert_eq!(o.status.code(), Some(2), "{args:?}");
         if args.len() == 2 {

@@ -185,6 +185,11 @@ pub fn make(spec: &EnvSpec, context: &Context) -> Result<SpecEnv, MakeError> {
 }
 
 pub fn make_with(spec: &EnvSpec, context: &Context, opts: MakeOptions) -> Result<SpecEnv, MakeError> {
+    // "No runtime" first: a spec-only environment may have features (strings, lists) that no
+    // runtime could take, and the missing runtime is what the user needs to hear.
+    if !has_runtime(&spec.id) {
+        return Err(MakeError::NoRuntime(spec.id.clone()));
+    }
     let values = resolve_context(spec, context, opts)?;
     let env = build(&spec.id, &values)?;
     Ok(TimeLimit::new(env, spec.max_episode_steps))
