@@ -30,7 +30,7 @@ pub const PHYSICS_ENGINE: &str =
 /// Default context of a robot environment (the spec's defaults, for direct construction).
 pub fn default_params(id: &str) -> Option<RobotParams> {
     let model = RobotModel::load(robot_of(id)?).ok()?;
-    let mut p = RobotParams::new(env_id(id)?, model.link_names.clone());
+    let mut p = RobotParams::for_model(env_id(id)?, &model);
     match id {
         "ant" => {
             p.joint_angular_damping = 35.0;
@@ -97,5 +97,5 @@ pub fn make_robot(id: &str, params: RobotParams) -> Option<Locomotion> {
 /// fill in, or `None` if `id` is not a robot.
 pub fn blank_params(id: &str) -> Option<RobotParams> {
     let model = RobotModel::load(robot_of(id)?).ok()?;
-    Some(RobotParams::new(env_id(id)?, model.link_names.clone()))
+    Some(RobotParams::for_model(env_id(id)?, &model))
 }

@@ -28,6 +28,9 @@ pub struct RobotParams {
     pub link_masses: Vec<(String, f64)>,
     /// The link names `mass_<link>` may name.
     pub known_links: Vec<String>,
+    /// The model's mass of each of `known_links` (what `get("mass_<link>")` reports when the
+    /// context does not override it); empty when the params were made without a model.
+    pub model_masses: Vec<f64>,
     env: &'static str,
 }
 
@@ -61,8 +64,20 @@ impl RobotParams {
             target_height: 8.0,
             link_masses: Vec::new(),
             known_links,
+            model_masses: Vec::new(),
             env,
         }
+    }
+
+    /// [`RobotParams::new`] for a loaded model: its links and their URDF masses.
+    pub fn for_model(env: &'static str, model: &super::RobotModel) -> Self {
+        let mut p = RobotParams::new(env, model.link_names.clone());
+        p.model_masses = model
+            .link_names
+            .iter()
+            .map(|l| model.link_mass(l).unwrap_or(f64::NAN))
+            .collect();
+        p
     }
 
     fn canonical(name: &str) -> Option<&'static str> {
@@ -111,7 +126,7 @@ impl RobotParams {
         Ok(())
     }
 
-    /// Read a feature (`NaN` for an optional feature left at the model's value).
+    /// Read a feature (`NaN` for an optional feature left at a value only the model knows).
     pub fn get(&self, name: &str) -> Result<f64, UnknownFeature> {
         Ok(match Self::canonical(name) {
             Some("gravity") => self.gravity,
@@ -126,13 +141,14 @@ impl RobotParams {
             Some("target_height") => self.target_height,
             _ => {
                 let link = name.strip_prefix("mass_").ok_or_else(|| self.unknown(name))?;
-                if !self.known_links.iter().any(|k| k == link) {
+                let Some(i) = self.known_links.iter().position(|k| k == link) else {
                     return Err(self.unknown(name));
-                }
+                };
+                let model = self.model_masses.get(i).copied().unwrap_or(f64::NAN);
                 self.link_masses
                     .iter()
                     .find(|(l, _)| l == link)
-                    .map_or(f64::NAN, |(_, v)| *v)
+                    .map_or(model, |(_, v)| *v)
             }
         })
     }
