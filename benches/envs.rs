@@ -115,6 +115,11 @@ mod single {
     fn half_cheetah(b: Bencher) {
         run(b, "half_cheetah");
     }
+    /// Fixed-base arm, no contacts (4 physics steps per env step).
+    #[divan::bench(sample_count = 20, sample_size = 20)]
+    fn ur5e(b: Bencher) {
+        run(b, "ur5e");
+    }
 }
 
 mod vec {
@@ -185,6 +190,18 @@ mod vec {
     #[divan::bench(args = ROBOT_ENVS, sample_count = 10, sample_size = 2)]
     fn ant_2t(b: Bencher, n: usize) {
         run(b, "ant", n, 2);
+    }
+    #[divan::bench(args = ROBOT_ENVS, sample_count = 10, sample_size = 2)]
+    fn half_cheetah_1t(b: Bencher, n: usize) {
+        run(b, "half_cheetah", n, 1);
+    }
+    #[divan::bench(args = ROBOT_ENVS, sample_count = 10, sample_size = 2)]
+    fn half_cheetah_2t(b: Bencher, n: usize) {
+        run(b, "half_cheetah", n, 2);
+    }
+    #[divan::bench(args = ROBOT_ENVS, sample_count = 10, sample_size = 2)]
+    fn ur5e_2t(b: Bencher, n: usize) {
+        run(b, "ur5e", n, 2);
     }
 }
 
