@@ -55,6 +55,14 @@ impl AuditOptions {
                 random_states: 128,
                 reset_seeds: 8,
             },
+            // Fetch: eleven bodies and 21 probe actions per state; one trajectory suffices (the
+            // random states reach beyond the joint limits, the goal states hit targets).
+            "fetch" => AuditOptions {
+                trajectory_seeds: 1,
+                trajectory_steps: 8,
+                random_states: 8,
+                reset_seeds: 4,
+            },
             // Articulated robots: each transition is five 3-D multibody physics steps.
             robot if crate::envs::robots::is_robot(robot) => AuditOptions {
                 trajectory_seeds: 3,

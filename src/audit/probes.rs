@@ -192,6 +192,27 @@ fn state_range_hint(id: &str) -> Option<&'static [(f64, f64)]> {
             (-8.0, 8.0),
             (-8.0, 8.0),
         ]),
+        // Fetch: the root at its standing pose (x y z qw qx qy qz), hinge angles beyond the
+        // ±60° limits (where joint_stiffness acts).
+        "fetch" => Some(&[
+            (0.0, 0.0),
+            (0.0, 0.0),
+            (1.38, 1.38),
+            (1.0, 1.0),
+            (0.0, 0.0),
+            (0.0, 0.0),
+            (0.0, 0.0),
+            (-1.6, 1.6),
+            (-1.6, 1.6),
+            (-1.6, 1.6),
+            (-1.6, 1.6),
+            (-1.6, 1.6),
+            (-1.6, 1.6),
+            (-1.6, 1.6),
+            (-1.6, 1.6),
+            (-1.6, 1.6),
+            (-1.6, 1.6),
+        ]),
         _ => None,
     }
 }
@@ -260,6 +281,7 @@ pub fn base_states(env: &ClassicEnv, opts: &AuditOptions) -> Result<Vec<Vec<f64>
     // effector, where the target radius decides the reward.
     let goal_states = match &env {
         ClassicEnv::Reach(r) => r.states_near_target(&states)?,
+        ClassicEnv::Fetch(f) => f.states_near_target(&states),
         _ => Vec::new(),
     };
     let mut rng = EnvRng::from_seed(0xA0D1_7000);

@@ -31,6 +31,7 @@ pub const RUNTIMES: &[&str] = &[
     "ant",
     "half_cheetah",
     "ur5e",
+    "fetch",
 ];
 
 pub fn has_runtime(id: &str) -> bool {
@@ -83,6 +84,8 @@ pub enum ClassicEnv {
     Robot(Box<super::robots::Locomotion>),
     /// The UR5e reach task on rapier3d (see [`crate::envs::robots::reach`]).
     Reach(Box<super::robots::Reach>),
+    /// Brax's fetch task on rapier3d (see [`crate::envs::robots::fetch`]).
+    Fetch(Box<super::robots::Fetch>),
 }
 
 impl ClassicEnv {
@@ -124,6 +127,7 @@ macro_rules! dispatch {
             ClassicEnv::VehicleRacing($e) => $body,
             ClassicEnv::Robot($e) => $body,
             ClassicEnv::Reach($e) => $body,
+            ClassicEnv::Fetch($e) => $body,
         }
     };
 }
@@ -367,6 +371,9 @@ fn build(id: &str, values: &[(String, f64)]) -> Result<ClassicEnv, MakeError> {
             if other == "ur5e" {
                 let env = super::robots::make_reach(p).ok_or_else(|| MakeError::NoRuntime(other.to_string()))?;
                 ClassicEnv::Reach(Box::new(env))
+            } else if other == "fetch" {
+                let env = super::robots::make_fetch(p).ok_or_else(|| MakeError::NoRuntime(other.to_string()))?;
+                ClassicEnv::Fetch(Box::new(env))
             } else {
                 let env = super::robots::make_robot(other, p).ok_or_else(|| MakeError::NoRuntime(other.to_string()))?;
                 ClassicEnv::Robot(Box::new(env))

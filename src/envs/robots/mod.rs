@@ -8,8 +8,10 @@
 //! * [`world`]: one instance's physics world, built from model + context; nothing is shared
 //!   between instances.
 //! * [`locomotion`]: Gymnasium v5 tasks (Ant, HalfCheetah).
+//! * [`fetch`]: Brax's fetch task (a dog runs to random targets).
 //! * [`render`]: software rendering of a world to a [`Frame`](crate::render::Frame).
 
+pub mod fetch;
 pub mod locomotion;
 pub mod model;
 pub mod params;
@@ -17,6 +19,7 @@ pub mod reach;
 pub mod render;
 pub mod world;
 
+pub use fetch::Fetch;
 pub use locomotion::{Locomotion, StepInfo, TaskConfig};
 pub use model::RobotModel;
 pub use params::RobotParams;
@@ -50,6 +53,13 @@ pub fn default_params(id: &str) -> Option<RobotParams> {
             p.target_distance = 0.5;
             p.target_radius = 0.02;
         }
+        "fetch" => {
+            p.joint_angular_damping = 35.0;
+            p.actuator_strength = Some(300.0);
+            p.torso_mass = Some(1.0);
+            p.target_distance = 15.0;
+            p.target_radius = 2.0;
+        }
         _ => return None,
     }
     Some(p)
@@ -65,6 +75,7 @@ fn robot_of(id: &str) -> Option<&'static str> {
         "ant" => Some("ant"),
         "half_cheetah" => Some("half_cheetah"),
         "ur5e" => Some("ur5e"),
+        "fetch" => Some("fetch"),
         _ => None,
     }
 }
@@ -74,8 +85,14 @@ fn env_id(id: &str) -> Option<&'static str> {
         "ant" => Some("ant"),
         "half_cheetah" => Some("half_cheetah"),
         "ur5e" => Some("ur5e"),
+        "fetch" => Some("fetch"),
         _ => None,
     }
+}
+
+/// Build the fetch environment with context `params`.
+pub fn make_fetch(params: RobotParams) -> Option<Fetch> {
+    Some(Fetch::new(RobotModel::load("fetch").ok()?, params))
 }
 
 /// Build the UR5e reach environment with context `params`.

@@ -78,6 +78,10 @@ pub struct SideFile {
     /// contacts at all).
     #[serde(default = "yes")]
     pub ground_contacts: bool,
+    /// If non-empty, only these links touch the ground (Brax's `collide_include` pairs); the
+    /// other links pass through it.
+    #[serde(default)]
+    pub ground_links: Vec<String>,
     /// Any link faster than this (m/s or rad/s) counts as a diverged simulation.
     pub max_speed: f64,
 }
@@ -127,6 +131,11 @@ pub const ROBOT_FILES: &[(&str, &str, &str)] = &[
         "ur5e",
         include_str!("../../../robots/ur5e.urdf"),
         include_str!("../../../robots/ur5e.actuators.json"),
+    ),
+    (
+        "fetch",
+        include_str!("../../../robots/fetch.urdf"),
+        include_str!("../../../robots/fetch.actuators.json"),
     ),
 ];
 
@@ -181,6 +190,14 @@ impl RobotModel {
                 return Err(ModelError::Side {
                     robot,
                     message: format!("joint {name} is not a movable joint of the URDF"),
+                });
+            }
+        }
+        for l in &side.ground_links {
+            if !link_names.contains(l) {
+                return Err(ModelError::Side {
+                    robot,
+                    message: format!("ground link {l} is not a link of the URDF"),
                 });
             }
         }

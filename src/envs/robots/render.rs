@@ -218,12 +218,18 @@ type Silhouette = (f32, Vec<(f64, f64)>, Color);
 /// Render `world` from [`Camera::following`], with optional extra spheres (targets, objects)
 /// given as (centre, radius, colour).
 pub fn render_with(world: &RobotWorld, extra: &[(Vector, f32, Color)]) -> Frame {
-    let cam = Camera::following(world);
+    render_from(world, &Camera::following(world), extra)
+}
+
+/// Render `world` from camera `cam`, with optional extra spheres (centre, radius, colour).
+pub fn render_from(world: &RobotWorld, cam: &Camera, extra: &[(Vector, f32, Color)]) -> Frame {
     let mut canvas = Canvas::new(WIDTH, HEIGHT, SKY);
     // Ground: one projected quad from just in front of the camera to the horizon region, with
     // 1 m grid lines (a single polygon fill keeps rendering cheap).
-    let (x_lo, x_hi) = (cam.target.x - 14.0, cam.target.x + 14.0);
-    let (y_lo, y_hi) = (cam.eye.y + 0.6, cam.eye.y + 24.0);
+    // (24 m deep, or twice the viewing distance for a camera further away).
+    let reach = (2.0 * (cam.target - cam.eye).length()).max(24.0);
+    let (x_lo, x_hi) = (cam.target.x - reach * 14.0 / 24.0, cam.target.x + reach * 14.0 / 24.0);
+    let (y_lo, y_hi) = (cam.eye.y + 0.6, cam.eye.y + reach);
     let quad = [(x_lo, y_lo), (x_hi, y_lo), (x_hi, y_hi), (x_lo, y_hi)];
     let pts: Option<Vec<(f64, f64)>> = quad
         .iter()

@@ -13,6 +13,9 @@
 //!   joint has no other compliant constraint): natural frequency `√(k / I_ref) / 2π`;
 //! * `actuator_strength` → scales every motor's torque;
 //! * `torso_mass`, `mass_<link>` → the link's mass (its inertia tensor is scaled with it).
+//!
+//! A side file's `ground_links` (Brax's `collide_include`) leaves every other link without
+//! contacts.
 
 use rapier3d::prelude::*;
 use rapier3d_urdf::{UrdfLoaderOptions, UrdfMultibodyOptions, UrdfRobot, urdf_rs};
@@ -192,6 +195,15 @@ impl RobotWorld {
                 }),
         );
 
+        if !side.ground_links.is_empty() {
+            for (name, cols) in model.link_names.iter().zip(&link_colliders) {
+                if !side.ground_links.contains(name) {
+                    for &c in cols {
+                        pw.colliders[c].set_collision_groups(InteractionGroups::none());
+                    }
+                }
+            }
+        }
         for &h in &links {
             pw.bodies[h].recompute_mass_properties_from_colliders(&pw.colliders);
         }
