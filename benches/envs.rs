@@ -120,6 +120,11 @@ mod single {
     fn ur5e(b: Bencher) {
         run(b, "ur5e");
     }
+    /// Brax's fetch dog (eleven boxes, 4 physics steps per env step).
+    #[divan::bench(sample_count = 20, sample_size = 20)]
+    fn fetch(b: Bencher) {
+        run(b, "fetch");
+    }
 }
 
 mod vec {

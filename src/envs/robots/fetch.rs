@@ -133,6 +133,8 @@ pub struct Fetch {
     info: FetchInfo,
     nq: usize,
     nv: usize,
+    /// (parent link, child link) of each movable joint, in joint order.
+    tree: Vec<(usize, usize)>,
 }
 
 impl Clone for Fetch {
@@ -166,7 +168,16 @@ impl Fetch {
     pub fn new(model: Arc<RobotModel>, params: RobotParams) -> Self {
         let nl = model.link_names.len();
         let nj = model.joint_names.len();
+        let index = |name: &str| model.link_names.iter().position(|l| l == name).unwrap_or(0);
+        let tree = model
+            .urdf
+            .joints
+            .iter()
+            .filter(|j| super::model::is_movable(&j.joint_type))
+            .map(|j| (index(&j.parent.link), index(&j.child.link)))
+            .collect();
         Fetch {
+            tree,
             model,
             params,
             world: None,
@@ -281,6 +292,28 @@ impl Fetch {
         }
     }
 
+    /// Linear velocity of every link's centre of mass, from the generalized velocities and the
+    /// current poses (the state alone: rapier refreshes the bodies' own velocities only when it
+    /// steps, so a world just built from a state would show them at rest). Each link frame
+    /// sits on its joint, the URDF lists parents before children.
+    fn link_velocities(&self, w: &RobotWorld) -> Vec<Vector> {
+        let gv = w.configuration().vel;
+        let f = |i: usize| gv[i] as f32;
+        let com = |i: usize| w.pw.bodies[w.links[i]].center_of_mass();
+        let n = w.links.len();
+        let mut lin = vec![Vector::ZERO; n];
+        let mut ang = vec![Vector::ZERO; n];
+        lin[0] = Vector::new(f(0), f(1), f(2));
+        ang[0] = Vector::new(f(3), f(4), f(5));
+        for (k, &(p, c)) in self.tree.iter().enumerate() {
+            let wj = w.joint_axis_world(k) * f(6 + k);
+            let pivot = w.link_pose(c).translation;
+            ang[c] = ang[p] + wj;
+            lin[c] = lin[p] + ang[p].cross(com(c) - com(p)) + wj.cross(com(c) - pivot);
+        }
+        lin
+    }
+
     fn write_obs_from(&self, w: &RobotWorld, obs: &mut [f32]) {
         let torso = &w.pw.bodies[w.links[w.torso]];
         let rot: Rotation = *torso.rotation();
@@ -309,8 +342,8 @@ impl Fetch {
         put(obs, &v3(inv * (Vector::ZERO - centre)));
         put(obs, &v3(target_local));
         // Velocities: links, then the frozen Ground and Target.
-        for &h in &w.links {
-            put(obs, &v3(inv * w.pw.bodies[h].linvel()));
+        for v in self.link_velocities(w) {
+            put(obs, &v3(inv * v));
         }
         put(obs, &[0.0; 6]);
         let k = 10 + 6 * OBS_BODIES;
