@@ -31,6 +31,7 @@ pub const RUNTIMES: &[&str] = &[
     "ant",
     "half_cheetah",
     "ur5e",
+    "humanoid",
 ];
 
 pub fn has_runtime(id: &str) -> bool {
