@@ -53,7 +53,10 @@ fn model_has_the_mujoco_bodies_joints_and_masses() {
     assert_eq!(bodies[12], "left_lower_arm");
     // Joints in MuJoCo's qpos order, actuators in its actuator order.
     assert_eq!(m.joint_names.len(), NA);
-    assert_eq!(m.joint_names[..4], ["abdomen_z", "abdomen_y", "abdomen_x", "right_hip_x"]);
+    assert_eq!(
+        m.joint_names[..4],
+        ["abdomen_z", "abdomen_y", "abdomen_x", "right_hip_x"]
+    );
     assert_eq!(m.side.actuators[0].joint, "abdomen_y");
     assert_eq!(m.side.actuators[5].gear, 300.0);
     // Masses from MuJoCo's default density: the torso is Brax's/CARL's 8.907463 kg.
@@ -111,7 +114,13 @@ fn each_motor_turns_its_joint_in_the_positive_direction() {
     let mut s = vec![0.0; e.state_dim()];
     s[2] = 5.0;
     s[3] = 1.0;
-    for (k, j) in m.urdf.joints.iter().filter(|j| j.limit.upper > j.limit.lower).enumerate() {
+    for (k, j) in m
+        .urdf
+        .joints
+        .iter()
+        .filter(|j| j.limit.upper > j.limit.lower)
+        .enumerate()
+    {
         s[7 + k] = 0.5 * (j.limit.lower + j.limit.upper);
     }
     let step_from = |act: Vec<f32>| {
@@ -139,7 +148,9 @@ fn each_motor_turns_its_joint_in_the_positive_direction() {
         e.reset(Some(0));
         e.set_state(&s).unwrap();
         e.step(&Action::Continuous(act)).unwrap();
-        let ClassicEnv::Robot(r) = e.inner() else { unreachable!() };
+        let ClassicEnv::Robot(r) = e.inner() else {
+            unreachable!()
+        };
         let link = |name: &str| m.link_names.iter().position(|n| n == name).unwrap();
         let w = r.world().unwrap();
         let knee = w.link_pose(link("right_shin")).translation;
@@ -247,12 +258,22 @@ fn stays_finite_at_the_spec_bounds_and_flags_divergence() {
     let actions = random_actions(30, 3);
     for (name, value) in extremes() {
         let ctx = Context::from([(name.clone(), Value::Number(value))]);
-        let mut e = make_with(&spec(), &ctx, MakeOptions { allow_out_of_bounds: true }).unwrap();
+        let mut e = make_with(
+            &spec(),
+            &ctx,
+            MakeOptions {
+                allow_out_of_bounds: true,
+            },
+        )
+        .unwrap();
         let (obs, _) = e.reset(Some(1));
         assert!(obs.iter().all(|x| x.is_finite()));
         for a in &actions {
             let s = e.step(a).unwrap();
-            assert!(s.obs.iter().all(|x| x.is_finite()), "{name} = {value}: non-finite observation");
+            assert!(
+                s.obs.iter().all(|x| x.is_finite()),
+                "{name} = {value}: non-finite observation"
+            );
             assert!(s.reward.is_finite(), "{name} = {value}");
             assert!(e.state().iter().all(|x| x.is_finite()), "{name} = {value}");
             if s.info["diverged"] != 0.0 {
@@ -268,7 +289,14 @@ fn stays_finite_at_the_spec_bounds_and_flags_divergence() {
         ("angular_damping".to_string(), Value::Number(1e4)),
         ("joint_angular_damping".to_string(), Value::Number(0.0)),
     ]);
-    let mut e = make_with(&spec(), &ctx, MakeOptions { allow_out_of_bounds: true }).unwrap();
+    let mut e = make_with(
+        &spec(),
+        &ctx,
+        MakeOptions {
+            allow_out_of_bounds: true,
+        },
+    )
+    .unwrap();
     e.reset(Some(0));
     let mut flagged = false;
     for a in random_actions(50, 2) {

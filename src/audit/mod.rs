@@ -60,7 +60,7 @@ impl AuditOptions {
             "humanoid" => AuditOptions {
                 trajectory_seeds: 1,
                 trajectory_steps: 12,
-                random_states: 5,
+                random_states: 4,
                 reset_seeds: 3,
             },
             // Articulated robots: each transition is five 3-D multibody physics steps.

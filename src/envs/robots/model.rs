@@ -199,7 +199,13 @@ impl RobotModel {
             }
         }
         let armature_joints = side.joint_armatures.iter().map(|a| &a.joint);
-        for name in side.joint_springs.iter().map(|s| &s.joint).chain(&side.root_joints).chain(armature_joints) {
+        for name in side
+            .joint_springs
+            .iter()
+            .map(|s| &s.joint)
+            .chain(&side.root_joints)
+            .chain(armature_joints)
+        {
             if !joint_names.contains(name) {
                 return Err(ModelError::Side {
                     robot,
