@@ -63,6 +63,14 @@ impl AuditOptions {
                 random_states: 8,
                 reset_seeds: 4,
             },
+            // The Humanoid's transitions cost ~5x an Ant's (20 links, 23 DoFs): fewer base
+            // states, one trajectory long enough for the feet to land (~10 steps).
+            "humanoid" => AuditOptions {
+                trajectory_seeds: 1,
+                trajectory_steps: 12,
+                random_states: 4,
+                reset_seeds: 3,
+            },
             // Articulated robots: each transition is five 3-D multibody physics steps.
             robot if crate::envs::robots::is_robot(robot) => AuditOptions {
                 trajectory_seeds: 3,

@@ -32,6 +32,7 @@ pub const RUNTIMES: &[&str] = &[
     "half_cheetah",
     "ur5e",
     "fetch",
+    "humanoid",
 ];
 
 pub fn has_runtime(id: &str) -> bool {

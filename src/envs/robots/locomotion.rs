@@ -1,4 +1,4 @@
-//! Gymnasium MuJoCo v5 locomotion tasks (Ant, HalfCheetah) on a URDF robot.
+//! Gymnasium MuJoCo v5 locomotion tasks (Ant, HalfCheetah, Humanoid) on a URDF robot.
 //!
 //! Same as Gymnasium v5: reward `healthy_reward + forward_reward_weight·ẋ − ctrl_cost_weight·Σa²
 //! − contact_cost_weight·Σclip(cfrc_ext, ±1)²` (each term with the task's weights), the torso's
@@ -20,6 +20,18 @@
 //!
 //! A simulation that diverges (non-finite or faster than the side file's `max_speed`) is rolled
 //! back to the state before the step and the step terminates with `info["diverged"] = 1`.
+//!
+//! Humanoid-v5 ([`TaskConfig::HUMANOID`]) differs from Ant in the ways Gymnasium's does: the
+//! forward velocity is that of the mass-weighted centre of mass of all bodies (so the masses of
+//! the context enter the reward), the velocity reset noise is uniform, the contact cost is
+//! `min(w·Σ cfrc_ext², 10)` over raw (unclipped) com-based `cfrc_ext`, and the observation is
+//! `qpos[2:] ++ qvel ++ cinert ++ cvel ++ qfrc_actuator ++ cfrc_ext` over the robot's bodies
+//! (the side file's `bodies`; MuJoCo's world body row is dropped as in v5), computed from rapier
+//! quantities by [`super::com`]. Known differences there: MuJoCo's `cinert`/`cvel` after
+//! `mj_step` belong to the state at the start of the last physics step, here to the state after
+//! it; `cfrc_ext` has no friction part (see above); the centre of mass includes the massless
+//! carrier links (1e-4 kg each) of the multi-hinge joints. The last step's actuator forces are
+//! part of [`Env::state`] so that the observation is a function of the state.
 
 use std::sync::Arc;
 
@@ -40,11 +52,45 @@ pub struct TaskConfig {
     /// Healthy range of the root height (`qpos[2]` for a free root, `qpos[1]` for a planar one).
     pub healthy_z_range: Option<(f64, f64)>,
     pub terminate_when_unhealthy: bool,
-    pub contact_force_range: (f64, f64),
+    pub contact: ContactCost,
     pub reset_noise_scale: f64,
+    /// Distribution of the velocity reset noise (positions are always uniform).
+    pub velocity_noise: VelocityNoise,
+    /// Whose x velocity the forward reward uses.
+    pub forward_velocity: ForwardVelocity,
     /// Leading position coordinates left out of the observation (the x/y position).
     pub obs_skip_qpos: usize,
     pub include_cfrc_ext: bool,
+    /// Observe `cinert`, `cvel` and `qfrc_actuator` (Humanoid-v5), and `cfrc_ext` com-based.
+    pub include_com_terms: bool,
+}
+
+/// How contact forces enter the cost and the observation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ContactCost {
+    /// Every `cfrc_ext` entry is clipped to the range, in the cost and the observation (Ant-v5).
+    ClipForces(f64, f64),
+    /// The weighted sum of squared raw entries is clipped to the range; the observation is raw
+    /// (Humanoid-v5's `contact_cost_range`).
+    ClipCost(f64, f64),
+}
+
+/// Distribution of the reset noise on velocities.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VelocityNoise {
+    /// `scale · N(0, 1)` (Ant-v5, HalfCheetah-v5).
+    Normal,
+    /// Uniform in `±scale` (Humanoid-v5).
+    Uniform,
+}
+
+/// Whose x velocity over the frame-skipped step the forward reward uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ForwardVelocity {
+    /// The root link's origin (`qpos[0]`).
+    Root,
+    /// The mass-weighted centre of mass of all links (Humanoid-v5's `mass_center`).
+    CenterOfMass,
 }
 
 impl TaskConfig {
@@ -56,10 +102,13 @@ impl TaskConfig {
         healthy_reward: 1.0,
         healthy_z_range: Some((0.2, 1.0)),
         terminate_when_unhealthy: true,
-        contact_force_range: (-1.0, 1.0),
+        contact: ContactCost::ClipForces(-1.0, 1.0),
         reset_noise_scale: 0.1,
+        velocity_noise: VelocityNoise::Normal,
+        forward_velocity: ForwardVelocity::Root,
         obs_skip_qpos: 2,
         include_cfrc_ext: true,
+        include_com_terms: false,
     };
     /// Gymnasium `HalfCheetah-v5` defaults.
     pub const HALF_CHEETAH: TaskConfig = TaskConfig {
@@ -69,10 +118,29 @@ impl TaskConfig {
         healthy_reward: 0.0,
         healthy_z_range: None,
         terminate_when_unhealthy: false,
-        contact_force_range: (-1.0, 1.0),
+        contact: ContactCost::ClipForces(-1.0, 1.0),
         reset_noise_scale: 0.1,
+        velocity_noise: VelocityNoise::Normal,
+        forward_velocity: ForwardVelocity::Root,
         obs_skip_qpos: 1,
         include_cfrc_ext: false,
+        include_com_terms: false,
+    };
+    /// Gymnasium `Humanoid-v5` defaults.
+    pub const HUMANOID: TaskConfig = TaskConfig {
+        forward_reward_weight: 1.25,
+        ctrl_cost_weight: 0.1,
+        contact_cost_weight: 5e-7,
+        healthy_reward: 5.0,
+        healthy_z_range: Some((1.0, 2.0)),
+        terminate_when_unhealthy: true,
+        contact: ContactCost::ClipCost(f64::NEG_INFINITY, 10.0),
+        reset_noise_scale: 1e-2,
+        velocity_noise: VelocityNoise::Uniform,
+        forward_velocity: ForwardVelocity::CenterOfMass,
+        obs_skip_qpos: 2,
+        include_cfrc_ext: true,
+        include_com_terms: true,
     };
 }
 
@@ -100,6 +168,8 @@ pub struct Locomotion {
     world: Option<RobotWorld>,
     /// Raw (unclipped) contact wrenches, 6 per link.
     cfrc: Vec<f64>,
+    /// Actuator forces of the last step, one per joint (only with `include_com_terms`).
+    act: Vec<f64>,
     rng: EnvRng,
     info: StepInfo,
     init_root: Vec<f64>,
@@ -133,6 +203,7 @@ impl Locomotion {
         let nq = init_root.len() + nj;
         let nv = if free { 6 } else { 0 } + nj;
         let cfrc = vec![0.0; 6 * model.link_names.len()];
+        let act = vec![0.0; if task.include_com_terms { nj } else { 0 }];
         Locomotion {
             id,
             model,
@@ -140,6 +211,7 @@ impl Locomotion {
             task,
             world: None,
             cfrc,
+            act,
             rng: EnvRng::from_seed(crate::envs::rng::DEFAULT_SEED),
             info: StepInfo::default(),
             init_root,
@@ -202,6 +274,7 @@ impl Locomotion {
             }
         }
         s.extend(&self.cfrc);
+        s.extend(&self.act);
         s
     }
 
@@ -213,12 +286,57 @@ impl Locomotion {
             vel: s[self.nq..self.nq + self.nv].to_vec(),
         };
         self.world = Some(RobotWorld::build(&self.model, &self.params, &q));
-        self.cfrc.copy_from_slice(&s[self.nq + self.nv..]);
+        let n = self.cfrc.len();
+        self.cfrc.copy_from_slice(&s[self.nq + self.nv..self.nq + self.nv + n]);
+        self.act.copy_from_slice(&s[self.nq + self.nv + n..]);
     }
 
-    fn clipped_cfrc(&self, i: usize) -> f64 {
-        let (lo, hi) = self.task.contact_force_range;
-        crate::envs::api::np_clip(self.cfrc[i], lo, hi)
+    fn num_bodies(&self) -> usize {
+        self.model.bodies.len()
+    }
+
+    /// `cfrc_ext` of the bodies as the task observes and costs it (6 per body): per link about
+    /// the link's centre of mass, or com-based with `include_com_terms`; raw.
+    fn body_cfrc(&self) -> Vec<f64> {
+        let bodies = &self.model.bodies;
+        let mut out = vec![0.0; 6 * bodies.len()];
+        match (&self.world, self.task.include_com_terms) {
+            (Some(w), true) => w.com_wrenches(bodies, w.center_of_mass(), &self.cfrc, &mut out),
+            _ => {
+                for (k, &i) in bodies.iter().enumerate() {
+                    out[6 * k..6 * k + 6].copy_from_slice(&self.cfrc[6 * i..6 * i + 6]);
+                }
+            }
+        }
+        out
+    }
+
+    /// The contact cost (positive) of the current contact wrenches.
+    fn contact_cost(&self) -> f64 {
+        let w = self.task.contact_cost_weight;
+        if w == 0.0 {
+            return 0.0;
+        }
+        let cfrc = self.body_cfrc();
+        match self.task.contact {
+            ContactCost::ClipForces(lo, hi) => {
+                w * cfrc
+                    .iter()
+                    .map(|f| crate::envs::api::np_clip(*f, lo, hi).powi(2))
+                    .sum::<f64>()
+            }
+            ContactCost::ClipCost(lo, hi) => {
+                crate::envs::api::np_clip(w * cfrc.iter().map(|f| f.powi(2)).sum::<f64>(), lo, hi)
+            }
+        }
+    }
+
+    /// The x coordinate whose rate is the forward velocity.
+    fn forward_x(&self) -> f64 {
+        match (self.task.forward_velocity, &self.world) {
+            (ForwardVelocity::CenterOfMass, Some(w)) => w.center_of_mass()[0],
+            _ => self.state_vec()[0],
+        }
     }
 
     fn write_obs(&self, obs: &mut [f32]) {
@@ -228,9 +346,26 @@ impl Locomotion {
             obs[k] = *v as f32;
             k += 1;
         }
+        if self.task.include_com_terms {
+            let nb = self.num_bodies();
+            let mut com_terms = vec![0.0; 16 * nb];
+            if let Some(w) = &self.world {
+                let c = w.center_of_mass();
+                w.com_inertia(&self.model.bodies, c, &mut com_terms[..10 * nb]);
+                w.com_velocity(&self.model.bodies, c, &mut com_terms[10 * nb..]);
+            }
+            for v in com_terms.iter().chain(&self.act) {
+                obs[k] = *v as f32;
+                k += 1;
+            }
+        }
         if self.task.include_cfrc_ext {
-            for i in 0..self.cfrc.len() {
-                obs[k] = self.clipped_cfrc(i) as f32;
+            let clip = match self.task.contact {
+                ContactCost::ClipForces(lo, hi) => Some((lo, hi)),
+                ContactCost::ClipCost(..) => None,
+            };
+            for f in self.body_cfrc() {
+                obs[k] = clip.map_or(f, |(lo, hi)| crate::envs::api::np_clip(f, lo, hi)) as f32;
                 k += 1;
             }
         }
@@ -270,16 +405,18 @@ impl Env for Locomotion {
         self.id
     }
     fn obs_dim(&self) -> usize {
+        let nb = self.num_bodies();
         self.nq - self.task.obs_skip_qpos
             + self.nv
-            + if self.task.include_cfrc_ext {
-                6 * self.num_links()
+            + if self.task.include_com_terms {
+                16 * nb + self.act.len()
             } else {
                 0
             }
+            + if self.task.include_cfrc_ext { 6 * nb } else { 0 }
     }
     fn state_dim(&self) -> usize {
-        self.nq + self.nv + 6 * self.num_links()
+        self.nq + self.nv + 6 * self.num_links() + self.act.len()
     }
     fn observation_space(&self) -> Space {
         let n = self.obs_dim();
@@ -313,7 +450,10 @@ impl Env for Locomotion {
             *v += uniform(&mut self.rng, -ns, ns);
         }
         for v in &mut s[self.nq..self.nq + self.nv] {
-            *v = ns * normal(&mut self.rng, 0.0, 1.0);
+            *v = match self.task.velocity_noise {
+                VelocityNoise::Normal => ns * normal(&mut self.rng, 0.0, 1.0),
+                VelocityNoise::Uniform => uniform(&mut self.rng, -ns, ns),
+            };
         }
         self.load(&s);
         self.info = StepInfo::default();
@@ -330,6 +470,7 @@ impl Env for Locomotion {
             return Err(EnvError::NeedsReset { env: self.id });
         }
         let before = self.state_vec();
+        let x_before = self.forward_x();
         let world = self.world.as_mut().expect("checked");
         for _ in 0..self.model.side.frame_skip {
             world.step(ctrl);
@@ -342,18 +483,19 @@ impl Env for Locomotion {
             let mut cfrc = std::mem::take(&mut self.cfrc);
             w.contact_wrenches(&mut cfrc);
             self.cfrc = cfrc;
+            if !self.act.is_empty() {
+                let mut act = std::mem::take(&mut self.act);
+                w.actuator_forces(ctrl, &mut act);
+                self.act = act;
+            }
         }
         let after = self.state_vec();
         let dt = self.dt();
-        let x_velocity = (after[0] - before[0]) / dt;
+        let x_velocity = (self.forward_x() - x_before) / dt;
         let y_position = if self.init_root.is_empty() { 0.0 } else { after[1] };
         let reward_forward = self.task.forward_reward_weight * x_velocity;
         let reward_ctrl = -self.task.ctrl_cost_weight * ctrl.iter().map(|a| f64::from(*a).powi(2)).sum::<f64>();
-        let reward_contact = if self.task.contact_cost_weight != 0.0 {
-            -self.task.contact_cost_weight * (0..self.cfrc.len()).map(|i| self.clipped_cfrc(i).powi(2)).sum::<f64>()
-        } else {
-            0.0
-        };
+        let reward_contact = -self.contact_cost();
         let healthy = !diverged && self.is_healthy(&after);
         let reward_survive = if healthy { self.task.healthy_reward } else { 0.0 };
         let terminated = diverged || (self.task.terminate_when_unhealthy && !healthy);

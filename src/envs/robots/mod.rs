@@ -7,10 +7,12 @@
 //! * [`params`]: the context (Brax's physics parameters as CARL sets them, per-link masses).
 //! * [`world`]: one instance's physics world, built from model + context; nothing is shared
 //!   between instances.
-//! * [`locomotion`]: Gymnasium v5 tasks (Ant, HalfCheetah).
+//! * [`locomotion`]: Gymnasium v5 tasks (Ant, HalfCheetah, Humanoid).
+//! * [`com`]: MuJoCo's centre-of-mass based body quantities (`cinert`, `cvel`, `cfrc_ext`).
 //! * [`fetch`]: Brax's fetch task (a dog runs to random targets).
 //! * [`render`]: software rendering of a world to a [`Frame`](crate::render::Frame).
 
+pub mod com;
 pub mod fetch;
 pub mod locomotion;
 pub mod model;
@@ -20,7 +22,7 @@ pub mod render;
 pub mod world;
 
 pub use fetch::Fetch;
-pub use locomotion::{Locomotion, StepInfo, TaskConfig};
+pub use locomotion::{ContactCost, ForwardVelocity, Locomotion, StepInfo, TaskConfig, VelocityNoise};
 pub use model::RobotModel;
 pub use params::RobotParams;
 pub use reach::Reach;
@@ -43,6 +45,9 @@ pub fn default_params(id: &str) -> Option<RobotParams> {
         "half_cheetah" => {
             p.joint_stiffness = 15000.0;
             p.torso_mass = Some(9.457333);
+        }
+        "humanoid" => {
+            p.torso_mass = Some(8.907463);
         }
         "ur5e" => {
             p.gravity = -9.81;
@@ -74,6 +79,7 @@ fn robot_of(id: &str) -> Option<&'static str> {
     match id {
         "ant" => Some("ant"),
         "half_cheetah" => Some("half_cheetah"),
+        "humanoid" => Some("humanoid"),
         "ur5e" => Some("ur5e"),
         "fetch" => Some("fetch"),
         _ => None,
@@ -84,6 +90,7 @@ fn env_id(id: &str) -> Option<&'static str> {
     match id {
         "ant" => Some("ant"),
         "half_cheetah" => Some("half_cheetah"),
+        "humanoid" => Some("humanoid"),
         "ur5e" => Some("ur5e"),
         "fetch" => Some("fetch"),
         _ => None,
@@ -106,6 +113,7 @@ pub fn make_robot(id: &str, params: RobotParams) -> Option<Locomotion> {
     match id {
         "ant" => Some(Locomotion::new("ant", model, params, TaskConfig::ANT)),
         "half_cheetah" => Some(Locomotion::new("half_cheetah", model, params, TaskConfig::HALF_CHEETAH)),
+        "humanoid" => Some(Locomotion::new("humanoid", model, params, TaskConfig::HUMANOID)),
         _ => None,
     }
 }

@@ -34,6 +34,14 @@ pub struct JointSpring {
     pub stiffness: f64,
 }
 
+/// Reflected rotor inertia of one joint (MuJoCo's per-joint `armature`), kg·m².
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointArmature {
+    pub joint: String,
+    pub armature: f64,
+}
+
 /// The side file `robots/<name>.actuators.json`.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -53,6 +61,13 @@ pub struct SideFile {
     /// Reflected rotor inertia (kg·m²) added to every robot joint (MuJoCo's `armature`).
     #[serde(default)]
     pub joint_armature: f64,
+    /// Per-joint armature overriding `joint_armature`.
+    #[serde(default)]
+    pub joint_armatures: Vec<JointArmature>,
+    /// The links that are bodies of the modelled robot, for per-body observations (default:
+    /// every link). Massless carrier links of multi-hinge joints are left out.
+    #[serde(default)]
+    pub bodies: Vec<String>,
     /// Passive joint springs towards 0 (MuJoCo's joint `stiffness`), N·m/rad.
     #[serde(default)]
     pub joint_springs: Vec<JointSpring>,
@@ -103,6 +118,8 @@ pub struct RobotModel {
     pub joint_names: Vec<String>,
     /// Index of the torso link (see [`SideFile::torso_link`]).
     pub torso: usize,
+    /// Link indices of the robot's bodies (see [`SideFile::bodies`]), in URDF order.
+    pub bodies: Vec<usize>,
 }
 
 /// Why a robot description could not be loaded (only possible if an embedded file is broken;
@@ -126,6 +143,11 @@ pub const ROBOT_FILES: &[(&str, &str, &str)] = &[
         "half_cheetah",
         include_str!("../../../robots/half_cheetah.urdf"),
         include_str!("../../../robots/half_cheetah.actuators.json"),
+    ),
+    (
+        "humanoid",
+        include_str!("../../../robots/humanoid.urdf"),
+        include_str!("../../../robots/humanoid.actuators.json"),
     ),
     (
         "ur5e",
@@ -185,7 +207,14 @@ impl RobotModel {
                 });
             }
         }
-        for name in side.joint_springs.iter().map(|s| &s.joint).chain(&side.root_joints) {
+        let armature_joints = side.joint_armatures.iter().map(|a| &a.joint);
+        for name in side
+            .joint_springs
+            .iter()
+            .map(|s| &s.joint)
+            .chain(&side.root_joints)
+            .chain(armature_joints)
+        {
             if !joint_names.contains(name) {
                 return Err(ModelError::Side {
                     robot,
@@ -200,6 +229,21 @@ impl RobotModel {
                     message: format!("ground link {l} is not a link of the URDF"),
                 });
             }
+        }
+        let mut bodies = Vec::new();
+        for b in &side.bodies {
+            match link_names.iter().position(|l| l == b) {
+                Some(i) => bodies.push(i),
+                None => {
+                    return Err(ModelError::Side {
+                        robot,
+                        message: format!("body {b} is not a link of the URDF"),
+                    });
+                }
+            }
+        }
+        if bodies.is_empty() {
+            bodies = (0..link_names.len()).collect();
         }
         let torso = side.torso_link.clone().unwrap_or_else(|| link_names[0].clone());
         let Some(torso) = link_names.iter().position(|l| *l == torso) else {
@@ -224,6 +268,7 @@ impl RobotModel {
         }
         Ok(RobotModel {
             torso,
+            bodies,
             name: robot,
             urdf,
             side,

@@ -267,7 +267,12 @@ impl RobotWorld {
             if !j.prismatic {
                 mb.damping_mut()[j.dof] = jd;
             }
-            mb.armature_mut()[j.dof] = side.joint_armature as f32;
+            let armature = side
+                .joint_armatures
+                .iter()
+                .find(|a| a.joint == *name)
+                .map_or(side.joint_armature, |a| a.armature);
+            mb.armature_mut()[j.dof] = armature as f32;
             if let Some(s) = side.joint_springs.iter().find(|s| s.joint == *name) {
                 let axis = if j.prismatic { 0 } else { 3 };
                 if let Some(link) = mb.link_mut(j.link_id) {
@@ -469,6 +474,23 @@ impl RobotWorld {
     pub fn joint_axis_world(&self, k: usize) -> Vector {
         let j = self.joints[k];
         self.pw.bodies[j.parent].rotation() * j.axis_parent
+    }
+
+    /// Generalized actuator forces (MuJoCo's `qfrc_actuator` of the robot joints): torque (or
+    /// force) of the motors under controls `ctrl`, clipped as in [`RobotWorld::step`], one per
+    /// movable joint in URDF order.
+    pub fn actuator_forces(&self, ctrl: &[f32], out: &mut [f64]) {
+        out.fill(0.0);
+        for (&(j, gear), &u) in self.motors.iter().zip(ctrl) {
+            let u = if u.is_nan() {
+                0.0
+            } else {
+                u.clamp(self.ctrl_range[0], self.ctrl_range[1])
+            };
+            if let Some(o) = out.get_mut(j) {
+                *o += f64::from(u * gear);
+            }
+        }
     }
 
     /// Mass (kg) of link `i` as the physics engine sees it.
