@@ -125,6 +125,10 @@ mod single {
     fn fetch(b: Bencher) {
         run(b, "fetch");
     }
+    #[divan::bench(sample_count = 10, sample_size = 10)]
+    fn grasp(b: Bencher) {
+        run(b, "grasp");
+    }
 }
 
 mod vec {

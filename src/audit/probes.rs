@@ -213,6 +213,29 @@ fn state_range_hint(id: &str) -> Option<&'static [(f64, f64)]> {
             (-1.6, 1.6),
             (-1.6, 1.6),
         ]),
+        // Grasp: palm slides, then the 16 finger joints beyond their limits (±45°, 0..±90°),
+        // where joint_stiffness acts.
+        "grasp" => Some(&[
+            (-3.0, 3.0),
+            (-3.0, 3.0),
+            (3.0, 6.0),
+            (-2.0, 2.0),
+            (-2.0, 2.0),
+            (-2.5, 2.5),
+            (-2.5, 2.5),
+            (-2.0, 2.0),
+            (-2.0, 2.0),
+            (-2.5, 2.5),
+            (-2.5, 2.5),
+            (-2.0, 2.0),
+            (-2.0, 2.0),
+            (-2.5, 2.5),
+            (-2.5, 2.5),
+            (-2.0, 2.0),
+            (-2.0, 2.0),
+            (-2.5, 2.5),
+            (-2.5, 2.5),
+        ]),
         _ => None,
     }
 }
@@ -282,6 +305,7 @@ pub fn base_states(env: &ClassicEnv, opts: &AuditOptions) -> Result<Vec<Vec<f64>
     let goal_states = match &env {
         ClassicEnv::Reach(r) => r.states_near_target(&states)?,
         ClassicEnv::Fetch(f) => f.states_near_target(&states),
+        ClassicEnv::Grasp(g) => g.states_near_target(&states),
         _ => Vec::new(),
     };
     let mut rng = EnvRng::from_seed(0xA0D1_7000);

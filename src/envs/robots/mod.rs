@@ -9,9 +9,11 @@
 //!   between instances.
 //! * [`locomotion`]: Gymnasium v5 tasks (Ant, HalfCheetah).
 //! * [`fetch`]: Brax's fetch task (a dog runs to random targets).
+//! * [`grasp`]: Brax's claw hand grasping a ball.
 //! * [`render`]: software rendering of a world to a [`Frame`](crate::render::Frame).
 
 pub mod fetch;
+pub mod grasp;
 pub mod locomotion;
 pub mod model;
 pub mod params;
@@ -20,6 +22,7 @@ pub mod render;
 pub mod world;
 
 pub use fetch::Fetch;
+pub use grasp::Grasp;
 pub use locomotion::{Locomotion, StepInfo, TaskConfig};
 pub use model::RobotModel;
 pub use params::RobotParams;
@@ -60,6 +63,13 @@ pub fn default_params(id: &str) -> Option<RobotParams> {
             p.target_distance = 15.0;
             p.target_radius = 2.0;
         }
+        "grasp" => {
+            p.joint_angular_damping = 50.0;
+            p.actuator_strength = Some(300.0);
+            p.target_distance = 10.0;
+            p.target_height = 8.0;
+            p.target_radius = 1.1;
+        }
         _ => return None,
     }
     Some(p)
@@ -76,6 +86,7 @@ fn robot_of(id: &str) -> Option<&'static str> {
         "half_cheetah" => Some("half_cheetah"),
         "ur5e" => Some("ur5e"),
         "fetch" => Some("fetch"),
+        "grasp" => Some("grasp"),
         _ => None,
     }
 }
@@ -86,6 +97,7 @@ fn env_id(id: &str) -> Option<&'static str> {
         "half_cheetah" => Some("half_cheetah"),
         "ur5e" => Some("ur5e"),
         "fetch" => Some("fetch"),
+        "grasp" => Some("grasp"),
         _ => None,
     }
 }
@@ -98,6 +110,11 @@ pub fn make_fetch(params: RobotParams) -> Option<Fetch> {
 /// Build the UR5e reach environment with context `params`.
 pub fn make_reach(params: RobotParams) -> Option<Reach> {
     Some(Reach::new(RobotModel::load("ur5e").ok()?, params))
+}
+
+/// Build Brax's grasp environment with context `params`.
+pub fn make_grasp(params: RobotParams) -> Option<Grasp> {
+    Some(Grasp::new(RobotModel::load("grasp").ok()?, params))
 }
 
 /// Build the environment `id` with context `params`, or `None` if `id` is not a robot.
