@@ -131,6 +131,11 @@ mod single {
     fn humanoid(b: Bencher) {
         run(b, "humanoid");
     }
+    /// Brax's claw hand and a free ball (21 links, 19 DoFs, 4 physics steps per env step).
+    #[divan::bench(sample_count = 10, sample_size = 10)]
+    fn grasp(b: Bencher) {
+        run(b, "grasp");
+    }
 }
 
 mod vec {

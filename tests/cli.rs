@@ -159,10 +159,42 @@ fn audit_exit_codes_and_formats() {
     assert_eq!(term["verdict"], "ok");
     assert_eq!(term["measured"], "changed");
 
+    // The one full audit of every bundled runtime in the suite (what a benchmark's CI runs):
+    // every claim holds, no feature is skipped, task-generation effects are left to the
+    // dedicated checks (not applicable to transitions).
     let o = carl(&["audit", "--all", "--format", "json"]);
-    assert_eq!(o.status.code(), Some(0));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    assert_eq!(v.as_array().unwrap().len(), carl_spec::envs::registry::RUNTIMES.len());
+    let reports = v.as_array().unwrap();
+    let mut ids: Vec<&str> = reports.iter().map(|r| r["env"].as_str().unwrap()).collect();
+    let mut runtimes = carl_spec::envs::registry::RUNTIMES.to_vec();
+    ids.sort_unstable();
+    runtimes.sort_unstable();
+    assert_eq!(ids, runtimes);
+    for r in reports {
+        let id = &r["env"];
+        assert_eq!(r["passed"], true, "{id}: {:#}", r["contradictions"]);
+        for f in r["features"].as_array().unwrap() {
+            assert!(
+                f.get("skipped").is_none(),
+                "{id}.{} skipped: {}",
+                f["name"],
+                f["skipped"]
+            );
+            assert!(!f["values"].as_array().unwrap().is_empty(), "{id}.{}", f["name"]);
+            for e in f["effects"].as_array().unwrap() {
+                let verdict = e["verdict"].as_str().unwrap();
+                assert!(
+                    verdict == "ok" || verdict == "not_applicable",
+                    "{id}.{}: {e}",
+                    f["name"]
+                );
+                if e["effect"] == "task_generation" {
+                    assert_eq!(verdict, "not_applicable", "{id}.{}", f["name"]);
+                }
+            }
+        }
+    }
+    assert_eq!(o.status.code(), Some(0));
 
     // Unknown environment, environment without runtime, nothing named: usage errors listing runtimes.
     for args in [&["audit", "cartpol"][..], &["audit", "mario"], &["audit"]] {

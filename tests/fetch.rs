@@ -2,7 +2,6 @@
 //! constructed states, standing at rest, joint torque direction, friction and gravity, bounds and
 //! divergence, independence of instances, observation layout, audit, rendering.
 
-use carl_spec::audit::audit;
 use carl_spec::envs::registry::{ClassicEnv, Context, MakeOptions, SpecEnv, make, make_with};
 use carl_spec::envs::rng::EnvRng;
 use carl_spec::envs::robots::fetch::{OBS_DIM, TARGET_HEIGHT};
@@ -466,15 +465,6 @@ fn bad_input_is_an_error() {
     assert!(out.obs.iter().all(|x| x.is_finite()));
     let ctx = Context::from([("target_radius".to_string(), Value::Number(0.0))]);
     assert!(make(&spec(), &ctx).is_err(), "below the bound");
-}
-
-#[test]
-fn audit_passes_for_fetch() {
-    let report = audit(&spec()).unwrap();
-    assert!(report.passed, "{:#?}", report.contradictions);
-    for f in &report.features {
-        assert!(f.skipped.is_none(), "{}", f.name);
-    }
 }
 
 #[test]

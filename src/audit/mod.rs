@@ -71,6 +71,14 @@ impl AuditOptions {
                 random_states: 4,
                 reset_seeds: 3,
             },
+            // Grasp: a 19-DoF hand and 39 probe actions; each transition rebuilds the world and
+            // takes four physics steps.
+            "grasp" => AuditOptions {
+                trajectory_seeds: 1,
+                trajectory_steps: 2,
+                random_states: 3,
+                reset_seeds: 2,
+            },
             // Articulated robots: each transition is five 3-D multibody physics steps.
             robot if crate::envs::robots::is_robot(robot) => AuditOptions {
                 trajectory_seeds: 3,

@@ -216,6 +216,29 @@ fn state_range_hint(id: &str) -> Option<&'static [(f64, f64)]> {
         // Humanoid root heights down to 0.9 m: the feet (0.11 m above the ground at reset, which
         // the short trajectories barely leave) in contact, where friction acts.
         "humanoid" => Some(&[(-0.5, 0.5), (-0.5, 0.5), (0.9, 1.45)]),
+        // Grasp: palm slides, then the 16 finger joints beyond their limits (±45°, 0..±90°),
+        // where joint_stiffness acts.
+        "grasp" => Some(&[
+            (-3.0, 3.0),
+            (-3.0, 3.0),
+            (3.0, 6.0),
+            (-2.0, 2.0),
+            (-2.0, 2.0),
+            (-2.5, 2.5),
+            (-2.5, 2.5),
+            (-2.0, 2.0),
+            (-2.0, 2.0),
+            (-2.5, 2.5),
+            (-2.5, 2.5),
+            (-2.0, 2.0),
+            (-2.0, 2.0),
+            (-2.5, 2.5),
+            (-2.5, 2.5),
+            (-2.0, 2.0),
+            (-2.0, 2.0),
+            (-2.5, 2.5),
+            (-2.5, 2.5),
+        ]),
         _ => None,
     }
 }
@@ -285,6 +308,7 @@ pub fn base_states(env: &ClassicEnv, opts: &AuditOptions) -> Result<Vec<Vec<f64>
     let goal_states = match &env {
         ClassicEnv::Reach(r) => r.states_near_target(&states)?,
         ClassicEnv::Fetch(f) => f.states_near_target(&states),
+        ClassicEnv::Grasp(g) => g.states_near_target(&states),
         _ => Vec::new(),
     };
     let mut rng = EnvRng::from_seed(0xA0D1_7000);

@@ -33,6 +33,7 @@ pub const RUNTIMES: &[&str] = &[
     "ur5e",
     "fetch",
     "humanoid",
+    "grasp",
 ];
 
 pub fn has_runtime(id: &str) -> bool {
@@ -87,6 +88,8 @@ pub enum ClassicEnv {
     Reach(Box<super::robots::Reach>),
     /// Brax's fetch task on rapier3d (see [`crate::envs::robots::fetch`]).
     Fetch(Box<super::robots::Fetch>),
+    /// Brax's grasp task on rapier3d (see [`crate::envs::robots::grasp`]).
+    Grasp(Box<super::robots::Grasp>),
 }
 
 impl ClassicEnv {
@@ -129,6 +132,7 @@ macro_rules! dispatch {
             ClassicEnv::Robot($e) => $body,
             ClassicEnv::Reach($e) => $body,
             ClassicEnv::Fetch($e) => $body,
+            ClassicEnv::Grasp($e) => $body,
         }
     };
 }
@@ -375,6 +379,9 @@ fn build(id: &str, values: &[(String, f64)]) -> Result<ClassicEnv, MakeError> {
             } else if other == "fetch" {
                 let env = super::robots::make_fetch(p).ok_or_else(|| MakeError::NoRuntime(other.to_string()))?;
                 ClassicEnv::Fetch(Box::new(env))
+            } else if other == "grasp" {
+                let env = super::robots::make_grasp(p).ok_or_else(|| MakeError::NoRuntime(other.to_string()))?;
+                ClassicEnv::Grasp(Box::new(env))
             } else {
                 let env = super::robots::make_robot(other, p).ok_or_else(|| MakeError::NoRuntime(other.to_string()))?;
                 ClassicEnv::Robot(Box::new(env))

@@ -10,10 +10,12 @@
 //! * [`locomotion`]: Gymnasium v5 tasks (Ant, HalfCheetah, Humanoid).
 //! * [`com`]: MuJoCo's centre-of-mass based body quantities (`cinert`, `cvel`, `cfrc_ext`).
 //! * [`fetch`]: Brax's fetch task (a dog runs to random targets).
+//! * [`grasp`]: Brax's claw hand grasping a ball.
 //! * [`render`]: software rendering of a world to a [`Frame`](crate::render::Frame).
 
 pub mod com;
 pub mod fetch;
+pub mod grasp;
 pub mod locomotion;
 pub mod model;
 pub mod params;
@@ -22,6 +24,7 @@ pub mod render;
 pub mod world;
 
 pub use fetch::Fetch;
+pub use grasp::Grasp;
 pub use locomotion::{ContactCost, ForwardVelocity, Locomotion, StepInfo, TaskConfig, VelocityNoise};
 pub use model::RobotModel;
 pub use params::RobotParams;
@@ -35,7 +38,7 @@ pub const PHYSICS_ENGINE: &str =
 /// Default context of a robot environment (the spec's defaults, for direct construction).
 pub fn default_params(id: &str) -> Option<RobotParams> {
     let model = RobotModel::load(robot_of(id)?).ok()?;
-    let mut p = RobotParams::for_model(env_id(id)?, &model);
+    let mut p = RobotParams::for_model(robot_of(id)?, &model);
     match id {
         "ant" => {
             p.joint_angular_damping = 35.0;
@@ -65,6 +68,13 @@ pub fn default_params(id: &str) -> Option<RobotParams> {
             p.target_distance = 15.0;
             p.target_radius = 2.0;
         }
+        "grasp" => {
+            p.joint_angular_damping = 50.0;
+            p.actuator_strength = Some(300.0);
+            p.target_distance = 10.0;
+            p.target_height = 8.0;
+            p.target_radius = 1.1;
+        }
         _ => return None,
     }
     Some(p)
@@ -75,6 +85,7 @@ pub fn is_robot(id: &str) -> bool {
     robot_of(id).is_some()
 }
 
+/// The robot (URDF and side-file name) of environment `id`; also the environment's id.
 fn robot_of(id: &str) -> Option<&'static str> {
     match id {
         "ant" => Some("ant"),
@@ -82,17 +93,7 @@ fn robot_of(id: &str) -> Option<&'static str> {
         "humanoid" => Some("humanoid"),
         "ur5e" => Some("ur5e"),
         "fetch" => Some("fetch"),
-        _ => None,
-    }
-}
-
-fn env_id(id: &str) -> Option<&'static str> {
-    match id {
-        "ant" => Some("ant"),
-        "half_cheetah" => Some("half_cheetah"),
-        "humanoid" => Some("humanoid"),
-        "ur5e" => Some("ur5e"),
-        "fetch" => Some("fetch"),
+        "grasp" => Some("grasp"),
         _ => None,
     }
 }
@@ -105,6 +106,11 @@ pub fn make_fetch(params: RobotParams) -> Option<Fetch> {
 /// Build the UR5e reach environment with context `params`.
 pub fn make_reach(params: RobotParams) -> Option<Reach> {
     Some(Reach::new(RobotModel::load("ur5e").ok()?, params))
+}
+
+/// Build Brax's grasp environment with context `params`.
+pub fn make_grasp(params: RobotParams) -> Option<Grasp> {
+    Some(Grasp::new(RobotModel::load("grasp").ok()?, params))
 }
 
 /// Build the environment `id` with context `params`, or `None` if `id` is not a robot.
@@ -122,5 +128,5 @@ pub fn make_robot(id: &str, params: RobotParams) -> Option<Locomotion> {
 /// fill in, or `None` if `id` is not a robot.
 pub fn blank_params(id: &str) -> Option<RobotParams> {
     let model = RobotModel::load(robot_of(id)?).ok()?;
-    Some(RobotParams::for_model(env_id(id)?, &model))
+    Some(RobotParams::for_model(robot_of(id)?, &model))
 }

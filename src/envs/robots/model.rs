@@ -159,6 +159,11 @@ pub const ROBOT_FILES: &[(&str, &str, &str)] = &[
         include_str!("../../../robots/fetch.urdf"),
         include_str!("../../../robots/fetch.actuators.json"),
     ),
+    (
+        "grasp",
+        include_str!("../../../robots/grasp.urdf"),
+        include_str!("../../../robots/grasp.actuators.json"),
+    ),
 ];
 
 pub fn is_movable(kind: &urdf_rs::JointType) -> bool {

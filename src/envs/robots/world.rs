@@ -337,6 +337,26 @@ impl RobotWorld {
         self.pw.multibody_joints.get_multibody(self.mb).expect("multibody")
     }
 
+    /// The robot's multibody, mutably (generalized velocities, damping, armature).
+    pub fn multibody_mut(&mut self) -> &mut Multibody {
+        self.pw.multibody_joints.get_multibody_mut(self.mb).expect("multibody")
+    }
+
+    /// Index of movable joint `k`'s degree of freedom in the generalized velocity.
+    pub fn joint_dof(&self, k: usize) -> usize {
+        self.joints[k].dof
+    }
+
+    /// Put an implicit spring `−stiffness·(q − rest)` on movable joint `k` (N/m or N·m/rad): a
+    /// position servo that stays stable at high stiffness.
+    pub fn set_joint_spring(&mut self, k: usize, stiffness: f32, rest: f32) {
+        let j = self.joints[k];
+        let axis = if j.prismatic { 0 } else { 3 };
+        if let Some(link) = self.multibody_mut().link_mut(j.link_id) {
+            link.joint.set_spring(axis, stiffness, rest);
+        }
+    }
+
     /// Current configuration (root pose from the root body, joint coordinates and generalized
     /// velocities from the multibody).
     pub fn configuration(&self) -> Configuration {
