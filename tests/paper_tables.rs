@@ -45,17 +45,34 @@ const FROM_CODE: [&str; 3] = ["half_cheetah", "ur5e", "mountain_car_continuous"]
 
 /// Optional features beyond the paper: carl-bench 1.1.1's per-link masses (`mass_<link>`), kept
 /// out of the table comparison and counted separately.
-const BEYOND_PAPER: &[(&str, &[&str])] = &[(
-    "half_cheetah",
-    &[
-        "mass_bthigh",
-        "mass_bshin",
-        "mass_bfoot",
-        "mass_fthigh",
-        "mass_fshin",
-        "mass_ffoot",
-    ],
-)];
+const BEYOND_PAPER: &[(&str, &[&str])] = &[
+    (
+        "half_cheetah",
+        &[
+            "mass_bthigh",
+            "mass_bshin",
+            "mass_bfoot",
+            "mass_fthigh",
+            "mass_fshin",
+            "mass_ffoot",
+        ],
+    ),
+    (
+        "humanoid",
+        &[
+            "mass_lwaist",
+            "mass_pelvis",
+            "mass_right_thigh",
+            "mass_right_shin",
+            "mass_left_thigh",
+            "mass_left_shin",
+            "mass_right_upper_arm",
+            "mass_right_lower_arm",
+            "mass_left_upper_arm",
+            "mass_left_lower_arm",
+        ],
+    ),
+];
 
 fn beyond_paper(id: &str, feature: &str) -> bool {
     BEYOND_PAPER
