@@ -93,6 +93,20 @@ pub enum ClassicEnv {
 }
 
 impl ClassicEnv {
+    /// Whether one step costs microseconds or more (a physics world or a rendered picture)
+    /// rather than nanoseconds: a [`VecEnv`](super::vec_env::VecEnv) then shares work between
+    /// threads environment by environment instead of in blocks of 16.
+    pub fn is_heavy(&self) -> bool {
+        !matches!(
+            self,
+            ClassicEnv::CartPole(_)
+                | ClassicEnv::Pendulum(_)
+                | ClassicEnv::MountainCar(_)
+                | ClassicEnv::MountainCarContinuous(_)
+                | ClassicEnv::Acrobot(_)
+        )
+    }
+
     /// The LunarLander inside, to set its options (continuous actions, crash penalty).
     pub fn as_lunar_lander_mut(&mut self) -> Option<&mut LunarLander> {
         match self {

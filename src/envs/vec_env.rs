@@ -26,7 +26,8 @@
 //! parameters, and its arithmetic is the scalar [`CartPole`](super::classic::CartPole) step
 //! operation by operation (bit-identical; `tests/vec_env.rs` checks it). The other
 //! environments use an array of scalar environments (static dispatch, no allocation).
-//! With `threads > 1` the batch is cut into blocks (~8 per thread, at least 16 environments)
+//! With `threads > 1` the batch is cut into blocks (~8 per thread, at least 16 environments,
+//! or at least 1 for environments whose step is a physics world or a picture)
 //! that the calling thread and a persistent worker pool claim from a shared counter, so a
 //! descheduled worker never stalls a step; `threads = 1` (or a batch of a single block) runs
 //! inline without any synchronisation. Results never depend on the thread count.
@@ -169,6 +170,8 @@ pub struct VecEnv {
     truncated: Vec<bool>,
     ready: bool,
     pool: Pool,
+    /// Smallest block of environments a thread claims (see [`block_size`]).
+    min_block: usize,
     error: Mutex<Option<EnvError>>,
 }
 
@@ -192,11 +195,11 @@ unsafe fn rows<'a, T>(p: *mut T, r: &Range<usize>, w: usize) -> &'a mut [T] {
     unsafe { std::slice::from_raw_parts_mut(p.add(r.start * w), (r.end - r.start) * w) }
 }
 
-/// Work-sharing granularity: ~8 blocks per thread, at least 16 environments per block
+/// Work-sharing granularity: ~8 blocks per thread, at least `min_block` environments per block
 /// (batches of at most one block run inline on the calling thread).
 #[inline]
-fn block_size(n: usize, threads: usize) -> usize {
-    (n / (threads * 8)).max(16)
+fn block_size(n: usize, threads: usize, min_block: usize) -> usize {
+    (n / (threads * 8)).max(min_block)
 }
 
 impl VecEnv {
@@ -235,6 +238,7 @@ impl VecEnv {
         let proto = first.inner().clone();
         let n = envs.len();
         let obs_dim = proto.obs_dim();
+        let min_block = if proto.is_heavy() { 1 } else { 16 };
         let action = match proto.action_space() {
             Space::Discrete { n, .. } => ActionKind::Discrete(n),
             s @ Space::Box { .. } => ActionKind::Continuous(s.flat_dim()),
@@ -282,6 +286,7 @@ impl VecEnv {
             truncated: vec![false; n],
             ready: false,
             pool: Pool::new(opts.threads.clamp(1, n)),
+            min_block,
             error: Mutex::new(None),
         })
     }
@@ -398,7 +403,7 @@ impl VecEnv {
             truncated: self.truncated.as_mut_ptr(),
             elapsed: self.elapsed.as_mut_ptr(),
         };
-        let block = block_size(n, self.pool.threads());
+        let block = block_size(n, self.pool.threads(), self.min_block);
         let error = &self.error;
         match (&mut self.envs, actions) {
             (Envs::CartPole(s), VecActions::Discrete(a)) => {
