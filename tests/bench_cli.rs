@@ -29,6 +29,18 @@ fn prints_one_json_line() {
 }
 
 #[test]
+fn defaults_fit_the_environment() {
+    // A physics environment: 64 worlds (not 1024) and steps calibrated to about a second per
+    // run instead of 20 M (hours at a millisecond per step).
+    let o = bench(&["ur5e", "--threads", "1"]);
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["num_envs"], 64);
+    let steps = v["steps"].as_u64().unwrap();
+    assert!((1000..1_000_000).contains(&steps), "{steps}");
+}
+
+#[test]
 fn unknown_env_or_missing_runtime_exits_2() {
     let o = bench(&["cartpol"]);
     assert_eq!(o.status.code(), Some(2));

@@ -3,7 +3,9 @@
 //!
 //! Both runs use the spec's default context, uniformly random actions drawn beforehand from a
 //! fixed seed (so drawing them is not timed), and automatic resets. `steps` is the number of
-//! environment steps timed in each run (the batch run takes `steps / num_envs` batch steps).
+//! environment steps timed in each run (the batch run takes `steps / num_envs` batch steps);
+//! left out, it is calibrated so that a run takes about a second, whether a step costs 20 ns
+//! (CartPole) or a millisecond (Humanoid).
 
 use std::hint::black_box;
 use std::time::Instant;
@@ -114,7 +116,22 @@ pub fn vec_steps_per_sec(spec: &EnvSpec, num_envs: usize, threads: usize, steps:
     Ok((batch_steps * num_envs as u64) as f64 / t0.elapsed().as_secs_f64())
 }
 
-pub fn run(cli: &Cli, env: &str, num_envs: usize, steps: u64, threads: Option<usize>) -> CmdResult {
+/// Steps that take about `seconds` for one environment (a short timed run; 1000 at least).
+fn calibrated_steps(spec: &EnvSpec, seconds: f64) -> Result<u64, Failure> {
+    let mut n = 100u64;
+    loop {
+        let ns = single_ns_per_step(spec, n)?;
+        let elapsed = ns * n as f64 * 1e-9;
+        if elapsed > 0.1 || n >= MAX_STEPS {
+            return Ok(((seconds * 1e9 / ns.max(1e-3)) as u64).clamp(1000, MAX_STEPS));
+        }
+        n *= 10;
+    }
+}
+
+const MAX_STEPS: u64 = 20_000_000;
+
+pub fn run(cli: &Cli, env: &str, num_envs: Option<usize>, steps: Option<u64>, threads: Option<usize>) -> CmdResult {
     let specs = super::load_specs(cli)?;
     let Some(spec) = specs.get(env) else {
         let names: Vec<&str> = specs.envs().iter().map(|s| s.id.as_str()).collect();
@@ -133,9 +150,15 @@ pub fn run(cli: &Cli, env: &str, num_envs: usize, steps: u64, threads: Option<us
             RUNTIMES.join(", ")
         )));
     }
-    if num_envs == 0 || steps == 0 {
+    if num_envs == Some(0) || steps == Some(0) {
         return Err(Failure::usage("--num-envs and --steps must be at least 1"));
     }
+    let heavy = make(spec, &Context::new()).is_ok_and(|e| e.inner().is_heavy());
+    let num_envs = num_envs.unwrap_or(if heavy { 64 } else { 1024 });
+    let steps = match steps {
+        Some(s) => s,
+        None => calibrated_steps(spec, 1.0)?,
+    };
     let threads = threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
         .clamp(1, num_envs);

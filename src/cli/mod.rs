@@ -112,11 +112,13 @@ pub enum Command {
     Bench {
         /// Environment id or alias, e.g. `cartpole`.
         env: String,
-        #[arg(long, default_value_t = 1024)]
-        num_envs: usize,
-        /// Environment steps timed in each run.
-        #[arg(long, default_value_t = 20_000_000)]
-        steps: u64,
+        /// Environments in the VecEnv run (default: 1024; 64 for physics and pixel environments).
+        #[arg(long)]
+        num_envs: Option<usize>,
+        /// Environment steps timed in each run (default: about one second's worth, measured,
+        /// at most 20 000 000).
+        #[arg(long)]
+        steps: Option<u64>,
         /// Threads for the VecEnv run (default: available cores).
         #[arg(long)]
         threads: Option<usize>,
