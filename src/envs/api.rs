@@ -386,6 +386,24 @@ pub(crate) fn discrete_action(env: &'static str, action: &Action, n: i64) -> Res
     }
 }
 
+/// The components of an `n`-dimensional continuous action.
+#[inline]
+pub(crate) fn vector_action<'a>(env: &'static str, action: &'a Action, n: usize) -> Result<&'a [f32], EnvError> {
+    match action {
+        Action::Continuous(v) if v.len() == n => Ok(v),
+        Action::Continuous(v) => Err(EnvError::ActionLength {
+            env,
+            expected: n,
+            got: v.len(),
+        }),
+        Action::Discrete(_) => Err(EnvError::ActionKind {
+            env,
+            expected: "continuous",
+            got: "discrete",
+        }),
+    }
+}
+
 /// The single component of a 1-D continuous action.
 #[inline]
 pub(crate) fn scalar_action(env: &'static str, action: &Action) -> Result<f32, EnvError> {

@@ -38,11 +38,12 @@ use std::sync::Arc;
 
 use rapier3d::prelude::{Rotation, Vector};
 
-use crate::envs::api::{Action, DType, Env, EnvError, Info, Space, StepOutcome, check_obs_len};
+use crate::envs::api::{Action, DType, Env, EnvError, Info, Space, StepOutcome, check_obs_len, vector_action};
 use crate::envs::rng::{EnvRng, uniform};
 
 use super::model::RobotModel;
 use super::params::RobotParams;
+use super::vec3::{dot, from_vector, norm, sub};
 use super::world::{Configuration, RobotWorld};
 
 /// Height of every target (m), as in Brax.
@@ -149,19 +150,6 @@ impl Clone for Fetch {
         }
         c
     }
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
-fn arr(v: Vector) -> [f64; 3] {
-    [f64::from(v.x), f64::from(v.y), f64::from(v.z)]
 }
 
 impl Fetch {
@@ -366,20 +354,7 @@ impl Fetch {
     }
 
     fn controls<'a>(&self, action: &'a Action) -> Result<&'a [f32], EnvError> {
-        let n = self.model.num_actuators();
-        match action {
-            Action::Continuous(v) if v.len() == n => Ok(v),
-            Action::Continuous(v) => Err(EnvError::ActionLength {
-                env: ENV,
-                expected: n,
-                got: v.len(),
-            }),
-            Action::Discrete(_) => Err(EnvError::ActionKind {
-                env: ENV,
-                expected: "continuous",
-                got: "discrete",
-            }),
-        }
+        vector_action(ENV, action, self.model.num_actuators())
     }
 }
 
@@ -387,9 +362,9 @@ fn torso_frame(w: &RobotWorld) -> TorsoFrame {
     let b = &w.pw.bodies[w.links[w.torso]];
     let rot = *b.rotation();
     TorsoFrame {
-        pos: arr(b.center_of_mass()),
-        fwd: arr(rot * Vector::X),
-        up: arr(rot * Vector::Z),
+        pos: from_vector(b.center_of_mass()),
+        fwd: from_vector(rot * Vector::X),
+        up: from_vector(rot * Vector::Z),
     }
 }
 
@@ -412,14 +387,7 @@ impl Env for Fetch {
         }
     }
     fn action_space(&self) -> Space {
-        let n = self.model.num_actuators();
-        let [lo, hi] = self.model.side.ctrl_range;
-        Space::Box {
-            low: vec![lo as f32; n],
-            high: vec![hi as f32; n],
-            shape: vec![n],
-            dtype: DType::Float32,
-        }
+        self.model.action_space()
     }
 
     fn reset_into(&mut self, seed: Option<u64>, obs: &mut [f32]) -> Result<(), EnvError> {

@@ -42,11 +42,12 @@ use std::sync::Arc;
 
 use rapier3d::prelude::*;
 
-use crate::envs::api::{Action, DType, Env, EnvError, Info, Space, StepOutcome, check_obs_len};
+use crate::envs::api::{Action, DType, Env, EnvError, Info, Space, StepOutcome, check_obs_len, vector_action};
 use crate::envs::rng::{EnvRng, uniform};
 
 use super::model::RobotModel;
 use super::params::RobotParams;
+use super::vec3::{dot, from_vector, norm, sub};
 use super::world::{Configuration, RobotWorld};
 
 /// Brax's environment step (s): the time factor of the shaping rewards.
@@ -141,19 +142,6 @@ pub struct RewardInput {
     /// Contact flags in Brax's body order.
     pub contacts: [bool; 16],
     pub target_radius: f64,
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
-fn v3(v: Vector) -> [f64; 3] {
-    [f64::from(v.x), f64::from(v.y), f64::from(v.z)]
 }
 
 /// Brax's grasp reward: returns the terms (with `hit`, `hits` 0) and the total.
@@ -317,9 +305,9 @@ impl Grasp {
         let p = self.phys.as_ref()?;
         Some(match i {
             0 => [0.0; 3],
-            OBJECT => v3(p.world.pw.bodies[p.object].center_of_mass()),
+            OBJECT => from_vector(p.world.pw.bodies[p.object].center_of_mass()),
             TARGET => self.target,
-            _ => v3(p.world.pw.bodies[p.world.links[self.body_link[i]?]].center_of_mass()),
+            _ => from_vector(p.world.pw.bodies[p.world.links[self.body_link[i]?]].center_of_mass()),
         })
     }
 
@@ -328,8 +316,8 @@ impl Grasp {
         let p = self.phys.as_ref()?;
         Some(match i {
             0 | TARGET => [0.0; 3],
-            OBJECT => v3(p.world.pw.bodies[p.object].linvel()),
-            _ => v3(p.world.pw.bodies[p.world.links[self.body_link[i]?]].linvel()),
+            OBJECT => from_vector(p.world.pw.bodies[p.object].linvel()),
+            _ => from_vector(p.world.pw.bodies[p.world.links[self.body_link[i]?]].linvel()),
         })
     }
 
@@ -376,10 +364,10 @@ impl Grasp {
                 let b = &p.world.pw.bodies[p.object];
                 let t = b.translation();
                 let r = b.rotation();
-                s.extend(v3(t));
+                s.extend(from_vector(t));
                 s.extend([r.w, r.x, r.y, r.z].map(f64::from));
-                s.extend(v3(b.linvel()));
-                s.extend(v3(b.angvel()));
+                s.extend(from_vector(b.linvel()));
+                s.extend(from_vector(b.angvel()));
             }
             None => {
                 s.extend(self.home);
@@ -484,7 +472,7 @@ impl Grasp {
             .as_ref()
             .and_then(|p| self.body_link[PALM].map(|l| p.world.link_pose(l).rotation.inverse()))
             .unwrap_or(Rotation::IDENTITY);
-        let local = |v: [f64; 3]| v3(inv * Vector::new(v[0] as f32, v[1] as f32, v[2] as f32));
+        let local = |v: [f64; 3]| from_vector(inv * Vector::new(v[0] as f32, v[1] as f32, v[2] as f32));
         let pos_local: Vec<[f64; 3]> = pos.iter().map(|p| local(sub(*p, palm))).collect();
         let vel_local: Vec<[f64; 3]> = vel.iter().map(|v| local(*v)).collect();
         let mut out: Vec<f64> = Vec::with_capacity(OBS_DIM);
@@ -520,19 +508,7 @@ impl Grasp {
     }
 
     fn controls<'a>(&self, action: &'a Action) -> Result<&'a [f32], EnvError> {
-        match action {
-            Action::Continuous(v) if v.len() == NA => Ok(v),
-            Action::Continuous(v) => Err(EnvError::ActionLength {
-                env: "grasp",
-                expected: NA,
-                got: v.len(),
-            }),
-            Action::Discrete(_) => Err(EnvError::ActionKind {
-                env: "grasp",
-                expected: "continuous",
-                got: "discrete",
-            }),
-        }
+        vector_action("grasp", action, NA)
     }
 
     fn is_sane(&self) -> bool {
@@ -574,7 +550,7 @@ impl Grasp {
         let mut impulse = [0.0f64; 16];
         for f in 0..frames {
             let frac = (f + 1) as f64 / frames as f64;
-            let now = v3(p.world.pw.bodies[p.world.links[palm_link]].translation());
+            let now = from_vector(p.world.pw.bodies[p.world.links[palm_link]].translation());
             {
                 let mut v = p.world.multibody_mut().generalized_velocity_mut();
                 for k in 0..3 {

@@ -35,7 +35,7 @@
 
 use std::sync::Arc;
 
-use crate::envs::api::{Action, DType, Env, EnvError, Info, Space, StepOutcome, check_obs_len};
+use crate::envs::api::{Action, DType, Env, EnvError, Info, Space, StepOutcome, check_obs_len, vector_action};
 use crate::envs::rng::{EnvRng, normal, uniform};
 
 use super::model::{RobotModel, RootKind};
@@ -383,20 +383,7 @@ impl Locomotion {
     }
 
     fn controls<'a>(&self, action: &'a Action) -> Result<&'a [f32], EnvError> {
-        let n = self.model.num_actuators();
-        match action {
-            Action::Continuous(v) if v.len() == n => Ok(v),
-            Action::Continuous(v) => Err(EnvError::ActionLength {
-                env: self.id,
-                expected: n,
-                got: v.len(),
-            }),
-            Action::Discrete(_) => Err(EnvError::ActionKind {
-                env: self.id,
-                expected: "continuous",
-                got: "discrete",
-            }),
-        }
+        vector_action(self.id, action, self.model.num_actuators())
     }
 }
 
@@ -428,14 +415,7 @@ impl Env for Locomotion {
         }
     }
     fn action_space(&self) -> Space {
-        let n = self.model.num_actuators();
-        let [lo, hi] = self.model.side.ctrl_range;
-        Space::Box {
-            low: vec![lo as f32; n],
-            high: vec![hi as f32; n],
-            shape: vec![n],
-            dtype: DType::Float32,
-        }
+        self.model.action_space()
     }
 
     fn reset_into(&mut self, seed: Option<u64>, obs: &mut [f32]) -> Result<(), EnvError> {

@@ -21,6 +21,7 @@ pub mod model;
 pub mod params;
 pub mod reach;
 pub mod render;
+pub mod vec3;
 pub mod world;
 
 pub use fetch::Fetch;

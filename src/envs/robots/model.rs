@@ -286,6 +286,18 @@ impl RobotModel {
         self.side.actuators.len()
     }
 
+    /// One control per actuator in the side file's control range.
+    pub fn action_space(&self) -> crate::envs::api::Space {
+        let n = self.num_actuators();
+        let [lo, hi] = self.side.ctrl_range;
+        crate::envs::api::Space::Box {
+            low: vec![lo as f32; n],
+            high: vec![hi as f32; n],
+            shape: vec![n],
+            dtype: crate::envs::api::DType::Float32,
+        }
+    }
+
     /// The URDF mass of a link (kg).
     pub fn link_mass(&self, link: &str) -> Option<f64> {
         self.urdf

@@ -22,11 +22,12 @@ use std::sync::Arc;
 
 use rapier3d::prelude::Vector;
 
-use crate::envs::api::{Action, DType, Env, EnvError, Info, Space, StepOutcome, check_obs_len};
+use crate::envs::api::{Action, DType, Env, EnvError, Info, Space, StepOutcome, check_obs_len, vector_action};
 use crate::envs::rng::{EnvRng, uniform};
 
 use super::model::RobotModel;
 use super::params::RobotParams;
+use super::vec3::{norm, sub};
 use super::world::{Configuration, RobotWorld};
 
 /// UR's upright home pose (rad).
@@ -192,27 +193,8 @@ impl Reach {
     }
 
     fn controls<'a>(&self, action: &'a Action) -> Result<&'a [f32], EnvError> {
-        match action {
-            Action::Continuous(v) if v.len() == NJ => Ok(v),
-            Action::Continuous(v) => Err(EnvError::ActionLength {
-                env: "ur5e",
-                expected: NJ,
-                got: v.len(),
-            }),
-            Action::Discrete(_) => Err(EnvError::ActionKind {
-                env: "ur5e",
-                expected: "continuous",
-                got: "discrete",
-            }),
-        }
+        vector_action("ur5e", action, NJ)
     }
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-fn norm(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
 }
 
 /// Brax's ur5e reward for an end effector moving from `ee_before` to `ee_after` with the
@@ -252,13 +234,7 @@ impl Env for Reach {
         }
     }
     fn action_space(&self) -> Space {
-        let [lo, hi] = self.model.side.ctrl_range;
-        Space::Box {
-            low: vec![lo as f32; NJ],
-            high: vec![hi as f32; NJ],
-            shape: vec![NJ],
-            dtype: DType::Float32,
-        }
+        self.model.action_space()
     }
 
     fn reset_into(&mut self, seed: Option<u64>, obs: &mut [f32]) -> Result<(), EnvError> {
