@@ -9,8 +9,8 @@
 //! Where it differs (documented deviations and known gaps):
 //! * the bodies are the URDF's links: Ant has 9 (torso with its four hip connectors, as in
 //!   Brax, then thigh and shin per leg), so its contact block has 9·6 values instead of 13·6;
-//! * `cfrc_ext` is computed from rapier's normal contact impulses (no friction part), the
-//!   torque about each link's centre of mass;
+//! * `cfrc_ext` is computed from rapier's normal contact impulses (no friction part); like
+//!   MuJoCo's it is com-based (torque about the robot's centre of mass, world axes);
 //! * the root's generalized velocity is rapier's: world-frame linear and angular velocity;
 //! * masses, damping, gravity and actuator torques come from CARL's (Brax) context, not from
 //!   MuJoCo's geom densities and gears;
@@ -61,8 +61,11 @@ pub struct TaskConfig {
     /// Leading position coordinates left out of the observation (the x/y position).
     pub obs_skip_qpos: usize,
     pub include_cfrc_ext: bool,
-    /// Observe `cinert`, `cvel` and `qfrc_actuator` (Humanoid-v5), and `cfrc_ext` com-based.
+    /// Observe `cinert`, `cvel` and `qfrc_actuator` (Humanoid-v5).
     pub include_com_terms: bool,
+    /// `cfrc_ext` as MuJoCo's: torques about the robot's centre of mass (otherwise about each
+    /// link's own centre of mass).
+    pub com_based_cfrc: bool,
 }
 
 /// How contact forces enter the cost and the observation.
@@ -109,6 +112,7 @@ impl TaskConfig {
         obs_skip_qpos: 2,
         include_cfrc_ext: true,
         include_com_terms: false,
+        com_based_cfrc: true,
     };
     /// Gymnasium `HalfCheetah-v5` defaults.
     pub const HALF_CHEETAH: TaskConfig = TaskConfig {
@@ -125,6 +129,7 @@ impl TaskConfig {
         obs_skip_qpos: 1,
         include_cfrc_ext: false,
         include_com_terms: false,
+        com_based_cfrc: false,
     };
     /// Gymnasium `Humanoid-v5` defaults.
     pub const HUMANOID: TaskConfig = TaskConfig {
@@ -141,6 +146,7 @@ impl TaskConfig {
         obs_skip_qpos: 2,
         include_cfrc_ext: true,
         include_com_terms: true,
+        com_based_cfrc: true,
     };
 }
 
@@ -295,12 +301,12 @@ impl Locomotion {
         self.model.bodies.len()
     }
 
-    /// `cfrc_ext` of the bodies as the task observes and costs it (6 per body): per link about
-    /// the link's centre of mass, or com-based with `include_com_terms`; raw.
+    /// `cfrc_ext` of the bodies as the task observes and costs it (6 per body): com-based with
+    /// `com_based_cfrc`, else about each link's centre of mass; raw.
     fn body_cfrc(&self) -> Vec<f64> {
         let bodies = &self.model.bodies;
         let mut out = vec![0.0; 6 * bodies.len()];
-        match (&self.world, self.task.include_com_terms) {
+        match (&self.world, self.task.com_based_cfrc) {
             (Some(w), true) => w.com_wrenches(bodies, w.center_of_mass(), &self.cfrc, &mut out),
             _ => {
                 for (k, &i) in bodies.iter().enumerate() {
