@@ -2,6 +2,8 @@
 //! constructed states, standing at rest, joint torque direction, friction and gravity, bounds and
 //! divergence, independence of instances, observation layout, audit, rendering.
 
+mod common;
+
 use carl_spec::envs::registry::{ClassicEnv, Context, MakeOptions, SpecEnv, make, make_with};
 use carl_spec::envs::rng::EnvRng;
 use carl_spec::envs::robots::fetch::{OBS_DIM, TARGET_HEIGHT};
@@ -315,29 +317,7 @@ fn friction_and_gravity_change_the_motion() {
 
 #[test]
 fn finite_at_the_spec_bounds_and_divergence_is_flagged() {
-    let spec = spec();
-    let actions = random_actions(60, 9);
-    for f in &spec.features {
-        let d = f.default_f64().unwrap();
-        let [lo, hi] = f.bounds;
-        let lo = lo.unwrap_or(if d > 0.0 { 0.0 } else { d * 20.0 - 1.0 });
-        let hi = hi.unwrap_or(if d > 0.0 { d * 20.0 } else { 1.0 });
-        for x in [lo, hi] {
-            let mut e = env_with(&[(f.name.as_str(), x)]);
-            let (obs, _) = e.reset(Some(1));
-            assert!(obs.iter().all(|v| v.is_finite()));
-            for a in &actions {
-                let out = e.step(a).unwrap();
-                assert!(out.obs.iter().all(|v| v.is_finite()), "{} = {x}", f.name);
-                assert!(out.reward.is_finite());
-                assert!(e.state().iter().all(|v| v.is_finite()));
-                if out.terminated {
-                    assert_eq!(out.info["diverged"], 1.0, "only a diverged step terminates");
-                    e.reset(None);
-                }
-            }
-        }
-    }
+    common::finite_at_the_spec_bounds_for_a_task_without_termination(&spec(), &random_actions(60, 9));
     // A runaway instance (huge torques, no joint damping, angular anti-damping) is rolled back,
     // flagged and terminated.
     let mut e = env_with(&[

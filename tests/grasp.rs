@@ -2,6 +2,8 @@
 //! scripted grasp that lifts the ball only with friction, joint torque direction, robustness at
 //! the spec bounds, independence of instances, audit, rendering.
 
+mod common;
+
 use carl_spec::envs::registry::{Context, SpecEnv, make};
 use carl_spec::envs::rng::EnvRng;
 use carl_spec::envs::robots::grasp::{
@@ -296,28 +298,7 @@ fn a_positive_joint_torque_rotates_each_finger_joint_positively() {
 
 #[test]
 fn finite_at_the_spec_bounds() {
-    let spec = spec();
-    let actions = random_actions(40, 9);
-    for f in &spec.features {
-        let d = f.default_f64().unwrap();
-        let [lo, hi] = f.bounds;
-        let lo = lo.unwrap_or(if d > 0.0 { 0.0 } else { d * 20.0 - 1.0 });
-        let hi = hi.unwrap_or(if d > 0.0 { d * 20.0 } else { 1.0 });
-        for x in [lo, hi] {
-            let mut e = env_with(&[(f.name.as_str(), x)]);
-            let (obs, _) = e.reset(Some(1));
-            assert!(obs.iter().all(|v| v.is_finite()));
-            for a in &actions {
-                let out = e.step(a).unwrap();
-                assert!(out.obs.iter().all(|v| v.is_finite()), "{} = {x}", f.name);
-                assert!(out.reward.is_finite());
-                if out.terminated {
-                    assert_eq!(e.info()["diverged"], 1.0, "only a diverged step terminates");
-                    break;
-                }
-            }
-        }
-    }
+    common::finite_at_the_spec_bounds_for_a_task_without_termination(&spec(), &random_actions(40, 9));
 }
 
 #[test]

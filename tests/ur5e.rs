@@ -1,6 +1,8 @@
 //! UR5e reach task on rapier3d: target placement, joint torque direction, gravity sag,
 //! independence of instances, robustness at the spec bounds, Brax's reward, audit, rendering.
 
+mod common;
+
 use carl_spec::envs::registry::{Context, SpecEnv, make};
 use carl_spec::envs::rng::EnvRng;
 use carl_spec::envs::robots::reach::{HOME, TARGET_HEIGHT};
@@ -159,28 +161,7 @@ fn two_instances_with_different_gravity_interleaved_equal_each_alone() {
 
 #[test]
 fn finite_at_the_spec_bounds() {
-    let spec = spec();
-    let actions = random_actions(100, 9);
-    for f in &spec.features {
-        let d = f.default_f64().unwrap();
-        let [lo, hi] = f.bounds;
-        let lo = lo.unwrap_or(if d > 0.0 { 0.0 } else { d * 20.0 - 1.0 });
-        let hi = hi.unwrap_or(if d > 0.0 { d * 20.0 } else { 1.0 });
-        for x in [lo, hi] {
-            let mut e = env_with(&[(f.name.as_str(), x)]);
-            let (obs, _) = e.reset(Some(1));
-            assert!(obs.iter().all(|v| v.is_finite()));
-            for a in &actions {
-                let out = e.step(a).unwrap();
-                assert!(out.obs.iter().all(|v| v.is_finite()), "{} = {x}", f.name);
-                assert!(out.reward.is_finite());
-                if out.terminated {
-                    assert_eq!(e.info()["diverged"], 1.0, "only a diverged step terminates");
-                    break;
-                }
-            }
-        }
-    }
+    common::finite_at_the_spec_bounds_for_a_task_without_termination(&spec(), &random_actions(100, 9));
 }
 
 #[test]
