@@ -51,6 +51,8 @@ pub struct TaskConfig {
     pub healthy_reward: f64,
     /// Healthy range of the root height (`qpos[2]` for a free root, `qpos[1]` for a planar one).
     pub healthy_z_range: Option<(f64, f64)>,
+    /// The range's ends count as unhealthy (Humanoid-v5's `min_z < z < max_z`; Ant-v5 includes them).
+    pub healthy_z_open: bool,
     pub terminate_when_unhealthy: bool,
     pub contact: ContactCost,
     pub reset_noise_scale: f64,
@@ -104,6 +106,7 @@ impl TaskConfig {
         contact_cost_weight: 5e-4,
         healthy_reward: 1.0,
         healthy_z_range: Some((0.2, 1.0)),
+        healthy_z_open: false,
         terminate_when_unhealthy: true,
         contact: ContactCost::ClipForces(-1.0, 1.0),
         reset_noise_scale: 0.1,
@@ -121,6 +124,7 @@ impl TaskConfig {
         contact_cost_weight: 0.0,
         healthy_reward: 0.0,
         healthy_z_range: None,
+        healthy_z_open: false,
         terminate_when_unhealthy: false,
         contact: ContactCost::ClipForces(-1.0, 1.0),
         reset_noise_scale: 0.1,
@@ -138,6 +142,7 @@ impl TaskConfig {
         contact_cost_weight: 5e-7,
         healthy_reward: 5.0,
         healthy_z_range: Some((1.0, 2.0)),
+        healthy_z_open: true,
         terminate_when_unhealthy: true,
         contact: ContactCost::ClipCost(f64::NEG_INFINITY, 10.0),
         reset_noise_scale: 1e-2,
@@ -382,7 +387,12 @@ impl Locomotion {
         match self.task.healthy_z_range {
             Some((lo, hi)) => {
                 let z = s[self.root_z_index()];
-                finite && lo <= z && z <= hi
+                let inside = if self.task.healthy_z_open {
+                    lo < z && z < hi
+                } else {
+                    lo <= z && z <= hi
+                };
+                finite && inside
             }
             None => finite,
         }
@@ -543,5 +553,25 @@ impl Env for Locomotion {
 
     fn render(&self) -> Option<crate::render::Frame> {
         self.world.as_ref().map(super::render::render_world)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::envs::robots::{default_params, make_robot};
+
+    /// Gymnasium's healthy checks at the ends of the range: Ant-v5 `min_z <= z <= max_z`,
+    /// Humanoid-v5 `min_z < z < max_z`.
+    #[test]
+    fn healthy_range_ends_as_in_gymnasium() {
+        let at = |id: &str, z: f64| {
+            let env = make_robot(id, default_params(id).unwrap()).unwrap();
+            let mut s = vec![0.0; 8];
+            s[env.root_z_index()] = z;
+            env.is_healthy(&s)
+        };
+        assert!(at("ant", 0.2) && at("ant", 1.0) && !at("ant", 1.0001));
+        assert!(!at("humanoid", 1.0) && !at("humanoid", 2.0) && at("humanoid", 1.5));
+        assert!(!at("ant", f64::NAN));
     }
 }
