@@ -3,6 +3,8 @@
 //! changes it), motor directions, the v5 reward and observation layout, robustness at the spec
 //! bounds, independence of instances and rendering (tests/audit.rs audits every runtime).
 
+mod common;
+
 use carl_spec::envs::registry::{ClassicEnv, Context, MakeOptions, SpecEnv, make, make_with};
 use carl_spec::envs::rng::EnvRng;
 use carl_spec::envs::robots::RobotModel;
@@ -285,30 +287,11 @@ fn stays_finite_at_the_spec_bounds_and_flags_divergence() {
         }
     }
     // A runaway instance (huge anti-damping) is rolled back and flagged, never NaN.
-    let ctx = Context::from([
-        ("angular_damping".to_string(), Value::Number(1e4)),
-        ("joint_angular_damping".to_string(), Value::Number(0.0)),
-    ]);
-    let mut e = make_with(
+    common::runaway_is_flagged(
         &spec(),
-        &ctx,
-        MakeOptions {
-            allow_out_of_bounds: true,
-        },
-    )
-    .unwrap();
-    e.reset(Some(0));
-    let mut flagged = false;
-    for a in random_actions(50, 2) {
-        let s = e.step(&a).unwrap();
-        assert!(s.obs.iter().all(|x| x.is_finite()));
-        if s.info["diverged"] == 1.0 {
-            assert!(s.terminated);
-            flagged = true;
-            break;
-        }
-    }
-    assert!(flagged, "the runaway instance was never flagged");
+        &[("angular_damping", 1e4), ("joint_angular_damping", 0.0)],
+        &random_actions(50, 2),
+    );
 }
 
 #[test]

@@ -2,6 +2,8 @@
 //! friction), every context feature acting on the physics, robustness at the spec bounds,
 //! independence of instances, the Gymnasium v5 task rules, and rendering.
 
+mod common;
+
 use carl_spec::envs::registry::{Context, SpecEnv, make, make_with};
 use carl_spec::envs::rng::EnvRng;
 use carl_spec::envs::robots::world::{Configuration, RobotWorld};
@@ -400,30 +402,15 @@ fn ant_v5_reward_and_termination() {
 fn diverging_instance_terminates_with_a_flag() {
     // A huge actuator strength with no damping and anti-damping drives the simulation past any
     // physical speed: the step is rolled back, flagged and terminated, observations stay finite.
-    let mut e = make_with(
+    common::runaway_is_flagged(
         &spec("ant"),
-        &Context::from([
-            ("actuator_strength".to_string(), Value::Number(1e9)),
-            ("joint_angular_damping".to_string(), Value::Number(0.0)),
-            ("angular_damping".to_string(), Value::Number(50.0)),
-        ]),
-        carl_spec::envs::registry::MakeOptions {
-            allow_out_of_bounds: true,
-        },
-    )
-    .unwrap();
-    e.reset(Some(0));
-    let mut flagged = false;
-    for a in random_actions(8, 50, 2) {
-        let s = e.step(&a).unwrap();
-        assert!(s.obs.iter().all(|x| x.is_finite()));
-        if s.info["diverged"] == 1.0 {
-            assert!(s.terminated);
-            flagged = true;
-            break;
-        }
-    }
-    assert!(flagged, "the runaway instance was never flagged");
+        &[
+            ("actuator_strength", 1e9),
+            ("joint_angular_damping", 0.0),
+            ("angular_damping", 50.0),
+        ],
+        &random_actions(8, 50, 2),
+    );
 }
 
 #[test]

@@ -1,7 +1,10 @@
 //! Checks shared by the robot test files (`mod common;` in each).
 
-use carl_spec::envs::registry::{Context, make};
-use carl_spec::envs::{Action, Env};
+// Each test file uses only some of these helpers.
+#![allow(dead_code)]
+
+use carl_spec::envs::registry::{Context, MakeOptions, make, make_with};
+use carl_spec::envs::{Action, Env, Step};
 use carl_spec::spec::model::{EnvSpec, Value};
 
 /// The test range of a feature: its bounds, with an open side replaced by a value far from the
@@ -39,4 +42,29 @@ pub fn finite_at_the_spec_bounds_for_a_task_without_termination(spec: &EnvSpec, 
             }
         }
     }
+}
+
+/// An instance driven past any physical speed by `ctx` (bounds not enforced): within `actions`
+/// a step is rolled back, flagged `info["diverged"]` and terminated, and observations stay finite
+/// until then. Returns the flagged step.
+pub fn runaway_is_flagged(spec: &EnvSpec, ctx: &[(&str, f64)], actions: &[Action]) -> Step {
+    let ctx: Context = ctx.iter().map(|(k, v)| (k.to_string(), Value::Number(*v))).collect();
+    let mut e = make_with(
+        spec,
+        &ctx,
+        MakeOptions {
+            allow_out_of_bounds: true,
+        },
+    )
+    .unwrap();
+    e.reset(Some(0));
+    for a in actions {
+        let s = e.step(a).unwrap();
+        assert!(s.obs.iter().all(|x| x.is_finite()));
+        if s.info["diverged"] == 1.0 {
+            assert!(s.terminated);
+            return s;
+        }
+    }
+    panic!("the runaway instance was never flagged");
 }
