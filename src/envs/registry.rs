@@ -30,6 +30,13 @@ pub use super::context::{
     Context, EnvOptions, MakeError, MakeOptions, OptionKind, OptionSpec, OptionValues, resolve_context, resolve_options,
 };
 
+/// Builds a runtime from every feature's value (canonical names, spec order) and the resolved
+/// variant options.
+pub type BuildFn = fn(&[(String, f64)], &OptionValues) -> Result<AnyEnv, MakeError>;
+
+/// The hand-written controller for a runtime with this action space.
+pub type HeuristicFn = fn(&Space) -> Box<dyn Policy>;
+
 /// One runtime's declaration.
 #[derive(Debug, Clone, Copy)]
 pub struct Registration {
@@ -37,12 +44,12 @@ pub struct Registration {
     pub id: &'static str,
     /// Build the runtime from every feature's value (canonical names, spec order) and the
     /// resolved options.
-    pub build: fn(&[(String, f64)], &OptionValues) -> Result<AnyEnv, MakeError>,
+    pub build: BuildFn,
     /// Variant options (`continuous`, `hardcore`, …).
     pub options: &'static [OptionSpec],
     /// The environment's hand-written controller, for the runtime built (its action space says
     /// e.g. discrete or continuous).
-    pub heuristic: Option<fn(&Space) -> Box<dyn Policy>>,
+    pub heuristic: Option<HeuristicFn>,
     /// Whether `Env::render` draws pictures.
     pub renders: bool,
     /// How one step costs: sets thread work-sharing and `bench` defaults.
