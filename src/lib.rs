@@ -1,8 +1,9 @@
 //! carl-spec: the CARL contextual-RL benchmark as declarative, verifiable specs,
 //! reproducible instance sets and Rust environments.
 //!
-//! Layout: `spec` (the spec language and loading), `validate` (schema + semantic rules +
-//! diagnostics), `json` (JSON with source positions), `schema` (the generated JSON Schema),
+//! Layout: `text` (quoting input into messages), `diagnostics` (located diagnostics and the rule
+//! registry), `spec` (the spec language and spec sets), `validate` (schema + semantic rules; loads
+//! `SpecSet`s), `json` (JSON with source positions), `schema` (the generated JSON Schema),
 //! `sampling` (portable generator and samplers), `instances` (derive, freeze, load, verify sets),
 //! `envs` (environment runtimes, contextual wrapper, VecEnv), `audit` (checks each feature's
 //! `affects` claim against the runtime), `plot` (figures of instance sets), `render` (pictures of environment states for humans), `experiments` (the
@@ -10,6 +11,7 @@
 
 pub mod audit;
 pub mod cli;
+pub mod diagnostics;
 pub mod envs;
 pub mod experiments;
 pub mod instances;
@@ -20,4 +22,5 @@ pub mod sampling;
 pub mod schema;
 pub mod spec;
 pub mod suggest;
+pub mod text;
 pub mod validate;

@@ -5,7 +5,8 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use super::Sink;
+use crate::diagnostics::Sink;
+use crate::diagnostics::rules as rule;
 use crate::json::escape_token;
 use crate::spec::model::{Feature, InstanceSet};
 use crate::spec::raw::{FeatureType, RawFragment, Sampler, Scalar, Space, Value};
@@ -18,9 +19,9 @@ pub fn check_fragment(frag: &RawFragment, file: usize, sink: &mut Sink<'_>) {
     let mut seen = BTreeSet::new();
     for (i, f) in frag.features.iter().enumerate() {
         if !seen.insert(f.name.as_str()) {
-            sink.error(
+            sink.report(
                 file,
-                "duplicate-feature",
+                &rule::DUPLICATE_FEATURE,
                 &format!("/features/{i}/name"),
                 format!("feature \"{}\" is defined twice in this fragment", f.name),
                 Some("remove or rename one of them".into()),
@@ -28,9 +29,9 @@ pub fn check_fragment(frag: &RawFragment, file: usize, sink: &mut Sink<'_>) {
         }
     }
     if frag.description.trim().is_empty() {
-        sink.error(
+        sink.report(
             file,
-            "description-empty",
+            &rule::DESCRIPTION_EMPTY,
             "/description",
             "the description is empty",
             Some("say in one line what this block of features is".into()),
@@ -42,18 +43,18 @@ pub fn check_env(r: &Resolved, sink: &mut Sink<'_>) {
     let spec = &r.spec;
     let file = r.file;
     if spec.description.trim().is_empty() {
-        sink.error(
+        sink.report(
             file,
-            "description-empty",
+            &rule::DESCRIPTION_EMPTY,
             "/description",
             "the description is empty",
             Some("say in one or two sentences what the task is and what the context changes".into()),
         );
     }
     if spec.max_episode_steps == Some(0) {
-        sink.error(
+        sink.report(
             file,
-            "episode-limit",
+            &rule::EPISODE_LIMIT,
             "/max_episode_steps",
             "an episode limit of 0 steps ends every episode at reset",
             Some("use the upstream limit, or null for none".into()),
@@ -73,9 +74,9 @@ pub fn check_env(r: &Resolved, sink: &mut Sink<'_>) {
                 } else {
                     format!("{}/aliases/{}", site.pointer, k - 1)
                 };
-                sink.error(
+                sink.report(
                     site.file,
-                    "duplicate-feature",
+                    &rule::DUPLICATE_FEATURE,
                     &ptr,
                     format!("\"{n}\" already names feature #{} (\"{}\") of {}", prev + 1, spec.features[prev].name, spec.id),
                     Some("every feature name and alias must be unique within an environment (included fragments count too)".into()),
@@ -92,18 +93,18 @@ pub fn check_env(r: &Resolved, sink: &mut Sink<'_>) {
         let base = format!("/distributions/{}", escape_token(name));
         check_set_name(name, file, &base, "distribution", sink);
         if dist.description.trim().is_empty() {
-            sink.error(
+            sink.report(
                 file,
-                "description-empty",
+                &rule::DESCRIPTION_EMPTY,
                 &format!("{base}/description"),
                 "the description is empty",
                 Some("say what the distribution models".into()),
             );
         }
         if dist.features.is_empty() {
-            sink.error(
+            sink.report(
                 file,
-                "distribution-empty",
+                &rule::DISTRIBUTION_EMPTY,
                 &format!("{base}/features"),
                 format!("distribution \"{name}\" varies no feature"),
                 Some("name at least one feature and its sampler".into()),
@@ -126,9 +127,9 @@ pub fn check_set(resolved: &[Resolved], sink: &mut Sink<'_>) {
     let mut ids: BTreeMap<&str, &Resolved> = BTreeMap::new();
     for r in resolved {
         if let Some(prev) = ids.get(r.spec.id.as_str()) {
-            sink.error(
+            sink.report(
                 r.file,
-                "duplicate-id",
+                &rule::DUPLICATE_ID,
                 "/id",
                 format!("id \"{}\" is already used by {}", r.spec.id, sink.files[prev.file].name),
                 Some("ids are unique across the spec set: rename one of them".into()),
@@ -141,9 +142,9 @@ pub fn check_set(resolved: &[Resolved], sink: &mut Sink<'_>) {
     for r in resolved {
         for (k, a) in r.spec.aliases.iter().enumerate() {
             match names.get(a.as_str()) {
-                Some(prev) if !std::ptr::eq(*prev, r) => sink.error(
+                Some(prev) if !std::ptr::eq(*prev, r) => sink.report(
                     r.file,
-                    "duplicate-alias",
+                    &rule::DUPLICATE_ALIAS,
                     &format!("/aliases/{k}"),
                     format!("alias \"{a}\" already names {}", prev.spec.id),
                     Some("an alias must identify one environment".into()),
@@ -166,9 +167,9 @@ fn check_space(space: &Space, file: usize, ptr: &str, sink: &mut Sink<'_>) {
             for (k, (field, lim)) in lims.iter().enumerate() {
                 if let crate::spec::raw::BoxLimit::PerElement(v) = lim {
                     if v.len() as u64 != n {
-                        sink.error(
+                        sink.report(
                             file,
-                            "space-shape",
+                            &rule::SPACE_SHAPE,
                             &format!("{ptr}/{field}"),
                             format!("{field} has {} element(s) but the shape {shape:?} has {n}", v.len()),
                             Some("give one value per element, or a single number for all".into()),
@@ -185,9 +186,9 @@ fn check_space(space: &Space, file: usize, ptr: &str, sink: &mut Sink<'_>) {
                 if let (Some(l), Some(h)) = (get(low, i), get(high, i))
                     && l > h
                 {
-                    sink.error(
+                    sink.report(
                         file,
-                        "space-bounds",
+                        &rule::SPACE_BOUNDS,
                         &format!("{ptr}/low"),
                         format!("element {i}: low {l} is above high {h}"),
                         Some("swap them".into()),
@@ -197,18 +198,18 @@ fn check_space(space: &Space, file: usize, ptr: &str, sink: &mut Sink<'_>) {
             }
         }
         Space::Discrete { n } if *n == 0 => {
-            sink.error(
+            sink.report(
                 file,
-                "space-shape",
+                &rule::SPACE_SHAPE,
                 &format!("{ptr}/n"),
                 "Discrete(0) has no actions",
                 Some("n is the number of actions, at least 1".into()),
             );
         }
         Space::MultiDiscrete { nvec } if nvec.is_empty() || nvec.contains(&0) => {
-            sink.error(
+            sink.report(
                 file,
-                "space-shape",
+                &rule::SPACE_SHAPE,
                 &format!("{ptr}/nvec"),
                 "MultiDiscrete needs at least one dimension and no zero sizes",
                 None,
@@ -232,9 +233,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
     let name = &f.name;
     if f.description.trim().is_empty() {
         let (file, p) = at("description");
-        sink.error(
+        sink.report(
             file,
-            "description-empty",
+            &rule::DESCRIPTION_EMPTY,
             &p,
             format!("feature \"{name}\" has an empty description"),
             Some("say in one line what the feature is".into()),
@@ -244,9 +245,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
     for (i, e) in f.affects.iter().enumerate() {
         if !seen.insert(*e) {
             let (file, p) = at("affects");
-            sink.error(
+            sink.report(
                 file,
-                "duplicate-effect",
+                &rule::DUPLICATE_EFFECT,
                 &format!("{p}/{i}"),
                 format!("\"{}\" is listed twice", e.as_str()),
                 Some("list each effect once".into()),
@@ -257,9 +258,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
     match (&f.default, &f.default_from) {
         (None, None) => {
             let (file, _) = at("default");
-            sink.error(
+            sink.report(
                 file,
-                "default-missing",
+                &rule::DEFAULT_MISSING,
                 &site.pointer,
                 format!("feature \"{name}\" has no default"),
                 Some("add \"default\", or \"default_from\" if the default is computed from other features".into()),
@@ -267,9 +268,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
         }
         (Some(_), Some(_)) => {
             let (file, p) = at("default_from");
-            sink.error(
+            sink.report(
                 file,
-                "default-conflict",
+                &rule::DEFAULT_CONFLICT,
                 &p,
                 format!("feature \"{name}\" has both a default and default_from"),
                 Some("keep one: a value, or how it is computed".into()),
@@ -283,9 +284,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
         && l > h
     {
         let (file, p) = at("bounds");
-        sink.error(
+        sink.report(
             file,
-            "bounds-order",
+            &rule::BOUNDS_ORDER,
             &p,
             format!("lower bound {l} is above upper bound {h}"),
             Some("bounds are [lower, upper]: swap them".into()),
@@ -297,9 +298,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
     let bounds_ordered = !matches!((lo, hi), (Some(l), Some(h)) if l > h);
     let check_in_bounds = |x: f64, sink: &mut Sink<'_>, what: &str, ptr: &str| {
         if bounds_ordered && !f.in_bounds(x) {
-            sink.error(
+            sink.report(
                 dfile,
-                "default-out-of-bounds",
+                &rule::DEFAULT_OUT_OF_BOUNDS,
                 ptr,
                 format!(
                     "{what} {x} of \"{name}\" is outside its bounds {}",
@@ -311,9 +312,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
     };
     if f.kind != FeatureType::Categorical && (f.choices.is_some() || f.choice_labels.is_some()) {
         let (file, p) = (site.file, format!("{}/choices", site.pointer));
-        sink.error(
+        sink.report(
             file,
-            "choices-not-applicable",
+            &rule::CHOICES_NOT_APPLICABLE,
             &p,
             format!("only categorical features have choices; \"{name}\" is {type_name}"),
             Some("remove choices, or make the feature categorical".into()),
@@ -325,9 +326,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
             if let Some(b) = b
                 && !is_integral(*b)
             {
-                sink.error(
+                sink.report(
                     bounds_site.0,
-                    "int-not-integral",
+                    &rule::INT_NOT_INTEGRAL,
                     &format!("{}/{k}", bounds_site.1),
                     format!("bound {b} of {type_name} feature \"{name}\" is not an integer"),
                     Some("integer features have integer bounds: round it, or make the feature float".into()),
@@ -339,9 +340,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
         FeatureType::Float | FeatureType::Int => match &f.default {
             Some(Value::Number(x)) => {
                 if f.kind == FeatureType::Int && !is_integral(*x) {
-                    sink.error(
+                    sink.report(
                         dfile,
-                        "int-not-integral",
+                        &rule::INT_NOT_INTEGRAL,
                         &dptr,
                         format!("default {x} of int feature \"{name}\" is not an integer"),
                         Some("use an integer default or make the feature float".into()),
@@ -354,9 +355,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
         },
         FeatureType::Bool => {
             if has_bounds {
-                sink.error(
+                sink.report(
                     bounds_site.0,
-                    "bounds-not-applicable",
+                    &rule::BOUNDS_NOT_APPLICABLE,
                     &bounds_site.1,
                     format!("bool feature \"{name}\" cannot have bounds"),
                     Some("remove bounds".into()),
@@ -370,9 +371,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
         }
         FeatureType::Categorical => {
             if has_bounds {
-                sink.error(
+                sink.report(
                     bounds_site.0,
-                    "bounds-not-applicable",
+                    &rule::BOUNDS_NOT_APPLICABLE,
                     &bounds_site.1,
                     format!("categorical feature \"{name}\" cannot have bounds; its choices bound it"),
                     Some("remove bounds".into()),
@@ -380,16 +381,16 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
             }
             let cptr = format!("{}/choices", site.pointer);
             match &f.choices {
-                None => sink.error(
+                None => sink.report(
                     site.file,
-                    "categorical-choices",
+                    &rule::CATEGORICAL_CHOICES,
                     &site.pointer,
                     format!("categorical feature \"{name}\" has no choices"),
                     Some("add \"choices\": [...]".into()),
                 ),
-                Some(c) if c.is_empty() => sink.error(
+                Some(c) if c.is_empty() => sink.report(
                     site.file,
-                    "categorical-choices",
+                    &rule::CATEGORICAL_CHOICES,
                     &cptr,
                     format!("categorical feature \"{name}\" has an empty list of choices"),
                     Some("list the allowed values".into()),
@@ -397,9 +398,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
                 Some(c) => {
                     for (i, x) in c.iter().enumerate() {
                         if c[..i].contains(x) {
-                            sink.error(
+                            sink.report(
                                 site.file,
-                                "categorical-choices",
+                                &rule::CATEGORICAL_CHOICES,
                                 &format!("{cptr}/{i}"),
                                 format!("choice {} is listed twice", scalar_text(x)),
                                 Some("list each choice once".into()),
@@ -409,9 +410,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
                     if let Some(labels) = &f.choice_labels
                         && labels.len() != c.len()
                     {
-                        sink.error(
+                        sink.report(
                             site.file,
-                            "choice-labels",
+                            &rule::CHOICE_LABELS,
                             &format!("{}/choice_labels", site.pointer),
                             format!("{} labels for {} choices", labels.len(), c.len()),
                             Some("give exactly one label per choice, in the same order".into()),
@@ -420,9 +421,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
                     if let Some(d) = &f.default
                         && !c.iter().any(|x| scalar_eq_value(x, d))
                     {
-                        sink.error(
+                        sink.report(
                             dfile,
-                            "categorical-default",
+                            &rule::CATEGORICAL_DEFAULT,
                             &dptr,
                             format!("default {} of \"{name}\" is not one of its choices", value_text(d)),
                             Some(format!(
@@ -439,9 +440,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
                 for (i, x) in items.iter().enumerate() {
                     let p = format!("{dptr}/{i}");
                     if !is_integral(*x) {
-                        sink.error(
+                        sink.report(
                             dfile,
-                            "int-not-integral",
+                            &rule::INT_NOT_INTEGRAL,
                             &p,
                             format!("element {x} of \"{name}\" is not an integer"),
                             Some("list_int elements are integers".into()),
@@ -484,9 +485,9 @@ fn type_mismatch(v: &Value, type_name: &str, name: &str, file: usize, ptr: &str,
             help = format!("write the number without quotes: {}", s.trim());
         }
     }
-    sink.error(
+    sink.report(
         file,
-        "type-mismatch",
+        &rule::TYPE_MISMATCH,
         ptr,
         format!(
             "{} is not a valid value for {type_name} feature \"{name}\"",
@@ -533,9 +534,9 @@ fn unknown_feature<'a>(
         Some(s) => format!("did you mean \"{s}\"?"),
         None => format!("features of this environment: {}", known.collect::<Vec<_>>().join(", ")),
     };
-    sink.error(
+    sink.report(
         file,
-        "unknown-feature",
+        &rule::UNKNOWN_FEATURE,
         ptr,
         format!("no feature named \"{name}\""),
         Some(help),
@@ -548,16 +549,16 @@ fn check_set_name(name: &str, file: usize, ptr: &str, what: &str, sink: &mut Sin
             .chars()
             .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
     if !ok {
-        sink.error(file, "invalid-name", ptr, format!("{what} name \"{name}\" is not snake_case"), Some("use lowercase letters, digits and underscores, starting with a letter (it becomes part of ENV/SET names and file names)".into()));
+        sink.report(file, &rule::INVALID_NAME, ptr, format!("{what} name \"{name}\" is not snake_case"), Some("use lowercase letters, digits and underscores, starting with a letter (it becomes part of ENV/SET names and file names)".into()));
     }
 }
 
 /// Parameter sanity and compatibility of a sampler with its feature.
 fn check_sampler(s: &Sampler, f: &Feature, file: usize, ptr: &str, sink: &mut Sink<'_>) {
     let mut bad = |field: &str, msg: String, help: &str| {
-        sink.error(
+        sink.report(
             file,
-            "distribution-params",
+            &rule::DISTRIBUTION_PARAMS,
             &format!("{ptr}/{field}"),
             msg,
             Some(help.to_string()),
@@ -741,9 +742,9 @@ fn check_sampler(s: &Sampler, f: &Feature, file: usize, ptr: &str, sink: &mut Si
             FeatureType::Categorical => "categorical features take categorical or constant",
             _ => "use a sampler that produces this feature's type",
         };
-        sink.error(
+        sink.report(
             file,
-            "distribution-type",
+            &rule::DISTRIBUTION_TYPE,
             &format!("{ptr}/kind"),
             format!(
                 "this sampler cannot produce values for {} feature \"{}\"",
@@ -767,9 +768,9 @@ fn check_sampler(s: &Sampler, f: &Feature, file: usize, ptr: &str, sink: &mut Si
             _ => false,
         };
         if !ok {
-            sink.error(
+            sink.report(
                 file,
-                "distribution-type",
+                &rule::DISTRIBUTION_TYPE,
                 &format!("{ptr}/value"),
                 format!("{} is not a valid value for \"{}\"", value_text(value), f.name),
                 None,
@@ -780,9 +781,9 @@ fn check_sampler(s: &Sampler, f: &Feature, file: usize, ptr: &str, sink: &mut Si
         let [lo, hi] = f.bounds;
         let disjoint = lo.is_some_and(|l| b < l) || hi.is_some_and(|h| a > h);
         if numeric && disjoint {
-            sink.error(
+            sink.report(
                 file,
-                "distribution-support",
+                &rule::DISTRIBUTION_SUPPORT,
                 ptr,
                 format!(
                     "the sampler's support [{a}, {b}] lies entirely outside the bounds {} of \"{}\"",
@@ -801,9 +802,9 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
     let base = format!("/instance_sets/{}", escape_token(name));
     check_set_name(name, file, &base, "instance set", sink);
     if set.description.trim().is_empty() {
-        sink.error(
+        sink.report(
             file,
-            "description-empty",
+            &rule::DESCRIPTION_EMPTY,
             &format!("{base}/description"),
             "the description is empty",
             Some("say what the set is for (train/test, which experiment)".into()),
@@ -812,7 +813,7 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
     let n_sources =
         usize::from(set.sampled.is_some()) + usize::from(set.explicit.is_some()) + usize::from(set.grid.is_some());
     if n_sources != 1 {
-        sink.error(file, "instance-set-source", &base, format!("instance set \"{name}\" must have exactly one of sampled, explicit, grid (has {n_sources})"), Some("sampled: draws from a named distribution; explicit: a list of named contexts; grid: a regular grid over one feature".into()));
+        sink.report(file, &rule::INSTANCE_SET_SOURCE, &base, format!("instance set \"{name}\" must have exactly one of sampled, explicit, grid (has {n_sources})"), Some("sampled: draws from a named distribution; explicit: a list of named contexts; grid: a regular grid over one feature".into()));
     }
     let mut any_out = false;
     // Reports a value outside its feature's bounds (unless allowed); true when it was outside.
@@ -823,7 +824,7 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
         }
         {
             if !set.allow_out_of_bounds {
-                sink.error(file, "instance-out-of-bounds", ptr, format!("{x} is outside the bounds {} of \"{}\"", fmt_bounds(&f.bounds), f.name), Some("fix the value, or set \"allow_out_of_bounds\": true on the set if this is a deliberate out-of-distribution test".into()));
+                sink.report(file, &rule::INSTANCE_OUT_OF_BOUNDS, ptr, format!("{x} is outside the bounds {} of \"{}\"", fmt_bounds(&f.bounds), f.name), Some("fix the value, or set \"allow_out_of_bounds\": true on the set if this is a deliberate out-of-distribution test".into()));
             }
         }
         true
@@ -839,18 +840,18 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
                 }
                 None => format!("distributions of {}: {}", spec.id, known.collect::<Vec<_>>().join(", ")),
             };
-            sink.error(
+            sink.report(
                 file,
-                "unknown-distribution",
+                &rule::UNKNOWN_DISTRIBUTION,
                 &format!("{p}/distribution"),
                 format!("no distribution named \"{}\"", s.distribution),
                 Some(help),
             );
         }
         if s.size == 0 || s.size > MAX_INSTANCES {
-            sink.error(
+            sink.report(
                 file,
-                "instance-set-size",
+                &rule::INSTANCE_SET_SIZE,
                 &format!("{p}/size"),
                 format!("size {} is not in 1..={MAX_INSTANCES}", s.size),
                 Some("an instance set has at least one and at most a million instances".into()),
@@ -860,9 +861,9 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
     if let Some(list) = &set.explicit {
         let p = format!("{base}/explicit");
         if list.is_empty() {
-            sink.error(
+            sink.report(
                 file,
-                "instance-set-size",
+                &rule::INSTANCE_SET_SIZE,
                 &p,
                 "the explicit list is empty",
                 Some("list at least one named context".into()),
@@ -872,9 +873,9 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
         for (i, inst) in list.iter().enumerate() {
             let ip = format!("{p}/{i}");
             if !names.insert(inst.name.as_str()) {
-                sink.error(
+                sink.report(
                     file,
-                    "duplicate-instance",
+                    &rule::DUPLICATE_INSTANCE,
                     &format!("{ip}/name"),
                     format!("instance name \"{}\" is used twice in this set", inst.name),
                     Some("instance names identify instances in results: make them unique".into()),
@@ -887,9 +888,9 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
                     Some(f) => match (f.kind, v) {
                         (FeatureType::Float | FeatureType::Int, Value::Number(x)) => {
                             if f.kind == FeatureType::Int && !is_integral(*x) {
-                                sink.error(
+                                sink.report(
                                     file,
-                                    "int-not-integral",
+                                    &rule::INT_NOT_INTEGRAL,
                                     &fp,
                                     format!("{x} is not an integer, and \"{}\" is an int feature", f.name),
                                     None,
@@ -914,9 +915,9 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
         match spec.feature(&g.feature) {
             None => unknown_feature(spec.feature_names(), &g.feature, file, &format!("{p}/feature"), sink),
             Some(f) if !matches!(f.kind, FeatureType::Float | FeatureType::Int) => {
-                sink.error(
+                sink.report(
                     file,
-                    "distribution-type",
+                    &rule::DISTRIBUTION_TYPE,
                     &format!("{p}/feature"),
                     format!(
                         "a grid needs a numeric feature; \"{}\" is {}",
@@ -929,9 +930,9 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
             Some(_) => {}
         }
         if !(g.step > 0.0) || !(g.from <= g.to) {
-            sink.error(
+            sink.report(
                 file,
-                "grid-params",
+                &rule::GRID_PARAMS,
                 &p,
                 format!("grid from {} to {} step {} is empty or reversed", g.from, g.to, g.step),
                 Some("use from ≤ to and step > 0".into()),
@@ -939,9 +940,9 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
         } else {
             let count = ((g.to - g.from) / g.step).floor() + 1.0;
             if count > MAX_INSTANCES as f64 {
-                sink.error(
+                sink.report(
                     file,
-                    "instance-set-size",
+                    &rule::INSTANCE_SET_SIZE,
                     &p,
                     format!("the grid has {count} points, more than {MAX_INSTANCES}"),
                     Some("use a larger step".into()),
@@ -957,9 +958,9 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
         }
     }
     if set.allow_out_of_bounds && !any_out && (set.explicit.is_some() || set.grid.is_some()) {
-        sink.warning(
+        sink.report(
             file,
-            "needless-allow-out-of-bounds",
+            &rule::NEEDLESS_ALLOW_OUT_OF_BOUNDS,
             &format!("{base}/allow_out_of_bounds"),
             "allow_out_of_bounds is set but every value is inside the bounds",
             Some("remove it, so an accidental out-of-bounds value is caught".into()),

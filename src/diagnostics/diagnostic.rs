@@ -1,9 +1,10 @@
-//! Diagnostics: structured data first (rule id, file, JSON pointer, line/column), text second.
+//! One diagnostic: structured data first (rule id, file, JSON pointer, line/column), text second.
 
 use std::fmt::Write as _;
 
 use serde::Serialize;
 
+use super::rules::Rule;
 use crate::json::{LineIndex, Node};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize)]
@@ -131,19 +132,19 @@ impl SourceFile {
         }
     }
 
+    /// A located diagnostic of `rule` (`keyword` names the failed keyword of the schema family).
     pub fn diagnostic(
         &self,
-        severity: Severity,
-        rule: &str,
+        rule: &Rule,
+        keyword: Option<&str>,
         pointer: &str,
         message: impl Into<String>,
         help: Option<String>,
     ) -> Diagnostic {
-        let on_key = rule.ends_with("-name") || rule == "unknown-feature" || rule == "duplicate-key";
-        let located = self.locate_pointer(pointer, on_key);
+        let located = self.locate_pointer(pointer, rule.on_key);
         Diagnostic {
-            severity,
-            rule: rule.to_string(),
+            severity: rule.severity,
+            rule: rule.id_for(keyword),
             message: message.into(),
             help,
             file: self.name.clone(),
@@ -151,6 +152,12 @@ impl SourceFile {
             location: located.as_ref().map(|(l, _)| l.clone()),
             snippet: located.map(|(_, s)| s),
         }
+    }
+
+    /// The source text of the value at `pointer` (e.g. a number exactly as written).
+    pub fn text_at(&self, pointer: &str) -> Option<&str> {
+        let (node, _) = self.root.as_ref()?.pointer_target(pointer)?;
+        self.text.get(node.span.clone())
     }
 }
 
@@ -166,16 +173,10 @@ fn clip_line(line: &str, start: usize, width: usize) -> (String, usize) {
 
 impl Diagnostic {
     /// A diagnostic about a file as a whole (I/O, encoding) or with no source to point into.
-    pub fn file_level(
-        severity: Severity,
-        rule: &str,
-        file: &str,
-        message: impl Into<String>,
-        help: Option<String>,
-    ) -> Self {
+    pub fn file_level(rule: &Rule, file: &str, message: impl Into<String>, help: Option<String>) -> Self {
         Diagnostic {
-            severity,
-            rule: rule.to_string(),
+            severity: rule.severity,
+            rule: rule.id.to_string(),
             message: message.into(),
             help,
             file: file.to_string(),
