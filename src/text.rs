@@ -58,6 +58,27 @@ fn is_unsafe(c: char) -> bool {
     c.is_control() || matches!(c, '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
 }
 
+/// A whole message (already composed) made safe to print: characters a terminal would interpret
+/// are escaped, line breaks kept, and a message longer than `max_chars` is cut. The safety net
+/// behind [`quote`] for any text that reaches a terminal.
+pub fn clean(message: &str, max_chars: usize) -> String {
+    let mut out = String::with_capacity(message.len().min(max_chars + 16));
+    for (n, c) in message.chars().enumerate() {
+        if n == max_chars {
+            let _ = write!(out, "… ({} bytes)", message.len());
+            break;
+        }
+        match c {
+            '\n' | '\t' => out.push(c),
+            c if is_unsafe(c) => {
+                let _ = write!(out, "\\u{{{:x}}}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    out
+}
+
 /// A number as written in the source, when the source is at hand, else Rust's shortest round-trip
 /// form. `9223372036854775807` stays that, not `9223372036854776000`.
 pub fn number(literal: Option<&str>, value: f64) -> String {
@@ -89,6 +110,12 @@ mod tests {
         let two_mb = "x".repeat(2 << 20);
         assert!(escape(&two_mb).ends_with(&format!("… ({} bytes)", 2 << 20)));
         assert_eq!(quote(&"y".repeat(MAX_SHOWN_CHARS)), format!("\"{}\"", "y".repeat(MAX_SHOWN_CHARS)));
+    }
+
+    #[test]
+    fn messages_are_cleaned() {
+        assert_eq!(clean("bad \u{1b}[2J name\nnext", 100), "bad \\u{1b}[2J name\nnext");
+        assert!(clean(&"z".repeat(5000), 100).ends_with("… (5000 bytes)"));
     }
 
     #[test]

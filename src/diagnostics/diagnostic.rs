@@ -145,8 +145,8 @@ impl SourceFile {
         Diagnostic {
             severity: rule.severity,
             rule: rule.id_for(keyword),
-            message: message.into(),
-            help,
+            message: clean(&message.into()),
+            help: help.as_deref().map(clean),
             file: self.name.clone(),
             pointer: pointer.to_string(),
             location: located.as_ref().map(|(l, _)| l.clone()),
@@ -160,6 +160,14 @@ impl SourceFile {
         self.text.get(node.span.clone())
     }
 }
+
+/// Messages quote input (names, values): terminal escapes are neutralised and runaway text cut.
+fn clean(text: &str) -> String {
+    crate::text::clean(text, MAX_MESSAGE_CHARS)
+}
+
+/// Longest message kept; input quoted into messages is cut far earlier (`text::quote`).
+pub const MAX_MESSAGE_CHARS: usize = 1000;
 
 fn clip_line(line: &str, start: usize, width: usize) -> (String, usize) {
     let n = line.chars().count();
@@ -177,8 +185,8 @@ impl Diagnostic {
         Diagnostic {
             severity: rule.severity,
             rule: rule.id.to_string(),
-            message: message.into(),
-            help,
+            message: clean(&message.into()),
+            help: help.as_deref().map(clean),
             file: file.to_string(),
             pointer: String::new(),
             location: None,
@@ -207,7 +215,13 @@ impl Diagnostic {
             Some(loc) => {
                 let gutter = loc.line.to_string().len();
                 let pad = " ".repeat(gutter);
-                let _ = writeln!(out, "{pad}{blue}-->{reset} {}:{}:{}", self.file, loc.line, loc.column);
+                let _ = writeln!(
+                    out,
+                    "{pad}{blue}-->{reset} {}:{}:{}",
+                    crate::text::clean(&self.file, MAX_MESSAGE_CHARS),
+                    loc.line,
+                    loc.column
+                );
                 if let Some(s) = &self.snippet {
                     let _ = writeln!(out, "{pad} {blue}|{reset}");
                     let _ = writeln!(out, "{blue}{}{reset} {blue}|{reset} {}", loc.line, s.line_text);
@@ -223,7 +237,7 @@ impl Diagnostic {
                 }
             }
             None => {
-                let _ = writeln!(out, "  {blue}-->{reset} {}", self.file);
+                let _ = writeln!(out, "  {blue}-->{reset} {}", crate::text::clean(&self.file, MAX_MESSAGE_CHARS));
                 if let Some(h) = &self.help {
                     let _ = writeln!(out, "   {blue}={reset} {bold}help{reset}: {h}");
                 }

@@ -38,16 +38,6 @@ fn hint<'a>(name: &str, known: impl Iterator<Item = &'a str> + Clone) -> String 
     }
 }
 
-fn info(f: &Feature) -> FeatureInfo {
-    FeatureInfo {
-        name: f.name.clone(),
-        kind: f.kind,
-        default: f.default.clone(),
-        bounds: f.bounds,
-        choices: f.choices.clone(),
-    }
-}
-
 /// Draw `n` contexts from a named distribution. Columns are the distribution's features by canonical
 /// name; each feature has its own stream (seed, feature name), so values don't depend on which other
 /// features the distribution varies.
@@ -68,7 +58,7 @@ pub fn sample_distribution(
             name: name.clone(),
             hint: hint(name, spec.feature_names()),
         })?;
-        cols.push((info(f), sampler));
+        cols.push((FeatureInfo::from_feature(f), sampler));
     }
     let names = cols.iter().map(|(i, _)| i.name.clone()).collect();
     let rows =

@@ -123,10 +123,13 @@ pub struct FeaturePatch {
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct RawFeature {
-    /// Canonical name (the CARL paper's spelling).
+    /// Canonical name (the CARL paper's spelling): letters, digits and underscores, starting with a
+    /// letter, at most 64 characters (names become `--context` keys and column headers).
+    #[schemars(regex(pattern = r"^[A-Za-z][A-Za-z0-9_]{0,63}$"))]
     pub name: String,
-    /// Other names accepted on input, e.g. the newer carl-bench spelling.
+    /// Other names accepted on input, e.g. the newer carl-bench spelling (same pattern as `name`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[schemars(inner(regex(pattern = r"^[A-Za-z][A-Za-z0-9_]{0,63}$")))]
     pub aliases: Vec<String>,
     #[serde(rename = "type")]
     pub kind: FeatureType,

@@ -9,9 +9,12 @@ use crate::diagnostics::Sink;
 use crate::diagnostics::rules as rule;
 use crate::json::escape_token;
 use crate::spec::model::{Feature, InstanceSet};
-use crate::spec::raw::{FeatureType, RawFragment, Sampler, Scalar, Space, Value};
+use crate::spec::raw::{AtBounds, FeatureType, RawFragment, Sampler, Scalar, Space, Value};
 use crate::spec::resolve::{FeatureSite, Resolved};
+use crate::sampling::error::SamplerProblem;
+use crate::sampling::{FeatureInfo, FeatureSampler, SamplingError};
 use crate::suggest::did_you_mean;
+use crate::text::quote;
 
 pub use crate::spec::raw::MAX_INSTANCES;
 
@@ -110,11 +113,24 @@ pub fn check_env(r: &Resolved, sink: &mut Sink<'_>) {
                 Some("name at least one feature and its sampler".into()),
             );
         }
+        let mut varied: BTreeMap<&str, &str> = BTreeMap::new();
         for (fname, sampler) in &dist.features {
             let ptr = format!("{base}/features/{}", escape_token(fname));
             match spec.feature(fname) {
                 None => unknown_feature(spec.feature_names(), fname, file, &ptr, sink),
-                Some(f) => check_sampler(sampler, f, file, &ptr, sink),
+                Some(f) => {
+                    // Both a name and its alias: the two would read the same stream (freeze refuses).
+                    if let Some(first) = varied.insert(&f.name, fname) {
+                        sink.report(
+                            file,
+                            &rule::DUPLICATE_FEATURE,
+                            &ptr,
+                            format!("{} and {} are the same feature {}", quote(first), quote(fname), quote(&f.name)),
+                            Some("vary each feature once per distribution".into()),
+                        );
+                    }
+                    check_sampler(sampler, f, dist.at_bounds, file, &ptr, sink);
+                }
             }
         }
     }
@@ -224,8 +240,37 @@ fn fmt_bounds(b: &[Option<f64>; 2]) -> String {
     format!("[{}, {}]", s(b[0], "-inf"), s(b[1], "inf"))
 }
 
+/// The largest integer magnitude carl-spec holds exactly: values are 64-bit floats at runtime.
+const MAX_EXACT_INT: f64 = 9_007_199_254_740_992.0;
+
+/// An integer feature's value or bound: no fractional part (`int-not-integral`) and within ±2^53
+/// (`int-out-of-range`). The number is quoted as written, so 2^63-1 is not shown rounded.
+fn check_int(x: f64, what: &str, type_name: &str, name: &str, file: usize, ptr: &str, sink: &mut Sink<'_>) {
+    let shown = sink.number_text(file, ptr, x);
+    if x.is_finite() && x.fract() != 0.0 {
+        sink.report(
+            file,
+            &rule::INT_NOT_INTEGRAL,
+            ptr,
+            format!("{what} {shown} of {type_name} feature {} is not an integer", quote(name)),
+            Some("round it, or make the feature float".into()),
+        );
+    } else if !is_integral(x) {
+        sink.report(
+            file,
+            &rule::INT_OUT_OF_RANGE,
+            ptr,
+            format!(
+                "{what} {shown} of {type_name} feature {} is beyond ±2^53 = 9007199254740992, the largest integers carl-spec holds exactly (values are 64-bit floats at runtime)",
+                quote(name)
+            ),
+            Some("use an integer within ±9007199254740992, or make the feature float".into()),
+        );
+    }
+}
+
 fn is_integral(x: f64) -> bool {
-    x.is_finite() && x.fract() == 0.0 && x.abs() <= 9_007_199_254_740_992.0
+    x.is_finite() && x.fract() == 0.0 && x.abs() <= MAX_EXACT_INT
 }
 
 fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
@@ -323,30 +368,17 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
     // Integer kinds need integer bounds (for list_int they bound every element).
     if matches!(f.kind, FeatureType::Int | FeatureType::ListInt) {
         for (k, b) in [lo, hi].iter().enumerate() {
-            if let Some(b) = b
-                && !is_integral(*b)
-            {
-                sink.report(
-                    bounds_site.0,
-                    &rule::INT_NOT_INTEGRAL,
-                    &format!("{}/{k}", bounds_site.1),
-                    format!("bound {b} of {type_name} feature \"{name}\" is not an integer"),
-                    Some("integer features have integer bounds: round it, or make the feature float".into()),
-                );
+            if let Some(b) = b {
+                let at = format!("{}/{k}", bounds_site.1);
+                check_int(*b, "bound", type_name, name, bounds_site.0, &at, sink);
             }
         }
     }
     match f.kind {
         FeatureType::Float | FeatureType::Int => match &f.default {
             Some(Value::Number(x)) => {
-                if f.kind == FeatureType::Int && !is_integral(*x) {
-                    sink.report(
-                        dfile,
-                        &rule::INT_NOT_INTEGRAL,
-                        &dptr,
-                        format!("default {x} of int feature \"{name}\" is not an integer"),
-                        Some("use an integer default or make the feature float".into()),
-                    );
+                if f.kind == FeatureType::Int {
+                    check_int(*x, "default", type_name, name, dfile, &dptr, sink);
                 }
                 check_in_bounds(*x, sink, "default", &dptr);
             }
@@ -439,15 +471,7 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
             Some(Value::List(items)) => {
                 for (i, x) in items.iter().enumerate() {
                     let p = format!("{dptr}/{i}");
-                    if !is_integral(*x) {
-                        sink.report(
-                            dfile,
-                            &rule::INT_NOT_INTEGRAL,
-                            &p,
-                            format!("element {x} of \"{name}\" is not an integer"),
-                            Some("list_int elements are integers".into()),
-                        );
-                    }
+                    check_int(*x, "element", type_name, name, dfile, &p, sink);
                     check_in_bounds(*x, sink, "element", &p);
                 }
             }
@@ -510,7 +534,7 @@ fn scalar_text(s: &Scalar) -> String {
     match s {
         Scalar::Bool(b) => b.to_string(),
         Scalar::Number(x) => x.to_string(),
-        Scalar::String(s) => format!("\"{s}\""),
+        Scalar::String(s) => quote(s),
     }
 }
 
@@ -518,7 +542,7 @@ pub fn value_text(v: &Value) -> String {
     match v {
         Value::Bool(b) => b.to_string(),
         Value::Number(x) => x.to_string(),
-        Value::String(s) => format!("\"{s}\""),
+        Value::String(s) => quote(s),
         Value::List(l) => format!("{l:?}"),
     }
 }
@@ -538,7 +562,7 @@ fn unknown_feature<'a>(
         file,
         &rule::UNKNOWN_FEATURE,
         ptr,
-        format!("no feature named \"{name}\""),
+        format!("no feature named {}", quote(name)),
         Some(help),
     );
 }
@@ -549,250 +573,71 @@ fn check_set_name(name: &str, file: usize, ptr: &str, what: &str, sink: &mut Sin
             .chars()
             .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
     if !ok {
-        sink.report(file, &rule::INVALID_NAME, ptr, format!("{what} name \"{name}\" is not snake_case"), Some("use lowercase letters, digits and underscores, starting with a letter (it becomes part of ENV/SET names and file names)".into()));
+        sink.report(file, &rule::INVALID_NAME, ptr, format!("{what} name {} is not snake_case", quote(name)), Some("use lowercase letters, digits and underscores, starting with a letter (it becomes part of ENV/SET names and file names)".into()));
     }
 }
 
-/// Parameter sanity and compatibility of a sampler with its feature.
-fn check_sampler(s: &Sampler, f: &Feature, file: usize, ptr: &str, sink: &mut Sink<'_>) {
-    let mut bad = |field: &str, msg: String, help: &str| {
-        sink.report(
-            file,
-            &rule::DISTRIBUTION_PARAMS,
-            &format!("{ptr}/{field}"),
-            msg,
-            Some(help.to_string()),
-        );
+/// A sampler against its feature: exactly the check `sample` and `freeze` run
+/// ([`FeatureSampler::compile`]), reported at the parameter at fault.
+fn check_sampler(s: &Sampler, f: &Feature, at_bounds: AtBounds, file: usize, ptr: &str, sink: &mut Sink<'_>) {
+    let err = match FeatureSampler::compile(s, FeatureInfo::from_feature(f), at_bounds) {
+        Ok(_) => return,
+        Err(e) => e,
     };
-    let numeric = matches!(f.kind, FeatureType::Float | FeatureType::Int);
-    // The interval of values the sampler can produce, to compare with the bounds.
-    let support: Option<(f64, f64)> = match s {
-        Sampler::Constant { value } => {
-            if let Value::Number(x) = value {
-                Some((*x, *x))
-            } else {
-                None
-            }
-        }
-        Sampler::Normal { std, .. } => {
-            if !(*std > 0.0) {
-                bad(
-                    "std",
-                    format!("std must be positive, got {std}"),
-                    "a normal needs std > 0; use constant for a fixed value",
-                );
-            }
-            Some((f64::NEG_INFINITY, f64::INFINITY))
-        }
-        Sampler::RelativeNormal {
-            sigma_rel,
-            fallback_std,
-        } => {
-            if !(*sigma_rel > 0.0) {
-                bad(
-                    "sigma_rel",
-                    format!("sigma_rel must be positive, got {sigma_rel}"),
-                    "the paper uses 0.1, 0.25 or 0.5",
-                );
-            }
-            if !(*fallback_std > 0.0) {
-                bad(
-                    "fallback_std",
-                    format!("fallback_std must be positive, got {fallback_std}"),
-                    "it is the std used when the default is 0 (the paper's code uses 0.1)",
-                );
-            }
-            if f.default_f64().is_none() {
-                bad(
-                    "kind",
-                    format!("relative_normal needs a numeric default, and \"{}\" has none", f.name),
-                    "use normal with an explicit mean",
-                );
-            }
-            Some((f64::NEG_INFINITY, f64::INFINITY))
-        }
-        Sampler::TruncatedNormal { std, low, high, .. } => {
-            if !(*std > 0.0) {
-                bad(
-                    "std",
-                    format!("std must be positive, got {std}"),
-                    "a truncated normal needs std > 0",
-                );
-            }
-            if !(low < high) {
-                bad("low", format!("low {low} must be below high {high}"), "swap them");
-            }
-            Some((*low, *high))
-        }
-        Sampler::Uniform { low, high } => {
-            if !(low < high) {
-                bad(
-                    "low",
-                    format!("low {low} must be below high {high}"),
-                    "swap them, or use constant for a single value",
-                );
-            }
-            Some((*low, *high))
-        }
-        Sampler::LogUniform { low, high } => {
-            if !(*low > 0.0) {
-                bad(
-                    "low",
-                    format!("log_uniform needs low > 0, got {low}"),
-                    "use uniform for ranges that include 0 or negatives",
-                );
-            }
-            if !(low < high) {
-                bad("low", format!("low {low} must be below high {high}"), "swap them");
-            }
-            Some((*low, *high))
-        }
-        Sampler::IntUniform { low, high } => {
-            if low > high {
-                bad("low", format!("low {low} must not be above high {high}"), "swap them");
-            }
-            Some((*low as f64, *high as f64))
-        }
-        Sampler::Categorical { choices, weights } => {
-            let n = choices
-                .as_ref()
-                .map(Vec::len)
-                .or(f.choices.as_ref().map(Vec::len))
-                .unwrap_or(0);
-            if let Some(c) = choices {
-                if c.is_empty() {
-                    bad("choices", "no choices to pick from".into(), "list at least one choice");
-                }
-                if let Some(fc) = &f.choices {
-                    for (i, x) in c.iter().enumerate() {
-                        if !fc.contains(x) {
-                            bad(
-                                &format!("choices/{i}"),
-                                format!("{} is not a choice of \"{}\"", scalar_text(x), f.name),
-                                "pick from the feature's choices",
-                            );
-                        }
-                    }
-                }
-            } else if f.choices.is_none() {
-                bad(
-                    "kind",
-                    format!("\"{}\" has no choices; list them in the sampler", f.name),
-                    "add \"choices\"",
-                );
-            }
-            if let Some(w) = weights {
-                if w.len() != n {
-                    bad(
-                        "weights",
-                        format!("{} weights for {n} choices", w.len()),
-                        "give one weight per choice",
-                    );
-                }
-                if w.iter().any(|x| !(*x >= 0.0)) || !(w.iter().sum::<f64>() > 0.0) {
-                    bad(
-                        "weights",
-                        "weights must be ≥ 0 with a positive sum".into(),
-                        "weights are relative: e.g. [3, 1] picks the first choice 75 % of the time",
-                    );
-                }
-            }
-            None
-        }
-        Sampler::IntervalMixture { intervals, weights, .. } => {
-            if intervals.is_empty() {
-                bad("intervals", "no intervals".into(), "list [low, high] intervals");
-            }
-            for (i, [a, b]) in intervals.iter().enumerate() {
-                if !(a < b) {
-                    bad(
-                        &format!("intervals/{i}"),
-                        format!("interval [{a}, {b}] is empty or reversed"),
-                        "write [low, high] with low < high",
-                    );
-                }
-            }
-            if let Some(w) = weights
-                && (w.len() != intervals.len() || w.iter().any(|x| !(*x >= 0.0)) || !(w.iter().sum::<f64>() > 0.0))
-            {
-                bad(
-                    "weights",
-                    format!("need {} non-negative weights with a positive sum", intervals.len()),
-                    "one weight per interval",
-                );
-            }
-            let lo = intervals.iter().map(|i| i[0]).fold(f64::INFINITY, f64::min);
-            let hi = intervals.iter().map(|i| i[1]).fold(f64::NEG_INFINITY, f64::max);
-            (lo <= hi).then_some((lo, hi))
-        }
+    let SamplingError::InvalidSampler {
+        kind,
+        message,
+        field,
+        problem,
+        ..
+    } = err
+    else {
+        // The feature itself cannot be sampled (reversed bounds, or int bounds holding no integer):
+        // `bounds-order` / `int-not-integral` / `int-out-of-range` already refuse the feature.
+        return;
     };
-    // Kind compatibility.
-    let compatible = match s {
-        Sampler::Constant { .. } => true,
-        Sampler::Categorical { .. } => f.kind == FeatureType::Categorical,
-        Sampler::IntUniform { .. } => numeric,
-        // Continuous samplers would give non-integers for int features.
-        _ => numeric && f.kind != FeatureType::Int,
-    };
-    if !compatible {
-        let help = match f.kind {
-            FeatureType::Int => {
-                "int features take int_uniform, categorical choices or constant (continuous samplers would produce non-integers)"
-            }
-            FeatureType::Categorical => "categorical features take categorical or constant",
-            _ => "use a sampler that produces this feature's type",
-        };
-        sink.report(
-            file,
+    let (r, help) = match problem {
+        SamplerProblem::Params => (&rule::DISTRIBUTION_PARAMS, params_help(kind)),
+        SamplerProblem::Type => (
             &rule::DISTRIBUTION_TYPE,
-            &format!("{ptr}/kind"),
-            format!(
-                "this sampler cannot produce values for {} feature \"{}\"",
-                kind_name(f.kind),
-                f.name
-            ),
-            Some(help.into()),
-        );
-    }
-    if let Sampler::Constant { value } = s {
-        let ok = match (f.kind, value) {
-            (FeatureType::Float | FeatureType::Int, Value::Number(x)) => {
-                f.kind == FeatureType::Float || is_integral(*x)
-            }
-            (FeatureType::Bool, Value::Bool(_)) => true,
-            (FeatureType::Categorical, v) => f
-                .choices
-                .as_ref()
-                .is_some_and(|c| c.iter().any(|x| scalar_eq_value(x, v))),
-            (FeatureType::ListInt, Value::List(l)) => l.iter().all(|x| is_integral(*x)),
-            _ => false,
-        };
-        if !ok {
-            sink.report(
-                file,
-                &rule::DISTRIBUTION_TYPE,
-                &format!("{ptr}/value"),
-                format!("{} is not a valid value for \"{}\"", value_text(value), f.name),
-                None,
-            );
+            match f.kind {
+                FeatureType::Int => "int features take int_uniform, categorical or constant (continuous samplers would produce non-integers)",
+                FeatureType::Categorical => "categorical features take categorical or constant, with values among the feature's choices",
+                FeatureType::Bool => "bool features take categorical or constant",
+                FeatureType::ListInt => "list_int features take a constant list of integers",
+                FeatureType::Float => "use a sampler that produces numbers",
+            },
+        ),
+        SamplerProblem::Support => (
+            &rule::DISTRIBUTION_SUPPORT,
+            "every draw would be clipped or rejected: move the distribution inside the bounds",
+        ),
+    };
+    let at = if field.is_empty() { ptr.to_string() } else { format!("{ptr}/{field}") };
+    sink.report(
+        file,
+        r,
+        &at,
+        format!("{kind} sampler of {}: {message}", quote(&f.name)),
+        Some(help.into()),
+    );
+}
+
+fn params_help(kind: &str) -> &'static str {
+    match kind {
+        "normal" => "a normal needs a finite mean and a std > 0, with mean ± 40·std finite; use constant for a fixed value",
+        "relative_normal" => {
+            "sigma_rel and fallback_std must be > 0 (the paper uses 0.1, 0.25 or 0.5), and the feature needs a numeric default"
         }
-    }
-    if let Some((a, b)) = support {
-        let [lo, hi] = f.bounds;
-        let disjoint = lo.is_some_and(|l| b < l) || hi.is_some_and(|h| a > h);
-        if numeric && disjoint {
-            sink.report(
-                file,
-                &rule::DISTRIBUTION_SUPPORT,
-                ptr,
-                format!(
-                    "the sampler's support [{a}, {b}] lies entirely outside the bounds {} of \"{}\"",
-                    fmt_bounds(&f.bounds),
-                    f.name
-                ),
-                Some("every draw would be clipped or rejected: move the distribution inside the bounds".into()),
-            );
+        "truncated_normal" => "a truncated normal needs a finite mean, std > 0 and finite low < high",
+        "uniform" => "write finite low < high whose width is finite; use constant for a single value",
+        "log_uniform" => "log_uniform needs 0 < low < high; use uniform for ranges that include 0 or negatives",
+        "int_uniform" => "write low ≤ high, both within ±2^53 (9007199254740992)",
+        "categorical" => "list at least one choice; weights are relative, finite and ≥ 0 with a positive sum, one per choice",
+        "interval_mixture" => {
+            "write [low, high] intervals with finite low < high; give weights (one per interval) or stratified, not both"
         }
+        _ => "see the sampler's parameters in the README",
     }
 }
 
@@ -887,14 +732,8 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
                     None => unknown_feature(spec.feature_names(), fname, file, &fp, sink),
                     Some(f) => match (f.kind, v) {
                         (FeatureType::Float | FeatureType::Int, Value::Number(x)) => {
-                            if f.kind == FeatureType::Int && !is_integral(*x) {
-                                sink.report(
-                                    file,
-                                    &rule::INT_NOT_INTEGRAL,
-                                    &fp,
-                                    format!("{x} is not an integer, and \"{}\" is an int feature", f.name),
-                                    None,
-                                );
+                            if f.kind == FeatureType::Int {
+                                check_int(*x, "value", "int", &f.name, file, &fp, sink);
                             }
                             any_out |= out_of_bounds(fname, *x, &fp, sink);
                         }
