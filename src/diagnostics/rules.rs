@@ -13,7 +13,7 @@ pub struct Rule {
     pub severity: Severity,
     /// Underline the key (a name) rather than its value.
     pub on_key: bool,
-    /// What the rule checks, in one line (README and `carl-spec validate --rules`).
+    /// What the rule checks, in one line (the README's rule table).
     pub summary: &'static str,
 }
 
@@ -88,6 +88,20 @@ registry! {
 pub fn lookup(id: &str) -> Option<&'static Rule> {
     let family = id.split('/').next().unwrap_or(id);
     ALL.iter().copied().find(|r| r.id == id || (r.id == SCHEMA.id && family == SCHEMA.id))
+}
+
+/// The README's rule table (a test keeps the README equal to this).
+pub fn markdown_table() -> String {
+    let mut out = String::from("| rule | severity | what it refuses |\n|---|---|---|\n");
+    for r in ALL {
+        let id = if r.id == SCHEMA.id { "schema/<keyword>" } else { r.id };
+        let sev = match r.severity {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+        };
+        out.push_str(&format!("| `{id}` | {sev} | {} |\n", r.summary));
+    }
+    out
 }
 
 #[cfg(test)]
