@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use super::frozen::{FORMAT, FrozenSet, Instance, Provenance, spec_digest};
 use crate::sampling::{self, FeatureInfo, SamplingError};
 use crate::spec::model::{Distribution, EnvSpec, Feature, Value};
-use crate::spec::raw::MAX_INSTANCES;
+use crate::spec::raw::{MAX_INSTANCES, MAX_SET_VALUES};
 use crate::suggest::did_you_mean;
 
 #[derive(Debug, thiserror::Error)]
@@ -20,6 +20,12 @@ pub enum DeriveError {
     Sampling { context: String, source: SamplingError },
     #[error("size {0} is not in 1..={MAX_INSTANCES}")]
     Size(u64),
+    #[error(
+        "{n} instances × {features} varied feature(s) = {} values, more than the limit of {MAX_SET_VALUES} per set \
+         (about 1.5 KB of memory per value); sample fewer instances",
+        n.saturating_mul(*features)
+    )]
+    TooManyValues { n: u64, features: u64 },
     #[error("{0}")]
     Invalid(String),
 }
@@ -50,6 +56,10 @@ pub fn sample_distribution(
 ) -> Result<(Vec<String>, Vec<Vec<Value>>), DeriveError> {
     if n == 0 || n > MAX_INSTANCES {
         return Err(DeriveError::Size(n));
+    }
+    let features = dist.features.len() as u64;
+    if n.saturating_mul(features) > MAX_SET_VALUES {
+        return Err(DeriveError::TooManyValues { n, features });
     }
     let mut cols = Vec::new();
     for (name, sampler) in &dist.features {

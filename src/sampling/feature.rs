@@ -608,6 +608,28 @@ fn check_interval(low: f64, high: f64) -> Result<(), String> {
     Ok(())
 }
 
+/// A value of `f` as an instance holds it: the right type (among the choices, for features that
+/// have them) and, unless `allow_out_of_bounds`, inside the bounds (every element, for lists).
+/// Loading a frozen set runs this on every value, so a tampered file cannot smuggle values in.
+pub fn check_instance_value(v: &Value, f: &FeatureInfo, allow_out_of_bounds: bool) -> Result<(), String> {
+    if allow_out_of_bounds {
+        return check_value_type(v, f);
+    }
+    let lo = f.bounds[0].unwrap_or(f64::NEG_INFINITY);
+    let hi = f.bounds[1].unwrap_or(f64::INFINITY);
+    check_value(v, f, lo, hi)
+}
+
+/// A value for messages: strings quoted, escaped and cut.
+fn shown(v: &Value) -> String {
+    match v {
+        Value::Bool(b) => b.to_string(),
+        Value::Number(x) => x.to_string(),
+        Value::String(s) => crate::text::quote(s),
+        Value::List(l) => crate::text::escape(&format!("{l:?}")),
+    }
+}
+
 /// A value's type fits the feature (and for categorical features, is one of its choices).
 fn check_value_type(v: &Value, f: &FeatureInfo) -> Result<(), String> {
     let ok = match (f.kind, v) {
@@ -621,7 +643,8 @@ fn check_value_type(v: &Value, f: &FeatureInfo) -> Result<(), String> {
     };
     if !ok {
         return Err(format!(
-            "value {v:?} does not fit a {} feature{}",
+            "value {} does not fit a {} feature{}",
+            shown(v),
             type_name(f.kind),
             if f.kind == FeatureType::Int {
                 " (integers within +-2^53)"
@@ -633,7 +656,7 @@ fn check_value_type(v: &Value, f: &FeatureInfo) -> Result<(), String> {
     if let Some(choices) = &f.choices {
         let in_choices = choices.iter().any(|c| scalar_to_value(c) == *v);
         if !in_choices && !choices.is_empty() {
-            return Err(format!("value {v:?} is not among the feature's choices"));
+            return Err(format!("value {} is not among the feature's choices", shown(v)));
         }
     }
     Ok(())

@@ -11,6 +11,9 @@ use serde::{Deserialize, Serialize};
 
 /// Instance sets larger than this are refused (a frozen set is a file people read and diff).
 pub const MAX_INSTANCES: u64 = 1_000_000;
+/// Most values (instances × varied features) one sampled set may hold: deriving, hashing and
+/// printing a set peaks at about 1.5 KB of memory per value (1.5 GB at this limit, measured).
+pub const MAX_SET_VALUES: u64 = 1_000_000;
 
 /// One environment's context specification (`specs/<id>.json`).
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema, PartialEq)]

@@ -16,7 +16,7 @@ use crate::sampling::{FeatureInfo, FeatureSampler, SamplingError};
 use crate::suggest::did_you_mean;
 use crate::text::quote;
 
-pub use crate::spec::raw::MAX_INSTANCES;
+pub use crate::spec::raw::{MAX_INSTANCES, MAX_SET_VALUES};
 
 pub fn check_fragment(frag: &RawFragment, file: usize, sink: &mut Sink<'_>) {
     let mut seen = BTreeSet::new();
@@ -700,6 +700,20 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
                 &format!("{p}/size"),
                 format!("size {} is not in 1..={MAX_INSTANCES}", s.size),
                 Some("an instance set has at least one and at most a million instances".into()),
+            );
+        }
+        let varied = spec.distributions.get(&s.distribution).map_or(0, |d| d.features.len() as u64);
+        if s.size <= MAX_INSTANCES && s.size.saturating_mul(varied) > MAX_SET_VALUES {
+            sink.report(
+                file,
+                &rule::INSTANCE_SET_SIZE,
+                &format!("{p}/size"),
+                format!(
+                    "{} instances × {varied} varied features = {} values, more than {MAX_SET_VALUES} per set",
+                    s.size,
+                    s.size.saturating_mul(varied)
+                ),
+                Some("sample fewer instances, or split the set (memory grows by about 1.5 KB per value)".into()),
             );
         }
     }
