@@ -113,7 +113,7 @@ mod tests {
         let mut seen = std::collections::BTreeSet::new();
         for r in ALL {
             assert!(seen.insert(r.id), "{} declared twice", r.id);
-            assert!(r.id.chars().all(|c| c.is_ascii_lowercase() || c == '-'), "{}", r.id);
+            assert!(r.id.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-'), "{}", r.id);
             assert!(!r.summary.is_empty());
         }
     }
