@@ -75,7 +75,7 @@ pub enum Command {
         env: String,
         #[arg(long)]
         distribution: String,
-        /// Number of contexts (1 to 1,000,000).
+        /// Number of contexts: 1 to 1,000,000, and at most 1,000,000 values (contexts × varied features).
         #[arg(short = 'n', long = "num", value_name = "N")]
         n: u64,
         #[arg(long)]
