@@ -5,8 +5,10 @@
 //! diagnostics), `json` (JSON with source positions), `schema` (the generated JSON Schema),
 //! `sampling` (portable generator and samplers), `instances` (derive, freeze, load, verify sets),
 //! `envs` (environment runtimes, contextual wrapper, VecEnv), `audit` (checks each feature's
-//! `affects` claim against the runtime), `plot` (figures of instance sets), `render` (pictures of environment states for humans), `experiments` (the
-//! paper's experiments end to end), `cli` (one module per subcommand).
+//! `affects` claim against the runtime), `plot` (figures of instance sets), `render` (environment pictures to files), `experiments` (the
+//! paper's experiments end to end), `cli` (one module per subcommand). Two low modules depend on
+//! nothing above them: `pixels` (canvas, colours, font, PNG/GIF encoders; used by the
+//! environments' renderers and by `plot`) and `output` (the one rule for writing output files).
 
 pub mod audit;
 pub mod cli;
@@ -14,6 +16,8 @@ pub mod envs;
 pub mod experiments;
 pub mod instances;
 pub mod json;
+pub mod output;
+pub mod pixels;
 pub mod plot;
 pub mod render;
 pub mod sampling;

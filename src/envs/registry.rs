@@ -187,7 +187,7 @@ impl Env for ClassicEnv {
     fn info(&self) -> super::api::Info {
         dispatch!(self, e => e.info())
     }
-    fn render(&self) -> Option<crate::render::Frame> {
+    fn render(&self) -> Option<crate::pixels::Frame> {
         dispatch!(self, e => e.render())
     }
 }
