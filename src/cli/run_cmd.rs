@@ -75,7 +75,7 @@ pub fn run(cli: &Cli, cmd: &RunCommand) -> CmdResult {
                 seed: *seed,
                 crash_penalty: *crash_penalty,
             };
-            cfg.check().map_err(|m| Failure::usage(format!("--crash-penalty: {m}")))?;
+            cfg.check().map_err(Failure::usage)?;
             // Before the evaluation: a bad path must not cost the whole run.
             for p in [out_path, figure].into_iter().flatten() {
                 output::check_file(p, *force).map_err(|e| Failure::usage(e.to_string()))?;
