@@ -846,7 +846,7 @@ impl Env for ContextualEnv {
         self.info_map()
     }
 
-    fn render(&self) -> Option<crate::render::Frame> {
+    fn render(&self) -> Option<crate::pixels::Frame> {
         self.slots[self.current].env.render()
     }
 }
