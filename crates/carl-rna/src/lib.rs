@@ -106,3 +106,51 @@ pub fn eval_loops(seq: &str, structure: &str) -> Result<Vec<LoopEnergy>, RnaErro
 pub fn normalize(seq: &str) -> Result<String, RnaError> {
     sequence::encode(seq).map(|s| sequence::decode(&s))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn short_sequences_cannot_pair() {
+        for seq in ["", "G", "GC", "GGGC", "GAAAC"] {
+            let f = fold(seq).unwrap();
+            assert_eq!(f.structure, ".".repeat(seq.len()), "{seq}");
+            assert_eq!(f.energy, 0);
+        }
+    }
+
+    #[test]
+    fn t_and_lower_case_read_as_rna() {
+        assert_eq!(fold("gggGAAACCCC").unwrap(), fold("GGGGAAACCCC").unwrap());
+        assert_eq!(fold("GGGGTTTCCCC").unwrap(), fold("GGGGUUUCCCC").unwrap());
+        assert_eq!(normalize("acgt").unwrap(), "ACGU");
+    }
+
+    #[test]
+    fn bad_input_is_a_located_error() {
+        assert_eq!(fold("GGXA"), Err(RnaError::InvalidBase { pos: 3, ch: 'X' }));
+        assert_eq!(fold(&"A".repeat(MAX_LEN + 1)), Err(RnaError::TooLong { len: MAX_LEN + 1, max: MAX_LEN }));
+        assert_eq!(eval("GGGAAACCC", "((....))"), Err(RnaError::LengthMismatch { sequence: 9, structure: 8 }));
+        assert_eq!(eval("GGGAAACCC", "((....)))"), Err(RnaError::UnbalancedClose { pos: 9 }));
+        assert_eq!(eval("GGGAAACCC", "(((....))"), Err(RnaError::UnbalancedOpen { pos: 1 }));
+        assert_eq!(eval("GGGAAACCC", "((.[..)))"), Err(RnaError::InvalidStructureChar { pos: 4, ch: '[' }));
+        assert_eq!(eval("GAGAAACCC", "(((...)))"), Err(RnaError::NonCanonicalPair { i: 2, j: 8 }));
+        assert_eq!(eval("GGGAACCC", "(((..)))"), Err(RnaError::HairpinTooShort { i: 3, j: 6 }));
+    }
+
+    #[test]
+    fn special_hairpins_replace_the_whole_loop_energy() {
+        // GUUAC: ViennaRNA 690 (ff_energy 0.4.1 gives 540); CUUCGG tetraloop 370.
+        assert_eq!(eval_loops("GUUAC", "(...)").unwrap()[1].energy, 690);
+        assert_eq!(eval_loops("CUUCGG", "(....)").unwrap()[1].energy, 370);
+    }
+
+    #[test]
+    fn mfe_equals_the_evaluated_energy_of_its_structure() {
+        let seq = "GGGAAAUCCCGCGCAUAUGCGCAAGGAAACCUUUUGCGGCAAAGCCGCA";
+        let f = fold(seq).unwrap();
+        assert_eq!(eval(seq, &f.structure).unwrap(), f.energy);
+        assert!(f.energy < 0);
+    }
+}
