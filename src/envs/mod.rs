@@ -9,6 +9,7 @@
 //! * [`registry`]: spec + context → runtime (`make`).
 //! * [`contextual`]: CARL's contextual wrapper (instance selection, context in observation/info).
 //! * [`box2d`]: LunarLander on rapier2d (each instance owns its physics world).
+//! * [`rna_design`]: LEARNA's RNA design task on carl-rna's folding (crates/carl-rna).
 //! * [`robots`]: articulated robots from URDF on rapier3d (Ant, HalfCheetah).
 
 pub mod api;
@@ -18,6 +19,7 @@ pub mod contextual;
 mod pool;
 pub mod registry;
 pub mod rng;
+pub mod rna_design;
 pub mod robots;
 pub mod vec_env;
 

@@ -17,6 +17,7 @@
 
 mod energy;
 mod eval;
+pub mod input;
 mod mfe;
 mod params;
 mod sequence;
