@@ -58,7 +58,7 @@ fn bad_input_exits_2_with_a_located_message() {
         (vec!["fold", long.as_str()], "", "longer than the supported maximum of 4000 nt"),
         (vec!["fold", "eval", "GGGGAAACCCC", "((((...)))"], "", "structure has 10 characters"),
         (vec!["fold", "eval", "GGGGAAACCCC", "((((...))))x"], "", "structure has 12 characters"),
-        (vec!["fold", "eval", "GAGGAAACCUC", "((((...))))"], "", "not a canonical pair"),
+        (vec!["fold", "eval", "GAGGAAACCCC", "((((...))))"], "", "not a canonical pair"),
         (vec!["fold", "--input", "/nonexistent/x.fa"], "", "cannot read /nonexistent/x.fa"),
     ] {
         let (code, out, err) = carl_spec(&args, stdin);

@@ -2,7 +2,7 @@
 
 use crate::RnaError;
 
-/// Longest sequence accepted: the DP keeps four n×n tables of i32 (≈ 16·n² bytes, 256 MiB at
+/// Longest sequence accepted: the DP keeps three n×n tables of i32 (12·n² bytes, 183 MiB at
 /// this length) and runs in O(n³) time.
 pub const MAX_LEN: usize = 4000;
 

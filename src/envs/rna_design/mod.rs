@@ -343,20 +343,27 @@ mod tests {
         assert!(e.step(&Action::Discrete(4)).is_err());
     }
 
+    /// Golden values from LEARNA's `_local_improvement` run with ViennaRNA 2.8.0's `RNA.fold`
+    /// (itertools.product("AGCU") over the differing sites, stop at distance 0).
     #[test]
-    fn local_improvement_repairs_small_distances_as_learna() {
+    fn local_improvement_matches_learna() {
         let target = targets::load(Dataset::Eterna, Some(&[1]), None).unwrap().remove(0);
-        // A design whose fold leaves the hairpin open at a few sites.
-        let design = "GGGGAAAAAAAAUCCC";
-        let plain = terminal_reward(&target, design, 0.1, 1.0, None);
-        assert!(plain.distance > 0 && plain.improvement_folds == 0);
-        let improved = terminal_reward(&target, design, 100.0, 1.0, None);
-        assert!(improved.distance <= plain.distance);
-        assert_eq!(improved.distance_folded, plain.distance);
-        let capped = terminal_reward(&target, design, 100.0, 1.0, Some(3));
-        assert!(capped.improvement_folds <= 3);
-        let expected = (1.0 - improved.distance as f64 / 16.0).powf(2.0);
-        assert_eq!(terminal_reward(&target, design, 100.0, 2.0, None).reward, expected);
+        // Folds into "(((((.....)))))." (d = 2); the third assignment reaches 0.
+        let repaired = terminal_reward(&target, "GGGGGAAAAACCCCCA", 5.0, 1.0, None);
+        assert_eq!(repaired.folded, "(((((.....))))).");
+        assert_eq!((repaired.distance_folded, repaired.distance, repaired.improvement_folds), (2, 0, 3));
+        assert_eq!(repaired.reward, 1.0);
+        // Folds into ".((((.......))))" (d = 2); none of the 16 assignments does better.
+        let stuck = terminal_reward(&target, "GGGGAAAAAAAAUCCC", 5.0, 2.0, None);
+        assert_eq!((stuck.distance_folded, stuck.distance, stuck.improvement_folds), (2, 2, 16));
+        assert_eq!(stuck.reward, (1.0 - 2.0 / 16.0f64).powf(2.0));
+        // d = 2 is not below a threshold of 2: no improvement.
+        let off = terminal_reward(&target, "GGGGGAAAAACCCCCA", 2.0, 1.0, None);
+        assert_eq!((off.distance, off.improvement_folds), (2, 0));
+        // The opt-in cap stops after 2 folds, before the repairing third assignment.
+        let capped = terminal_reward(&target, "GGGGGAAAAACCCCCA", 5.0, 1.0, Some(2));
+        assert_eq!(capped.improvement_folds, 2);
+        assert!(capped.distance > 0);
     }
 
     #[test]
