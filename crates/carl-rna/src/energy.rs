@@ -96,3 +96,36 @@ pub(crate) fn stem(t: u8, d5: Option<u8>, d3: Option<u8>) -> i32 {
 pub(crate) fn ml_stem(t: u8, d5: u8, d3: u8) -> i32 {
     ML_INTERN + terminal_au(t) + MISMATCH_MULTI[t as usize][d5 as usize][d3 as usize]
 }
+
+/// A lower bound of [`interior`] over every pair type and base, for loops with `n1` unpaired
+/// bases on the 5′ side and `n2` on the 3′ side (`n1 + n2 ≤ MAXLOOP`): lets the MFE recursion skip
+/// inner pairs that cannot beat the best decomposition found so far. Terminal AU/GU penalties are
+/// ≥ 0, so leaving them out keeps the bound valid.
+pub(crate) fn interior_lower_bounds() -> [[i32; MAXLOOP + 1]; MAXLOOP + 1] {
+    fn min_mismatch(t: &[[[i32; 4]; 4]; 6]) -> i32 {
+        t.iter().flatten().flatten().copied().min().unwrap_or(0)
+    }
+    let stack = STACK.iter().flatten().copied().min().unwrap_or(0);
+    let int11 = INT11.iter().flatten().flatten().flatten().copied().min().unwrap_or(0);
+    let int21 = INT21.iter().flatten().flatten().flatten().flatten().copied().min().unwrap_or(0);
+    let int22 = INT22.iter().flatten().flatten().flatten().flatten().flatten().copied().min().unwrap_or(0);
+    let mut lb = [[INF; MAXLOOP + 1]; MAXLOOP + 1];
+    for (n1, row) in lb.iter_mut().enumerate() {
+        for (n2, cell) in row.iter_mut().enumerate().take(MAXLOOP + 1 - n1) {
+            let (ns, nl) = (n1.min(n2), n1.max(n2));
+            let asymmetry = ((nl - ns) as i32 * NINIO).min(MAX_NINIO);
+            *cell = match (ns, nl) {
+                (0, 0) => stack,
+                (0, 1) => BULGE[1] + stack,
+                (0, _) => BULGE[nl],
+                (1, 1) => int11,
+                (1, 2) => int21,
+                (1, _) => INTERIOR[nl + 1] + asymmetry + 2 * min_mismatch(&MISMATCH_INTERIOR_1N),
+                (2, 2) => int22,
+                (2, 3) => INTERIOR[5] + NINIO + 2 * min_mismatch(&MISMATCH_INTERIOR_23),
+                _ => INTERIOR[nl + ns] + asymmetry + 2 * min_mismatch(&MISMATCH_INTERIOR),
+            };
+        }
+    }
+    lb
+}

@@ -15,7 +15,7 @@
 //! then the multiloop split with the smallest k; in a multiloop segment, an unpaired 3′ base, an
 //! unpaired 5′ base, a single helix, then the split with the smallest k.
 
-use crate::energy::{hairpin, interior, ml_stem, stem};
+use crate::energy::{hairpin, interior, interior_lower_bounds, ml_stem, stem};
 use crate::params::{pair_type, INF, MAXLOOP, ML_BASE, ML_CLOSING, NP};
 use crate::sequence::dot_bracket;
 use crate::Folded;
@@ -43,20 +43,29 @@ struct Tables<'a> {
     fml: Vec<i32>,
     fml_t: Vec<i32>,
     f5: Vec<i32>,
+    /// `bound[n1][n2]`: no interior loop of that shape costs less (see `interior_lower_bounds`).
+    bound: [[i32; MAXLOOP + 1]; MAXLOOP + 1],
 }
 
 impl<'a> Tables<'a> {
     fn fill(s: &'a [u8]) -> Self {
         let n = s.len();
-        let mut t = Tables { s, n, c: vec![INF; n * n], fml: vec![INF; n * n], fml_t: vec![INF; n * n], f5: vec![0; n + 1] };
+        let mut t = Tables {
+            s,
+            n,
+            c: vec![INF; n * n],
+            fml: vec![INF; n * n],
+            fml_t: vec![INF; n * n],
+            f5: vec![0; n + 1],
+            bound: interior_lower_bounds(),
+        };
         // split rows i+1 (previous) and i (current).
         let mut split_below = vec![INF; n];
         let mut split_here = vec![INF; n];
         for i in (0..n).rev() {
             split_here.fill(INF);
             for j in i + MIN_SPAN..n {
-                let multi_inside = if j >= 1 { split_below[j - 1] } else { INF };
-                let c = t.closed(i, j, multi_inside);
+                let c = t.closed(i, j, split_below[j - 1]);
                 t.c[i * n + j] = c;
                 // Multiloop segments only exist strictly inside a closing pair.
                 if i == 0 || j == n - 1 {
@@ -125,9 +134,12 @@ impl<'a> Tables<'a> {
             let u1 = p - i - 1;
             let q_min = (p + MIN_SPAN).max((j - 1).saturating_sub(MAXLOOP - u1));
             let row = &self.c[p * n..p * n + j];
+            let bound = &self.bound[u1];
             for q in (q_min..j).rev() {
                 let cpq = row[q];
-                if cpq < INF {
+                // Pruning only skips candidates that cannot be strictly better, so the minimum
+                // is unchanged (the traceback re-scans every candidate in order).
+                if cpq + bound[j - q - 1] < best {
                     best = best.min(cpq + interior(s, i, j, p, q, t, pair_type(s[q], s[p])));
                 }
             }
