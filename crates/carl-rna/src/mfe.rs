@@ -75,7 +75,7 @@ impl<'a> Tables<'a> {
                     .ml_branch(i, j)
                     .min(t.fml[(i + 1) * n + j] + ML_BASE)
                     .min(t.fml[i * n + j - 1] + ML_BASE);
-                if j >= i + 2 * MIN_SPAN + 1 {
+                if j > i + 2 * MIN_SPAN {
                     let left = &t.fml[i * n + i + MIN_SPAN..i * n + j - MIN_SPAN];
                     let right = &t.fml_t[j * n + i + MIN_SPAN + 1..j * n + j - MIN_SPAN + 1];
                     let split = min_sum(left, right);
