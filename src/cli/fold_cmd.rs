@@ -62,7 +62,7 @@ fn fold(sequences: &[String], io: &FoldIo) -> CmdResult {
         let folded = carl_rna::fold(&seq).map_err(|e| Failure::usage(format!("{}: {e}", label(k, record))))?;
         results.push((record, seq, folded.structure, folded.energy));
     }
-    print_results(&results, io.format);
+    print_results(&results, io.format)?;
     Ok(exit::OK)
 }
 
@@ -83,7 +83,7 @@ fn eval(pair: &[String], io: &FoldIo) -> CmdResult {
         let energy = carl_rna::eval(&seq, structure).map_err(|e| Failure::usage(format!("{}: {e}", label(k, record))))?;
         results.push((record, seq, structure.to_string(), energy));
     }
-    print_results(&results, io.format);
+    print_results(&results, io.format)?;
     Ok(exit::OK)
 }
 
@@ -119,7 +119,7 @@ fn label(k: usize, record: &Record) -> String {
     }
 }
 
-fn print_results(results: &[(&Record, String, String, i32)], format: Format) {
+fn print_results(results: &[(&Record, String, String, i32)], format: Format) -> Result<(), Failure> {
     if format == Format::Json {
         let items: Vec<serde_json::Value> = results
             .iter()
@@ -133,8 +133,7 @@ fn print_results(results: &[(&Record, String, String, i32)], format: Format) {
                 })
             })
             .collect();
-        out(&format!("{}\n", serde_json::to_string_pretty(&items).expect("JSON")));
-        return;
+        return out(&format!("{}\n", serde_json::to_string_pretty(&items).expect("JSON")));
     }
     let mut text = String::new();
     for (record, seq, structure, energy) in results {
@@ -143,5 +142,5 @@ fn print_results(results: &[(&Record, String, String, i32)], format: Format) {
         }
         text.push_str(&format!("{seq}\n{structure} ({:6.2})\n", f64::from(*energy) / 100.0));
     }
-    out(&text);
+    out(&text)
 }

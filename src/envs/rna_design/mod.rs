@@ -298,6 +298,41 @@ impl Env for RnaDesign {
     }
 }
 
+impl crate::envs::runtime::Runtime for RnaDesign {
+    /// The reward features act only at an episode's last step: for every target among `states`,
+    /// complete designs (each action's base and pair everywhere) with the last site left open.
+    fn goal_states(&self, states: &[Vec<f64>]) -> Result<Vec<Vec<f64>>, EnvError> {
+        let mut seen = std::collections::BTreeSet::new();
+        let mut out = Vec::new();
+        for s in states {
+            let index = s.first().copied().unwrap_or(0.0);
+            if index < 0.0 || index as usize >= self.targets.len() || !seen.insert(index as usize) {
+                continue;
+            }
+            let target = &self.targets[index as usize];
+            let last = (0..target.len()).rev().find(|&k| target.partner[k].is_none_or(|p| p > k)).unwrap_or(0);
+            for a in 0..4 {
+                let mut state = vec![-1.0; self.state_dim()];
+                state[0] = index;
+                for k in 0..target.len() {
+                    let base = match target.partner[k] {
+                        Some(p) if p > k => ACTION_PAIR[a][0],
+                        Some(_) => ACTION_PAIR[a][1],
+                        None => ACTION_BASE[a],
+                    };
+                    state[1 + k] = f64::from(b"ACGU".iter().position(|&b| b == base).unwrap_or(0) as u8);
+                }
+                state[1 + last] = -1.0;
+                if let Some(p) = target.partner[last] {
+                    state[1 + p] = -1.0;
+                }
+                out.push(state);
+            }
+        }
+        Ok(out)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

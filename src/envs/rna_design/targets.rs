@@ -140,7 +140,7 @@ pub enum TargetError {
         "Rfam-Learn not found: {path} does not exist. Rfam-Learn cannot be shipped with carl-spec; \
          get it with LEARNA (https://github.com/automl/learna: `make data`, or its \
          src/data/download_and_build_rfam_learn.sh), then copy its data/rfam_learn/{{train,validation,test}} \
-         folders to DIR/rna/rfam_learn_{{train,validation,test}} and set {DATA_ENV_VAR}=DIR (or pass --data-dir DIR)"
+         folders to DIR/rna/rfam_learn_{{train,validation,test}} and set {DATA_ENV_VAR}=DIR"
     )]
     RfamLearnMissing { path: PathBuf },
     #[error("{path}: {message}")]
