@@ -8,7 +8,9 @@
 //! out like `shared/data/` (see [`data::DataDir`]).
 
 pub mod data;
+pub mod engine;
 pub mod error;
+pub mod game;
 pub mod toad_gan;
 
 pub use data::DataDir;

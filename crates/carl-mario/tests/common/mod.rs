@@ -6,6 +6,8 @@ use carl_mario::DataDir;
 use serde_json::Value;
 use std::path::Path;
 
+pub mod traces;
+
 /// The data directory; a clear failure (not a skip) when it is missing, since CI has it.
 pub fn data_dir() -> DataDir {
     DataDir::discover(Path::new(env!("CARGO_MANIFEST_DIR")))
