@@ -11,6 +11,7 @@ pub mod data;
 pub mod engine;
 pub mod error;
 pub mod game;
+pub mod render;
 pub mod toad_gan;
 
 pub use data::DataDir;

@@ -149,3 +149,14 @@ fn missing_data_directory_says_how_to_get_it() {
     let msg = err.to_string();
     assert!(msg.contains("CARL_SPEC_DATA") && msg.contains("gen_toad_gan_weights.py"), "{msg}");
 }
+
+#[test]
+fn noise_scale_one_is_carls_level_and_zero_removes_the_seed() {
+    let data = common::data_dir();
+    let g = Generator::load_index(&data, 0).unwrap();
+    let carl = g.generate(100, 3, WidthMismatch::Reject).unwrap();
+    assert_eq!(g.generate_scaled(100, 3, 1.0, WidthMismatch::Reject).unwrap(), carl);
+    let calm = g.generate_scaled(100, 3, 0.0, WidthMismatch::Reject).unwrap();
+    assert_eq!(calm, g.generate_scaled(100, 4, 0.0, WidthMismatch::Reject).unwrap(), "σ = 0: the seed no longer matters");
+    assert_ne!(g.generate_scaled(100, 3, 2.0, WidthMismatch::Reject).unwrap(), carl, "σ changes the level");
+}

@@ -246,20 +246,31 @@ impl Generator {
     /// Generates the level (16 rows joined by `\n`, no trailing newline: the string CARL passes
     /// to the engine).
     pub fn generate(&self, width: usize, seed: u32, policy: WidthMismatch) -> Result<String> {
+        self.generate_scaled(width, seed, 1.0, policy)
+    }
+
+    /// [`Generator::generate`] with scale 0's noise multiplied by `noise_scale` (σ; the paper's
+    /// explicit noise map, σ-scaled). σ = 1 is CARL's sampling exactly (the product is exact);
+    /// σ = 0 gives the generator's noise-free level.
+    pub fn generate_scaled(&self, width: usize, seed: u32, noise_scale: f32, policy: WidthMismatch) -> Result<String> {
         self.check_width(width, policy)?;
+        if !noise_scale.is_finite() {
+            return Err(MarioError::BadLevel {
+                origin: self.name.clone(),
+                reason: format!("noise scale {noise_scale} is not finite"),
+            });
+        }
         let c = self.tokens.len();
         let nl = self.num_layer;
         let sizes = self.scale_sizes(width);
         let mut prev: Option<Map> = None;
         for (s, (scale, &(h, w))) in self.scales.iter().zip(&sizes).enumerate() {
             let noise_seed = if s == 0 { u64::from(seed) } else { 0 };
-            let z = Map {
-                c,
-                h,
-                w,
-                data: noise::randn(c * h * w, noise_seed),
+            let mut data = noise::randn(c * h * w, noise_seed);
+            if s == 0 && noise_scale != 1.0 {
+                data.iter_mut().for_each(|v| *v *= noise_scale);
             }
-            .pad(nl);
+            let z = Map { c, h, w, data }.pad(nl);
             let base = prev
                 .take()
                 .unwrap_or_else(|| Map::zeros(c, scale.real_rows, scale.real_cols));
