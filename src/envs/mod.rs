@@ -15,6 +15,7 @@ pub mod api;
 pub mod box2d;
 pub mod classic;
 pub mod contextual;
+pub mod mario;
 mod pool;
 pub mod registry;
 pub mod rng;
