@@ -80,10 +80,8 @@ impl Game {
         for e in &self.world.events {
             match e.kind {
                 event::COLLECT => r += 1.0,
-                event::STOMP_KILL | event::FIRE_KILL | event::SHELL_KILL | event::FALL_KILL => {
-                    if tile > self.last_tile {
-                        r += 1.0;
-                    }
+                event::STOMP_KILL | event::FIRE_KILL | event::SHELL_KILL | event::FALL_KILL if tile > self.last_tile => {
+                    r += 1.0
                 }
                 event::HURT => r -= 1.0,
                 event::WIN => r += 10.0,

@@ -22,7 +22,7 @@ fn tile_colour(tile: u8, u: i32, v: i32) -> Option<[u8; 3]> {
             }
         }
         2 => if border { [90, 60, 40] } else { [170, 120, 80] },
-        3..=5 => if u < 2 || u > 13 { [30, 30, 30] } else { [70, 70, 75] },
+        3..=5 => if (2..=13).contains(&u) { [70, 70, 75] } else { [30, 30, 30] },
         6 | 7 | 50 | 51 => {
             let offset = if (v / 8) % 2 == 0 { 0 } else { 8 };
             if v % 8 == 0 || (u + offset) % 16 == 0 { [90, 40, 20] } else { [190, 90, 50] }
@@ -42,16 +42,16 @@ fn tile_colour(tile: u8, u: i32, v: i32) -> Option<[u8; 3]> {
             if du * du * 4 + dv * dv * 2 < 14 * 14 * 2 { [250, 210, 40] } else { return None }
         }
         18..=21 | 52 | 53 => {
-            let edge = u < 2 || u > 13 || (matches!(tile, 18 | 19 | 52) && v < 2);
+            let edge = !(2..=13).contains(&u) || (matches!(tile, 18 | 19 | 52) && v < 2);
             if edge { [20, 100, 20] } else { [60, 180, 60] }
         }
         39 => {
             let (du, dv) = (u - 8, v - 8);
             if du * du + dv * dv < 20 { [240, 240, 240] } else { return None }
         }
-        40 => if (7..9).contains(&u) { [200, 200, 200] } else { return None },
-        43..=46 => if v < 6 { [220, 170, 90] } else { return None },
-        47 => if (5..11).contains(&u) { [205, 185, 150] } else { return None },
+        40 if (7..9).contains(&u) => [200, 200, 200],
+        43..=46 if v < 6 => [220, 170, 90],
+        47 if (5..11).contains(&u) => [205, 185, 150],
         _ => return None,
     })
 }

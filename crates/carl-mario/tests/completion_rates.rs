@@ -23,7 +23,7 @@ struct Outcome {
 fn play(level: &Level, inertia: f32, state: u8, p1: bool, frame_skip: usize) -> Outcome {
     let mut g = Game::reset(level.clone(), inertia, state);
     g.frame_skip = frame_skip;
-    let hold = if frame_skip == 1 { 11 } else { (11 + frame_skip - 1) / frame_skip };
+    let hold = if frame_skip == 1 { 11 } else { 11usize.div_ceil(frame_skip) };
     let (mut jump_hold, mut steps, mut total) = (0, 0u64, 0f32);
     loop {
         let mut a = 3;

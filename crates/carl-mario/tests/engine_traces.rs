@@ -8,6 +8,9 @@ use common::traces::{self, TickState, Traces};
 use serde_json::Value;
 use std::collections::BTreeMap;
 
+/// `(type, x, y, xa, ya, facing)` of one sprite.
+type SpriteRecord = (i64, f32, f32, f32, f32, i64);
+
 fn f(v: &Value) -> f32 {
     v.as_f64().unwrap() as f32
 }
@@ -29,7 +32,7 @@ fn expected_ticks(run: &Value) -> Vec<TickState> {
     for e in run["events"].as_array().unwrap() {
         events.entry(e[0].as_u64().unwrap() as usize).or_default().push((e[1].as_i64().unwrap(), e[2].as_i64().unwrap()));
     }
-    let mut sprites: BTreeMap<usize, (i64, Vec<(i64, f32, f32, f32, f32, i64)>)> = BTreeMap::new();
+    let mut sprites: BTreeMap<usize, (i64, Vec<SpriteRecord>)> = BTreeMap::new();
     for rec in run["sprites"].as_array().unwrap() {
         let list = rec[2]
             .as_array()
