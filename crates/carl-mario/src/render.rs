@@ -105,31 +105,36 @@ impl<'a> Scene<'a> {
         Scene { world, boxes }
     }
 
-    /// Colour of screen pixel (sx, sy) (0..256 each).
-    fn pixel(&self, sx: i32, sy: i32) -> [u8; 3] {
+    /// Draws screen row `sy` at the screen columns `xs` into `out` via `put(index, colour)`.
+    /// Only the sprites crossing the row are tested per pixel.
+    fn row(&self, sy: i32, xs: impl Iterator<Item = i32>, mut put: impl FnMut(usize, [u8; 3])) {
         let w = self.world;
-        let (wx, wy) = (sx + w.cam_x as i32, sy + w.cam_y as i32);
-        if let Some((_, c)) = self.boxes.iter().rev().find(|([x0, y0, x1, y1], _)| wx >= *x0 && wx < *x1 && wy >= *y0 && wy < *y1) {
-            return *c;
+        let (cx, wy) = (w.cam_x as i32, sy + w.cam_y as i32);
+        let boxes: Vec<&([i32; 4], [u8; 3])> =
+            self.boxes.iter().filter(|([_, y0, _, y1], _)| wy >= *y0 && wy < *y1).collect();
+        let (ty, v) = (wy.div_euclid(16), wy.rem_euclid(16));
+        for (i, sx) in xs.enumerate() {
+            let wx = sx + cx;
+            let sprite = boxes.iter().rev().find(|([x0, _, x1, _], _)| wx >= *x0 && wx < *x1);
+            let colour = match sprite {
+                Some((_, c)) => *c,
+                None => {
+                    let tx = wx.div_euclid(16);
+                    let tile = if tx >= 0 && (tx as usize) < w.level.width { w.level.tile(tx, ty) } else { 0 };
+                    tile_colour(tile, wx.rem_euclid(16), v).unwrap_or(SKY)
+                }
+            };
+            put(i, colour);
         }
-        let (tx, ty) = (wx.div_euclid(16), wy.div_euclid(16));
-        if tx >= 0 && (tx as usize) < w.level.width {
-            if let Some(c) = tile_colour(w.level.tile(tx, ty), wx.rem_euclid(16), wy.rem_euclid(16)) {
-                return c;
-            }
-        }
-        SKY
     }
 }
 
 /// The 256×256 RGB frame, row-major.
 pub fn frame_rgb(world: &World) -> Vec<u8> {
     let scene = Scene::new(world);
-    let mut out = Vec::with_capacity(SCREEN * SCREEN * 3);
-    for sy in 0..SCREEN as i32 {
-        for sx in 0..SCREEN as i32 {
-            out.extend_from_slice(&scene.pixel(sx, sy));
-        }
+    let mut out = vec![0u8; SCREEN * SCREEN * 3];
+    for (sy, row) in out.chunks_exact_mut(SCREEN * 3).enumerate() {
+        scene.row(sy as i32, 0..SCREEN as i32, |i, c| row[3 * i..3 * i + 3].copy_from_slice(&c));
     }
     out
 }
@@ -143,12 +148,9 @@ pub fn gray([r, g, b]: [u8; 3]) -> u8 {
 pub fn observe_gray(world: &World, dim: usize, out: &mut [u8]) {
     debug_assert_eq!(out.len(), dim * dim, "observation buffer");
     let scene = Scene::new(world);
-    for r in 0..dim {
+    for (r, row) in out.chunks_exact_mut(dim).enumerate() {
         let sy = (r * SCREEN / dim) as i32;
-        for c in 0..dim {
-            let sx = (c * SCREEN / dim) as i32;
-            out[r * dim + c] = gray(scene.pixel(sx, sy));
-        }
+        scene.row(sy, (0..dim).map(|c| (c * SCREEN / dim) as i32), |i, c| row[i] = gray(c));
     }
 }
 
