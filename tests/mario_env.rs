@@ -127,3 +127,11 @@ fn sticky_actions_are_seeded() {
     assert_eq!(run(1), run(1));
     assert_ne!(run(1), run(2));
 }
+
+#[test]
+fn from_context_resolves_the_data_directory_and_names() {
+    let env = Mario::from_context(&[("level_index".into(), 3.0), ("noise_seed".into(), 2.0)]).unwrap();
+    assert_eq!(env.params().level_index, 3.0);
+    let e = Mario::from_context(&[("level_idx".into(), 3.0)]).unwrap_err().to_string();
+    assert!(e.contains("level_idx") && e.contains("level_index"), "{e}");
+}

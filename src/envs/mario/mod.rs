@@ -83,6 +83,18 @@ impl Mario {
         Self::with_level(params, options, &text)
     }
 
+    /// Builds the environment from resolved context values (canonical feature name → value, as
+    /// the registry produces them) with the data directory from `CARL_SPEC_DATA`, else
+    /// `shared/data` beside the working directory or one of its parents.
+    pub fn from_context(values: &[(String, f64)]) -> Result<Self, MarioError> {
+        let mut params = MarioParams::default();
+        for (name, x) in values {
+            params.set(name, *x).map_err(|e| MarioError::BadLevel { origin: "mario context".into(), reason: e.to_string() })?;
+        }
+        let cwd = std::env::current_dir().map_err(|e| MarioError::DataDirMissing { reason: format!("no working directory: {e}") })?;
+        Self::new(params, MarioOptions::default(), &DataDir::discover(&cwd)?)
+    }
+
     /// Plays the given level text instead of a generated one (the context's generator features
     /// are then unused), e.g. one of CARL's original levels.
     pub fn with_level(params: MarioParams, options: MarioOptions, text: &str) -> Result<Self, MarioError> {
