@@ -86,6 +86,13 @@ impl AuditOptions {
                 random_states: 8,
                 reset_seeds: 4,
             },
+            // Mario: every transition re-runs the reset tick and draws a 4-frame observation.
+            "mario" => AuditOptions {
+                trajectory_seeds: 2,
+                trajectory_steps: 24,
+                random_states: 16,
+                reset_seeds: 2,
+            },
             _ => AuditOptions::default(),
         }
     }

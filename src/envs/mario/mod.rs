@@ -259,6 +259,8 @@ impl Env for Mario {
             m.ya = state[3] as f32;
             game.world.mario.is_large = state[4] != 0.0 || state[5] != 0.0;
             game.world.mario.is_fire = state[5] != 0.0;
+            // Mario's height follows his size (as his next update would set it).
+            m.h = if game.world.mario.is_large { 24 } else { 12 };
         }
         self.game = Some(game);
         self.frames.fill(0);
