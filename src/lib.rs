@@ -4,13 +4,16 @@
 //! Layout: `spec` (the spec language and loading), `validate` (schema + semantic rules +
 //! diagnostics), `json` (JSON with source positions), `schema` (the generated JSON Schema),
 //! `sampling` (portable generator and samplers), `instances` (derive, freeze, load, verify sets),
-//! `envs` (environment runtimes, contextual wrapper, VecEnv), `audit` (checks each feature's
+//! `envs` (the environment table, runtimes, policies, contextual wrapper, VecEnv), `episode` (one
+//! episode loop, the JSON Lines protocol), `bench` (speed measurements), `audit` (checks each feature's
 //! `affects` claim against the runtime), `plot` (figures of instance sets), `render` (pictures of environment states for humans), `experiments` (the
 //! paper's experiments end to end), `cli` (one module per subcommand).
 
 pub mod audit;
+pub mod bench;
 pub mod cli;
 pub mod envs;
+pub mod episode;
 pub mod experiments;
 pub mod instances;
 pub mod json;

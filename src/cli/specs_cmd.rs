@@ -23,7 +23,7 @@ pub fn list(cli: &Cli, format: Format) -> CmdResult {
         out(&format!(
             "{}\n",
             serde_json::to_string_pretty(&rows).unwrap_or_default()
-        ));
+        ))?;
         return Ok(exit::OK);
     }
     let mut s = format!(
@@ -41,7 +41,7 @@ pub fn list(cli: &Cli, format: Format) -> CmdResult {
             e.aliases.join(", ")
         );
     }
-    out(&s);
+    out(&s)?;
     Ok(exit::OK)
 }
 
@@ -49,15 +49,15 @@ pub fn show(cli: &Cli, id: &str, format: Format) -> CmdResult {
     let specs = load_specs(cli)?;
     let env = specs.require(id).map_err(Failure::usage)?;
     if format == Format::Json {
-        out(&format!("{}\n", serde_json::to_string_pretty(env).unwrap_or_default()));
+        out(&format!("{}\n", serde_json::to_string_pretty(env).unwrap_or_default()))?;
         return Ok(exit::OK);
     }
-    out(&render_env(env));
+    out(&render_env(env))?;
     Ok(exit::OK)
 }
 
 pub fn schema() -> CmdResult {
-    out(&crate::schema::schema_text());
+    out(&crate::schema::schema_text())?;
     Ok(exit::OK)
 }
 
@@ -186,7 +186,7 @@ pub fn stats(cli: &Cli, format: Format) -> CmdResult {
     let specs = load_specs(cli)?;
     let st = compute_stats(specs.envs());
     if format == Format::Json {
-        out(&format!("{}\n", serde_json::to_string_pretty(&st).unwrap_or_default()));
+        out(&format!("{}\n", serde_json::to_string_pretty(&st).unwrap_or_default()))?;
         return Ok(exit::OK);
     }
     let pct = |n: usize| {
@@ -213,6 +213,6 @@ pub fn stats(cli: &Cli, format: Format) -> CmdResult {
     for (e, n) in &st.per_effect {
         let _ = writeln!(s, "  {e:<20} {n:>4} ({:.0}%)", pct(*n));
     }
-    out(&s);
+    out(&s)?;
     Ok(exit::OK)
 }

@@ -27,6 +27,7 @@ use carl_mario::{DataDir, MarioError};
 
 use crate::envs::api::{Action, DType, Env, EnvError, Info, Space, StepOutcome, check_obs_len, check_state_len, discrete_action};
 use crate::envs::rng::EnvRng;
+use crate::envs::runtime::Runtime;
 
 const ID: &str = "mario";
 
@@ -87,12 +88,17 @@ impl Mario {
     /// the registry produces them) with the data directory from `CARL_SPEC_DATA`, else
     /// `shared/data` beside the working directory or one of its parents.
     pub fn from_context(values: &[(String, f64)]) -> Result<Self, MarioError> {
+        Self::from_context_with(values, MarioOptions::default())
+    }
+
+    /// [`Mario::from_context`] with options.
+    pub fn from_context_with(values: &[(String, f64)], options: MarioOptions) -> Result<Self, MarioError> {
         let mut params = MarioParams::default();
         for (name, x) in values {
             params.set(name, *x).map_err(|e| MarioError::BadLevel { origin: "mario context".into(), reason: e.to_string() })?;
         }
         let cwd = std::env::current_dir().map_err(|e| MarioError::DataDirMissing { reason: format!("no working directory: {e}") })?;
-        Self::new(params, MarioOptions::default(), &DataDir::discover(&cwd)?)
+        Self::new(params, options, &DataDir::discover(&cwd)?)
     }
 
     /// Plays the given level text instead of a generated one (the context's generator features
@@ -164,6 +170,8 @@ impl Mario {
         }
     }
 }
+
+impl Runtime for Mario {}
 
 impl Env for Mario {
     fn id(&self) -> &'static str {
