@@ -22,7 +22,12 @@ fn random_policy_eterna100(bencher: divan::Bencher) {
             env.reset(None);
         }
         let t = env.target();
-        steps += t.partner.iter().enumerate().filter(|&(i, p)| p.is_none_or(|p| p > i)).count() as u64;
+        steps += t
+            .partner
+            .iter()
+            .enumerate()
+            .filter(|&(i, p)| p.is_none_or(|p| p > i))
+            .count() as u64;
     }
     let mut x = 0x2545_F491_4F6C_DD1Du64;
     bencher.counter(divan::counter::ItemsCount::new(steps)).bench_local(|| {

@@ -43,7 +43,10 @@ fn evaluates_given_structures() {
     let (code, out, _) = carl_spec(&["fold", "eval", "GGGGAAACCCC", "(((.....)))"], "");
     assert_eq!(code, 0);
     let expected = carl_rna::eval("GGGGAAACCCC", "(((.....)))").unwrap();
-    assert_eq!(out, format!("GGGGAAACCCC\n(((.....))) ({:6.2})\n", f64::from(expected) / 100.0));
+    assert_eq!(
+        out,
+        format!("GGGGAAACCCC\n(((.....))) ({:6.2})\n", f64::from(expected) / 100.0)
+    );
     let (code, out, _) = carl_spec(&["fold", "eval"], "GGGGAAACCCC\n((((...)))) (-4.50)\n");
     assert_eq!((code, out.as_str()), (0, "GGGGAAACCCC\n((((...)))) ( -4.50)\n"));
 }
@@ -55,11 +58,31 @@ fn bad_input_exits_2_with_a_located_message() {
         (vec!["fold", "GGXA"], "", "position 3: 'X' is not a nucleotide"),
         (vec!["fold", ""], "", "empty sequence"),
         (vec!["fold"], "\n\n", "no sequence given"),
-        (vec!["fold", long.as_str()], "", "longer than the supported maximum of 4000 nt"),
-        (vec!["fold", "eval", "GGGGAAACCCC", "((((...)))"], "", "structure has 10 characters"),
-        (vec!["fold", "eval", "GGGGAAACCCC", "((((...))))x"], "", "structure has 12 characters"),
-        (vec!["fold", "eval", "GAGGAAACCCC", "((((...))))"], "", "not a canonical pair"),
-        (vec!["fold", "--input", "/nonexistent/x.fa"], "", "cannot read /nonexistent/x.fa"),
+        (
+            vec!["fold", long.as_str()],
+            "",
+            "longer than the supported maximum of 4000 nt",
+        ),
+        (
+            vec!["fold", "eval", "GGGGAAACCCC", "((((...)))"],
+            "",
+            "structure has 10 characters",
+        ),
+        (
+            vec!["fold", "eval", "GGGGAAACCCC", "((((...))))x"],
+            "",
+            "structure has 12 characters",
+        ),
+        (
+            vec!["fold", "eval", "GAGGAAACCCC", "((((...))))"],
+            "",
+            "not a canonical pair",
+        ),
+        (
+            vec!["fold", "--input", "/nonexistent/x.fa"],
+            "",
+            "cannot read /nonexistent/x.fa",
+        ),
     ] {
         let (code, out, err) = carl_spec(&args, stdin);
         assert_eq!(code, 2, "{args:?}: {err}");

@@ -54,7 +54,13 @@ fn fold(sequences: &[String], io: &FoldIo) -> CmdResult {
     let input = if sequences.is_empty() {
         read_records(io, 1)?
     } else {
-        sequences.iter().map(|s| Record { name: None, lines: vec![s.clone()] }).collect()
+        sequences
+            .iter()
+            .map(|s| Record {
+                name: None,
+                lines: vec![s.clone()],
+            })
+            .collect()
     };
     let mut results = Vec::new();
     for (k, record) in input.iter().enumerate() {
@@ -67,7 +73,14 @@ fn fold(sequences: &[String], io: &FoldIo) -> CmdResult {
 }
 
 fn eval(pair: &[String], io: &FoldIo) -> CmdResult {
-    let input = if pair.is_empty() { read_records(io, 2)? } else { vec![Record { name: None, lines: pair.to_vec() }] };
+    let input = if pair.is_empty() {
+        read_records(io, 2)?
+    } else {
+        vec![Record {
+            name: None,
+            lines: pair.to_vec(),
+        }]
+    };
     let mut results = Vec::new();
     for (k, record) in input.iter().enumerate() {
         let [seq, structure] = record.lines.as_slice() else {
@@ -80,7 +93,8 @@ fn eval(pair: &[String], io: &FoldIo) -> CmdResult {
         let seq = checked_sequence(k, record, seq)?;
         // RNAeval-style input may carry an energy after the structure: keep the dot-bracket.
         let structure = structure.split_whitespace().next().unwrap_or_default();
-        let energy = carl_rna::eval(&seq, structure).map_err(|e| Failure::usage(format!("{}: {e}", label(k, record))))?;
+        let energy =
+            carl_rna::eval(&seq, structure).map_err(|e| Failure::usage(format!("{}: {e}", label(k, record))))?;
         results.push((record, seq, structure.to_string(), energy));
     }
     print_results(&results, io.format)?;
@@ -89,11 +103,14 @@ fn eval(pair: &[String], io: &FoldIo) -> CmdResult {
 
 fn read_records(io: &FoldIo, lines_per_record: usize) -> Result<Vec<Record>, Failure> {
     let text = match &io.input {
-        Some(path) if path.as_os_str() != "-" => std::fs::read_to_string(path)
-            .map_err(|e| Failure::usage(format!("cannot read {}: {e}", path.display())))?,
+        Some(path) if path.as_os_str() != "-" => {
+            std::fs::read_to_string(path).map_err(|e| Failure::usage(format!("cannot read {}: {e}", path.display())))?
+        }
         _ => {
             let mut text = String::new();
-            std::io::stdin().read_to_string(&mut text).map_err(|e| Failure::usage(format!("cannot read stdin: {e}")))?;
+            std::io::stdin()
+                .read_to_string(&mut text)
+                .map_err(|e| Failure::usage(format!("cannot read stdin: {e}")))?;
             text
         }
     };

@@ -50,6 +50,10 @@ pub enum MakeError {
     },
     #[error("{env}: {name} = {value} is not finite")]
     NotFinite { env: String, name: String, value: f64 },
+    /// The runtime could not be built from a valid context: its data is missing or corrupt, or
+    /// the context is one the runtime cannot run (e.g. a Mario level width CARL crashes on).
+    #[error("{env}: {message}")]
+    Runtime { env: String, message: String },
 }
 
 /// Options for [`make_with`].
@@ -95,9 +99,10 @@ pub fn resolve_context(spec: &EnvSpec, context: &Context, opts: MakeOptions) -> 
                 // String choices (e.g. rna_design's dataset) resolve to the index of the choice
                 // named by `label` or by its choice label.
                 let string_choice = f.choices.as_ref().and_then(|choices| {
-                    choices.iter().position(|c| matches!(c, Scalar::String(s) if s == label)).or(idx.filter(|&i| {
-                        matches!(choices.get(i), Some(Scalar::String(_)))
-                    }))
+                    choices
+                        .iter()
+                        .position(|c| matches!(c, Scalar::String(s) if s == label))
+                        .or(idx.filter(|&i| matches!(choices.get(i), Some(Scalar::String(_)))))
                 });
                 match idx.and_then(|i| f.choices.as_ref()?.get(i)) {
                     Some(Scalar::Number(x)) => *x,

@@ -50,7 +50,12 @@ pub(crate) fn interior(s: &[u8], i: usize, j: usize, p: usize, q: usize, t: u8, 
             init + terminal_au(t as u8) + terminal_au(t2 as u8)
         };
     }
-    let (si, sj, sp, sq) = (s[i + 1] as usize, s[j - 1] as usize, s[p - 1] as usize, s[q + 1] as usize);
+    let (si, sj, sp, sq) = (
+        s[i + 1] as usize,
+        s[j - 1] as usize,
+        s[p - 1] as usize,
+        s[q + 1] as usize,
+    );
     let asymmetry = ((nl - ns) as i32 * NINIO).min(MAX_NINIO);
     match (ns, nl) {
         (1, 1) => INT11[t][t2][si][sj],
@@ -63,9 +68,7 @@ pub(crate) fn interior(s: &[u8], i: usize, j: usize, p: usize, q: usize, t: u8, 
                 + MISMATCH_INTERIOR_1N[t2][sq][sp]
         }
         (2, 2) => INT22[t][t2][si][sp][sq][sj],
-        (2, 3) => {
-            INTERIOR[5] + NINIO + MISMATCH_INTERIOR_23[t][si][sj] + MISMATCH_INTERIOR_23[t2][sq][sp]
-        }
+        (2, 3) => INTERIOR[5] + NINIO + MISMATCH_INTERIOR_23[t][si][sj] + MISMATCH_INTERIOR_23[t2][sq][sp],
         _ => {
             loop_initiation(&INTERIOR, nl + ns)
                 + asymmetry
@@ -107,8 +110,25 @@ pub(crate) fn interior_lower_bounds() -> [[i32; MAXLOOP + 1]; MAXLOOP + 1] {
     }
     let stack = STACK.iter().flatten().copied().min().unwrap_or(0);
     let int11 = INT11.iter().flatten().flatten().flatten().copied().min().unwrap_or(0);
-    let int21 = INT21.iter().flatten().flatten().flatten().flatten().copied().min().unwrap_or(0);
-    let int22 = INT22.iter().flatten().flatten().flatten().flatten().flatten().copied().min().unwrap_or(0);
+    let int21 = INT21
+        .iter()
+        .flatten()
+        .flatten()
+        .flatten()
+        .flatten()
+        .copied()
+        .min()
+        .unwrap_or(0);
+    let int22 = INT22
+        .iter()
+        .flatten()
+        .flatten()
+        .flatten()
+        .flatten()
+        .flatten()
+        .copied()
+        .min()
+        .unwrap_or(0);
     let mut lb = [[INF; MAXLOOP + 1]; MAXLOOP + 1];
     for (n1, row) in lb.iter_mut().enumerate() {
         for (n2, cell) in row.iter_mut().enumerate().take(MAXLOOP + 1 - n1) {

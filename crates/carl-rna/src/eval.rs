@@ -1,8 +1,8 @@
 //! Free energy of a given secondary structure: the sum of its loops' energies.
 
-use crate::energy::{hairpin, interior, ml_stem, stem};
-use crate::params::{pair_type, ML_BASE, ML_CLOSING, NP};
 use crate::RnaError;
+use crate::energy::{hairpin, interior, ml_stem, stem};
+use crate::params::{ML_BASE, ML_CLOSING, NP, pair_type};
 
 /// One loop of a structure and its energy. `closing` is the 1-based closing pair, `None` for the
 /// exterior loop (ViennaRNA's `[0, 0, e]`).
@@ -50,7 +50,10 @@ pub(crate) fn loop_energies(s: &[u8], pairs: &[Option<usize>]) -> Result<Vec<Loo
             stem(pair_type(s[p], s[q]), d5, d3)
         })
         .sum();
-    loops.push(LoopEnergy { closing: None, energy: exterior });
+    loops.push(LoopEnergy {
+        closing: None,
+        energy: exterior,
+    });
     for i in 0..n {
         let Some(j) = pairs[i].filter(|&j| j > i) else { continue };
         let inner = branches(i + 1, j);
@@ -63,11 +66,17 @@ pub(crate) fn loop_energies(s: &[u8], pairs: &[Option<usize>]) -> Result<Vec<Loo
                 let unpaired = (j - i - 1 - paired) as i32;
                 ML_CLOSING
                     + ml_stem(pair_type(s[j], s[i]), s[j - 1], s[i + 1])
-                    + inner.iter().map(|&(p, q)| ml_stem(pair_type(s[p], s[q]), s[p - 1], s[q + 1])).sum::<i32>()
+                    + inner
+                        .iter()
+                        .map(|&(p, q)| ml_stem(pair_type(s[p], s[q]), s[p - 1], s[q + 1]))
+                        .sum::<i32>()
                     + ML_BASE * unpaired
             }
         };
-        loops.push(LoopEnergy { closing: Some((i + 1, j + 1)), energy });
+        loops.push(LoopEnergy {
+            closing: Some((i + 1, j + 1)),
+            energy,
+        });
     }
     Ok(loops)
 }

@@ -12,12 +12,18 @@ pub struct Record {
 /// next header; without, every group of `lines_per_record` consecutive non-empty lines is one
 /// (1 for sequences, 2 for sequence + structure). Blank lines and `;` comments are ignored.
 pub fn records(text: &str, lines_per_record: usize) -> Vec<Record> {
-    let lines = text.lines().map(str::trim).filter(|l| !l.is_empty() && !l.starts_with(';'));
+    let lines = text
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.starts_with(';'));
     let mut out: Vec<Record> = Vec::new();
     let mut headerless = Vec::new();
     for line in lines {
         if let Some(name) = line.strip_prefix('>') {
-            out.push(Record { name: Some(name.trim().to_string()), lines: Vec::new() });
+            out.push(Record {
+                name: Some(name.trim().to_string()),
+                lines: Vec::new(),
+            });
         } else if let Some(last) = out.last_mut() {
             last.lines.push(line.to_string());
         } else {
@@ -26,7 +32,10 @@ pub fn records(text: &str, lines_per_record: usize) -> Vec<Record> {
     }
     let mut bare: Vec<Record> = headerless
         .chunks(lines_per_record.max(1))
-        .map(|c| Record { name: None, lines: c.to_vec() })
+        .map(|c| Record {
+            name: None,
+            lines: c.to_vec(),
+        })
         .collect();
     bare.extend(out);
     bare

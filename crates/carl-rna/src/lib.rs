@@ -43,10 +43,16 @@ impl std::fmt::Display for RnaError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             RnaError::InvalidBase { pos, ch } => {
-                write!(f, "position {pos}: {ch:?} is not a nucleotide (expected A, C, G, U or T)")
+                write!(
+                    f,
+                    "position {pos}: {ch:?} is not a nucleotide (expected A, C, G, U or T)"
+                )
             }
             RnaError::TooLong { len, max } => {
-                write!(f, "sequence of {len} nt is longer than the supported maximum of {max} nt")
+                write!(
+                    f,
+                    "sequence of {len} nt is longer than the supported maximum of {max} nt"
+                )
             }
             RnaError::LengthMismatch { sequence, structure } => write!(
                 f,
@@ -61,7 +67,10 @@ impl std::fmt::Display for RnaError {
                 write!(f, "pair ({i}, {j}) is not a canonical pair (AU, CG or GU)")
             }
             RnaError::HairpinTooShort { i, j } => {
-                write!(f, "pair ({i}, {j}) closes a hairpin of fewer than {MIN_HAIRPIN} unpaired bases")
+                write!(
+                    f,
+                    "pair ({i}, {j}) closes a hairpin of fewer than {MIN_HAIRPIN} unpaired bases"
+                )
             }
         }
     }
@@ -131,13 +140,37 @@ mod tests {
     #[test]
     fn bad_input_is_a_located_error() {
         assert_eq!(fold("GGXA"), Err(RnaError::InvalidBase { pos: 3, ch: 'X' }));
-        assert_eq!(fold(&"A".repeat(MAX_LEN + 1)), Err(RnaError::TooLong { len: MAX_LEN + 1, max: MAX_LEN }));
-        assert_eq!(eval("GGGAAACCC", "((....))"), Err(RnaError::LengthMismatch { sequence: 9, structure: 8 }));
-        assert_eq!(eval("GGGAAACCC", "((....)))"), Err(RnaError::UnbalancedClose { pos: 9 }));
+        assert_eq!(
+            fold(&"A".repeat(MAX_LEN + 1)),
+            Err(RnaError::TooLong {
+                len: MAX_LEN + 1,
+                max: MAX_LEN
+            })
+        );
+        assert_eq!(
+            eval("GGGAAACCC", "((....))"),
+            Err(RnaError::LengthMismatch {
+                sequence: 9,
+                structure: 8
+            })
+        );
+        assert_eq!(
+            eval("GGGAAACCC", "((....)))"),
+            Err(RnaError::UnbalancedClose { pos: 9 })
+        );
         assert_eq!(eval("GGGAAACCC", "(((....))"), Err(RnaError::UnbalancedOpen { pos: 1 }));
-        assert_eq!(eval("GGGAAACCC", "((.[..)))"), Err(RnaError::InvalidStructureChar { pos: 4, ch: '[' }));
-        assert_eq!(eval("GAGAAACCC", "(((...)))"), Err(RnaError::NonCanonicalPair { i: 2, j: 8 }));
-        assert_eq!(eval("GGGAACCC", "(((..)))"), Err(RnaError::HairpinTooShort { i: 3, j: 6 }));
+        assert_eq!(
+            eval("GGGAAACCC", "((.[..)))"),
+            Err(RnaError::InvalidStructureChar { pos: 4, ch: '[' })
+        );
+        assert_eq!(
+            eval("GAGAAACCC", "(((...)))"),
+            Err(RnaError::NonCanonicalPair { i: 2, j: 8 })
+        );
+        assert_eq!(
+            eval("GGGAACCC", "(((..)))"),
+            Err(RnaError::HairpinTooShort { i: 3, j: 6 })
+        );
     }
 
     #[test]

@@ -15,10 +15,10 @@
 //! then the multiloop split with the smallest k; in a multiloop segment, an unpaired 3′ base, an
 //! unpaired 5′ base, a single helix, then the split with the smallest k.
 
-use crate::energy::{hairpin, interior, interior_lower_bounds, ml_stem, stem};
-use crate::params::{pair_type, INF, MAXLOOP, ML_BASE, ML_CLOSING, NP};
-use crate::sequence::dot_bracket;
 use crate::Folded;
+use crate::energy::{hairpin, interior, interior_lower_bounds, ml_stem, stem};
+use crate::params::{INF, MAXLOOP, ML_BASE, ML_CLOSING, NP, pair_type};
+use crate::sequence::dot_bracket;
 
 /// Smallest distance j − i of a pair (a hairpin needs 3 unpaired bases).
 const MIN_SPAN: usize = 4;
@@ -26,11 +26,17 @@ const MIN_SPAN: usize = 4;
 pub(crate) fn fold_coded(s: &[u8]) -> Folded {
     let n = s.len();
     if n == 0 {
-        return Folded { structure: String::new(), energy: 0 };
+        return Folded {
+            structure: String::new(),
+            energy: 0,
+        };
     }
     let tables = Tables::fill(s);
     let pairs = tables.traceback();
-    Folded { structure: dot_bracket(n, &pairs), energy: tables.f5[n] }
+    Folded {
+        structure: dot_bracket(n, &pairs),
+        energy: tables.f5[n],
+    }
 }
 
 struct Tables<'a> {
@@ -104,7 +110,11 @@ impl<'a> Tables<'a> {
     /// Exterior-loop contribution of the helix closed by (k, j).
     fn ext_stem(&self, k: usize, j: usize) -> i32 {
         let s = self.s;
-        stem(pair_type(s[k], s[j]), k.checked_sub(1).map(|x| s[x]), s.get(j + 1).copied())
+        stem(
+            pair_type(s[k], s[j]),
+            k.checked_sub(1).map(|x| s[x]),
+            s.get(j + 1).copied(),
+        )
     }
 
     /// c[i][j] plus the cost of (i, j) as a multiloop branch (INF if they cannot pair).

@@ -34,7 +34,10 @@ pub fn decode(codes: &[u8]) -> String {
 pub fn pair_table(structure: &str, len: usize) -> Result<Vec<Option<usize>>, RnaError> {
     let got = structure.chars().count();
     if got != len {
-        return Err(RnaError::LengthMismatch { sequence: len, structure: got });
+        return Err(RnaError::LengthMismatch {
+            sequence: len,
+            structure: got,
+        });
     }
     let mut table = vec![None; len];
     let mut open = Vec::new();

@@ -9,7 +9,12 @@ fn puzzles() -> String {
         .ancestors()
         .map(|d| d.join("shared/data/rna/eterna100_puzzles.tsv"))
         .find(|p| p.is_file())
-        .unwrap_or_else(|| panic!("shared/data/rna/eterna100_puzzles.tsv not found beside {}", start.display()));
+        .unwrap_or_else(|| {
+            panic!(
+                "shared/data/rna/eterna100_puzzles.tsv not found beside {}",
+                start.display()
+            )
+        });
     std::fs::read_to_string(path).unwrap()
 }
 
@@ -17,10 +22,25 @@ fn puzzles() -> String {
 fn vienna2_solutions_fold_into_their_targets() {
     let text = puzzles();
     let header = text.lines().next().unwrap().split('\t');
-    let col = |name: &str| header.clone().position(|h| h == name).unwrap_or_else(|| panic!("column {name}"));
+    let col = |name: &str| {
+        header
+            .clone()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("column {name}"))
+    };
     let columns = [
-        ("V1", col("Secondary Structure V1"), col("Sample Solution (V1/Vienna2)"), 81),
-        ("V2", col("Secondary Structure V2"), col("Sample Solution (V2/Vienna2)"), 99),
+        (
+            "V1",
+            col("Secondary Structure V1"),
+            col("Sample Solution (V1/Vienna2)"),
+            81,
+        ),
+        (
+            "V2",
+            col("Secondary Structure V2"),
+            col("Sample Solution (V2/Vienna2)"),
+            99,
+        ),
     ];
     for (version, target_col, solution_col, expected_count) in columns {
         let mut failures = Vec::new();
@@ -34,10 +54,18 @@ fn vienna2_solutions_fold_into_their_targets() {
             count += 1;
             let folded = carl_rna::fold(solution).unwrap();
             if folded.structure != target {
-                failures.push(format!("puzzle {} ({}): folds into\n{}\nnot\n{target}", f[0], f[1], folded.structure));
+                failures.push(format!(
+                    "puzzle {} ({}): folds into\n{}\nnot\n{target}",
+                    f[0], f[1], folded.structure
+                ));
             }
         }
         assert_eq!(count, expected_count, "{version} Vienna2 solutions");
-        assert!(failures.is_empty(), "{version}: {} of {count} differ:\n{}", failures.len(), failures.join("\n"));
+        assert!(
+            failures.is_empty(),
+            "{version}: {} of {count} differ:\n{}",
+            failures.len(),
+            failures.join("\n")
+        );
     }
 }

@@ -13,7 +13,12 @@ fn data_dir() -> PathBuf {
         .ancestors()
         .map(|d| d.join("shared/data/rna"))
         .find(|d| d.join("vienna_fold_fixtures.jsonl").is_file())
-        .unwrap_or_else(|| panic!("ViennaRNA fixtures (shared/data/rna) not found beside {} or its parents", start.display()))
+        .unwrap_or_else(|| {
+            panic!(
+                "ViennaRNA fixtures (shared/data/rna) not found beside {} or its parents",
+                start.display()
+            )
+        })
 }
 
 fn jsonl(name: &str) -> Vec<Value> {
@@ -38,21 +43,33 @@ fn eval_fixtures_match_energy_and_every_loop() {
     let records = jsonl("vienna_eval_fixtures.jsonl");
     let mut failures = Vec::new();
     for r in &records {
-        let (id, seq, st) = (r["id"].as_str().unwrap(), r["seq"].as_str().unwrap(), r["structure"].as_str().unwrap());
+        let (id, seq, st) = (
+            r["id"].as_str().unwrap(),
+            r["seq"].as_str().unwrap(),
+            r["structure"].as_str().unwrap(),
+        );
         let loops = carl_rna::eval_loops(seq, st).unwrap_or_else(|e| panic!("{id}: {e}"));
         let total: i32 = loops.iter().map(|l| l.energy).sum();
         let expected = r["energy_dcal"].as_i64().unwrap() as i32;
         let mut wrong: Vec<String> = Vec::new();
         for term in r["loops"].as_array().unwrap() {
             let t: Vec<i64> = term.as_array().unwrap().iter().map(|v| v.as_i64().unwrap()).collect();
-            let closing = if t[0] == 0 { None } else { Some((t[0] as usize, t[1] as usize)) };
+            let closing = if t[0] == 0 {
+                None
+            } else {
+                Some((t[0] as usize, t[1] as usize))
+            };
             let ours = loops.iter().find(|l| l.closing == closing).map(|l| l.energy);
             if ours != Some(t[2] as i32) {
                 wrong.push(format!("loop {closing:?}: ours {ours:?}, vienna {}", t[2]));
             }
         }
         if total != expected || !wrong.is_empty() {
-            failures.push(format!("{id} ({}): ours {total}, vienna {expected}; {}", r["kind"], wrong.join("; ")));
+            failures.push(format!(
+                "{id} ({}): ours {total}, vienna {expected}; {}",
+                r["kind"],
+                wrong.join("; ")
+            ));
         }
     }
     report("eval fixtures", records.len(), &failures);

@@ -41,7 +41,12 @@ fn vienna_fold(seqs: &[String]) -> Vec<(String, i32)> {
         .stdout(Stdio::piped())
         .spawn()
         .expect("start python");
-    child.stdin.take().unwrap().write_all(seqs.join("\n").as_bytes()).unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(seqs.join("\n").as_bytes())
+        .unwrap();
     let out = child.wait_with_output().unwrap();
     assert!(out.status.success(), "python failed");
     String::from_utf8(out.stdout)
@@ -56,10 +61,14 @@ fn vienna_fold(seqs: &[String]) -> Vec<(String, i32)> {
 
 fn sequence(max_len: usize) -> impl Strategy<Value = String> {
     // GC-rich and AU-rich alphabets as well as uniform ones, so stems of every kind occur.
-    (prop::sample::select(vec!["ACGU", "GGCCAU", "AAUUGC", "GU", "GCAU"]), 5..=max_len).prop_flat_map(|(alphabet, len)| {
-        prop::collection::vec(prop::sample::select(alphabet.chars().collect::<Vec<_>>()), len)
-            .prop_map(|v| v.into_iter().collect::<String>())
-    })
+    (
+        prop::sample::select(vec!["ACGU", "GGCCAU", "AAUUGC", "GU", "GCAU"]),
+        5..=max_len,
+    )
+        .prop_flat_map(|(alphabet, len)| {
+            prop::collection::vec(prop::sample::select(alphabet.chars().collect::<Vec<_>>()), len)
+                .prop_map(|v| v.into_iter().collect::<String>())
+        })
 }
 
 #[test]
@@ -67,7 +76,10 @@ fn random_sequences_fold_like_viennarna() {
     if !wheel_available() {
         return;
     }
-    let config = ProptestConfig { cases: 6, ..ProptestConfig::default() };
+    let config = ProptestConfig {
+        cases: 6,
+        ..ProptestConfig::default()
+    };
     proptest!(config, |(seqs in prop::collection::vec(sequence(320), 40))| {
         let expected = vienna_fold(&seqs);
         for (seq, (st, e)) in seqs.iter().zip(&expected) {

@@ -22,7 +22,9 @@ pub use targets::{Dataset, RfamLearnSplit, Target, TargetError};
 
 use std::path::PathBuf;
 
-use crate::envs::api::{Action, DType, Env, EnvError, Info, Space, StepOutcome, check_obs_len, check_state_len, discrete_action};
+use crate::envs::api::{
+    Action, DType, Env, EnvError, Info, Space, StepOutcome, check_obs_len, check_state_len, discrete_action,
+};
 use crate::envs::rng::EnvRng;
 
 const ID: &str = "rna_design";
@@ -85,7 +87,11 @@ pub struct RnaDesign {
 
 impl RnaDesign {
     pub fn new(params: RnaDesignParams) -> Result<Self, TargetError> {
-        let targets = targets::load(params.dataset, params.target_structure_ids.as_deref(), params.data_dir.as_deref())?;
+        let targets = targets::load(
+            params.dataset,
+            params.target_structure_ids.as_deref(),
+            params.data_dir.as_deref(),
+        )?;
         let max_len = targets.iter().map(Target::len).max().unwrap_or(0);
         Ok(RnaDesign {
             params,
@@ -117,7 +123,10 @@ impl RnaDesign {
 
     /// The sequence designed so far (`N` at unassigned sites).
     pub fn design(&self) -> String {
-        self.design.iter().map(|&b| if b == UNASSIGNED { 'N' } else { b as char }).collect()
+        self.design
+            .iter()
+            .map(|&b| if b == UNASSIGNED { 'N' } else { b as char })
+            .collect()
     }
 
     /// The last finished episode's design, fold and distances.
@@ -175,7 +184,12 @@ impl Env for RnaDesign {
     }
     fn observation_space(&self) -> Space {
         let n = self.obs_dim();
-        Space::Box { low: vec![0.0; n], high: vec![PAD; n], shape: vec![n], dtype: DType::Float32 }
+        Space::Box {
+            low: vec![0.0; n],
+            high: vec![PAD; n],
+            shape: vec![n],
+            dtype: DType::Float32,
+        }
     }
     fn action_space(&self) -> Space {
         Space::Discrete { n: 4, start: 0 }
@@ -213,15 +227,29 @@ impl Env for RnaDesign {
         self.site = self.first_unassigned().unwrap_or(self.design.len());
         self.write_obs(obs);
         if self.site < self.design.len() {
-            return Ok(StepOutcome { reward: 0.0, terminated: false, truncated: false });
+            return Ok(StepOutcome {
+                reward: 0.0,
+                terminated: false,
+                truncated: false,
+            });
         }
         self.ready = false;
         let design = String::from_utf8(self.design.clone()).expect("ASCII bases");
         let p = &self.params;
-        let outcome = terminal_reward(self.target(), &design, p.mutation_threshold, p.reward_exponent, p.max_improvement_folds);
+        let outcome = terminal_reward(
+            self.target(),
+            &design,
+            p.mutation_threshold,
+            p.reward_exponent,
+            p.max_improvement_folds,
+        );
         let reward = outcome.reward;
         self.last = Some(outcome);
-        Ok(StepOutcome { reward, terminated: true, truncated: false })
+        Ok(StepOutcome {
+            reward,
+            terminated: true,
+            truncated: false,
+        })
     }
 
     fn observe_into(&self, obs: &mut [f32]) -> Result<(), EnvError> {
@@ -247,7 +275,10 @@ impl Env for RnaDesign {
 
     fn set_state(&mut self, state: &[f64]) -> Result<(), EnvError> {
         check_state_len(ID, state, self.state_dim())?;
-        let bad = |index: usize| EnvError::Context { env: ID, message: format!("state component {index} = {} is not valid", state[index]) };
+        let bad = |index: usize| EnvError::Context {
+            env: ID,
+            message: format!("state component {index} = {} is not valid", state[index]),
+        };
         let current = state[0];
         if current.fract() != 0.0 || current < 0.0 || current as usize >= self.targets.len() {
             return Err(bad(0));
@@ -290,7 +321,10 @@ impl Env for RnaDesign {
             if let Some(o) = &self.last {
                 info.insert("hamming_distance".into(), o.distance as f64);
                 info.insert("hamming_distance_folded".into(), o.distance_folded as f64);
-                info.insert("normalized_hamming_distance".into(), o.distance as f64 / self.target().len() as f64);
+                info.insert(
+                    "normalized_hamming_distance".into(),
+                    o.distance as f64 / self.target().len() as f64,
+                );
                 info.insert("improvement_folds".into(), o.improvement_folds as f64);
             }
         }
@@ -310,7 +344,10 @@ impl crate::envs::runtime::Runtime for RnaDesign {
                 continue;
             }
             let target = &self.targets[index as usize];
-            let last = (0..target.len()).rev().find(|&k| target.partner[k].is_none_or(|p| p > k)).unwrap_or(0);
+            let last = (0..target.len())
+                .rev()
+                .find(|&k| target.partner[k].is_none_or(|p| p > k))
+                .unwrap_or(0);
             for a in 0..4 {
                 let mut state = vec![-1.0; self.state_dim()];
                 state[0] = index;
@@ -338,7 +375,12 @@ mod tests {
     use super::*;
 
     fn env(ids: &[u32], dataset: Dataset) -> RnaDesign {
-        RnaDesign::new(RnaDesignParams { dataset, target_structure_ids: Some(ids.to_vec()), ..Default::default() }).unwrap()
+        RnaDesign::new(RnaDesignParams {
+            dataset,
+            target_structure_ids: Some(ids.to_vec()),
+            ..Default::default()
+        })
+        .unwrap()
     }
 
     #[test]
@@ -386,11 +428,17 @@ mod tests {
         // Folds into "(((((.....)))))." (d = 2); the third assignment reaches 0.
         let repaired = terminal_reward(&target, "GGGGGAAAAACCCCCA", 5.0, 1.0, None);
         assert_eq!(repaired.folded, "(((((.....))))).");
-        assert_eq!((repaired.distance_folded, repaired.distance, repaired.improvement_folds), (2, 0, 3));
+        assert_eq!(
+            (repaired.distance_folded, repaired.distance, repaired.improvement_folds),
+            (2, 0, 3)
+        );
         assert_eq!(repaired.reward, 1.0);
         // Folds into ".((((.......))))" (d = 2); none of the 16 assignments does better.
         let stuck = terminal_reward(&target, "GGGGAAAAAAAAUCCC", 5.0, 2.0, None);
-        assert_eq!((stuck.distance_folded, stuck.distance, stuck.improvement_folds), (2, 2, 16));
+        assert_eq!(
+            (stuck.distance_folded, stuck.distance, stuck.improvement_folds),
+            (2, 2, 16)
+        );
         assert_eq!(stuck.reward, (1.0 - 2.0 / 16.0f64).powf(2.0));
         // d = 2 is not below a threshold of 2: no improvement.
         let off = terminal_reward(&target, "GGGGGAAAAACCCCCA", 2.0, 1.0, None);
@@ -406,10 +454,12 @@ mod tests {
         let mut a = env(&[1, 2, 3, 4, 5], Dataset::Eterna);
         let mut b = env(&[1, 2, 3, 4, 5], Dataset::Eterna);
         let order = |e: &mut RnaDesign, seed| {
-            (0..5).map(|k| {
-                e.reset(if k == 0 { Some(seed) } else { None });
-                e.target().id
-            }).collect::<Vec<_>>()
+            (0..5)
+                .map(|k| {
+                    e.reset(if k == 0 { Some(seed) } else { None });
+                    e.target().id
+                })
+                .collect::<Vec<_>>()
         };
         let first = order(&mut a, 7);
         assert_eq!(first, order(&mut b, 7));

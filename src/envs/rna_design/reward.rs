@@ -25,7 +25,13 @@ pub(crate) fn hamming(a: &str, b: &str) -> usize {
 
 /// Reward of `design` for `target`. `max_folds` caps the local improvement (LEARNA: no cap, up
 /// to 4^d folds): only the first `max_folds` assignments in LEARNA's order are tried.
-pub fn terminal_reward(target: &Target, design: &str, mutation_threshold: f64, reward_exponent: f64, max_folds: Option<u64>) -> Outcome {
+pub fn terminal_reward(
+    target: &Target,
+    design: &str,
+    mutation_threshold: f64,
+    reward_exponent: f64,
+    max_folds: Option<u64>,
+) -> Outcome {
     let folded = carl_rna::fold(design).expect("designs hold only A, C, G, U").structure;
     let distance_folded = hamming(&folded, &target.structure);
     let mut distance = distance_folded;
@@ -35,7 +41,14 @@ pub fn terminal_reward(target: &Target, design: &str, mutation_threshold: f64, r
     }
     let n = target.len() as f64;
     let reward = (1.0 - distance as f64 / n).powf(reward_exponent);
-    Outcome { design: design.to_string(), folded, distance_folded, distance, improvement_folds, reward }
+    Outcome {
+        design: design.to_string(),
+        folded,
+        distance_folded,
+        distance,
+        improvement_folds,
+        reward,
+    }
 }
 
 /// LEARNA's `_local_improvement`: every assignment of A, G, C, U (itertools.product order, last
@@ -43,7 +56,9 @@ pub fn terminal_reward(target: &Target, design: &str, mutation_threshold: f64, r
 /// the smallest distance found, stopping at the first 0. Returns (distance, folds made).
 fn local_improvement(target: &Target, design: &str, folded: &str, max_folds: Option<u64>) -> (usize, u64) {
     const BASES: [u8; 4] = *b"AGCU";
-    let sites: Vec<usize> = (0..target.len()).filter(|&k| folded.as_bytes()[k] != target.structure.as_bytes()[k]).collect();
+    let sites: Vec<usize> = (0..target.len())
+        .filter(|&k| folded.as_bytes()[k] != target.structure.as_bytes()[k])
+        .collect();
     let total = 4u64.saturating_pow(sites.len() as u32);
     let limit = max_folds.map_or(total, |m| m.min(total));
     let mut seq = design.as_bytes().to_vec();

@@ -88,15 +88,24 @@ pub struct Target {
 impl Target {
     fn new(id: u32, structure: &str, origin: &str) -> Result<Target, TargetError> {
         let structure = structure.trim_end().to_string();
-        let partner = pair_table(&structure)
-            .map_err(|reason| TargetError::BadStructure { origin: origin.to_string(), reason })?;
+        let partner = pair_table(&structure).map_err(|reason| TargetError::BadStructure {
+            origin: origin.to_string(),
+            reason,
+        })?;
         if structure.is_empty() {
-            return Err(TargetError::BadStructure { origin: origin.to_string(), reason: "empty structure".into() });
+            return Err(TargetError::BadStructure {
+                origin: origin.to_string(),
+                reason: "empty structure".into(),
+            });
         }
         if structure.len() > carl_rna::MAX_LEN {
             return Err(TargetError::BadStructure {
                 origin: origin.to_string(),
-                reason: format!("{} nt is longer than the folding limit of {} nt", structure.len(), carl_rna::MAX_LEN),
+                reason: format!(
+                    "{} nt is longer than the folding limit of {} nt",
+                    structure.len(),
+                    carl_rna::MAX_LEN
+                ),
             });
         }
         Ok(Target { id, structure, partner })
@@ -123,7 +132,13 @@ fn pair_table(structure: &str) -> Result<Vec<Option<usize>>, String> {
                 partner[i] = Some(k);
                 partner[k] = Some(i);
             }
-            other => return Err(format!("position {}: {:?} is not '.', '(' or ')'", k + 1, other as char)),
+            other => {
+                return Err(format!(
+                    "position {}: {:?} is not '.', '(' or ')'",
+                    k + 1,
+                    other as char
+                ));
+            }
         }
     }
     match open.last() {
@@ -172,16 +187,21 @@ fn select(dataset: Dataset, all: Vec<Target>, ids: Option<&[u32]>) -> Result<Vec
         Some(ids) => ids
             .iter()
             .map(|&id| {
-                all.iter().find(|t| t.id == id).cloned().ok_or_else(|| TargetError::UnknownId {
-                    dataset: dataset.name(),
-                    id,
-                    valid: format!("1..={}", all.len()),
-                })
+                all.iter()
+                    .find(|t| t.id == id)
+                    .cloned()
+                    .ok_or_else(|| TargetError::UnknownId {
+                        dataset: dataset.name(),
+                        id,
+                        valid: format!("1..={}", all.len()),
+                    })
             })
             .collect::<Result<_, _>>()?,
     };
     if chosen.is_empty() {
-        return Err(TargetError::NoTargets { dataset: dataset.name() });
+        return Err(TargetError::NoTargets {
+            dataset: dataset.name(),
+        });
     }
     Ok(chosen)
 }
@@ -189,11 +209,18 @@ fn select(dataset: Dataset, all: Vec<Target>, ids: Option<&[u32]>) -> Result<Vec
 fn eterna100(v2: bool) -> Result<Vec<Target>, TargetError> {
     let mut lines = ETERNA100_TSV.lines();
     let header: Vec<&str> = lines.next().unwrap_or_default().split('\t').collect();
-    let column = if v2 { "Secondary Structure V2" } else { "Secondary Structure V1" };
-    let col = header.iter().position(|h| *h == column).ok_or_else(|| TargetError::BadStructure {
-        origin: "eterna100_puzzles.tsv".into(),
-        reason: format!("no column {column:?}"),
-    })?;
+    let column = if v2 {
+        "Secondary Structure V2"
+    } else {
+        "Secondary Structure V1"
+    };
+    let col = header
+        .iter()
+        .position(|h| *h == column)
+        .ok_or_else(|| TargetError::BadStructure {
+            origin: "eterna100_puzzles.tsv".into(),
+            reason: format!("no column {column:?}"),
+        })?;
     lines
         .map(|line| {
             let fields: Vec<&str> = line.split('\t').collect();
@@ -201,19 +228,29 @@ fn eterna100(v2: bool) -> Result<Vec<Target>, TargetError> {
                 origin: "eterna100_puzzles.tsv".into(),
                 reason: format!("puzzle number {:?}", fields[0]),
             })?;
-            Target::new(id, fields.get(col).copied().unwrap_or_default(), &format!("eterna100 puzzle {id}"))
+            Target::new(
+                id,
+                fields.get(col).copied().unwrap_or_default(),
+                &format!("eterna100 puzzle {id}"),
+            )
         })
         .collect()
 }
 
 /// The data directory: `explicit`, else `$CARL_SPEC_DATA`.
 pub fn data_dir(explicit: Option<&Path>) -> Option<PathBuf> {
-    explicit
-        .map(Path::to_path_buf)
-        .or_else(|| std::env::var_os(DATA_ENV_VAR).filter(|v| !v.is_empty()).map(PathBuf::from))
+    explicit.map(Path::to_path_buf).or_else(|| {
+        std::env::var_os(DATA_ENV_VAR)
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+    })
 }
 
-fn rfam_learn(split: RfamLearnSplit, ids: Option<&[u32]>, data_dir_opt: Option<&Path>) -> Result<Vec<Target>, TargetError> {
+fn rfam_learn(
+    split: RfamLearnSplit,
+    ids: Option<&[u32]>,
+    data_dir_opt: Option<&Path>,
+) -> Result<Vec<Target>, TargetError> {
     let dir = data_dir(data_dir_opt)
         .unwrap_or_else(|| PathBuf::from(format!("${DATA_ENV_VAR}")))
         .join("rna")
@@ -221,7 +258,10 @@ fn rfam_learn(split: RfamLearnSplit, ids: Option<&[u32]>, data_dir_opt: Option<&
     if !dir.is_dir() {
         return Err(TargetError::RfamLearnMissing { path: dir });
     }
-    let io = |path: &Path, e: std::io::Error| TargetError::Io { path: path.to_path_buf(), message: e.to_string() };
+    let io = |path: &Path, e: std::io::Error| TargetError::Io {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    };
     let read = |id: u32| -> Result<Target, TargetError> {
         let path = dir.join(format!("{id}.rna"));
         let text = std::fs::read_to_string(&path).map_err(|e| io(&path, e))?;
@@ -235,7 +275,11 @@ fn rfam_learn(split: RfamLearnSplit, ids: Option<&[u32]>, data_dir_opt: Option<&
                 if dir.join(format!("{id}.rna")).is_file() {
                     read(id)
                 } else {
-                    Err(TargetError::UnknownId { dataset: dataset.name(), id, valid: format!("the N.rna files in {}", dir.display()) })
+                    Err(TargetError::UnknownId {
+                        dataset: dataset.name(),
+                        id,
+                        valid: format!("the N.rna files in {}", dir.display()),
+                    })
                 }
             })
             .collect::<Result<Vec<_>, _>>()?,
@@ -252,7 +296,9 @@ fn rfam_learn(split: RfamLearnSplit, ids: Option<&[u32]>, data_dir_opt: Option<&
         }
     };
     if targets.is_empty() {
-        return Err(TargetError::NoTargets { dataset: dataset.name() });
+        return Err(TargetError::NoTargets {
+            dataset: dataset.name(),
+        });
     }
     Ok(targets)
 }
@@ -289,14 +335,20 @@ mod tests {
         let root = std::env::temp_dir().join(format!("carl_rna_rfam_learn_{}", std::process::id()));
         let err = load(Dataset::RfamLearn(RfamLearnSplit::Test), None, Some(&root)).unwrap_err();
         assert!(matches!(err, TargetError::RfamLearnMissing { .. }));
-        assert!(err.to_string().contains("CARL_SPEC_DATA") && err.to_string().contains("learna"), "{err}");
+        assert!(
+            err.to_string().contains("CARL_SPEC_DATA") && err.to_string().contains("learna"),
+            "{err}"
+        );
         let dir = root.join("rna/rfam_learn_test");
         std::fs::create_dir_all(&dir).unwrap();
         std::fs::write(dir.join("2.rna"), "((((....))))\n").unwrap();
         std::fs::write(dir.join("10.rna"), "((...))..\n").unwrap();
         std::fs::write(dir.join("notes.txt"), "ignored").unwrap();
         let all = load(Dataset::RfamLearn(RfamLearnSplit::Test), None, Some(&root)).unwrap();
-        assert_eq!(all.iter().map(|t| (t.id, t.structure.as_str())).collect::<Vec<_>>(), [(2, "((((....))))"), (10, "((...))..")]);
+        assert_eq!(
+            all.iter().map(|t| (t.id, t.structure.as_str())).collect::<Vec<_>>(),
+            [(2, "((((....))))"), (10, "((...))..")]
+        );
         let one = load(Dataset::RfamLearn(RfamLearnSplit::Test), Some(&[10]), Some(&root)).unwrap();
         assert_eq!(one[0].partner[0], Some(6));
         assert!(load(Dataset::RfamLearn(RfamLearnSplit::Test), Some(&[3]), Some(&root)).is_err());

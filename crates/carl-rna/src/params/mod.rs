@@ -47,5 +47,9 @@ pub(crate) fn terminal_au(t: u8) -> i32 {
 /// `table[n]` for n ≤ 30, else `table[30] + ⌊lxc · ln(n/30)⌋` (truncated like ViennaRNA).
 #[inline]
 pub(crate) fn loop_initiation(table: &[i32; 31], n: usize) -> i32 {
-    if n <= MAXLOOP { table[n] } else { table[MAXLOOP] + (LXC * (n as f64 / MAXLOOP as f64).ln()) as i32 }
+    if n <= MAXLOOP {
+        table[n]
+    } else {
+        table[MAXLOOP] + (LXC * (n as f64 / MAXLOOP as f64).ln()) as i32
+    }
 }
