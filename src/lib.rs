@@ -4,15 +4,19 @@
 //! Layout: `spec` (the spec language and loading), `validate` (schema + semantic rules +
 //! diagnostics), `json` (JSON with source positions), `schema` (the generated JSON Schema),
 //! `sampling` (portable generator and samplers), `instances` (derive, freeze, load, verify sets),
-//! `envs` (environment runtimes, contextual wrapper, VecEnv), `audit` (checks each feature's
-//! `affects` claim against the runtime), `plot` (figures of instance sets), `render` (environment pictures to files), `experiments` (the
-//! paper's experiments end to end), `cli` (one module per subcommand). Two low modules depend on
-//! nothing above them: `pixels` (canvas, colours, font, PNG/GIF encoders; used by the
-//! environments' renderers and by `plot`) and `output` (the one rule for writing output files).
+//! `envs` (the environment table, runtimes, policies, contextual wrapper, VecEnv), `episode` (one
+//! episode loop, the JSON Lines protocol), `bench` (speed measurements), `audit` (checks each feature's
+//! `affects` claim against the runtime), `plot` (figures of instance sets), `render` (environment
+//! pictures to files), `experiments` (the paper's experiments end to end), `cli` (one module per
+//! subcommand). Two low modules depend on nothing above them: `pixels` (canvas, colours, font,
+//! PNG/GIF encoders; used by the environments' renderers and by `plot`) and `output` (the one rule
+//! for writing output files).
 
 pub mod audit;
+pub mod bench;
 pub mod cli;
 pub mod envs;
+pub mod episode;
 pub mod experiments;
 pub mod instances;
 pub mod json;

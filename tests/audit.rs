@@ -4,7 +4,7 @@
 use std::time::Instant;
 
 use carl_spec::audit::{AuditReport, Measured, Verdict, audit, probes};
-use carl_spec::envs::registry::RUNTIMES;
+use carl_spec::envs::registry::ids;
 use carl_spec::spec::model::{Effect, EnvSpec};
 use carl_spec::spec::{Feature, SpecSet};
 
@@ -151,7 +151,7 @@ fn audit_is_deterministic() {
 #[test]
 fn perturbed_values_stay_in_bounds() {
     let specs = SpecSet::bundled().unwrap();
-    for id in RUNTIMES {
+    for id in ids() {
         for f in &specs.get(id).unwrap().features {
             let vals = probes::perturbed_values(f);
             let d = f.default_f64().unwrap();
@@ -185,7 +185,7 @@ fn env_without_runtime_is_an_error() {
 #[ignore]
 fn timing() {
     let specs = SpecSet::bundled().unwrap();
-    for id in RUNTIMES {
+    for id in ids() {
         let t = Instant::now();
         let r = audit(specs.get(id).unwrap()).unwrap();
         eprintln!("{id}: {:?} ({} states)", t.elapsed(), r.probes.base_states);

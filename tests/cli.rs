@@ -166,7 +166,7 @@ fn audit_exit_codes_and_formats() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let reports = v.as_array().unwrap();
     let mut ids: Vec<&str> = reports.iter().map(|r| r["env"].as_str().unwrap()).collect();
-    let mut runtimes = carl_spec::envs::registry::RUNTIMES.to_vec();
+    let mut runtimes = carl_spec::envs::registry::ids().collect::<Vec<_>>();
     ids.sort_unstable();
     runtimes.sort_unstable();
     assert_eq!(ids, runtimes);

@@ -58,7 +58,11 @@ fn num(v: &Value) -> f64 {
 }
 
 fn opts(selection: Selection, visibility: Visibility) -> ContextualOptions {
-    ContextualOptions { selection, visibility }
+    ContextualOptions {
+        selection,
+        visibility,
+        ..ContextualOptions::default()
+    }
 }
 
 fn pendulum_set(selection: Selection, visibility: Visibility) -> ContextualEnv {

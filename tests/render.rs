@@ -145,7 +145,7 @@ fn clear_errors_for_bad_requests() {
             "bounds",
         ),
         (
-            &["cartpole", "--policy", "heuristic", "--out", "x.png"],
+            &["ant", "--policy", "heuristic", "--out", "x.png"],
             "no built-in controller",
         ),
     ];

@@ -73,7 +73,7 @@ pub fn instances(cli: &Cli, cmd: &InstancesCommand) -> CmdResult {
                 out(&format!(
                     "{}\n",
                     serde_json::to_string_pretty(&rows).unwrap_or_default()
-                ));
+                ))?;
             } else {
                 let mut s = format!(
                     "{:<52} {:<6} {:>6}  {:<11} {}\n",
@@ -90,13 +90,13 @@ pub fn instances(cli: &Cli, cmd: &InstancesCommand) -> CmdResult {
                         r["kind"].as_str().unwrap_or("")
                     );
                 }
-                out(&s);
+                out(&s)?;
             }
             Ok(exit::OK)
         }
         InstancesCommand::Show { name, format } => {
             let frozen = store.load(name).map_err(store_failure)?;
-            print_set(&frozen, *format);
+            print_set(&frozen, *format)?;
             Ok(exit::OK)
         }
         InstancesCommand::Verify { format } => {
@@ -104,7 +104,7 @@ pub fn instances(cli: &Cli, cmd: &InstancesCommand) -> CmdResult {
             let n = store.declared().len();
             if *format == Format::Json {
                 let v = serde_json::json!({"sets": n, "ok": problems.is_empty(), "problems": problems});
-                out(&format!("{}\n", serde_json::to_string_pretty(&v).unwrap_or_default()));
+                out(&format!("{}\n", serde_json::to_string_pretty(&v).unwrap_or_default()))?;
             } else {
                 let mut s = String::new();
                 for p in &problems {
@@ -119,17 +119,16 @@ pub fn instances(cli: &Cli, cmd: &InstancesCommand) -> CmdResult {
                     if problems.is_empty() { "ok" } else { "FAILED" },
                     problems.len()
                 );
-                out(&s);
+                out(&s)?;
             }
             Ok(if problems.is_empty() { exit::OK } else { exit::FAILED })
         }
     }
 }
 
-pub fn print_set(frozen: &FrozenSet, format: Format) {
+pub fn print_set(frozen: &FrozenSet, format: Format) -> Result<(), Failure> {
     if format == Format::Json {
-        out(&frozen.to_text());
-        return;
+        return out(&frozen.to_text());
     }
     let mut s = String::new();
     let _ = writeln!(s, "{} — {}", frozen.qualified_name(), frozen.description);
@@ -164,7 +163,7 @@ pub fn print_set(frozen: &FrozenSet, format: Format) {
         }
         s.push('\n');
     }
-    out(&s);
+    out(&s)
 }
 
 pub fn freeze(cli: &Cli, names: &[String], out_dir: Option<&PathBuf>, force: bool) -> CmdResult {
@@ -178,7 +177,7 @@ pub fn freeze(cli: &Cli, names: &[String], out_dir: Option<&PathBuf>, force: boo
         let _ = writeln!(s, "{:<9} {} -> {}", o.action, o.set, o.file);
     }
     let _ = writeln!(s, "{} set(s) frozen", outcomes.len());
-    out(&s);
+    out(&s)?;
     Ok(exit::OK)
 }
 
@@ -189,6 +188,6 @@ pub fn sample(cli: &Cli, env: &str, distribution: &str, n: u64, seed: u64, forma
         crate::instances::DeriveError::Sampling { .. } => Failure::failed(e.to_string()),
         _ => Failure::usage(e.to_string()),
     })?;
-    print_set(&set, format);
+    print_set(&set, format)?;
     Ok(exit::OK)
 }

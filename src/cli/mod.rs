@@ -6,6 +6,7 @@ mod bench_cmd;
 mod context_args;
 mod instances_cmd;
 mod plot_cmd;
+mod progress;
 mod render_cmd;
 mod rollout_cmd;
 mod run_cmd;
@@ -217,12 +218,17 @@ pub fn main() -> ExitCode {
     }
 }
 
-/// Write to stdout, treating a closed pipe (`carl-spec list | head`) as success.
-pub fn out(text: &str) {
+/// Write to stdout, treating a closed pipe (`carl-spec list | head`) as success; any other
+/// failure (a full disk: `> /dev/full`) is an error, never a silently truncated result.
+pub fn out(text: &str) -> Result<(), Failure> {
     use std::io::Write;
     let mut stdout = std::io::stdout().lock();
-    let _ = stdout.write_all(text.as_bytes());
-    let _ = stdout.flush();
+    match stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(Failure::failed(format!("cannot write to standard output: {e}")))
+        }
+        _ => Ok(()),
+    }
 }
 
 pub(crate) fn load_specs(cli: &Cli) -> Result<crate::spec::SpecSet, Failure> {

@@ -68,6 +68,6 @@ pub fn plot(cli: &Cli, args: &PlotArgs) -> CmdResult {
         set.instances.len(),
         figure.panels.len(),
         features.join(", "),
-    ));
+    ))?;
     Ok(exit::OK)
 }

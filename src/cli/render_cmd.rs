@@ -9,16 +9,14 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use super::context_args::ContextArgs;
-use super::rollout_cmd::{parse_action, random_action};
+use super::context_args::{ContextArgs, PolicyArg};
 use super::{Cli, CmdResult, Failure, exit, load_specs};
-use crate::envs::api::{Action, Env};
-use crate::envs::registry::{MakeOptions, has_runtime, make_with};
+use crate::envs::Env;
+use crate::envs::registry::{ids_where, lookup};
+use crate::episode::policies::policy_for;
+use crate::episode::{EpisodeConfig, EpisodeError, EpisodeListener, Flow, StepRecord, run_episode};
+use crate::pixels::Frame;
 use crate::render::{RenderError, RenderOutput};
-use crate::sampling::Pcg64;
-
-/// Environments with a built-in controller for `--policy heuristic`.
-const HEURISTICS: &[&str] = &["lunar_lander", "bipedal_walker"];
 
 /// Frames an animation may have (a 600×400 GIF frame is ~100 kB).
 const MAX_FRAMES: usize = 2000;
@@ -37,8 +35,8 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N")]
     pub steps: Option<u64>,
     /// Who acts during the steps.
-    #[arg(long, value_enum, default_value_t = RenderPolicy::Random)]
-    pub policy: RenderPolicy,
+    #[arg(long, value_enum, default_value_t = PolicyArg::Random)]
+    pub policy: PolicyArg,
     /// Keep every K-th frame of an animation.
     #[arg(long, value_name = "K", default_value_t = 2)]
     pub every: u64,
@@ -53,27 +51,11 @@ pub struct RenderArgs {
     pub force: bool,
 }
 
-#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum RenderPolicy {
-    /// Uniform over the action space, seeded with `--seed`.
-    Random,
-    /// Action 0 (discrete) or all zeros (continuous).
-    Noop,
-    /// The environment's built-in controller (lunar_lander, bipedal_walker: Gymnasium's heuristics).
-    Heuristic,
-}
-
 fn render_failure(e: RenderError) -> Failure {
     match e {
         RenderError::Encode(m) => Failure::failed(m),
         e => Failure::usage(e.to_string()),
     }
-}
-
-/// `id` cannot be drawn: the message lists the environments that can.
-fn no_renderer(cli: &Cli, id: &str, why: &str) -> Failure {
-    let list = load_specs(cli).map(|s| crate::render::renderable(&s).join(", ")).unwrap_or_default();
-    Failure::usage(format!("{id} {why}; render works for: {list}"))
 }
 
 pub fn run(cli: &Cli, args: &RenderArgs) -> CmdResult {
@@ -82,69 +64,60 @@ pub fn run(cli: &Cli, args: &RenderArgs) -> CmdResult {
     if args.every == 0 {
         return Err(Failure::usage("--every must be at least 1"));
     }
+    // A spec without a runtime: offer only what render can draw (resolve would list every runtime).
     if let Ok(spec) = load_specs(cli)?.require(&args.env) {
-        if !has_runtime(&spec.id) {
-            return Err(no_renderer(cli, &spec.id, "has a spec but no runtime (and no renderer) yet"));
+        if lookup(&spec.id).is_none() {
+            return Err(Failure::usage(format!(
+                "{} has a spec but no runtime (and no renderer) yet; render works for: {}",
+                spec.id,
+                ids_where(|r| r.renders)
+            )));
         }
     }
     let resolved = args.ctx.resolve(cli, &args.env, "render")?;
-    let opts = MakeOptions {
-        allow_out_of_bounds: resolved.allow_out_of_bounds,
-    };
-    let mut env = make_with(&resolved.spec, &resolved.context, opts).map_err(|e| Failure::usage(e.to_string()))?;
-    let id = env.id();
-    if args.policy == RenderPolicy::Heuristic && !HEURISTICS.contains(&id) {
+    let reg = resolved.registration;
+    if !reg.renders {
         return Err(Failure::usage(format!(
-            "{id} has no built-in controller; use --policy random or noop"
+            "{} has no renderer yet; render works for: {}",
+            reg.id,
+            ids_where(|r| r.renders)
         )));
     }
-    let space = env.action_space();
-    let mut rng = Pcg64::new(args.seed, crate::sampling::stream_id("render-policy"));
-    let mut obs = vec![0.0f32; env.obs_dim()];
-    env.reset_into(Some(args.seed), &mut obs)
-        .map_err(|e| Failure::failed(e.to_string()))?;
-    let Some(first) = env.render() else {
-        return Err(no_renderer(cli, id, "has no renderer yet"));
-    };
+    let mut env = resolved.build()?;
+    let id = env.id();
+    let mut policy = policy_for(reg, args.policy.into(), &env.action_space(), args.seed).map_err(Failure::usage)?;
     let animated = output.is_animation();
     let steps = args.steps.unwrap_or(if animated { u64::MAX } else { 0 });
-    let mut walker = crate::envs::box2d::WalkerHeuristic::default();
-    let mut frames = vec![first];
-    let mut t = 0u64;
-    let mut last = None;
-    while t < steps {
-        let action = match args.policy {
-            RenderPolicy::Random => parse_action(&random_action(&mut rng, &space), &space).map_err(Failure::failed)?,
-            RenderPolicy::Noop => match &space {
-                crate::envs::Space::Discrete { start, .. } => Action::Discrete(*start),
-                crate::envs::Space::Box { low, .. } => Action::Continuous(vec![0.0; low.len()]),
-            },
-            RenderPolicy::Heuristic if id == "bipedal_walker" => Action::Continuous(walker.act(&obs).to_vec()),
-            RenderPolicy::Heuristic => Action::Discrete(crate::envs::box2d::heuristic(&obs)),
-        };
-        let out = env
-            .step_into(&action, &mut obs)
-            .map_err(|e| Failure::failed(format!("step {}: {e}", t + 1)))?;
-        t += 1;
-        let end = out.terminated || out.truncated;
-        if animated {
-            if t % args.every == 0 || end {
-                frames.push(env.render().ok_or_else(|| Failure::failed("renderer stopped"))?);
-            }
-            if frames.len() > MAX_FRAMES {
-                return Err(Failure::usage(format!(
-                    "more than {MAX_FRAMES} frames; pass --steps or a larger --every"
-                )));
-            }
-        }
-        if end {
-            last = Some(if out.terminated { "terminated" } else { "truncated" });
-            break;
-        }
-    }
+    let mut frames = FrameCollector {
+        animated,
+        every: args.every,
+        frames: Vec::new(),
+        progress: if animated {
+            super::progress::Progress::counter("frames drawn")
+        } else {
+            super::progress::Progress::bar(0, "")
+        },
+    };
+    let config = EpisodeConfig {
+        seed: args.seed,
+        initial_state: None,
+        max_steps: Some(steps),
+    };
+    let summary = run_episode(&mut env, policy.as_mut(), &config, &mut frames).map_err(|e| match e {
+        EpisodeError::Listener(m) => Failure::usage(m),
+        e => Failure::failed(e.to_string()),
+    })?;
+    frames.progress.finish();
+    let mut frames = frames.frames;
     if !animated {
         frames = vec![env.render().ok_or_else(|| Failure::failed("renderer stopped"))?];
     }
+    let t = summary.steps;
+    let last = matches!(
+        summary.end,
+        crate::episode::EpisodeEnd::Terminated | crate::episode::EpisodeEnd::Truncated
+    )
+    .then(|| summary.end.as_str());
     let title = format!("{id}, seed {}, step {t}", args.seed);
     let (w, h) = (frames[0].width, frames[0].height);
     let written = output
@@ -154,13 +127,50 @@ pub fn run(cli: &Cli, args: &RenderArgs) -> CmdResult {
         eprintln!("removed {} (a frame of an earlier run)", p.display());
     }
     let ended = last.map(|s| format!(", episode {s}")).unwrap_or_default();
-    println!(
-        "wrote {} ({} frame{}, {w}x{h}, {id}, seed {}, {t} step{}{ended})",
+    super::out(&format!(
+        "wrote {} ({} frame{}, {w}x{h}, {id}, seed {}, {t} step{}{ended})\n",
         args.out.display(),
         written.frames,
         if written.frames == 1 { "" } else { "s" },
         args.seed,
         if t == 1 { "" } else { "s" },
-    );
+    ))?;
     Ok(exit::OK)
+}
+
+/// Collects the frames of an animation: the reset, every `every`-th step and the last one.
+struct FrameCollector {
+    animated: bool,
+    every: u64,
+    frames: Vec<Frame>,
+    progress: super::progress::Progress,
+}
+
+impl FrameCollector {
+    fn push<E: Env + ?Sized>(&mut self, env: &E) -> Result<Flow, EpisodeError> {
+        let frame = env
+            .render()
+            .ok_or_else(|| EpisodeError::Listener(format!("{} drew no picture", env.id())))?;
+        self.frames.push(frame);
+        self.progress.inc(1);
+        if self.frames.len() > MAX_FRAMES {
+            return Err(EpisodeError::Listener(format!(
+                "more than {MAX_FRAMES} frames; pass --steps or a larger --every"
+            )));
+        }
+        Ok(Flow::Continue)
+    }
+}
+
+impl<E: Env + ?Sized> EpisodeListener<E> for FrameCollector {
+    fn on_reset(&mut self, env: &E, _obs: &[f32]) -> Result<Flow, EpisodeError> {
+        self.push(env)
+    }
+    fn on_step(&mut self, env: &E, s: &StepRecord<'_>) -> Result<Flow, EpisodeError> {
+        let end = s.outcome.terminated || s.outcome.truncated;
+        if self.animated && (s.t % self.every == 0 || end) {
+            return self.push(env);
+        }
+        Ok(Flow::Continue)
+    }
 }

@@ -15,9 +15,10 @@ use std::path::{Path, PathBuf};
 
 use clap::{Subcommand, ValueEnum};
 
-use super::rollout_cmd::{ResetBody, ResetLine, StepLine, emit, parse_action};
 use super::{Cli, CmdResult, Failure, exit, load_specs, out};
 use crate::envs::api::{Action, Space};
+use crate::episode::StepRecord;
+use crate::episode::jsonl::{parse_action, quote_input, write_reset, write_step};
 use crate::experiments::landing_in_space::{self as lis, Config, Driver, EpisodeInfo, Heuristic};
 use crate::output;
 
@@ -91,7 +92,16 @@ pub fn run(cli: &Cli, cmd: &RunCommand) -> CmdResult {
             let specs = load_specs(cli)?;
             let (results, interactive) = match policy {
                 RunPolicy::Heuristic => (
-                    lis::evaluate(&specs, &cfg, "heuristic", &mut Heuristic).map_err(Failure::usage)?,
+                    lis::evaluate(
+                        &specs,
+                        &cfg,
+                        "heuristic",
+                        &mut Counted {
+                            inner: Heuristic,
+                            progress: super::progress::Progress::counter("episodes"),
+                        },
+                    )
+                    .map_err(Failure::usage)?,
                     false,
                 ),
                 RunPolicy::Stdin => {
@@ -114,7 +124,7 @@ pub fn run(cli: &Cli, cmd: &RunCommand) -> CmdResult {
             if interactive {
                 eprint!("{table}");
             } else {
-                out(&table);
+                out(&table)?;
             }
             if let Some(p) = out_path {
                 let mut text = serde_json::to_string_pretty(&results)
@@ -152,15 +162,13 @@ impl<W: Write, R: BufRead> Driver for StdinDriver<W, R> {
         context: &serde_json::Map<String, serde_json::Value>,
     ) -> Result<(), String> {
         self.space = Some(info.action_space.clone());
-        let ok = emit(&mut self.w, &serde_json::json!({ "episode": info }), false)
-            && emit(
-                &mut self.w,
-                &ResetLine {
-                    reset: ResetBody { obs, context },
-                },
-                true,
-            );
-        if ok { Ok(()) } else { Err(CLOSED.into()) }
+        let w = &mut self.w;
+        let r = serde_json::to_writer(&mut *w, &serde_json::json!({ "episode": info }))
+            .map_err(std::io::Error::from)
+            .and_then(|()| w.write_all(b"\n"))
+            .and_then(|()| write_reset(w, obs, context, None))
+            .and_then(|()| w.flush());
+        emitted(r)
     }
 
     fn act(&mut self, t: u64, _obs: &[f32]) -> Result<Action, String> {
@@ -173,8 +181,13 @@ impl<W: Write, R: BufRead> Driver for StdinDriver<W, R> {
                 Err(e) => return Err(format!("reading actions from stdin: {e}")),
             }
         }
-        let v: serde_json::Value = serde_json::from_str(self.line.trim())
-            .map_err(|e| format!("step {}: action \"{}\" is not JSON: {e}", t + 1, self.line.trim()))?;
+        let v: serde_json::Value = serde_json::from_str(self.line.trim()).map_err(|e| {
+            format!(
+                "step {}: action \"{}\" is not JSON: {e}",
+                t + 1,
+                quote_input(self.line.trim())
+            )
+        })?;
         let space = self.space.as_ref().ok_or("no episode has begun")?;
         parse_action(&v, space).map_err(|m| format!("step {}: {m}", t + 1))
     }
@@ -188,22 +201,59 @@ impl<W: Write, R: BufRead> Driver for StdinDriver<W, R> {
         terminated: bool,
         truncated: bool,
     ) -> Result<(), String> {
-        let a = match action {
-            Action::Discrete(a) => serde_json::json!(a),
-            Action::Continuous(v) => serde_json::json!(v),
-        };
-        let line = StepLine {
+        let record = StepRecord {
             t,
-            action: &a,
+            action,
             obs,
-            reward,
-            terminated,
-            truncated,
+            outcome: crate::envs::StepOutcome {
+                reward,
+                terminated,
+                truncated,
+            },
         };
-        if emit(&mut self.w, &line, true) {
-            Ok(())
-        } else {
-            Err(CLOSED.into())
-        }
+        let r = write_step(&mut self.w, &record, None).and_then(|()| self.w.flush());
+        emitted(r)
+    }
+}
+
+/// A closed pipe ends the run quietly ([`CLOSED`]); any other write failure is an error.
+fn emitted(r: std::io::Result<()>) -> Result<(), String> {
+    match r {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Err(CLOSED.into()),
+        Err(e) => Err(format!("cannot write to standard output: {e}")),
+    }
+}
+
+/// A driver that counts episodes on the progress line.
+struct Counted<D> {
+    inner: D,
+    progress: super::progress::Progress,
+}
+
+impl<D: Driver> Driver for Counted<D> {
+    fn begin(
+        &mut self,
+        info: &EpisodeInfo,
+        obs: &[f32],
+        context: &serde_json::Map<String, serde_json::Value>,
+    ) -> Result<(), String> {
+        self.progress.inc(1);
+        self.progress.message(info.body.clone());
+        self.inner.begin(info, obs, context)
+    }
+    fn act(&mut self, t: u64, obs: &[f32]) -> Result<Action, String> {
+        self.inner.act(t, obs)
+    }
+    fn stepped(
+        &mut self,
+        t: u64,
+        action: &Action,
+        obs: &[f32],
+        reward: f64,
+        terminated: bool,
+        truncated: bool,
+    ) -> Result<(), String> {
+        self.inner.stepped(t, action, obs, reward, terminated, truncated)
     }
 }

@@ -22,7 +22,7 @@ use serde::Serialize;
 use serde_json::json;
 
 use crate::envs::api::{Action, Env, Space};
-use crate::envs::box2d::{Outcome, PHYSICS_ENGINE, heuristic};
+use crate::envs::box2d::{LunarLander, Outcome, PHYSICS_ENGINE, heuristic};
 use crate::envs::registry::{MakeOptions, make_with, resolve_context};
 use crate::instances::{FrozenSet, Store};
 use crate::sampling::{Pcg64, stream_id};
@@ -292,7 +292,7 @@ fn run_episode(
         .collect();
     let gravity = full.get("GRAVITY_Y").and_then(|v| v.as_f64()).unwrap_or(f64::NAN);
     env.inner_mut()
-        .as_lunar_lander_mut()
+        .downcast_mut::<LunarLander>()
         .ok_or_else(|| format!("{} is not LunarLander", set.env))?
         .options_mut()
         .crash_penalty = cfg.crash_penalty;
@@ -319,7 +319,7 @@ fn run_episode(
         ret += out.reward;
         driver.stepped(t, &action, &obs, out.reward, out.terminated, out.truncated)?;
         if out.terminated || out.truncated {
-            let outcome = env.inner_mut().as_lunar_lander_mut().map(|l| l.outcome());
+            let outcome = env.inner().downcast_ref::<LunarLander>().map(|l| l.outcome());
             let end = match (out.terminated, outcome) {
                 (true, Some(Outcome::Landed)) => EpisodeEnd::Landed,
                 (true, Some(Outcome::OutOfView)) => EpisodeEnd::OutOfView,

@@ -17,30 +17,9 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::envs::Env;
-use crate::envs::registry::{Context, MakeOptions, RUNTIMES, make_with};
 use crate::output::{self, OutputError};
 use crate::pixels::Frame;
 use crate::pixels::encode::{gif_bytes, png_bytes};
-use crate::spec::SpecSet;
-
-/// The environments whose runtime draws pictures, in registry order: each runtime is built with
-/// its default context, reset with seed 0 and asked for a frame (used for error messages, so
-/// the list can never disagree with the renderers).
-pub fn renderable(specs: &SpecSet) -> Vec<&'static str> {
-    RUNTIMES
-        .iter()
-        .copied()
-        .filter(|id| {
-            let Some(spec) = specs.get(id) else { return false };
-            let Ok(mut env) = make_with(spec, &Context::new(), MakeOptions::default()) else {
-                return false;
-            };
-            let mut obs = vec![0.0f32; env.obs_dim()];
-            env.reset_into(Some(0), &mut obs).is_ok() && env.render().is_some()
-        })
-        .collect()
-}
 
 /// Where and how `render` writes.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -205,16 +184,6 @@ impl RenderOutput {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn renderers_are_found_by_asking_the_runtimes() {
-        let specs = SpecSet::bundled_with(None).unwrap();
-        let ids = renderable(&specs);
-        for id in ["lunar_lander", "bipedal_walker", "vehicle_racing", "ant", "fetch"] {
-            assert!(ids.contains(&id), "{id} draws: {ids:?}");
-        }
-        assert!(!ids.contains(&"cartpole") && !ids.contains(&"mario"), "{ids:?}");
-    }
 
     #[test]
     fn frame_names() {

@@ -852,6 +852,8 @@ impl LunarLander {
     }
 }
 
+impl crate::envs::runtime::Runtime for LunarLander {}
+
 impl Env for LunarLander {
     fn id(&self) -> &'static str {
         ID

@@ -368,6 +368,12 @@ fn torso_frame(w: &RobotWorld) -> TorsoFrame {
     }
 }
 
+impl crate::envs::runtime::Runtime for Fetch {
+    fn goal_states(&self, states: &[Vec<f64>]) -> Result<Vec<Vec<f64>>, EnvError> {
+        Ok(self.states_near_target(states))
+    }
+}
+
 impl Env for Fetch {
     fn id(&self) -> &'static str {
         ENV

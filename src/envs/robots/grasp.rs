@@ -592,6 +592,12 @@ impl Grasp {
     }
 }
 
+impl crate::envs::runtime::Runtime for Grasp {
+    fn goal_states(&self, states: &[Vec<f64>]) -> Result<Vec<Vec<f64>>, EnvError> {
+        Ok(self.states_near_target(states))
+    }
+}
+
 impl Env for Grasp {
     fn id(&self) -> &'static str {
         "grasp"

@@ -403,6 +403,8 @@ impl Locomotion {
     }
 }
 
+impl crate::envs::runtime::Runtime for Locomotion {}
+
 impl Env for Locomotion {
     fn id(&self) -> &'static str {
         self.id

@@ -207,6 +207,12 @@ pub fn reach_reward(ee_before: [f64; 3], ee_after: [f64; 3], target: [f64; 3], r
     (MOVE_WEIGHT * along, dist < radius)
 }
 
+impl crate::envs::runtime::Runtime for Reach {
+    fn goal_states(&self, states: &[Vec<f64>]) -> Result<Vec<Vec<f64>>, EnvError> {
+        self.states_near_target(states)
+    }
+}
+
 impl Env for Reach {
     fn id(&self) -> &'static str {
         "ur5e"

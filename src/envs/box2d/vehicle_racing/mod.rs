@@ -1179,6 +1179,8 @@ impl VehicleRacing {
     }
 }
 
+impl crate::envs::runtime::Runtime for VehicleRacing {}
+
 impl Env for VehicleRacing {
     fn id(&self) -> &'static str {
         ID
