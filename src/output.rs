@@ -177,7 +177,10 @@ mod tests {
         // Missing parent: refused, nothing created.
         let missing = d.join("no/such/dir/a.json");
         assert!(matches!(check_file(&missing, true), Err(OutputError::NoDir { .. })));
-        assert!(matches!(write_file(&missing, b"x", true), Err(OutputError::NoDir { .. })));
+        assert!(matches!(
+            write_file(&missing, b"x", true),
+            Err(OutputError::NoDir { .. })
+        ));
         assert!(!d.join("no").exists());
         // A directory, or a path spelled as one, is not a file.
         assert!(matches!(check_file(&d, true), Err(OutputError::IsDir(_))));

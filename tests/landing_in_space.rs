@@ -246,12 +246,31 @@ fn missing_output_directories_are_refused_like_everywhere() {
 #[test]
 fn a_bad_out_is_refused_before_the_evaluation() {
     let d = tmpdir("early");
-    let o = run_lis(&["--policy", "stdin", "--episodes", "1", "--force", "--out", d.to_str().unwrap()]);
+    let o = run_lis(&[
+        "--policy",
+        "stdin",
+        "--episodes",
+        "1",
+        "--force",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(o.stdout.is_empty(), "no episode started: {}", String::from_utf8_lossy(&o.stdout));
+    assert!(
+        o.stdout.is_empty(),
+        "no episode started: {}",
+        String::from_utf8_lossy(&o.stdout)
+    );
     assert!(String::from_utf8_lossy(&o.stderr).contains("is a directory"));
     let f = d.join("same.json");
-    let o = run_lis(&["--episodes", "1", "--out", f.to_str().unwrap(), "--figure", f.to_str().unwrap()]);
+    let o = run_lis(&[
+        "--episodes",
+        "1",
+        "--out",
+        f.to_str().unwrap(),
+        "--figure",
+        f.to_str().unwrap(),
+    ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(!f.exists());
     let _ = std::fs::remove_dir_all(&d);

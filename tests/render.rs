@@ -138,7 +138,7 @@ fn clear_errors_for_bad_requests() {
     let d = tmpdir("err");
     let cases: [(&[&str], &str); 5] = [
         (&["cartpole", "--out", "x.png"], "no renderer"),
-        (&["mario", "--out", "x.png"], "no runtime"),
+        (&["rna_design", "--out", "x.png"], "render works for: lunar_lander"),
         (&["lunar_lander", "--out", "x.jpg"], ".png"),
         (
             &["lunar_lander", "--context", "GRAVITY_Y=5", "--out", "x.png"],
@@ -159,7 +159,11 @@ fn clear_errors_for_bad_requests() {
         if let Some((_, list)) = err.split_once("render works for:") {
             let ids: Vec<&str> = list.trim().split(", ").collect();
             assert!(ids.contains(&"lunar_lander") && ids.contains(&"fetch"), "{err}");
-            assert!(!ids.iter().any(|i| ["cartpole", "pendulum", "mario", "rna_design"].contains(i)), "{err}");
+            assert!(
+                !ids.iter()
+                    .any(|i| ["cartpole", "pendulum", "mario", "rna_design"].contains(i)),
+                "{err}"
+            );
         }
     }
     assert_eq!(std::fs::read_dir(&d).unwrap().count(), 0, "nothing written");
@@ -181,7 +185,17 @@ fn a_frame_directory_holds_exactly_one_run() {
     let d = tmpdir("stale");
     let frames = d.join("frames");
     let f = frames.to_str().unwrap();
-    let long = ["lunar_lander", "--policy", "noop", "--steps", "10", "--every", "2", "--out", f];
+    let long = [
+        "lunar_lander",
+        "--policy",
+        "noop",
+        "--steps",
+        "10",
+        "--every",
+        "2",
+        "--out",
+        f,
+    ];
     // A path without extension that does not exist yet must end in / to name a directory.
     assert_eq!(render(&long).status.code(), Some(2));
     let slash = format!("{f}/");
@@ -193,7 +207,17 @@ fn a_frame_directory_holds_exactly_one_run() {
     std::fs::write(frames.join("notes.txt"), "mine").unwrap();
     let before = std::fs::read(frames.join("frame_00005.png")).unwrap();
 
-    let short = ["lunar_lander", "--policy", "noop", "--steps", "4", "--every", "2", "--out", f];
+    let short = [
+        "lunar_lander",
+        "--policy",
+        "noop",
+        "--steps",
+        "4",
+        "--every",
+        "2",
+        "--out",
+        f,
+    ];
     let r = render(&short);
     assert_eq!(r.status.code(), Some(2));
     let err = String::from_utf8_lossy(&r.stderr);

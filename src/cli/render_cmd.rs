@@ -10,7 +10,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::context_args::{ContextArgs, PolicyArg};
-use super::{Cli, CmdResult, Failure, exit, load_specs};
+use super::{Cli, CmdResult, Failure, exit};
 use crate::envs::Env;
 use crate::envs::registry::{ids_where, lookup};
 use crate::episode::policies::policy_for;
@@ -64,25 +64,18 @@ pub fn run(cli: &Cli, args: &RenderArgs) -> CmdResult {
     if args.every == 0 {
         return Err(Failure::usage("--every must be at least 1"));
     }
-    // A spec without a runtime: offer only what render can draw (resolve would list every runtime).
-    if let Ok(spec) = load_specs(cli)?.require(&args.env) {
-        if lookup(&spec.id).is_none() {
-            return Err(Failure::usage(format!(
-                "{} has a spec but no runtime (and no renderer) yet; render works for: {}",
-                spec.id,
-                ids_where(|r| r.renders)
-            )));
-        }
-    }
-    let resolved = args.ctx.resolve(cli, &args.env, "render")?;
-    let reg = resolved.registration;
-    if !reg.renders {
+    // Environments without a renderer (spec-only ones included) hear which ones have one.
+    if let Ok(spec) = super::load_specs(cli)?.require(&args.env)
+        && lookup(&spec.id).is_none_or(|r| !r.renders)
+    {
         return Err(Failure::usage(format!(
             "{} has no renderer yet; render works for: {}",
-            reg.id,
+            spec.id,
             ids_where(|r| r.renders)
         )));
     }
+    let resolved = args.ctx.resolve(cli, &args.env, "render")?;
+    let reg = resolved.registration;
     let mut env = resolved.build()?;
     let id = env.id();
     let mut policy = policy_for(reg, args.policy.into(), &env.action_space(), args.seed).map_err(Failure::usage)?;

@@ -133,7 +133,11 @@ pub fn run(cli: &Cli, cmd: &RunCommand) -> CmdResult {
                 write(p, text.as_bytes(), *force)?;
             }
             if let Some(p) = figure {
-                write(p, lis::figure_svg(&results).map_err(Failure::failed)?.as_bytes(), *force)?;
+                write(
+                    p,
+                    lis::figure_svg(&results).map_err(Failure::failed)?.as_bytes(),
+                    *force,
+                )?;
             }
             Ok(exit::OK)
         }

@@ -54,7 +54,11 @@ impl Config {
     pub fn check(&self) -> Result<(), String> {
         let p = self.crash_penalty;
         // Short for huge values: `{}` of 1e308 has 309 digits.
-        let shown = if p.abs() >= 1e16 { format!("{p:e}") } else { format!("{p}") };
+        let shown = if p.abs() >= 1e16 {
+            format!("{p:e}")
+        } else {
+            format!("{p}")
+        };
         if !p.is_finite() {
             return Err(format!("crash penalty {shown} is not finite"));
         }
@@ -354,7 +358,10 @@ impl Results {
                 }
             }
             if let Some(run) = r.runs.iter().find(|x| !x.ret.is_finite()) {
-                return Err(format!("row {}: episode with seed {} returned {}", r.body, run.seed, run.ret));
+                return Err(format!(
+                    "row {}: episode with seed {} returned {}",
+                    r.body, run.seed, run.ret
+                ));
             }
         }
         Ok(())
@@ -521,9 +528,13 @@ pub fn figure_svg(results: &Results) -> Result<String, String> {
     }
     s.push_str("</svg>\n");
     // Finite statistics can still overflow the axis arithmetic; a coordinate is never NaN/inf.
-    let bad = ["NaN", "inf"].into_iter().find(|w| s.contains(&format!("=\"{w}")) || s.contains(&format!("=\"-{w}")));
+    let bad = ["NaN", "inf"]
+        .into_iter()
+        .find(|w| s.contains(&format!("=\"{w}")) || s.contains(&format!("=\"-{w}")));
     if let Some(w) = bad {
-        return Err(format!("the figure would contain a {w} coordinate; refusing to write it"));
+        return Err(format!(
+            "the figure would contain a {w} coordinate; refusing to write it"
+        ));
     }
     Ok(s)
 }

@@ -1,8 +1,8 @@
 //! What a plot shows (one panel per varied feature) and its layout as a [`Scene`].
 
-use crate::pixels::font::text_width;
 use super::histogram::{Bins, bin, fmt_num, fmt_sig, ticks};
 use super::scene::{Anchor, Color, Scene, Shape, Stroke};
+use crate::pixels::font::text_width;
 
 /// How a named instance is coloured: by its split, if it has one.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]

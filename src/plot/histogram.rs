@@ -118,7 +118,9 @@ pub fn ticks(lo: f64, hi: f64, target: usize) -> (Vec<f64>, usize) {
     let first = (lo / step).ceil();
     let last = (hi / step).floor();
     // A range too small for a representable step (subnormal) or too wide for one (overflow).
-    if !(step.is_finite() && step > 0.0 && first.is_finite() && last.is_finite()) || last - first > 10.0 * target as f64 + 10.0 {
+    if !(step.is_finite() && step > 0.0 && first.is_finite() && last.is_finite())
+        || last - first > 10.0 * target as f64 + 10.0
+    {
         return (vec![lo], 0);
     }
     let (first, last) = (first as i64, last as i64);

@@ -67,7 +67,9 @@ impl Scene {
     pub fn check_finite(&self) -> Result<(), String> {
         for item in &self.items {
             let numbers: Vec<f64> = match &item.shape {
-                Shape::Rect { x, y, w, h, opacity, .. } => vec![*x, *y, *w, *h, *opacity],
+                Shape::Rect {
+                    x, y, w, h, opacity, ..
+                } => vec![*x, *y, *w, *h, *opacity],
                 Shape::Line { x1, y1, x2, y2, stroke } => vec![*x1, *y1, *x2, *y2, stroke.width],
                 Shape::Polygon { points, .. } => points.iter().flat_map(|&(x, y)| [x, y]).collect(),
                 Shape::Text { x, y, .. } => vec![*x, *y],

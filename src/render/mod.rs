@@ -82,10 +82,7 @@ pub fn frame_files(dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
 impl RenderOutput {
     /// The meaning of `--out PATH` (see the module docs).
     pub fn parse(path: &Path) -> Result<RenderOutput, RenderError> {
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase);
+        let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
         let file_ext = matches!(ext.as_deref(), Some("png" | "gif"));
         if output::ends_with_separator(path) {
             return Ok(RenderOutput::Frames(path.to_path_buf()));
@@ -184,6 +181,21 @@ impl RenderOutput {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::spec::SpecSet;
+
+    /// The table's `renders` flag says what the runtimes do (so `render`'s messages, which read
+    /// the table, can never disagree with the renderers).
+    #[test]
+    fn the_tables_renderer_flags_match_the_runtimes() {
+        use crate::envs::Env;
+        use crate::envs::registry::{Context, REGISTRY, make};
+        let specs = SpecSet::bundled_with(None).unwrap();
+        for reg in REGISTRY {
+            let mut env = make(specs.get(reg.id).unwrap(), &Context::new()).unwrap();
+            env.reset(Some(0));
+            assert_eq!(env.render().is_some(), reg.renders, "{}", reg.id);
+        }
+    }
 
     #[test]
     fn frame_names() {

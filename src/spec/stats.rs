@@ -28,4 +28,3 @@ pub fn compute_stats(envs: &[EnvSpec]) -> Stats {
             .collect(),
     }
 }
-

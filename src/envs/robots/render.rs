@@ -349,7 +349,11 @@ mod tests {
         assert_eq!(grid_step(1300.0), 100.0);
         for d in [1300.0f32, 13_000.0, 1e7] {
             let reach = 2.0 * d;
-            let lines = ground_grid(&camera(d), [-reach * 14.0 / 24.0, reach * 14.0 / 24.0], [-d + 0.6, -d + reach]);
+            let lines = ground_grid(
+                &camera(d),
+                [-reach * 14.0 / 24.0, reach * 14.0 / 24.0],
+                [-d + 0.6, -d + reach],
+            );
             assert!(lines.len() <= 500, "{d} m: {} lines", lines.len());
             assert!(420.0 * grid_step(d) / d >= 4.0);
         }

@@ -112,9 +112,9 @@ fn outlined(c: &mut Canvas, pts: &[(f64, f64)]) {
 
 #[cfg(test)]
 mod tests {
+    use super::super::LunarLanderParams;
     use super::*;
     use crate::envs::Env;
-    use super::super::LunarLanderParams;
 
     #[test]
     fn nothing_before_reset_then_the_viewport() {
