@@ -6,7 +6,7 @@
 //! grid line running to the horizon) or one far off-screen costs little. Skipped pixels are
 //! exactly those whose coverage would be zero, so pictures do not depend on this.
 
-use super::Color;
+use super::color::Color;
 use super::font;
 
 #[derive(Debug, Clone, Copy, PartialEq)]

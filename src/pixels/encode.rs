@@ -1,7 +1,7 @@
 //! Frames to file bytes: PNG (one frame) or an animated GIF. Both encoders are pure Rust and
 //! pinned exactly in `Cargo.toml`, so the same frames give the same bytes on every machine.
 
-use super::Frame;
+use super::frame::Frame;
 
 /// One frame as PNG bytes (8-bit RGB) with the given `tEXt` chunks (keyword, text), in order.
 pub fn png_bytes(frame: &Frame, text: &[(&str, &str)]) -> Result<Vec<u8>, String> {

@@ -10,7 +10,7 @@ pub struct Frame {
 
 impl Frame {
     /// The frame of a finished canvas.
-    pub fn from_canvas(canvas: &super::Canvas) -> Frame {
+    pub fn from_canvas(canvas: &super::canvas::Canvas) -> Frame {
         Frame {
             width: canvas.width,
             height: canvas.height,
