@@ -109,7 +109,10 @@ mod tests {
         assert!(q.ends_with("…\" (100000 bytes)"), "{q}");
         let two_mb = "x".repeat(2 << 20);
         assert!(escape(&two_mb).ends_with(&format!("… ({} bytes)", 2 << 20)));
-        assert_eq!(quote(&"y".repeat(MAX_SHOWN_CHARS)), format!("\"{}\"", "y".repeat(MAX_SHOWN_CHARS)));
+        assert_eq!(
+            quote(&"y".repeat(MAX_SHOWN_CHARS)),
+            format!("\"{}\"", "y".repeat(MAX_SHOWN_CHARS))
+        );
     }
 
     #[test]
@@ -120,7 +123,10 @@ mod tests {
 
     #[test]
     fn numbers_keep_their_literal() {
-        assert_eq!(number(Some("9223372036854775807"), 9.223372036854776e18), "9223372036854775807");
+        assert_eq!(
+            number(Some("9223372036854775807"), 9.223372036854776e18),
+            "9223372036854775807"
+        );
         assert_eq!(number(None, 0.5), "0.5");
     }
 }

@@ -308,9 +308,16 @@ fn verify_checks_the_checkouts_files_not_the_binarys_copies() {
     let out = String::from_utf8_lossy(&o.stdout);
     assert_eq!(o.status.code(), Some(0), "{out}");
     assert!(out.contains("(checkout)"), "{out}");
-    assert!(out.contains("checked specs/instances/lunar_lander/landing_in_space_train.json"), "{out}");
+    assert!(
+        out.contains("checked specs/instances/lunar_lander/landing_in_space_train.json"),
+        "{out}"
+    );
 
-    std::fs::write(root.join("specs/instances/lunar_lander/landing_in_space_train.json"), "garbage").unwrap();
+    std::fs::write(
+        root.join("specs/instances/lunar_lander/landing_in_space_train.json"),
+        "garbage",
+    )
+    .unwrap();
     let o = carl_in(&root, &["instances", "verify"]);
     let out = String::from_utf8_lossy(&o.stdout);
     assert_eq!(o.status.code(), Some(1), "{out}");
@@ -418,7 +425,10 @@ fn a_multi_set_freeze_failing_on_io_writes_nothing() {
     let sets = dir.join("instances/lunar_lander");
     std::fs::create_dir_all(&sets).unwrap();
     // The second set's temporary file cannot be created (a directory sits at its path).
-    let blocker = sets.join(format!(".landing_in_space_test_planets.json.{}.tmp", std::process::id()));
+    let blocker = sets.join(format!(
+        ".landing_in_space_test_planets.json.{}.tmp",
+        std::process::id()
+    ));
     std::fs::create_dir_all(blocker.join("x")).unwrap();
     let e = store.freeze(&[], None, false).unwrap_err().to_string();
     assert!(e.contains("nothing written"), "{e}");
@@ -458,7 +468,17 @@ fn sample_refuses_more_values_than_the_documented_limit() {
     });
     std::fs::write(dir.join("lander_two.json"), serde_json::to_string_pretty(&v).unwrap()).unwrap();
     let d = dir.to_string_lossy().into_owned();
-    let args = ["--specs", &d, "sample", "lander_two", "--distribution", "two", "--seed", "1", "-n"];
+    let args = [
+        "--specs",
+        &d,
+        "sample",
+        "lander_two",
+        "--distribution",
+        "two",
+        "--seed",
+        "1",
+        "-n",
+    ];
     let o = carl_in(&std::env::temp_dir(), &[&args[..], &["500001"]].concat());
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");

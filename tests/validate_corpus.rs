@@ -48,10 +48,22 @@ const EXPECTED: &[(&str, &str, &str, usize, usize)] = &[
     ("int-out-of-range.json", "int-out-of-range", "", 23, 18),
     ("invalid-name.json", "invalid-name", "", 45, 5),
     ("json-syntax.json", "json-syntax", "", 9, 28),
-    ("needless-allow-out-of-bounds.json", "needless-allow-out-of-bounds", "", 45, 71),
+    (
+        "needless-allow-out-of-bounds.json",
+        "needless-allow-out-of-bounds",
+        "",
+        45,
+        71,
+    ),
     ("not-utf8.json", "not-utf8", "", 17, 41),
     ("override-excluded", "override-excluded", "spec.json", 10, 93),
-    ("schema-additionalProperties.json", "schema/additionalProperties", "", 17, 7),
+    (
+        "schema-additionalProperties.json",
+        "schema/additionalProperties",
+        "",
+        17,
+        7,
+    ),
     ("schema-enum.json", "schema/enum", "", 41, 39),
     ("schema-pattern.json", "schema/pattern", "", 3, 9),
     ("schema-required.json", "schema/required", "", 1, 1),
@@ -67,8 +79,14 @@ const EXPECTED: &[(&str, &str, &str, usize, usize)] = &[
 
 /// Rules no spec file can trigger, each with the reason and where it is tested instead.
 const NO_CORPUS_CASE: &[(&str, &str)] = &[
-    ("file-too-large", "a 16 MiB file does not belong in the repository: generated in file_too_large_is_refused"),
-    ("internal", "carl-spec's own schema failing to compile is a bug, not an input"),
+    (
+        "file-too-large",
+        "a 16 MiB file does not belong in the repository: generated in file_too_large_is_refused",
+    ),
+    (
+        "internal",
+        "carl-spec's own schema failing to compile is a bug, not an input",
+    ),
 ];
 
 fn run_case(case: &str) -> validate::Report {
@@ -95,18 +113,39 @@ fn every_broken_spec_fails_with_its_rule_at_its_location() {
             .unwrap_or_else(|| panic!("{case}: no {rule} diagnostic in\n{report}"));
         let registered = rules::lookup(rule).unwrap_or_else(|| panic!("{rule} is not in the registry"));
         assert_eq!(d.severity, registered.severity, "{case}");
-        let want_file = if file.is_empty() { case.to_string() } else { format!("{case}/{file}") };
+        let want_file = if file.is_empty() {
+            case.to_string()
+        } else {
+            format!("{case}/{file}")
+        };
         assert!(d.file.ends_with(&want_file), "{case}: reported in {}", d.file);
         match &d.location {
             None => assert_eq!((*line, *col), (0, 0), "{case}: no location\n{report}"),
-            Some(loc) => assert_eq!((loc.line, loc.column), (*line, *col), "{case}: {}", d.render_text(false)),
+            Some(loc) => assert_eq!(
+                (loc.line, loc.column),
+                (*line, *col),
+                "{case}: {}",
+                d.render_text(false)
+            ),
         }
         assert!(d.help.is_some(), "{case}: every diagnostic says how to fix it");
         let others: Vec<_> = report.diagnostics.iter().filter(|o| o.rule != *rule).collect();
-        let expected_others = if *rule == "too-many-problems" { report.diagnostics.len() - 1 } else { 0 };
-        assert_eq!(others.len(), expected_others, "{case}: exactly one rule broken\n{report}");
+        let expected_others = if *rule == "too-many-problems" {
+            report.diagnostics.len() - 1
+        } else {
+            0
+        };
+        assert_eq!(
+            others.len(),
+            expected_others,
+            "{case}: exactly one rule broken\n{report}"
+        );
         if *rule != "too-many-problems" {
-            assert_eq!(report.diagnostics.len(), 1, "{case}: exactly one problem expected\n{report}");
+            assert_eq!(
+                report.diagnostics.len(),
+                1,
+                "{case}: exactly one problem expected\n{report}"
+            );
         }
     }
 }
@@ -178,6 +217,10 @@ fn all_problems_of_all_files_are_reported_in_one_run() {
     let files: std::collections::BTreeSet<_> = report.diagnostics.iter().map(|d| d.file.clone()).collect();
     // Every file is reported (the fragment files only by duplicate-fragment, once), plus
     // duplicate-id errors (they all use id "toy").
-    assert!(files.len() >= n_files - 3, "{} of {n_files} files reported", files.len());
+    assert!(
+        files.len() >= n_files - 3,
+        "{} of {n_files} files reported",
+        files.len()
+    );
     assert!(report.diagnostics.iter().any(|d| d.rule == "duplicate-id"));
 }

@@ -140,7 +140,8 @@ fn sampler_json() -> impl Strategy<Value = String> {
     let n = edge_number;
     prop_oneof![
         (n(), n()).prop_map(|(m, s)| format!(r#"{{ "kind": "normal", "mean": {m}, "std": {s} }}"#)),
-        (n(), n()).prop_map(|(a, b)| format!(r#"{{ "kind": "relative_normal", "sigma_rel": {a}, "fallback_std": {b} }}"#)),
+        (n(), n())
+            .prop_map(|(a, b)| format!(r#"{{ "kind": "relative_normal", "sigma_rel": {a}, "fallback_std": {b} }}"#)),
         (n(), n(), n(), n()).prop_map(|(m, s, l, h)| format!(
             r#"{{ "kind": "truncated_normal", "mean": {m}, "std": {s}, "low": {l}, "high": {h} }}"#
         )),
@@ -204,7 +205,10 @@ fn the_issues_examples_are_refused_by_validate() {
     for (feature, sampler) in [
         ("mass", r#"{ "kind": "uniform", "low": -1.7e308, "high": 1.7e308 }"#),
         ("mass", r#"{ "kind": "normal", "mean": 1e308, "std": 1e308 }"#),
-        ("steps", r#"{ "kind": "int_uniform", "low": -9007199254740993, "high": 5 }"#),
+        (
+            "steps",
+            r#"{ "kind": "int_uniform", "low": -9007199254740993, "high": 5 }"#,
+        ),
     ] {
         let text = BASE.replace(
             r#""features": { "mass": { "kind": "normal", "mean": 1.0, "std": 0.5 } }"#,
@@ -221,12 +225,21 @@ fn the_issues_examples_are_refused_by_validate() {
 fn names_with_terminal_escapes_are_refused_and_never_printed_raw() {
     let text = BASE.replacen(r#""name": "mass""#, r#""name": "ma\u001b[2Jss""#, 1);
     let report = run(text.into_bytes());
-    assert!(report.diagnostics.iter().any(|d| d.rule == "schema/pattern"), "{report}");
+    assert!(
+        report.diagnostics.iter().any(|d| d.rule == "schema/pattern"),
+        "{report}"
+    );
     // An unknown name in a distribution is quoted back: escaped, never raw.
     let text = BASE.replace(r#""features": { "mass":"#, r#""features": { "m\u001b]0;pwned\u0007":"#);
     let report = run(text.into_bytes());
-    let all = format!("{report}{}", report.diagnostics.iter().map(|d| d.render_github()).collect::<String>());
-    assert!(report.diagnostics.iter().any(|d| d.rule == "unknown-feature"), "{report}");
+    let all = format!(
+        "{report}{}",
+        report.diagnostics.iter().map(|d| d.render_github()).collect::<String>()
+    );
+    assert!(
+        report.diagnostics.iter().any(|d| d.rule == "unknown-feature"),
+        "{report}"
+    );
     assert!(!all.contains('\u{1b}') && !all.contains('\u{7}'), "{all:?}");
     assert!(all.contains("\\u{1b}"), "{all}");
 }
@@ -238,6 +251,11 @@ fn a_huge_number_in_a_message_is_cut() {
     let report = run(text.into_bytes());
     assert!(report.has_errors());
     for d in &report.diagnostics {
-        assert!(d.message.len() < 2_000, "{} bytes: {}", d.message.len(), &d.message[..200]);
+        assert!(
+            d.message.len() < 2_000,
+            "{} bytes: {}",
+            d.message.len(),
+            &d.message[..200]
+        );
     }
 }

@@ -237,7 +237,11 @@ impl Diagnostic {
                 }
             }
             None => {
-                let _ = writeln!(out, "  {blue}-->{reset} {}", crate::text::clean(&self.file, MAX_MESSAGE_CHARS));
+                let _ = writeln!(
+                    out,
+                    "  {blue}-->{reset} {}",
+                    crate::text::clean(&self.file, MAX_MESSAGE_CHARS)
+                );
                 if let Some(h) = &self.help {
                     let _ = writeln!(out, "   {blue}={reset} {bold}help{reset}: {h}");
                 }

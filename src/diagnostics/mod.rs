@@ -91,7 +91,14 @@ impl<'a> Sink<'a> {
     }
 
     /// Report a problem of `rule` at `pointer` in file `file` (severity is the rule's).
-    pub fn report(&mut self, file: usize, rule: &Rule, pointer: &str, message: impl Into<String>, help: Option<String>) {
+    pub fn report(
+        &mut self,
+        file: usize,
+        rule: &Rule,
+        pointer: &str,
+        message: impl Into<String>,
+        help: Option<String>,
+    ) {
         let c = self.counts.entry(file).or_default();
         if c.0 >= MAX_DIAGNOSTICS_PER_FILE {
             c.1 += 1;

@@ -87,7 +87,9 @@ registry! {
 /// The registry entry of a rule id as it appears in a diagnostic (`schema/type` → [`SCHEMA`]).
 pub fn lookup(id: &str) -> Option<&'static Rule> {
     let family = id.split('/').next().unwrap_or(id);
-    ALL.iter().copied().find(|r| r.id == id || (r.id == SCHEMA.id && family == SCHEMA.id))
+    ALL.iter()
+        .copied()
+        .find(|r| r.id == id || (r.id == SCHEMA.id && family == SCHEMA.id))
 }
 
 /// The README's rule table (a test keeps the README equal to this).
@@ -113,7 +115,12 @@ mod tests {
         let mut seen = std::collections::BTreeSet::new();
         for r in ALL {
             assert!(seen.insert(r.id), "{} declared twice", r.id);
-            assert!(r.id.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-'), "{}", r.id);
+            assert!(
+                r.id.chars()
+                    .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-'),
+                "{}",
+                r.id
+            );
             assert!(!r.summary.is_empty());
         }
     }

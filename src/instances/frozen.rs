@@ -193,7 +193,9 @@ pub fn write_temp(path: &Path, text: &str) -> std::io::Result<PathBuf> {
 /// Returns the files removed.
 pub fn remove_stale_temp_files(dir: &Path) -> Vec<PathBuf> {
     let mut removed = Vec::new();
-    let Ok(entries) = std::fs::read_dir(dir) else { return removed };
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return removed;
+    };
     let proc_fs = Path::new("/proc/self").exists();
     for e in entries.flatten() {
         let name = e.file_name().to_string_lossy().into_owned();

@@ -264,7 +264,10 @@ impl<'a> Store<'a> {
         // A checkout's spec files must be the ones this binary was built with, or the frozen files
         // would be checked against other specs than the user sees.
         if let Some(dir) = &self.checkout {
-            for (path, text) in bundled_files().iter().filter(|(p, _)| !p.starts_with(&format!("{INSTANCES_DIR}/"))) {
+            for (path, text) in bundled_files()
+                .iter()
+                .filter(|(p, _)| !p.starts_with(&format!("{INSTANCES_DIR}/")))
+            {
                 let file = dir.join(path);
                 if std::fs::read_to_string(&file).is_ok_and(|t| t != *text) {
                     problems.push(VerifyProblem {
@@ -419,7 +422,11 @@ fn write_all_or_nothing(writes: &[(&Path, String)]) -> Result<(), StoreError> {
                 path: format!(
                     "{} (already replaced: {})",
                     path.display(),
-                    if done.is_empty() { "none".into() } else { done.join(", ") }
+                    if done.is_empty() {
+                        "none".into()
+                    } else {
+                        done.join(", ")
+                    }
                 ),
                 source: e,
             });
@@ -431,7 +438,12 @@ fn write_all_or_nothing(writes: &[(&Path, String)]) -> Result<(), StoreError> {
 /// Every name and value of a frozen set against its spec: the set is the one asked for, it varies
 /// only features of the spec (by canonical name), and every value has its feature's type (among
 /// its choices) and lies inside its bounds unless the set allows out-of-bounds values.
-pub fn check_against_spec(frozen: &FrozenSet, spec: &EnvSpec, set: &str, allow_out_of_bounds: bool) -> Result<(), String> {
+pub fn check_against_spec(
+    frozen: &FrozenSet,
+    spec: &EnvSpec,
+    set: &str,
+    allow_out_of_bounds: bool,
+) -> Result<(), String> {
     use crate::sampling::FeatureInfo;
     use crate::sampling::feature::check_instance_value;
     use crate::text::quote;
@@ -448,7 +460,11 @@ pub fn check_against_spec(frozen: &FrozenSet, spec: &EnvSpec, set: &str, allow_o
         .iter()
         .map(|name| match spec.features.iter().find(|f| f.name == *name) {
             Some(f) => Ok((name.as_str(), FeatureInfo::from_feature(f))),
-            None => Err(format!("it varies {}, which is not a feature of {}", quote(name), spec.id)),
+            None => Err(format!(
+                "it varies {}, which is not a feature of {}",
+                quote(name),
+                spec.id
+            )),
         })
         .collect::<Result<_, _>>()?;
     for (i, inst) in frozen.instances.iter().enumerate() {
@@ -476,12 +492,17 @@ fn list_frozen(dir: &Path) -> Vec<(String, String)> {
     let mut out = Vec::new();
     let Ok(envs) = std::fs::read_dir(dir) else { return out };
     for env in envs.flatten() {
-        let Ok(sets) = std::fs::read_dir(env.path()) else { continue };
+        let Ok(sets) = std::fs::read_dir(env.path()) else {
+            continue;
+        };
         for set in sets.flatten() {
             let name = set.file_name().to_string_lossy().into_owned();
             if name.ends_with(".json") && !name.starts_with('.') {
                 let env_name = env.file_name().to_string_lossy().into_owned();
-                out.push((format!("{INSTANCES_DIR}/{env_name}/{name}"), set.path().display().to_string()));
+                out.push((
+                    format!("{INSTANCES_DIR}/{env_name}/{name}"),
+                    set.path().display().to_string(),
+                ));
             }
         }
     }

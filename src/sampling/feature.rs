@@ -228,7 +228,10 @@ impl FeatureSampler {
             if (mean.abs() + 40.0 * std).is_finite() {
                 Ok(())
             } else {
-                Err(bad_at("std", format!("mean {mean} with std {std} would overflow to infinity")))
+                Err(bad_at(
+                    "std",
+                    format!("mean {mean} with std {std} would overflow to infinity"),
+                ))
             }
         };
         let check_positive_std = |what: &str, s: f64| {
@@ -244,15 +247,18 @@ impl FeatureSampler {
             if feature.kind == FeatureType::Float {
                 Ok(())
             } else {
-                Err(wrong_type("kind", format!(
-                    "{} feature needs {}, not a continuous sampler",
-                    type_name(feature.kind),
-                    match feature.kind {
-                        FeatureType::Int => "an integer-valued sampler (int_uniform, categorical or constant)",
-                        FeatureType::ListInt => "a constant list",
-                        _ => "a categorical or constant sampler",
-                    }
-                )))
+                Err(wrong_type(
+                    "kind",
+                    format!(
+                        "{} feature needs {}, not a continuous sampler",
+                        type_name(feature.kind),
+                        match feature.kind {
+                            FeatureType::Int => "an integer-valued sampler (int_uniform, categorical or constant)",
+                            FeatureType::ListInt => "a constant list",
+                            _ => "a categorical or constant sampler",
+                        }
+                    ),
+                ))
             }
         };
         // Support [s_lo, s_hi] must meet the bounds, else every policy fails or silently pins.
@@ -291,9 +297,10 @@ impl FeatureSampler {
                 let mean = match &feature.default {
                     Some(Value::Number(d)) if d.is_finite() => *d,
                     Some(other) => {
-                        return Err(bad_at("kind", format!(
-                            "needs a finite numeric default, the feature's is {other:?}"
-                        )));
+                        return Err(bad_at(
+                            "kind",
+                            format!("needs a finite numeric default, the feature's is {other:?}"),
+                        ));
                     }
                     None => {
                         return Err(bad_at("kind", "needs the feature's default, which is not set".into()));
@@ -306,9 +313,10 @@ impl FeatureSampler {
                     sigma_rel * mean.abs()
                 };
                 if !(std.is_finite() && std > 0.0) {
-                    return Err(bad_at("sigma_rel", format!(
-                        "sigma_rel * |default| = {std} is not a usable std (overflow or underflow)"
-                    )));
+                    return Err(bad_at(
+                        "sigma_rel",
+                        format!("sigma_rel * |default| = {std} is not a usable std (overflow or underflow)"),
+                    ));
                 }
                 check_no_overflow(mean, std)?;
                 Draw::Normal { mean, std }
@@ -335,9 +343,10 @@ impl FeatureSampler {
                     b = f64::INFINITY;
                 }
                 if a >= b {
-                    return Err(bad_at("low", format!(
-                        "[{low}, {high}] is narrower than the float resolution at std {std}"
-                    )));
+                    return Err(bad_at(
+                        "low",
+                        format!("[{low}, {high}] is narrower than the float resolution at std {std}"),
+                    ));
                 }
                 Draw::Truncated {
                     mean: *mean,
@@ -380,9 +389,10 @@ impl FeatureSampler {
                 }
                 let limit = MAX_EXACT_INT as i64;
                 if low.unsigned_abs() > limit as u64 || high.unsigned_abs() > limit as u64 {
-                    return Err(bad_at("low", format!(
-                        "low and high must lie within +-2^53 ({limit}) to stay exact"
-                    )));
+                    return Err(bad_at(
+                        "low",
+                        format!("low and high must lie within +-2^53 ({limit}) to stay exact"),
+                    ));
                 }
                 overlap(*low as f64, *high as f64)?;
                 // Fits: both within 2^53, so the span is at most 2^54 + 1.
@@ -413,7 +423,9 @@ impl FeatureSampler {
                     Value::Number(x) => in_bounds(*x),
                     _ => true,
                 }) {
-                    return Err(no_support(format!("every choice lies outside the bounds {bounds_text}")));
+                    return Err(no_support(format!(
+                        "every choice lies outside the bounds {bounds_text}"
+                    )));
                 }
                 let cum = match weights {
                     Some(w) => cumulative(w, values.len()).map_err(|m| bad_at("weights", m))?,
@@ -434,13 +446,20 @@ impl FeatureSampler {
                     check_interval(*l, *h).map_err(|m| bad_at(&format!("intervals/{i}"), m))?;
                 }
                 if !intervals.iter().any(|[l, h]| *h >= lo && *l <= hi) {
-                    return Err(no_support(format!("every interval lies outside the bounds {bounds_text}")));
+                    return Err(no_support(format!(
+                        "every interval lies outside the bounds {bounds_text}"
+                    )));
                 }
                 let pick = match (weights, stratified) {
                     (Some(_), true) => {
-                        return Err(bad_at("stratified", "`weights` and `stratified` exclude each other".into()));
+                        return Err(bad_at(
+                            "stratified",
+                            "`weights` and `stratified` exclude each other".into(),
+                        ));
                     }
-                    (Some(w), false) => Pick::Weighted(cumulative(w, intervals.len()).map_err(|m| bad_at("weights", m))?),
+                    (Some(w), false) => {
+                        Pick::Weighted(cumulative(w, intervals.len()).map_err(|m| bad_at("weights", m))?)
+                    }
                     (None, true) => Pick::Stratified,
                     (None, false) => Pick::Equal,
                 };

@@ -8,8 +8,8 @@ use std::path::{Path, PathBuf};
 
 use super::model::EnvSpec;
 use super::raw::GridSet;
-use crate::suggest::did_you_mean;
 use crate::diagnostics::{Input, MAX_FILE_BYTES, Report};
+use crate::suggest::did_you_mean;
 
 mod embedded {
     include!(concat!(env!("OUT_DIR"), "/bundled_specs.rs"));

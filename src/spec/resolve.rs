@@ -5,9 +5,9 @@ use std::collections::BTreeMap;
 
 use super::model::{EnvSpec, Feature};
 use super::raw::{FeaturePatch, RawEnvSpec, RawFeature, RawFragment};
-use crate::suggest::did_you_mean;
 use crate::diagnostics::Sink;
 use crate::diagnostics::rules as rule;
+use crate::suggest::did_you_mean;
 
 /// Where a resolved feature (and each overridden field) is written: (file index, JSON pointer).
 #[derive(Debug, Clone, Default)]

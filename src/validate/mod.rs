@@ -11,10 +11,11 @@ pub mod schema_check;
 
 use std::collections::BTreeMap;
 
-pub use crate::diagnostics::{
-    Diagnostic, Input, Location, MAX_DIAGNOSTICS_PER_FILE, MAX_FILE_BYTES, Report, Severity, Sink, SourceFile, diagnostic,
-};
 use crate::diagnostics::rules as rule;
+pub use crate::diagnostics::{
+    Diagnostic, Input, Location, MAX_DIAGNOSTICS_PER_FILE, MAX_FILE_BYTES, Report, Severity, Sink, SourceFile,
+    diagnostic,
+};
 use crate::json::{self, Node, NodeKind};
 use crate::spec::raw::{RawDocument, RawEnvSpec, RawFragment};
 use crate::spec::resolve::{FragmentEntry, Resolved, resolve};

@@ -8,11 +8,11 @@ use std::collections::{BTreeMap, BTreeSet};
 use crate::diagnostics::Sink;
 use crate::diagnostics::rules as rule;
 use crate::json::escape_token;
+use crate::sampling::error::SamplerProblem;
+use crate::sampling::{FeatureInfo, FeatureSampler, SamplingError};
 use crate::spec::model::{Feature, InstanceSet};
 use crate::spec::raw::{AtBounds, FeatureType, RawFragment, Sampler, Scalar, Space, Value};
 use crate::spec::resolve::{FeatureSite, Resolved};
-use crate::sampling::error::SamplerProblem;
-use crate::sampling::{FeatureInfo, FeatureSampler, SamplingError};
 use crate::suggest::did_you_mean;
 use crate::spec::model::value_text;
 use crate::text::quote;
@@ -126,7 +126,12 @@ pub fn check_env(r: &Resolved, sink: &mut Sink<'_>) {
                             file,
                             &rule::DUPLICATE_FEATURE,
                             &ptr,
-                            format!("{} and {} are the same feature {}", quote(first), quote(fname), quote(&f.name)),
+                            format!(
+                                "{} and {} are the same feature {}",
+                                quote(first),
+                                quote(fname),
+                                quote(&f.name)
+                            ),
                             Some("vary each feature once per distribution".into()),
                         );
                     }
@@ -253,7 +258,10 @@ fn check_int(x: f64, what: &str, type_name: &str, name: &str, file: usize, ptr: 
             file,
             &rule::INT_NOT_INTEGRAL,
             ptr,
-            format!("{what} {shown} of {type_name} feature {} is not an integer", quote(name)),
+            format!(
+                "{what} {shown} of {type_name} feature {} is not an integer",
+                quote(name)
+            ),
             Some("round it, or make the feature float".into()),
         );
     } else if !is_integral(x) {
@@ -594,8 +602,12 @@ fn check_sampler(s: &Sampler, f: &Feature, at_bounds: AtBounds, file: usize, ptr
         SamplerProblem::Type => (
             &rule::DISTRIBUTION_TYPE,
             match f.kind {
-                FeatureType::Int => "int features take int_uniform, categorical or constant (continuous samplers would produce non-integers)",
-                FeatureType::Categorical => "categorical features take categorical or constant, with values among the feature's choices",
+                FeatureType::Int => {
+                    "int features take int_uniform, categorical or constant (continuous samplers would produce non-integers)"
+                }
+                FeatureType::Categorical => {
+                    "categorical features take categorical or constant, with values among the feature's choices"
+                }
                 FeatureType::Bool => "bool features take categorical or constant",
                 FeatureType::ListInt => "list_int features take a constant list of integers",
                 FeatureType::Float => "use a sampler that produces numbers",
@@ -606,7 +618,11 @@ fn check_sampler(s: &Sampler, f: &Feature, at_bounds: AtBounds, file: usize, ptr
             "every draw would be clipped or rejected: move the distribution inside the bounds",
         ),
     };
-    let at = if field.is_empty() { ptr.to_string() } else { format!("{ptr}/{field}") };
+    let at = if field.is_empty() {
+        ptr.to_string()
+    } else {
+        format!("{ptr}/{field}")
+    };
     sink.report(
         file,
         r,
@@ -618,7 +634,9 @@ fn check_sampler(s: &Sampler, f: &Feature, at_bounds: AtBounds, file: usize, ptr
 
 fn params_help(kind: &str) -> &'static str {
     match kind {
-        "normal" => "a normal needs a finite mean and a std > 0, with mean ± 40·std finite; use constant for a fixed value",
+        "normal" => {
+            "a normal needs a finite mean and a std > 0, with mean ± 40·std finite; use constant for a fixed value"
+        }
         "relative_normal" => {
             "sigma_rel and fallback_std must be > 0 (the paper uses 0.1, 0.25 or 0.5), and the feature needs a numeric default"
         }
@@ -626,7 +644,9 @@ fn params_help(kind: &str) -> &'static str {
         "uniform" => "write finite low < high whose width is finite; use constant for a single value",
         "log_uniform" => "log_uniform needs 0 < low < high; use uniform for ranges that include 0 or negatives",
         "int_uniform" => "write low ≤ high, both within ±2^53 (9007199254740992)",
-        "categorical" => "list at least one choice; weights are relative, finite and ≥ 0 with a positive sum, one per choice",
+        "categorical" => {
+            "list at least one choice; weights are relative, finite and ≥ 0 with a positive sum, one per choice"
+        }
         "interval_mixture" => {
             "write [low, high] intervals with finite low < high; give weights (one per interval) or stratified, not both"
         }
@@ -695,7 +715,10 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
                 Some("an instance set has at least one and at most a million instances".into()),
             );
         }
-        let varied = spec.distributions.get(&s.distribution).map_or(0, |d| d.features.len() as u64);
+        let varied = spec
+            .distributions
+            .get(&s.distribution)
+            .map_or(0, |d| d.features.len() as u64);
         if s.size <= MAX_INSTANCES && s.size.saturating_mul(varied) > MAX_SET_VALUES {
             sink.report(
                 file,
