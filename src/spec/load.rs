@@ -1,7 +1,7 @@
 //! Spec sets: the bundled specs (embedded at build time), authors' directories, and the loaded set.
 //!
 //! Loading validates everything first; that pipeline lives above this module
-//! (`crate::validate`, which adds `SpecSet::bundled`, `bundled_with` and `from_inputs`), so the spec
+//! (the `validate` module, which adds `SpecSet::bundled`, `bundled_with` and `from_inputs`), so the spec
 //! language never depends on its checker.
 
 use std::path::{Path, PathBuf};
@@ -51,7 +51,7 @@ pub enum LoadError {
 }
 
 impl SpecSet {
-    /// A set of already validated, resolved specs (see `crate::validate` for the loaders).
+    /// A set of already validated, resolved specs (the loaders are in the `validate` module).
     pub(crate) fn from_validated(envs: Vec<EnvSpec>) -> SpecSet {
         SpecSet { envs }
     }

@@ -121,3 +121,13 @@ impl EnvSpec {
         self.id == name || self.aliases.iter().any(|a| a == name)
     }
 }
+
+/// A value for messages: strings quoted (escaped and cut, see `text::quote`), lists cut.
+pub fn value_text(v: &Value) -> String {
+    match v {
+        Value::Bool(b) => b.to_string(),
+        Value::Number(x) => x.to_string(),
+        Value::String(s) => crate::text::quote(s),
+        Value::List(l) => crate::text::escape(&format!("{l:?}")),
+    }
+}

@@ -6,7 +6,7 @@
 
 mod load;
 mod rules;
-pub use rules::value_text;
+pub use crate::spec::model::value_text;
 pub mod schema_check;
 
 use std::collections::BTreeMap;

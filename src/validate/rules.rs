@@ -14,6 +14,7 @@ use crate::spec::model::{Feature, InstanceSet};
 use crate::spec::raw::{AtBounds, FeatureType, RawFragment, Sampler, Scalar, Space, Value};
 use crate::spec::resolve::{FeatureSite, Resolved};
 use crate::suggest::did_you_mean;
+use crate::spec::model::value_text;
 use crate::text::quote;
 
 pub use crate::spec::raw::{MAX_INSTANCES, MAX_SET_VALUES};
@@ -546,14 +547,6 @@ fn scalar_text(s: &Scalar) -> String {
     }
 }
 
-pub fn value_text(v: &Value) -> String {
-    match v {
-        Value::Bool(b) => b.to_string(),
-        Value::Number(x) => x.to_string(),
-        Value::String(s) => quote(s),
-        Value::List(l) => format!("{l:?}"),
-    }
-}
 
 fn unknown_feature<'a>(
     known: impl Iterator<Item = &'a str> + Clone,
