@@ -55,12 +55,16 @@ fn two_instances_stepped_alternately_equal_each_alone_for_every_runtime() {
             trace
         };
         let want_a = alone(&Context::new());
-        // The first feature the spec says changes the dynamics that, moved to the far end of its
-        // audit probes, changes this trajectory (else the comparison would prove nothing).
-        let (other, want_b) = spec
-            .features
-            .iter()
-            .filter(|f| f.affects.contains(&Effect::Dynamics))
+        // The first feature the spec says changes the dynamics (else, for runtimes without one
+        // such as rna_design, the reward or observation) that, moved to the far end of its audit
+        // probes, changes this trajectory (else the comparison would prove nothing).
+        let dynamics = spec.features.iter().filter(|f| f.affects.contains(&Effect::Dynamics));
+        let others = spec.features.iter().filter(|f| {
+            !f.affects.contains(&Effect::Dynamics)
+                && (f.affects.contains(&Effect::Reward) || f.affects.contains(&Effect::Observation))
+        });
+        let (other, want_b) = dynamics
+            .chain(others)
             .flat_map(|f| perturbed_values(f).into_iter().rev().map(move |v| (f.name.clone(), v)))
             .map(|(name, v)| {
                 let ctx: Context = [(name, Value::Number(v))].into_iter().collect();

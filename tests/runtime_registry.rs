@@ -18,7 +18,18 @@ fn spec_defaults_equal_runtime_defaults() {
         let mut b = default_env;
         let (ob, _) = b.reset(Some(7));
         assert_eq!(oa, ob);
+        if id == "rna_design" {
+            // The dataset default is a name, target_structure_ids a list (no default: all).
+            use carl_spec::envs::rna_design::{Dataset, RnaDesignParams};
+            let p = RnaDesignParams::default();
+            assert_eq!(Dataset::from_name("eterna"), Some(p.dataset));
+            assert_eq!(p.target_structure_ids, None);
+        }
         for f in &spec.features {
+            // rna_design's dataset name and id list have no numeric default.
+            if id == "rna_design" && f.default_f64().is_none() {
+                continue;
+            }
             // A computed default (Mario's `noise`: CARL's sampling) has no value to compare.
             if f.default.is_none() {
                 assert!(
@@ -106,6 +117,19 @@ fn runtime_default(id: &str, name: &str) -> f64 {
         "mario" => carl_spec::envs::mario::MarioParams::default().get(name),
         robot if carl_spec::envs::robots::is_robot(robot) => {
             carl_spec::envs::robots::default_params(robot).unwrap().get(name)
+        }
+        "rna_design" => {
+            let p = carl_spec::envs::rna_design::RnaDesignParams::default();
+            match name {
+                "mutation_threshold" => Ok(p.mutation_threshold),
+                "reward_exponent" => Ok(p.reward_exponent),
+                "state_radius" => Ok(p.state_radius as f64),
+                _ => Err(carl_spec::envs::UnknownFeature {
+                    env: "rna_design",
+                    name: name.to_string(),
+                    known: "mutation_threshold, reward_exponent, state_radius".into(),
+                }),
+            }
         }
         _ => unreachable!(),
     }
