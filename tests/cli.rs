@@ -204,7 +204,7 @@ fn audit_exit_codes_and_formats() {
     assert_eq!(o.status.code(), Some(0));
 
     // Unknown environment, environment without runtime, nothing named: usage errors listing runtimes.
-    for args in [&["audit", "cartpol"][..], &["audit", "rna_design"], &["audit"]] {
+    for args in [&["audit", "cartpol"][..], &["audit"]] {
         let o = carl(args);
         assert_eq!(o.status.code(), Some(2), "{args:?}");
         if args.len() == 2 {

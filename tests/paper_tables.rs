@@ -277,7 +277,9 @@ fn tables() -> Vec<(&'static str, Vec<Row>)> {
             vec![
                 ("mutation_threshold", Exact(5.0), s(0.1), INF, Float),
                 ("reward_exponent", Exact(1.0), s(0.1), INF, Float),
-                ("state_radius", Exact(5.0), s(1.0), INF, Float),
+                // The table types it as a float; LEARNA's window needs an integer (carl-bench
+                // 1.1.1's 5.0 crashes its constructor with a TypeError), so the spec says int.
+                ("state_radius", Exact(5.0), s(1.0), INF, Int),
                 ("dataset", Str("eterna"), INF, INF, Cat(3)),
                 ("target_structure_ids", Computed, s(0.0), INF, ListInt),
             ],

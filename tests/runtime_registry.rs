@@ -75,17 +75,14 @@ fn unknown_and_out_of_bounds_features_are_refused() {
 #[test]
 fn specs_without_runtime_say_so() {
     let specs = SpecSet::bundled().unwrap();
-    // Every spec without a runtime (RNA design) says so, whatever its feature types.
-    let mut checked = 0;
+    // Every bundled spec has a runtime; a spec under any other id says it has none.
     for spec in specs.envs() {
-        if carl_spec::envs::registry::has_runtime(&spec.id) {
-            continue;
-        }
-        let e = make(spec, &Context::new()).unwrap_err();
-        assert!(matches!(e, MakeError::NoRuntime { .. }), "{}: {e}", spec.id);
-        checked += 1;
+        assert!(carl_spec::envs::registry::has_runtime(&spec.id), "{}", spec.id);
     }
-    assert!(checked > 0);
+    let mut spec = specs.get("cartpole").unwrap().clone();
+    spec.id = "no_such_runtime".into();
+    let e = make(&spec, &Context::new()).unwrap_err();
+    assert!(matches!(e, MakeError::NoRuntime { .. }), "{e}");
 }
 
 fn runtime_default(id: &str, name: &str) -> f64 {

@@ -40,9 +40,19 @@ pub(super) fn store_failure(e: StoreError) -> Failure {
     }
 }
 
+/// The store the instance commands use: run from a checkout (`./specs` holding the bundled
+/// specs), the bundled specs' frozen files are the editable ones there, not the binary's copies.
+fn store_here(specs: &crate::spec::SpecSet) -> Store<'_> {
+    let store = Store::new(specs);
+    match Store::find_checkout(std::path::Path::new("")) {
+        Some(dir) => store.with_checkout(dir),
+        None => store,
+    }
+}
+
 pub fn instances(cli: &Cli, cmd: &InstancesCommand) -> CmdResult {
     let specs = load_specs(cli)?;
-    let store = Store::new(&specs);
+    let store = store_here(&specs);
     match cmd {
         InstancesCommand::List { format } => {
             let rows: Vec<serde_json::Value> = store
@@ -102,11 +112,20 @@ pub fn instances(cli: &Cli, cmd: &InstancesCommand) -> CmdResult {
         InstancesCommand::Verify { format } => {
             let problems = store.verify();
             let n = store.declared().len();
+            let files = store.checked_files();
+            let source = store.bundled_source();
             if *format == Format::Json {
-                let v = serde_json::json!({"sets": n, "ok": problems.is_empty(), "problems": problems});
+                let v = serde_json::json!({"sets": n, "ok": problems.is_empty(), "problems": problems,
+                    "files": files, "bundled_sets_from": source});
                 out(&format!("{}\n", serde_json::to_string_pretty(&v).unwrap_or_default()))?;
             } else {
                 let mut s = String::new();
+                if specs.envs().iter().any(|e| e.origin.starts_with("bundled:")) {
+                    let _ = writeln!(s, "bundled sets read from {source}");
+                }
+                for f in &files {
+                    let _ = writeln!(s, "checked {f}");
+                }
                 for p in &problems {
                     let _ = match format {
                         Format::Github => writeln!(s, "::error file={}::{}: {}", p.file, p.set, p.problem),
@@ -168,7 +187,7 @@ pub fn print_set(frozen: &FrozenSet, format: Format) -> Result<(), Failure> {
 
 pub fn freeze(cli: &Cli, names: &[String], out_dir: Option<&PathBuf>, force: bool) -> CmdResult {
     let specs = load_specs(cli)?;
-    let store = Store::new(&specs);
+    let store = store_here(&specs);
     let outcomes = store
         .freeze(names, out_dir.map(PathBuf::as_path), force)
         .map_err(store_failure)?;

@@ -4,6 +4,7 @@
 mod audit_cmd;
 mod bench_cmd;
 mod context_args;
+mod fold_cmd;
 mod instances_cmd;
 mod plot_cmd;
 mod progress;
@@ -75,7 +76,7 @@ pub enum Command {
         env: String,
         #[arg(long)]
         distribution: String,
-        /// Number of contexts (1 to 1,000,000).
+        /// Number of contexts: 1 to 1,000,000, and at most 1,000,000 values (contexts × varied features).
         #[arg(short = 'n', long = "num", value_name = "N")]
         n: u64,
         #[arg(long)]
@@ -109,6 +110,8 @@ pub enum Command {
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
+    /// RNA secondary structure (MFE, ViennaRNA 2.x default model) like RNAfold; `fold eval` like RNAeval.
+    Fold(fold_cmd::FoldArgs),
     /// Steps per second of one environment and of a VecEnv (random actions, auto-reset), as one JSON line.
     Bench {
         /// Environment id or alias, e.g. `cartpole`.
@@ -208,6 +211,7 @@ pub fn main() -> ExitCode {
             threads,
         } => bench_cmd::run(&cli, env, *num_envs, *steps, *threads),
         Command::Audit { env, all, format } => audit_cmd::run(&cli, env.as_deref(), *all, *format),
+        Command::Fold(args) => fold_cmd::run(args),
     };
     match result {
         Ok(code) => ExitCode::from(code),

@@ -1,21 +1,22 @@
 //! `carl-spec render ENV …`: pictures of a configured instance. `--out frame.png` writes one
 //! frame (after `--steps` steps, default the reset state), `--out run.gif` an animation of the
-//! episode, `--out DIR/` a numbered PNG per frame. Files are written atomically and never
-//! replace existing ones without `--force`.
+//! episode, `--out DIR/` a numbered PNG per frame. The output path follows the crate's one rule
+//! (`crate::output`, `crate::render`): checked before the episode runs, parent directory must
+//! exist, nothing replaced without `--force`, atomic writes; `--force` on a frame directory
+//! leaves exactly this run's frames in it.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::Args;
 
 use super::context_args::{ContextArgs, PolicyArg};
 use super::{Cli, CmdResult, Failure, exit};
 use crate::envs::Env;
-use crate::envs::registry::ids_where;
+use crate::envs::registry::{ids_where, lookup};
 use crate::episode::policies::policy_for;
 use crate::episode::{EpisodeConfig, EpisodeError, EpisodeListener, Flow, StepRecord, run_episode};
-use crate::plot::write_output;
-use crate::render::Frame;
-use crate::render::encode::{gif_bytes, png_bytes};
+use crate::pixels::Frame;
+use crate::render::{RenderError, RenderOutput};
 
 /// Frames an animation may have (a 600×400 GIF frame is ~100 kB).
 const MAX_FRAMES: usize = 2000;
@@ -45,55 +46,40 @@ pub struct RenderArgs {
     /// Output: `*.png` (one frame), `*.gif` (animation) or a directory (`DIR/`: frame_00000.png, …).
     #[arg(long, value_name = "PATH")]
     pub out: PathBuf,
-    /// Replace existing output files.
+    /// Replace existing output files (in a frame directory: replace and remove the old frames).
     #[arg(long)]
     pub force: bool,
 }
 
-enum Output {
-    Png(PathBuf),
-    Gif(PathBuf),
-    Frames(PathBuf),
-}
-
-fn output_kind(out: &Path) -> Result<Output, Failure> {
-    let text = out.to_string_lossy();
-    if out.is_dir() || text.ends_with('/') || text.ends_with(std::path::MAIN_SEPARATOR) {
-        return Ok(Output::Frames(out.to_path_buf()));
-    }
-    match out
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .as_deref()
-    {
-        Some("png") => Ok(Output::Png(out.to_path_buf())),
-        Some("gif") => Ok(Output::Gif(out.to_path_buf())),
-        _ => Err(Failure::usage(format!(
-            "--out {}: use a .png file (one frame), a .gif file (animation) or a directory ending in / (PNG frames)",
-            out.display()
-        ))),
+fn render_failure(e: RenderError) -> Failure {
+    match e {
+        RenderError::Encode(m) => Failure::failed(m),
+        e => Failure::usage(e.to_string()),
     }
 }
 
 pub fn run(cli: &Cli, args: &RenderArgs) -> CmdResult {
-    let output = output_kind(&args.out)?;
+    let output = RenderOutput::parse(&args.out).map_err(render_failure)?;
+    output.check(args.force).map_err(|e| Failure::usage(e.to_string()))?;
     if args.every == 0 {
         return Err(Failure::usage("--every must be at least 1"));
     }
-    let resolved = args.ctx.resolve(cli, &args.env, "render")?;
-    let reg = resolved.registration;
-    if !reg.renders {
+    // Environments without a renderer (spec-only ones included) hear which ones have one.
+    if let Ok(spec) = super::load_specs(cli)?.require(&args.env)
+        && lookup(&spec.id).is_none_or(|r| !r.renders)
+    {
         return Err(Failure::usage(format!(
             "{} has no renderer yet; render works for: {}",
-            reg.id,
+            spec.id,
             ids_where(|r| r.renders)
         )));
     }
+    let resolved = args.ctx.resolve(cli, &args.env, "render")?;
+    let reg = resolved.registration;
     let mut env = resolved.build()?;
     let id = env.id();
     let mut policy = policy_for(reg, args.policy.into(), &env.action_space(), args.seed).map_err(Failure::usage)?;
-    let animated = !matches!(output, Output::Png(_));
+    let animated = output.is_animation();
     let steps = args.steps.unwrap_or(if animated { u64::MAX } else { 0 });
     let mut frames = FrameCollector {
         animated,
@@ -126,51 +112,23 @@ pub fn run(cli: &Cli, args: &RenderArgs) -> CmdResult {
     )
     .then(|| summary.end.as_str());
     let title = format!("{id}, seed {}, step {t}", args.seed);
-    let io = |e: crate::plot::WriteError| Failure::usage(e.to_string());
     let (w, h) = (frames[0].width, frames[0].height);
-    match &output {
-        Output::Png(p) => {
-            write_output(p, &png_bytes(&frames[0], &title).map_err(Failure::failed)?, args.force).map_err(io)?;
-        }
-        Output::Gif(p) => {
-            write_output(p, &gif_bytes(&frames, args.delay).map_err(Failure::failed)?, args.force).map_err(io)?;
-        }
-        Output::Frames(dir) => write_frames(dir, &frames, &title, args.force)?,
+    let written = output
+        .write(&frames, &title, args.delay, args.force)
+        .map_err(render_failure)?;
+    for p in &written.removed {
+        eprintln!("removed {} (a frame of an earlier run)", p.display());
     }
     let ended = last.map(|s| format!(", episode {s}")).unwrap_or_default();
     super::out(&format!(
         "wrote {} ({} frame{}, {w}x{h}, {id}, seed {}, {t} step{}{ended})\n",
         args.out.display(),
-        frames.len(),
-        if frames.len() == 1 { "" } else { "s" },
+        written.frames,
+        if written.frames == 1 { "" } else { "s" },
         args.seed,
         if t == 1 { "" } else { "s" },
     ))?;
     Ok(exit::OK)
-}
-
-/// `DIR/frame_00000.png`, …; the directory is created if its parent exists. Nothing is written
-/// if any frame file exists already (without `--force`).
-fn write_frames(dir: &Path, frames: &[Frame], title: &str, force: bool) -> Result<(), Failure> {
-    if !dir.is_dir() {
-        std::fs::create_dir(dir).map_err(|e| Failure::usage(format!("cannot create {}: {e}", dir.display())))?;
-    }
-    let paths: Vec<PathBuf> = (0..frames.len())
-        .map(|i| dir.join(format!("frame_{i:05}.png")))
-        .collect();
-    if !force {
-        if let Some(p) = paths.iter().find(|p| p.symlink_metadata().is_ok()) {
-            return Err(Failure::usage(format!(
-                "{} exists; pass --force to replace it",
-                p.display()
-            )));
-        }
-    }
-    for (f, p) in frames.iter().zip(&paths) {
-        let bytes = png_bytes(f, title).map_err(Failure::failed)?;
-        write_output(p, &bytes, force).map_err(|e| Failure::usage(e.to_string()))?;
-    }
-    Ok(())
 }
 
 /// Collects the frames of an animation: the reset, every `every`-th step and the last one.

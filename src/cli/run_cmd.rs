@@ -6,6 +6,9 @@
 //! --actions -`: `{"episode": {"body", "gravity", "seed"}}`, the reset line, then one line per step;
 //! after each observation line (flushed) one JSON action is read from stdin. The table then goes
 //! to stderr so stdout carries only JSON lines.
+//!
+//! Arguments and output paths are checked before the evaluation starts (`crate::output`'s rule:
+//! the directory must exist, nothing is replaced without `--force`, writes are atomic).
 
 use std::io::{BufRead, Write};
 use std::path::{Path, PathBuf};
@@ -17,7 +20,7 @@ use crate::envs::api::{Action, Space};
 use crate::episode::StepRecord;
 use crate::episode::jsonl::{parse_action, quote_input, write_reset, write_step};
 use crate::experiments::landing_in_space::{self as lis, Config, Driver, EpisodeInfo, Heuristic};
-use crate::instances::frozen::write_atomic;
+use crate::output;
 
 #[derive(Subcommand, Debug)]
 pub enum RunCommand {
@@ -68,18 +71,25 @@ pub fn run(cli: &Cli, cmd: &RunCommand) -> CmdResult {
             figure,
             force,
         } => {
-            if !crash_penalty.is_finite() {
-                return Err(Failure::usage(format!("--crash-penalty {crash_penalty} is not finite")));
-            }
-            for p in [out_path, figure].into_iter().flatten() {
-                check_target(p, *force)?;
-            }
-            let specs = load_specs(cli)?;
             let cfg = Config {
                 episodes: *episodes as usize,
                 seed: *seed,
                 crash_penalty: *crash_penalty,
             };
+            cfg.check().map_err(Failure::usage)?;
+            // Before the evaluation: a bad path must not cost the whole run.
+            for p in [out_path, figure].into_iter().flatten() {
+                output::check_file(p, *force).map_err(|e| Failure::usage(e.to_string()))?;
+            }
+            if let (Some(a), Some(b)) = (out_path, figure) {
+                if a == b {
+                    return Err(Failure::usage(format!(
+                        "--out and --figure are both {}; give two different files",
+                        a.display()
+                    )));
+                }
+            }
+            let specs = load_specs(cli)?;
             let (results, interactive) = match policy {
                 RunPolicy::Heuristic => (
                     lis::evaluate(
@@ -109,6 +119,7 @@ pub fn run(cli: &Cli, cmd: &RunCommand) -> CmdResult {
                     }
                 }
             };
+            results.check_finite().map_err(Failure::failed)?;
             let table = lis::table(&results);
             if interactive {
                 eprint!("{table}");
@@ -119,28 +130,22 @@ pub fn run(cli: &Cli, cmd: &RunCommand) -> CmdResult {
                 let mut text = serde_json::to_string_pretty(&results)
                     .map_err(|e| Failure::failed(format!("serialising results: {e}")))?;
                 text.push('\n');
-                write(p, &text)?;
+                write(p, text.as_bytes(), *force)?;
             }
             if let Some(p) = figure {
-                write(p, &lis::figure_svg(&results))?;
+                write(
+                    p,
+                    lis::figure_svg(&results).map_err(Failure::failed)?.as_bytes(),
+                    *force,
+                )?;
             }
             Ok(exit::OK)
         }
     }
 }
 
-fn check_target(p: &Path, force: bool) -> Result<(), Failure> {
-    if p.exists() && !force {
-        return Err(Failure::usage(format!(
-            "{} exists; pass --force to replace it",
-            p.display()
-        )));
-    }
-    Ok(())
-}
-
-fn write(p: &Path, text: &str) -> Result<(), Failure> {
-    write_atomic(p, text).map_err(|e| Failure::usage(format!("cannot write {}: {e}", p.display())))
+fn write(p: &Path, bytes: &[u8], force: bool) -> Result<(), Failure> {
+    output::write_file(p, bytes, force).map_err(|e| Failure::usage(e.to_string()))
 }
 
 /// Streams episodes on stdout and reads actions from stdin.

@@ -96,8 +96,16 @@ pub fn resolve_context(spec: &EnvSpec, context: &Context, opts: MakeOptions) -> 
                     .choice_labels
                     .as_ref()
                     .and_then(|labels| labels.iter().position(|l| l == label));
+                // String choices (e.g. rna_design's dataset) resolve to the index of the choice
+                // named by `label` or by its choice label.
+                let string_choice = f.choices.as_ref().and_then(|choices| {
+                    choices.iter().position(|c| matches!(c, Scalar::String(s) if s == label)).or(idx.filter(|&i| {
+                        matches!(choices.get(i), Some(Scalar::String(_)))
+                    }))
+                });
                 match idx.and_then(|i| f.choices.as_ref()?.get(i)) {
                     Some(Scalar::Number(x)) => *x,
+                    _ if string_choice.is_some() => string_choice.unwrap_or_default() as f64,
                     _ => {
                         return Err(MakeError::BadValue {
                             env,

@@ -224,7 +224,7 @@ pub enum ContextualError {
     Make {
         who: String,
         #[source]
-        source: MakeError,
+        source: Box<MakeError>,
     },
     #[error("{0}")]
     Derive(#[from] DeriveError),
@@ -274,7 +274,7 @@ pub struct ContextualEnv {
 fn make_err(who: &str) -> impl FnOnce(MakeError) -> ContextualError + '_ {
     move |source| ContextualError::Make {
         who: who.to_string(),
-        source,
+        source: Box::new(source),
     }
 }
 
@@ -846,7 +846,7 @@ impl Env for ContextualEnv {
         self.info_map()
     }
 
-    fn render(&self) -> Option<crate::render::Frame> {
+    fn render(&self) -> Option<crate::pixels::Frame> {
         self.slots[self.current].env.render()
     }
 }

@@ -12,6 +12,7 @@
 //! * [`policy`]: who acts (random, no-op, the table's hand-written controllers).
 //! * [`contextual`]: CARL's contextual wrapper (instance selection, context in observation/info).
 //! * [`box2d`]: LunarLander on rapier2d (each instance owns its physics world).
+//! * [`rna_design`]: LEARNA's RNA design task on carl-rna's folding (crates/carl-rna).
 //! * [`robots`]: articulated robots from URDF on rapier3d (Ant, HalfCheetah).
 
 pub mod api;
@@ -24,6 +25,7 @@ pub mod policy;
 mod pool;
 pub mod registry;
 pub mod rng;
+pub mod rna_design;
 pub mod robots;
 pub mod runtime;
 pub mod vec_env;

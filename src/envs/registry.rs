@@ -22,6 +22,7 @@ use super::classic::{
     MountainCarParams, Pendulum, PendulumParams,
 };
 use super::policy::{FnPolicy, Policy, PolicyError};
+use super::rna_design::{Dataset, RnaDesign, RnaDesignParams};
 use super::robots::{self, RobotParams};
 use super::runtime::AnyEnv;
 use crate::spec::model::EnvSpec;
@@ -30,6 +31,13 @@ pub use super::context::{
     Context, EnvOptions, MakeError, MakeOptions, OptionKind, OptionSpec, OptionValues, resolve_context, resolve_options,
 };
 
+/// Builds a runtime from every feature's value (canonical names, spec order) and the resolved
+/// variant options.
+pub type BuildFn = fn(&[(String, f64)], &OptionValues) -> Result<AnyEnv, MakeError>;
+
+/// The hand-written controller for a runtime with this action space.
+pub type HeuristicFn = fn(&Space) -> Box<dyn Policy>;
+
 /// One runtime's declaration.
 #[derive(Debug, Clone, Copy)]
 pub struct Registration {
@@ -37,12 +45,12 @@ pub struct Registration {
     pub id: &'static str,
     /// Build the runtime from every feature's value (canonical names, spec order) and the
     /// resolved options.
-    pub build: fn(&[(String, f64)], &OptionValues) -> Result<AnyEnv, MakeError>,
+    pub build: BuildFn,
     /// Variant options (`continuous`, `hardcore`, …).
     pub options: &'static [OptionSpec],
     /// The environment's hand-written controller, for the runtime built (its action space says
     /// e.g. discrete or continuous).
-    pub heuristic: Option<fn(&Space) -> Box<dyn Policy>>,
+    pub heuristic: Option<HeuristicFn>,
     /// Whether `Env::render` draws pictures.
     pub renders: bool,
     /// How one step costs: sets thread work-sharing and `bench` defaults.
@@ -506,6 +514,40 @@ pub static REGISTRY: &[Registration] = &[
         },
         vector_kernel: None,
     },
+    Registration {
+        id: "rna_design",
+        build: |v, o| {
+            let p = rna_design_params(v, o)?;
+            let env = RnaDesign::new(p).map_err(|e| MakeError::BadValue {
+                env: "rna_design".into(),
+                name: "dataset".into(),
+                expected: "loadable",
+                got: e.to_string(),
+            })?;
+            Ok(AnyEnv::new(env))
+        },
+        options: &[OptionSpec {
+            name: "max_improvement_folds",
+            help: "cap on the folds of LEARNA's local improvement per episode (it costs up to 4^d folds); 0: no cap, as LEARNA",
+            kind: OptionKind::Number {
+                default: 0.0,
+                min: 0.0,
+                max: 1e12,
+            },
+        }],
+        heuristic: None,
+        renders: false,
+        cost: StepCost::Heavy,
+        // A step is a table write; the last one of an episode folds (up to 400 nt for Eterna100).
+        audit: AuditProfile {
+            trajectory_seeds: 4,
+            trajectory_steps: 24,
+            random_states: 0,
+            reset_seeds: 8,
+            state_hint: &[],
+        },
+        vector_kernel: None,
+    },
 ];
 
 /// The registration of environment `id` (a spec id, not an alias).
@@ -576,6 +618,37 @@ fn params<P: Default>(
 ) -> Result<P, MakeError> {
     let mut p = P::default();
     super::context::apply(id, values, |name, x| set(&mut p, name, x))?;
+    Ok(p)
+}
+
+/// rna_design's context: the spec's `dataset` choice index (eterna, rfam_learn, rfam_taneda)
+/// becomes a [`Dataset`]; Rfam-Learn is read from `$CARL_SPEC_DATA`.
+fn rna_design_params(values: &[(String, f64)], options: &OptionValues) -> Result<RnaDesignParams, MakeError> {
+    let mut p = RnaDesignParams::default();
+    for (name, x) in values {
+        match name.as_str() {
+            "mutation_threshold" => p.mutation_threshold = *x,
+            "reward_exponent" => p.reward_exponent = *x,
+            "state_radius" => p.state_radius = *x as usize,
+            "dataset" => {
+                p.dataset = match *x as usize {
+                    0 => Dataset::Eterna,
+                    1 => Dataset::RfamLearn(super::rna_design::RfamLearnSplit::Train),
+                    _ => Dataset::RfamTaneda,
+                }
+            }
+            other => {
+                return Err(MakeError::UnknownFeature {
+                    env: "rna_design".into(),
+                    name: other.into(),
+                    hint: " (the spec names a feature the runtime does not know)".into(),
+                    valid: "mutation_threshold, reward_exponent, state_radius, dataset".into(),
+                });
+            }
+        }
+    }
+    let cap = options.get("max_improvement_folds");
+    p.max_improvement_folds = (cap > 0.0).then_some(cap as u64);
     Ok(p)
 }
 

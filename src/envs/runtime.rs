@@ -113,7 +113,7 @@ impl Env for AnyEnv {
     fn info(&self) -> Info {
         self.0.info()
     }
-    fn render(&self) -> Option<crate::render::Frame> {
+    fn render(&self) -> Option<crate::pixels::Frame> {
         self.0.render()
     }
 }

@@ -296,9 +296,9 @@ impl Env for Mario {
         info
     }
 
-    fn render(&self) -> Option<crate::render::Frame> {
+    fn render(&self) -> Option<crate::pixels::Frame> {
         let g = self.game.as_ref()?;
         let size = carl_mario::render::SCREEN as u32;
-        Some(crate::render::Frame { width: size, height: size, rgb: carl_mario::render::frame_rgb(&g.world) })
+        Some(crate::pixels::Frame { width: size, height: size, rgb: carl_mario::render::frame_rgb(&g.world) })
     }
 }

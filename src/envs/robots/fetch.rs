@@ -489,7 +489,7 @@ impl Env for Fetch {
         m
     }
 
-    fn render(&self) -> Option<crate::render::Frame> {
+    fn render(&self) -> Option<crate::pixels::Frame> {
         let w = self.world.as_ref()?;
         let t = Vector::new(self.target[0] as f32, self.target[1] as f32, self.target[2] as f32);
         let torso = w.link_pose(w.torso).translation;
@@ -505,7 +505,7 @@ impl Env for Fetch {
         Some(super::render::render_from(
             w,
             &cam,
-            &[(t, 0.4, crate::plot::scene::Color(220, 60, 40))],
+            &[(t, 0.4, crate::pixels::Color(220, 60, 40))],
         ))
     }
 }

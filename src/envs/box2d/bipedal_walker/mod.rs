@@ -1020,7 +1020,7 @@ impl Env for BipedalWalker {
         Ok(())
     }
 
-    fn render(&self) -> Option<crate::render::Frame> {
+    fn render(&self) -> Option<crate::pixels::Frame> {
         render::render(self)
     }
 }
