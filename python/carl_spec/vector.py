@@ -136,9 +136,13 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
         if self._mode == AutoresetMode.SAME_STEP:
             done = terminated | truncated
             if done.any():
+                # Gymnasium's layout (what VectorEnv._add_info builds env by env): an object array
+                # of final observations (None elsewhere) and masks.
                 final = self._core.final_obs()
+                final_obs = np.full(self.num_envs, None, dtype=object)
                 for i in np.flatnonzero(done):
-                    infos = self._add_info(infos, {"final_obs": final[i], "final_info": {}}, int(i))
+                    final_obs[i] = final[i]
+                infos = {"final_obs": final_obs, "_final_obs": done, "final_info": {}, "_final_info": done}
         return obs, rewards, terminated, truncated, self._context_infos(infos)
 
     def context_info(self, i: int) -> dict[str, Any] | None:

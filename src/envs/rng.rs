@@ -37,18 +37,17 @@ fn mix(x: u32, y: u32) -> u32 {
     r ^ (r >> XSHIFT)
 }
 
-/// `np.random.SeedSequence(seed).generate_state(n_words, np.uint32)` for an integer seed.
-pub fn seed_sequence_words(seed: u64, n_words: usize) -> Vec<u32> {
+/// `np.random.SeedSequence(seed).generate_state(N, np.uint32)` for an integer seed
+/// (allocation-free: resets must not allocate).
+pub fn seed_sequence_words<const N: usize>(seed: u64) -> [u32; N] {
     // The seed as little-endian 32-bit words (0 is one zero word).
-    let entropy: Vec<u32> = if seed >> 32 == 0 {
-        vec![seed as u32]
-    } else {
-        vec![seed as u32, (seed >> 32) as u32]
-    };
+    let entropy = [seed as u32, (seed >> 32) as u32];
+    let n_entropy = if seed >> 32 == 0 { 1 } else { 2 };
     let mut pool = [0u32; POOL_SIZE];
     let mut hc = INIT_A;
     for (i, slot) in pool.iter_mut().enumerate() {
-        *slot = hashmix(entropy.get(i).copied().unwrap_or(0), &mut hc);
+        let word = if i < n_entropy { entropy[i] } else { 0 };
+        *slot = hashmix(word, &mut hc);
     }
     for src in 0..POOL_SIZE {
         for dst in 0..POOL_SIZE {
@@ -59,21 +58,21 @@ pub fn seed_sequence_words(seed: u64, n_words: usize) -> Vec<u32> {
         }
     }
     let mut hc = INIT_B;
-    (0..n_words)
-        .map(|i| {
-            let mut v = pool[i % POOL_SIZE] ^ hc;
-            hc = hc.wrapping_mul(MULT_B);
-            v = v.wrapping_mul(hc);
-            v ^ (v >> XSHIFT)
-        })
-        .collect()
+    let mut out = [0u32; N];
+    for (i, word) in out.iter_mut().enumerate() {
+        let mut v = pool[i % POOL_SIZE] ^ hc;
+        hc = hc.wrapping_mul(MULT_B);
+        v = v.wrapping_mul(hc);
+        *word = v ^ (v >> XSHIFT);
+    }
+    out
 }
 
 /// `np.random.PCG64(seed)`: the 128-bit seed and increment come from
 /// `SeedSequence(seed).generate_state(4, np.uint64)` (words 0–1 and 2–3, high word first), then
 /// PCG's standard `srandom` (NumPy's `pcg64_set_seed`).
 pub fn numpy_pcg64(seed: u64) -> Pcg64 {
-    let w = seed_sequence_words(seed, 8);
+    let w: [u32; 8] = seed_sequence_words(seed);
     let u = |k: usize| u64::from(w[2 * k]) | (u64::from(w[2 * k + 1]) << 32);
     let initstate = (u128::from(u(0)) << 64) | u128::from(u(1));
     let initseq = (u128::from(u(2)) << 64) | u128::from(u(3));
@@ -145,7 +144,7 @@ mod tests {
             (u64::MAX, [0x928cad0d, 0xaebca151, 0x8638dc7a, 0x119c3044, 0x59e642a7, 0x1bbb1556, 0xe8c4a8f6, 0xa76b11e3]),
         ];
         for (seed, w) in words {
-            assert_eq!(seed_sequence_words(*seed, 8), w.to_vec(), "seed {seed}");
+            assert_eq!(seed_sequence_words::<8>(*seed), *w, "seed {seed}");
         }
         let raw: &[(u64, [u64; 2])] = &[
             (0, [0xa30febcfd9c2825f, 0x4510bdf882d9d721]),

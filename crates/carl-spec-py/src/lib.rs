@@ -58,11 +58,10 @@ fn contextual_error(py: Python<'_>, e: &ContextualError) -> PyErr {
         ContextualError::UnknownDistribution { .. } | ContextualError::UnknownFeature { .. } => {
             unknown_name(py, e.to_string())
         }
-        ContextualError::Make { source, .. }
-            if matches!(source, MakeError::UnknownFeature { .. } | MakeError::NoRuntime(_)) =>
-        {
-            unknown_name(py, e.to_string())
-        }
+        ContextualError::Make {
+            source: MakeError::UnknownFeature { .. } | MakeError::NoRuntime(_),
+            ..
+        } => unknown_name(py, e.to_string()),
         ContextualError::Derive(DeriveError::UnknownDistribution { .. } | DeriveError::UnknownFeature { .. }) => {
             unknown_name(py, e.to_string())
         }
@@ -544,6 +543,14 @@ fn autoreset_mode(name: &str) -> PyResult<AutoresetMode> {
     }
 }
 
+/// `(observations, rewards, terminated, truncated)` of one batch step.
+type BatchStep<'py> = (
+    Bound<'py, PyAny>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<bool>>,
+    Bound<'py, PyArray1<bool>>,
+);
+
 /// A batch of environments stepped by one call (`carl_spec.make_vec` wraps it in a
 /// `gymnasium.vector.VectorEnv`). The GIL is released while Rust steps.
 #[pyclass(module = "carl_spec._core")]
@@ -679,12 +686,7 @@ impl VecEnv {
         &mut self,
         py: Python<'py>,
         actions: &Bound<'py, PyAny>,
-    ) -> PyResult<(
-        Bound<'py, PyAny>,
-        Bound<'py, PyArray1<f64>>,
-        Bound<'py, PyArray1<bool>>,
-        Bound<'py, PyArray1<bool>>,
-    )> {
+    ) -> PyResult<BatchStep<'py>> {
         let (n, id) = (self.inner.num_envs(), self.inner.id());
         let inner = &mut self.inner;
         if self.discrete {
