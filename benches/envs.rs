@@ -4,11 +4,13 @@
 //!   beforehand, auto-reset when an episode ends); divan reports time per step.
 //! * `vec::*`: one `VecEnv::step` over `num_envs` environments with 1 or 2 threads; divan reports
 //!   environment steps per second (items/s).
+//!
+//! Both step through `carl_spec::bench`'s runners, the same loops `carl-spec bench` times.
 
+use carl_spec::bench::{SingleRunner, VecRunner};
 use carl_spec::envs::registry::{Context, SpecEnv, make};
 use carl_spec::envs::rng::EnvRng;
-use carl_spec::envs::vec_env::{VecActions, VecEnv, VecOptions};
-use carl_spec::envs::{Action, Env, Space};
+use carl_spec::envs::{Action, Env};
 use carl_spec::spec::SpecSet;
 use divan::counter::ItemsCount;
 use divan::{Bencher, black_box};
@@ -24,57 +26,13 @@ fn env(id: &str) -> SpecEnv {
     make(specs.get(id).expect("spec"), &Context::new()).expect("make")
 }
 
-/// `len` random actions of `space`, flattened (discrete as i64, continuous as f32, `dim` values
-/// per action).
-fn actions(space: &Space, len: usize) -> (Vec<i64>, Vec<f32>) {
-    let mut rng = EnvRng::from_seed(7);
-    match space {
-        Space::Discrete { n, .. } => ((0..len).map(|_| (rng.next_u64() % *n as u64) as i64).collect(), vec![]),
-        Space::Box { low, high, .. } => (
-            vec![],
-            (0..len * low.len())
-                .map(|k| {
-                    let i = k % low.len();
-                    (low[i] as f64 + (high[i] - low[i]) as f64 * rng.next_f64()) as f32
-                })
-                .collect(),
-        ),
-    }
-}
-
-/// Components per action of `space`.
-fn dim(space: &Space) -> usize {
-    match space {
-        Space::Discrete { .. } => 1,
-        Space::Box { low, .. } => low.len(),
-    }
-}
-
 mod single {
     use super::*;
 
     fn run(bencher: Bencher, id: &str) {
-        let mut e = env(id);
-        let (d, c) = actions(&e.action_space(), TABLE);
-        let acts: Vec<Action> = if d.is_empty() {
-            c.chunks(dim(&e.action_space()))
-                .map(|x| Action::Continuous(x.to_vec()))
-                .collect()
-        } else {
-            d.into_iter().map(Action::Discrete).collect()
-        };
-        let mut obs = vec![0.0f32; e.obs_dim()];
-        let _ = e.reset_into(Some(0), &mut obs);
-        let mut t = 0usize;
-        bencher.bench_local(move || {
-            t = (t + 1) % TABLE;
-            if let Ok(out) = e.step_into(black_box(&acts[t]), &mut obs) {
-                if out.terminated || out.truncated {
-                    let _ = e.reset_into(None, &mut obs);
-                }
-            }
-            black_box(&obs);
-        });
+        let specs = SpecSet::bundled().expect("bundled specs");
+        let mut r = SingleRunner::new(specs.get(id).expect("spec")).expect("runner");
+        bencher.bench_local(move || r.step());
     }
 
     #[divan::bench]
@@ -145,30 +103,8 @@ mod vec {
 
     fn run(bencher: Bencher, id: &str, n: usize, threads: usize) {
         let specs = SpecSet::bundled().expect("bundled specs");
-        let spec = specs.get(id).expect("spec");
-        let mut v = VecEnv::new(
-            spec,
-            &vec![Context::new(); n],
-            VecOptions {
-                threads,
-                ..Default::default()
-            },
-        )
-        .expect("VecEnv");
-        v.reset(0);
-        let batches = (65_536 / n).clamp(1, 64);
-        let (d, c) = actions(&v.action_space(), batches * n);
-        let m = n * dim(&v.action_space());
-        let mut k = 0usize;
-        bencher.counter(ItemsCount::new(n)).bench_local(move || {
-            k = (k + 1) % batches;
-            let a = if d.is_empty() {
-                VecActions::Continuous(&c[k * m..(k + 1) * m])
-            } else {
-                VecActions::Discrete(&d[k * n..(k + 1) * n])
-            };
-            black_box(v.step(a).map(|s| s.obs.len()))
-        });
+        let mut r = VecRunner::new(specs.get(id).expect("spec"), n, threads).expect("VecRunner");
+        bencher.counter(ItemsCount::new(n)).bench_local(move || r.step());
     }
 
     #[divan::bench(args = NUM_ENVS)]

@@ -46,7 +46,7 @@ fn unknown_env_or_missing_runtime_exits_2() {
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("unknown environment") && err.contains("cartpole"), "{err}");
-    let o = bench(&["mario"]);
+    let o = bench(&["rna_design"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("no runtime"));
     let o = bench(&["cartpole", "--num-envs", "0"]);

@@ -58,7 +58,11 @@ fn num(v: &Value) -> f64 {
 }
 
 fn opts(selection: Selection, visibility: Visibility) -> ContextualOptions {
-    ContextualOptions { selection, visibility }
+    ContextualOptions {
+        selection,
+        visibility,
+        ..ContextualOptions::default()
+    }
 }
 
 fn pendulum_set(selection: Selection, visibility: Visibility) -> ContextualEnv {
@@ -131,7 +135,15 @@ fn initial_state_seed_derivation_is_documented() {
 
     // A set: the seed itself first, then the env stream's draws (one per reset).
     let mut s = pendulum_set(Selection::Static(0), Visibility::Hidden);
-    let mut raw = make(spec(&specs, "pendulum"), &s.context_info().context.iter().map(|(k, v)| (k.clone(), Value::Number(*v))).collect()).unwrap();
+    let mut raw = make(
+        spec(&specs, "pendulum"),
+        &s.context_info()
+            .context
+            .iter()
+            .map(|(k, v)| (k.clone(), Value::Number(*v)))
+            .collect(),
+    )
+    .unwrap();
     let (obs, _) = s.reset_with_info(Some(5)).unwrap();
     assert_eq!(obs, raw.reset(Some(5)).0);
     let mut rng = Pcg64::new(5, stream_id(ENV_STREAM));

@@ -4,7 +4,7 @@
 
 mod common;
 
-use carl_spec::envs::registry::{ClassicEnv, Context, MakeOptions, SpecEnv, make, make_with};
+use carl_spec::envs::registry::{Context, MakeOptions, SpecEnv, make, make_with};
 use carl_spec::envs::rng::EnvRng;
 use carl_spec::envs::robots::fetch::{OBS_DIM, TARGET_HEIGHT};
 use carl_spec::envs::{Action, Env};
@@ -406,9 +406,10 @@ fn observation_is_brax_s_egocentric_layout() {
     let mut o = vec![0.0f32; OBS_DIM];
     e.inner().observe_into(&mut o).unwrap();
     let v = |b: usize| &o[49 + 3 * b..52 + 3 * b];
-    let ClassicEnv::Fetch(f) = e.inner() else {
-        panic!("fetch runs as ClassicEnv::Fetch")
-    };
+    let f = e
+        .inner()
+        .downcast_ref::<carl_spec::envs::robots::Fetch>()
+        .expect("fetch runs as Fetch");
     let w = f.world().unwrap();
     let inv = w.link_pose(0).rotation.inverse();
     let rapier: Vec<_> = w.links.iter().map(|&h| inv * w.pw.bodies[h].linvel()).collect();
@@ -446,7 +447,7 @@ fn render_draws_the_dog_and_the_target() {
     e.reset(Some(0));
     let f = e.render().unwrap();
     assert_eq!(f.rgb.len(), (f.width * f.height * 3) as usize);
-    let pixels = |f: &carl_spec::render::Frame, pred: &dyn Fn([u8; 3]) -> bool| {
+    let pixels = |f: &carl_spec::pixels::Frame, pred: &dyn Fn([u8; 3]) -> bool| {
         (0..f.height)
             .flat_map(|y| (0..f.width).map(move |x| (x, y)))
             .filter(|&(x, y)| pred(f.pixel(x, y)))

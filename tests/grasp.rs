@@ -330,7 +330,7 @@ fn render_draws_the_hand_the_ball_and_the_target() {
     e.reset(Some(0));
     let f = e.render().unwrap();
     assert_eq!(f.rgb.len(), (f.width * f.height * 3) as usize);
-    let count = |f: &carl_spec::render::Frame, pred: &dyn Fn([u8; 3]) -> bool| {
+    let count = |f: &carl_spec::pixels::Frame, pred: &dyn Fn([u8; 3]) -> bool| {
         (0..f.height)
             .flat_map(|y| (0..f.width).map(move |x| (x, y)))
             .filter(|&(x, y)| pred(f.pixel(x, y)))

@@ -5,7 +5,7 @@
 
 mod common;
 
-use carl_spec::envs::registry::{ClassicEnv, Context, MakeOptions, SpecEnv, make, make_with};
+use carl_spec::envs::registry::{Context, MakeOptions, SpecEnv, make, make_with};
 use carl_spec::envs::rng::EnvRng;
 use carl_spec::envs::robots::RobotModel;
 use carl_spec::envs::{Action, Env};
@@ -150,9 +150,7 @@ fn each_motor_turns_its_joint_in_the_positive_direction() {
         e.reset(Some(0));
         e.set_state(&s).unwrap();
         e.step(&Action::Continuous(act)).unwrap();
-        let ClassicEnv::Robot(r) = e.inner() else {
-            unreachable!()
-        };
+        let r = e.inner().downcast_ref::<carl_spec::envs::robots::Locomotion>().unwrap();
         let link = |name: &str| m.link_names.iter().position(|n| n == name).unwrap();
         let w = r.world().unwrap();
         let knee = w.link_pose(link("right_shin")).translation;

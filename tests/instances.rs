@@ -273,3 +273,217 @@ fn cli_bad_input_exits_nonzero_with_a_message() {
     assert_eq!(v["instances"].as_array().unwrap().len(), 100);
     assert!(v["provenance"]["rng"].as_str().unwrap().starts_with("pcg64"));
 }
+
+/// A copy of the checkout's specs/ (spec files and frozen sets) in a fresh directory.
+fn copy_checkout(tag: &str) -> PathBuf {
+    let root = tempdir(tag);
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("specs");
+    fn copy(from: &Path, to: &Path) {
+        std::fs::create_dir_all(to).unwrap();
+        for e in std::fs::read_dir(from).unwrap() {
+            let e = e.unwrap();
+            if e.file_type().unwrap().is_dir() {
+                copy(&e.path(), &to.join(e.file_name()));
+            } else {
+                std::fs::copy(e.path(), to.join(e.file_name())).unwrap();
+            }
+        }
+    }
+    copy(&src, &root.join("specs"));
+    root
+}
+
+fn carl_in(dir: &Path, args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_carl-spec"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn verify_checks_the_checkouts_files_not_the_binarys_copies() {
+    let root = copy_checkout("checkout");
+    let o = carl_in(&root, &["instances", "verify"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(0), "{out}");
+    assert!(out.contains("(checkout)"), "{out}");
+    assert!(
+        out.contains("checked specs/instances/lunar_lander/landing_in_space_train.json"),
+        "{out}"
+    );
+
+    std::fs::write(
+        root.join("specs/instances/lunar_lander/landing_in_space_train.json"),
+        "garbage",
+    )
+    .unwrap();
+    let o = carl_in(&root, &["instances", "verify"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(1), "{out}");
+    assert!(out.contains("landing_in_space_train.json"), "{out}");
+    // Outside a checkout the built-in copies are checked, and the output says so.
+    let o = carl_in(&std::env::temp_dir(), &["instances", "verify"]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("built into this binary"), "{out}");
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+/// Author dir with lunar_lander frozen; returns (dir, path of the train set's file).
+fn frozen_author_dir(tag: &str) -> (PathBuf, PathBuf) {
+    let dir = tempdir(tag);
+    std::fs::copy(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/specs/lunar_lander.json"),
+        dir.join("lunar_lander.json"),
+    )
+    .unwrap();
+    let specs = author_set(&dir);
+    Store::new(&specs).freeze(&[], None, false).unwrap();
+    let file = dir.join("instances/lunar_lander/landing_in_space_train.json");
+    (dir, file)
+}
+
+#[test]
+fn loading_rechecks_every_value_of_a_tampered_file_with_a_recomputed_hash() {
+    let (dir, file) = frozen_author_dir("recheck");
+    let specs = author_set(&dir);
+    let store = Store::new(&specs);
+    let good = std::fs::read_to_string(&file).unwrap();
+    let tampered: [(&str, serde_json::Value); 3] = [
+        ("outside the bounds", serde_json::json!(100.0)),
+        ("does not fit a float feature", serde_json::json!("abc")),
+        ("unknown", serde_json::Value::Null),
+    ];
+    for (what, value) in tampered {
+        let mut v: serde_json::Value = serde_json::from_str(&good).unwrap();
+        let ctx = &mut v["instances"][3]["context"];
+        if value.is_null() {
+            ctx["NOT_A_FEATURE"] = serde_json::json!(1.0);
+        } else {
+            ctx["GRAVITY_Y"] = value;
+        }
+        let mut set: carl_spec::instances::FrozenSet = serde_json::from_value(v).unwrap();
+        set = set.with_hash();
+        std::fs::write(&file, set.to_text()).unwrap();
+        let e = store
+            .load("lunar_lander/landing_in_space_train")
+            .expect_err(what)
+            .to_string();
+        assert!(e.contains("corrupt") && e.contains("#3"), "{what}: {e}");
+        if what != "unknown" {
+            assert!(e.contains(what), "{e}");
+        }
+    }
+    std::fs::write(&file, &good).unwrap();
+    assert!(store.load("lunar_lander/landing_in_space_train").is_ok());
+    // A set that allows out-of-bounds values still loads them (Jupiter is outside GRAVITY_Y's bounds).
+    assert!(store.load("lunar_lander/landing_in_space_test_planets").is_ok());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn freeze_says_what_differs_even_when_only_metadata_does() {
+    let (dir, file) = frozen_author_dir("metadiff");
+    let specs = author_set(&dir);
+    let store = Store::new(&specs);
+    let mut set: carl_spec::instances::FrozenSet =
+        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    set.provenance.generator = "carl-spec 0.0.0-old".into();
+    std::fs::write(&file, set.with_hash().to_text()).unwrap();
+    let e = store
+        .freeze(&["lunar_lander/landing_in_space_train".into()], None, false)
+        .unwrap_err()
+        .to_string();
+    assert!(!e.contains("()"), "{e}");
+    assert!(e.contains("carl-spec 0.0.0-old"), "{e}");
+    // Only the formatting changed: still said.
+    let text = std::fs::read_to_string(&file).unwrap();
+    store
+        .freeze(&["lunar_lander/landing_in_space_train".into()], None, true)
+        .unwrap();
+    let canonical = std::fs::read_to_string(&file).unwrap();
+    std::fs::write(&file, canonical.replace("\n  ", "\n   ")).unwrap();
+    let e = store
+        .freeze(&["lunar_lander/landing_in_space_train".into()], None, false)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("different text"), "{e}");
+    assert_ne!(text, canonical);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_multi_set_freeze_failing_on_io_writes_nothing() {
+    let dir = tempdir("allornothing");
+    std::fs::copy(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/specs/lunar_lander.json"),
+        dir.join("lunar_lander.json"),
+    )
+    .unwrap();
+    let specs = author_set(&dir);
+    let store = Store::new(&specs);
+    let sets = dir.join("instances/lunar_lander");
+    std::fs::create_dir_all(&sets).unwrap();
+    // The second set's temporary file cannot be created (a directory sits at its path).
+    let blocker = sets.join(format!(
+        ".landing_in_space_test_planets.json.{}.tmp",
+        std::process::id()
+    ));
+    std::fs::create_dir_all(blocker.join("x")).unwrap();
+    let e = store.freeze(&[], None, false).unwrap_err().to_string();
+    assert!(e.contains("nothing written"), "{e}");
+    let left: Vec<String> = std::fs::read_dir(&sets)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| !n.starts_with(".landing_in_space_test_planets"))
+        .collect();
+    assert!(left.is_empty(), "written although the freeze failed: {left:?}");
+    std::fs::remove_dir_all(&blocker).unwrap();
+
+    // A temporary file of a killed run (its process is gone) is removed by the next freeze.
+    let stale = sets.join(".landing_in_space_train.json.4000000000.tmp");
+    std::fs::write(&stale, "half a file").unwrap();
+    let outcomes = store.freeze(&[], None, false).unwrap();
+    assert_eq!(outcomes.len(), 4);
+    assert!(!stale.exists());
+    assert!(store.verify().is_empty());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn sample_refuses_more_values_than_the_documented_limit() {
+    let dir = tempdir("limit");
+    let spec = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/specs/lunar_lander.json")).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&spec).unwrap();
+    v["id"] = "lander_two".into();
+    v["aliases"] = serde_json::json!([]);
+    v["instance_sets"] = serde_json::json!({});
+    v["distributions"]["two"] = serde_json::json!({
+        "description": "Two features.",
+        "at_bounds": "clip",
+        "features": {
+            "GRAVITY_Y": { "kind": "uniform", "low": -12, "high": -1 },
+            "GRAVITY_X": { "kind": "uniform", "low": -1, "high": 1 }
+        }
+    });
+    std::fs::write(dir.join("lander_two.json"), serde_json::to_string_pretty(&v).unwrap()).unwrap();
+    let d = dir.to_string_lossy().into_owned();
+    let args = [
+        "--specs",
+        &d,
+        "sample",
+        "lander_two",
+        "--distribution",
+        "two",
+        "--seed",
+        "1",
+        "-n",
+    ];
+    let o = carl_in(&std::env::temp_dir(), &[&args[..], &["500001"]].concat());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("1000002 values") && err.contains("1000000"), "{err}");
+    let o = carl_in(&std::env::temp_dir(), &[&args[..], &["3"]].concat());
+    assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -217,3 +217,87 @@ fn stdin_policy_streams_episodes_and_reads_actions() {
     // The table goes to stderr in this mode.
     assert!(String::from_utf8_lossy(&o.stderr).contains("Jupiter"));
 }
+
+fn run_lis(args: &[&str]) -> std::process::Output {
+    bin()
+        .args(["run", "landing_in_space"])
+        .args(args)
+        .stdin(Stdio::null())
+        .output()
+        .unwrap()
+}
+
+/// Regression: `--out missing/dir/r.json` created the directories (render and plot refuse).
+#[test]
+fn missing_output_directories_are_refused_like_everywhere() {
+    let d = tmpdir("missing");
+    for flag in ["--out", "--figure"] {
+        let p = d.join("missing/dir/r.json");
+        let o = run_lis(&["--episodes", "1", flag, p.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{flag}");
+        assert!(String::from_utf8_lossy(&o.stderr).contains("does not exist"), "{flag}");
+        assert!(!d.join("missing").exists(), "{flag}: no directory created");
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Regression: a bad `--out` (here a directory, with --force) was found only after the whole
+/// evaluation. With the streaming policy the evaluation would print episodes first.
+#[test]
+fn a_bad_out_is_refused_before_the_evaluation() {
+    let d = tmpdir("early");
+    let o = run_lis(&[
+        "--policy",
+        "stdin",
+        "--episodes",
+        "1",
+        "--force",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        o.stdout.is_empty(),
+        "no episode started: {}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    assert!(String::from_utf8_lossy(&o.stderr).contains("is a directory"));
+    let f = d.join("same.json");
+    let o = run_lis(&[
+        "--episodes",
+        "1",
+        "--out",
+        f.to_str().unwrap(),
+        "--figure",
+        f.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(!f.exists());
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Regression: `--crash-penalty 1e308` wrote NaN into the SVG and null into the JSON.
+#[test]
+fn absurd_crash_penalties_are_refused_up_front() {
+    let d = tmpdir("absurd");
+    let (out, fig) = (d.join("r.json"), d.join("f.svg"));
+    for p in ["1e308", "inf", "NaN", "-5", "1e10"] {
+        let o = run_lis(&[
+            "--policy",
+            "stdin",
+            "--episodes",
+            "1",
+            "--crash-penalty",
+            p,
+            "--out",
+            out.to_str().unwrap(),
+            "--figure",
+            fig.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{p}");
+        assert!(o.stdout.is_empty(), "{p}: refused before the evaluation");
+        assert!(String::from_utf8_lossy(&o.stderr).contains("crash"), "{p}");
+    }
+    assert!(!out.exists() && !fig.exists());
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -136,15 +136,16 @@ fn gif_of_a_heuristic_landing_and_frame_directory() {
 #[test]
 fn clear_errors_for_bad_requests() {
     let d = tmpdir("err");
-    let cases: [(&[&str], &str); 4] = [
+    let cases: [(&[&str], &str); 5] = [
         (&["cartpole", "--out", "x.png"], "no renderer"),
+        (&["rna_design", "--out", "x.png"], "render works for: lunar_lander"),
         (&["lunar_lander", "--out", "x.jpg"], ".png"),
         (
             &["lunar_lander", "--context", "GRAVITY_Y=5", "--out", "x.png"],
             "bounds",
         ),
         (
-            &["cartpole", "--policy", "heuristic", "--out", "x.png"],
+            &["ant", "--policy", "heuristic", "--out", "x.png"],
             "no built-in controller",
         ),
     ];
@@ -154,6 +155,111 @@ fn clear_errors_for_bad_requests() {
         let err = String::from_utf8_lossy(&r.stderr);
         assert!(err.contains(needle), "{args:?}: {err}");
         assert!(!err.contains("panicked"));
+        // Only environments that can be drawn are offered.
+        if let Some((_, list)) = err.split_once("render works for:") {
+            let ids: Vec<&str> = list.trim().split(", ").collect();
+            assert!(ids.contains(&"lunar_lander") && ids.contains(&"fetch"), "{err}");
+            assert!(
+                !ids.iter()
+                    .any(|i| ["cartpole", "pendulum", "mario", "rna_design"].contains(i)),
+                "{err}"
+            );
+        }
     }
     assert_eq!(std::fs::read_dir(&d).unwrap().count(), 0, "nothing written");
+}
+
+fn names_in(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+/// Regression: a second run into a frame directory left the first run's later frames beside
+/// the new ones. Now an earlier run's frames need --force, which leaves exactly this run's.
+#[test]
+fn a_frame_directory_holds_exactly_one_run() {
+    let d = tmpdir("stale");
+    let frames = d.join("frames");
+    let f = frames.to_str().unwrap();
+    let long = [
+        "lunar_lander",
+        "--policy",
+        "noop",
+        "--steps",
+        "10",
+        "--every",
+        "2",
+        "--out",
+        f,
+    ];
+    // A path without extension that does not exist yet must end in / to name a directory.
+    assert_eq!(render(&long).status.code(), Some(2));
+    let slash = format!("{f}/");
+    let mut long_slash = long;
+    long_slash[8] = &slash;
+    let r = render(&long_slash);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    assert_eq!(names_in(&frames).len(), 6);
+    std::fs::write(frames.join("notes.txt"), "mine").unwrap();
+    let before = std::fs::read(frames.join("frame_00005.png")).unwrap();
+
+    let short = [
+        "lunar_lander",
+        "--policy",
+        "noop",
+        "--steps",
+        "4",
+        "--every",
+        "2",
+        "--out",
+        f,
+    ];
+    let r = render(&short);
+    assert_eq!(r.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(err.contains("earlier run") && err.contains("--force"), "{err}");
+    assert_eq!(names_in(&frames).len(), 7, "nothing written or removed");
+    assert_eq!(std::fs::read(frames.join("frame_00005.png")).unwrap(), before);
+
+    let r = bin().arg("render").args(short).arg("--force").output().unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    assert_eq!(
+        names_in(&frames),
+        ["frame_00000.png", "frame_00001.png", "frame_00002.png", "notes.txt"],
+        "the old frames 3..5 are gone, other files kept"
+    );
+    assert!(String::from_utf8_lossy(&r.stderr).contains("frame_00005.png"));
+    assert_eq!(std::fs::read_to_string(frames.join("notes.txt")).unwrap(), "mine");
+}
+
+/// Regression: `--out x.png` where x.png is a directory silently wrote frames into it.
+#[test]
+fn a_png_or_gif_path_that_is_a_directory_is_refused() {
+    let d = tmpdir("isdir");
+    for name in ["x.png", "y.GIF"] {
+        let p = d.join(name);
+        std::fs::create_dir(&p).unwrap();
+        let r = render(&["lunar_lander", "--steps", "2", "--out", p.to_str().unwrap()]);
+        assert_eq!(r.status.code(), Some(2), "{name}");
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert!(err.contains("is a directory"), "{err}");
+        assert!(names_in(&p).is_empty(), "nothing written into {name}");
+    }
+}
+
+/// One rule for output paths: a missing parent directory is refused, nothing is created.
+#[test]
+fn missing_parent_directories_are_refused() {
+    let d = tmpdir("noparent");
+    for out in ["missing/dir/a.png", "missing/dir/a.gif", "missing/dir/frames/"] {
+        let p = format!("{}/{out}", d.display());
+        let r = render(&["lunar_lander", "--out", &p]);
+        assert_eq!(r.status.code(), Some(2), "{out}");
+        assert!(String::from_utf8_lossy(&r.stderr).contains("does not exist"), "{out}");
+    }
+    assert!(names_in(&d).is_empty());
 }

@@ -216,9 +216,7 @@ fn positive_hip_torque_rotates_the_leg_in_the_joints_positive_direction() {
     }
     e.set_state(&s).unwrap();
     let shin_angle = |e: &SpecEnv| {
-        let carl_spec::envs::registry::ClassicEnv::Robot(r) = e.inner() else {
-            unreachable!()
-        };
+        let r = e.inner().downcast_ref::<carl_spec::envs::robots::Locomotion>().unwrap();
         let w = r.world().unwrap();
         let torso = w.link_pose(0);
         let shin = w.link_pose(2).translation; // shin_1 origin = ankle point

@@ -200,7 +200,7 @@ fn bad_input_is_refused_with_exit_2() {
         ),
         (&["rollout", "cartpole", "--context", "masscart"], "NAME=VALUE"),
         (&["rollout", "cartpole", "--initial-state", "1,2"], "--initial-state"),
-        (&["rollout", "mario"], "no runtime"),
+        (&["rollout", "rna_design"], "no runtime"),
         (
             &["rollout", "cartpole", "--instance-set", "pendulum/q1_g_sigma_0_1"],
             "belongs to pendulum",

@@ -2,7 +2,7 @@
 //! observations, rewards and flags (including automatic resets), for every runtime, kernel and
 //! thread count. Plus autoreset details, isolation between batches and bad input.
 
-use carl_spec::envs::registry::{Context, RUNTIMES, SpecEnv, make};
+use carl_spec::envs::registry::{Context, SpecEnv, ids, make};
 use carl_spec::envs::rng::EnvRng;
 use carl_spec::envs::vec_env::{Kernel, VecActions, VecEnv, VecEnvError, VecOptions};
 use carl_spec::envs::{Action, Env, EnvError, Space};
@@ -113,7 +113,7 @@ fn compare(id: &str, n: usize, steps: usize, opts: VecOptions) {
 
 #[test]
 fn vec_env_equals_scalar_envs_for_every_runtime() {
-    for id in RUNTIMES {
+    for id in ids() {
         if carl_spec::envs::robots::is_robot(id) {
             // 3-D robots: a few environments, past the 1000-step time limit.
             compare(id, 2, 1003, VecOptions::default());
@@ -130,7 +130,7 @@ fn vec_env_equals_scalar_envs_for_every_runtime() {
         }
         // Long enough for every time limit (MountainCarContinuous: 999, VehicleRacing: 1000) to
         // truncate.
-        let steps = if matches!(*id, "mountain_car_continuous" | "vehicle_racing") {
+        let steps = if matches!(id, "mountain_car_continuous" | "vehicle_racing") {
             1010
         } else {
             520

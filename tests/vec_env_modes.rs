@@ -34,7 +34,12 @@ fn next_step_mode_follows_gymnasium() {
     for t in 0..400 {
         let actions: Vec<i64> = (0..N).map(|i| ((t + i) % 2) as i64).collect();
         let step = venv.step(VecActions::Discrete(&actions)).unwrap();
-        let (o, r, te, tr) = (step.obs.to_vec(), step.rewards.to_vec(), step.terminated.to_vec(), step.truncated.to_vec());
+        let (o, r, te, tr) = (
+            step.obs.to_vec(),
+            step.rewards.to_vec(),
+            step.terminated.to_vec(),
+            step.truncated.to_vec(),
+        );
         for i in 0..N {
             if pending[i] {
                 scalar[i].reset_into(None, &mut obs).unwrap();
@@ -98,6 +103,7 @@ fn contextual_batch_equals_scalar_contextual_envs() {
     let opts = ContextualOptions {
         selection: Selection::Random,
         visibility: Visibility::Hidden,
+        ..ContextualOptions::default()
     };
     let proto = ContextualEnv::new(spec, ContextSource::Set(set), opts).unwrap();
     let mut scalar = vec![proto.clone(); N];
@@ -131,5 +137,8 @@ fn contextual_batch_equals_scalar_contextual_envs() {
         }
     }
     assert!(seen.len() > N, "instances are re-selected at autoreset: {seen:?}");
-    assert_eq!(venv.context_info(0).unwrap().instance_id, scalar[0].context_info().instance_id);
+    assert_eq!(
+        venv.context_info(0).unwrap().instance_id,
+        scalar[0].context_info().instance_id
+    );
 }

@@ -65,10 +65,7 @@ fn all_29_vehicles_build_and_step_with_finite_state() {
         assert_eq!(s.len(), STATE_DIM);
         assert!(s.iter().all(|x| x.is_finite()), "{}: {s:?}", v.name);
         let inner = env.inner();
-        let speed = match inner {
-            carl_spec::envs::registry::ClassicEnv::VehicleRacing(r) => r.hull_speed(),
-            _ => unreachable!(),
-        };
+        let speed = inner.downcast_ref::<VehicleRacing>().unwrap().hull_speed();
         assert!(speed > 1.0, "{} did not move (speed {speed})", v.name);
     }
 }
@@ -90,10 +87,10 @@ fn vehicle_out_of_range_is_a_clear_error() {
     // A label selects the vehicle too.
     let ctx = Context::from([("VEHICLE".to_string(), Value::String("Bus".into()))]);
     let env = make(spec, &ctx).unwrap();
-    match env.inner() {
-        carl_spec::envs::registry::ClassicEnv::VehicleRacing(r) => assert_eq!(r.vehicle().name, "Bus"),
-        _ => unreachable!(),
-    }
+    assert_eq!(
+        env.inner().downcast_ref::<VehicleRacing>().unwrap().vehicle().name,
+        "Bus"
+    );
 }
 
 #[test]

@@ -25,82 +25,13 @@ pub mod probes;
 
 use serde::Serialize;
 
-use crate::envs::registry::{ClassicEnv, Context, MakeError, has_runtime, make};
+use crate::envs::registry::{Context, MakeError, has_runtime, lookup, make};
+use crate::envs::runtime::AnyEnv;
 use crate::envs::{Action, Env, EnvError};
 use crate::spec::model::{Effect, EnvSpec, Feature, FeatureType, Value};
 
-/// How much probing the audit does. The defaults audit all five classic-control runtimes in well
-/// under a second even in a debug build.
-#[derive(Debug, Clone, Copy, Serialize)]
-pub struct AuditOptions {
-    /// Trajectories (one per reset seed `0..n`) whose states become base states.
-    pub trajectory_seeds: u64,
-    /// Random-action steps per trajectory.
-    pub trajectory_steps: usize,
-    /// Extra base states drawn uniformly from a box over the state space.
-    pub random_states: usize,
-    /// Seeds `0..n` used to compare initial states.
-    pub reset_seeds: u64,
-}
-
-impl AuditOptions {
-    /// The probes used for environment `id`: the defaults, lighter for BipedalWalker and the
-    /// robots. BipedalWalker's probes each rebuild a physics world and whose 4-D action grid is larger (a probe costs
-    /// ~40 µs there against well under 1 µs for classic control).
-    pub fn for_env(id: &str) -> AuditOptions {
-        match id {
-            "bipedal_walker" => AuditOptions {
-                trajectory_seeds: 4,
-                trajectory_steps: 24,
-                random_states: 128,
-                reset_seeds: 8,
-            },
-            // Fetch: eleven bodies and 21 probe actions per state; one trajectory suffices (the
-            // random states reach beyond the joint limits, the goal states hit targets).
-            "fetch" => AuditOptions {
-                trajectory_seeds: 1,
-                trajectory_steps: 8,
-                random_states: 8,
-                reset_seeds: 4,
-            },
-            // The Humanoid's transitions cost ~5x an Ant's (20 links, 23 DoFs): fewer base
-            // states, one trajectory long enough for the feet to land (~10 steps).
-            "humanoid" => AuditOptions {
-                trajectory_seeds: 1,
-                trajectory_steps: 12,
-                random_states: 4,
-                reset_seeds: 3,
-            },
-            // Grasp: a 19-DoF hand and 39 probe actions; each transition rebuilds the world and
-            // takes four physics steps.
-            "grasp" => AuditOptions {
-                trajectory_seeds: 1,
-                trajectory_steps: 2,
-                random_states: 3,
-                reset_seeds: 2,
-            },
-            // Articulated robots: each transition is five 3-D multibody physics steps.
-            robot if crate::envs::robots::is_robot(robot) => AuditOptions {
-                trajectory_seeds: 3,
-                trajectory_steps: 8,
-                random_states: 8,
-                reset_seeds: 4,
-            },
-            _ => AuditOptions::default(),
-        }
-    }
-}
-
-impl Default for AuditOptions {
-    fn default() -> Self {
-        AuditOptions {
-            trajectory_seeds: 8,
-            trajectory_steps: 24,
-            random_states: 256,
-            reset_seeds: 16,
-        }
-    }
-}
+/// How much probing the audit does: declared per runtime in the environment table.
+pub use crate::envs::registry::AuditProfile as AuditOptions;
 
 /// What the measurement found for one (feature, effect).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -221,7 +152,7 @@ impl AuditReport {
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum AuditError {
-    #[error("environment \"{0}\" has a spec but no runtime; runtimes exist for: {list}", list = crate::envs::registry::RUNTIMES.join(", "))]
+    #[error("environment \"{0}\" has a spec but no runtime; runtimes exist for: {list}", list = crate::envs::registry::ids_text())]
     NoRuntime(String),
     #[error("{env}: cannot build the environment with {feature} = {value}: {source}")]
     Make {
@@ -234,9 +165,9 @@ pub enum AuditError {
     Env { env: String, source: EnvError },
 }
 
-/// Audit `spec` with the probes for its environment ([`AuditOptions::for_env`]).
+/// Audit `spec` with the probes its registry entry declares.
 pub fn audit(spec: &EnvSpec) -> Result<AuditReport, AuditError> {
-    audit_with(spec, &AuditOptions::for_env(&spec.id))
+    audit_with(spec, &lookup(&spec.id).map(|r| r.audit).unwrap_or_default())
 }
 
 /// Per-effect accumulator.
@@ -311,7 +242,7 @@ pub fn audit_with(spec: &EnvSpec, opts: &AuditOptions) -> Result<AuditReport, Au
         env: spec.id.clone(),
         source,
     };
-    let build = |ctx: &Context, feature: &str, value: String| -> Result<ClassicEnv, AuditError> {
+    let build = |ctx: &Context, feature: &str, value: String| -> Result<AnyEnv, AuditError> {
         make(spec, ctx)
             .map(|e| e.into_inner())
             .map_err(|source| AuditError::Make {
@@ -385,12 +316,7 @@ struct Responses {
 }
 
 /// Run every probe once on `env`.
-fn respond(
-    env: &ClassicEnv,
-    states: &[Vec<f64>],
-    actions: &[Action],
-    opts: &AuditOptions,
-) -> Result<Responses, EnvError> {
+fn respond(env: &AnyEnv, states: &[Vec<f64>], actions: &[Action], opts: &AuditOptions) -> Result<Responses, EnvError> {
     let mut env = env.clone();
     let mut obs = vec![0.0f32; env.obs_dim()];
     let mut r = Responses {

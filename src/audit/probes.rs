@@ -2,8 +2,8 @@
 //! Everything is derived deterministically from the spec, the default-context runtime and fixed
 //! seeds, so two runs of the audit probe exactly the same transitions.
 
-use crate::envs::registry::ClassicEnv;
 use crate::envs::rng::{EnvRng, uniform};
+use crate::envs::runtime::AnyEnv;
 use crate::envs::{Action, Env, EnvError, Space};
 use crate::spec::model::{Feature, FeatureType, Scalar};
 
@@ -171,78 +171,6 @@ fn random_action(space: &Space, rng: &mut EnvRng) -> Action {
     }
 }
 
-/// Full ranges of state components whose observation does not show them directly (angles seen
-/// through cos/sin), so the box also covers e.g. Acrobot's swung-up, terminal states that random
-/// actions never reach. Velocities span the default velocity limits. A hint covers the state's
-/// leading components.
-fn state_range_hint(id: &str) -> Option<&'static [(f64, f64)]> {
-    use std::f64::consts::PI;
-    match id {
-        "pendulum" => Some(&[(-PI, PI), (-8.0, 8.0)]),
-        "acrobot" => Some(&[(-PI, PI), (-PI, PI), (-4.0 * PI, 4.0 * PI), (-9.0 * PI, 9.0 * PI)]),
-        // Hull x over the whole default course (200 steps of 14/30 m = 93.3 m) and a little
-        // beyond both ends, so states reach `x < 0` and the finish line `(LENGTH - GRASS)·STEP`.
-        "bipedal_walker" => Some(&[(-1.0, 95.0)]),
-        // UR5e joint angles beyond the ±2π joint limits (where joint_stiffness acts).
-        "ur5e" => Some(&[
-            (-8.0, 8.0),
-            (-8.0, 8.0),
-            (-8.0, 8.0),
-            (-8.0, 8.0),
-            (-8.0, 8.0),
-            (-8.0, 8.0),
-        ]),
-        // Fetch: the root at its standing pose (x y z qw qx qy qz), hinge angles beyond the
-        // ±60° limits (where joint_stiffness acts).
-        "fetch" => Some(&[
-            (0.0, 0.0),
-            (0.0, 0.0),
-            (1.38, 1.38),
-            (1.0, 1.0),
-            (0.0, 0.0),
-            (0.0, 0.0),
-            (0.0, 0.0),
-            (-1.6, 1.6),
-            (-1.6, 1.6),
-            (-1.6, 1.6),
-            (-1.6, 1.6),
-            (-1.6, 1.6),
-            (-1.6, 1.6),
-            (-1.6, 1.6),
-            (-1.6, 1.6),
-            (-1.6, 1.6),
-            (-1.6, 1.6),
-        ]),
-        // Humanoid root heights down to 0.9 m: the feet (0.11 m above the ground at reset, which
-        // the short trajectories barely leave) in contact, where friction acts.
-        "humanoid" => Some(&[(-0.5, 0.5), (-0.5, 0.5), (0.9, 1.45)]),
-        // Grasp: palm slides, then the 16 finger joints beyond their limits (±45°, 0..±90°),
-        // where joint_stiffness acts.
-        "grasp" => Some(&[
-            (-3.0, 3.0),
-            (-3.0, 3.0),
-            (3.0, 6.0),
-            (-2.0, 2.0),
-            (-2.0, 2.0),
-            (-2.5, 2.5),
-            (-2.5, 2.5),
-            (-2.0, 2.0),
-            (-2.0, 2.0),
-            (-2.5, 2.5),
-            (-2.5, 2.5),
-            (-2.0, 2.0),
-            (-2.0, 2.0),
-            (-2.5, 2.5),
-            (-2.5, 2.5),
-            (-2.0, 2.0),
-            (-2.0, 2.0),
-            (-2.5, 2.5),
-            (-2.5, 2.5),
-        ]),
-        _ => None,
-    }
-}
-
 /// The base states every transition starts from, all produced under the *default* context:
 ///
 /// 1. trajectory states: `reset(seed)` for `trajectory_seeds` seeds, then up to
@@ -251,7 +179,7 @@ fn state_range_hint(id: &str) -> Option<&'static [(f64, f64)]> {
 ///    the state and observation have the same layout, a finite observation bound is used (this
 ///    reaches e.g. MountainCar's goal region); otherwise the trajectories' range per component,
 ///    widened threefold around its centre, and for angles at least their full circle.
-pub fn base_states(env: &ClassicEnv, opts: &AuditOptions) -> Result<Vec<Vec<f64>>, EnvError> {
+pub fn base_states(env: &AnyEnv, opts: &AuditOptions) -> Result<Vec<Vec<f64>>, EnvError> {
     let mut env = env.clone();
     let space = env.action_space();
     let mut obs = vec![0.0f32; env.obs_dim()];
@@ -298,19 +226,12 @@ pub fn base_states(env: &ClassicEnv, opts: &AuditOptions) -> Result<Vec<Vec<f64>
             }
         }
     }
-    if let Some(hint) = state_range_hint(env.id()) {
-        for (b, h) in bounds.iter_mut().zip(hint) {
-            *b = (b.0.min(h.0), b.1.max(h.1));
-        }
+    for (b, h) in bounds.iter_mut().zip(opts.state_hint) {
+        *b = (b.0.min(h.0), b.1.max(h.1));
     }
     // Goal states: a reach task's trajectory states with the target just touching the end
     // effector, where the target radius decides the reward.
-    let goal_states = match &env {
-        ClassicEnv::Reach(r) => r.states_near_target(&states)?,
-        ClassicEnv::Fetch(f) => f.states_near_target(&states),
-        ClassicEnv::Grasp(g) => g.states_near_target(&states),
-        _ => Vec::new(),
-    };
+    let goal_states = env.goal_states(&states)?;
     let mut rng = EnvRng::from_seed(0xA0D1_7000);
     for _ in 0..opts.random_states {
         states.push(bounds.iter().map(|(l, h)| uniform(&mut rng, *l, *h)).collect());

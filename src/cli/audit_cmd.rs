@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 
 use super::{Cli, CmdResult, Failure, Format, exit, load_specs, out};
 use crate::audit::{self, AuditReport, EffectResult, Measured, Verdict, format_num};
-use crate::envs::registry::{RUNTIMES, has_runtime};
+use crate::envs::registry::{has_runtime, ids_text};
 use crate::spec::model::Effect;
 
 pub fn run(cli: &Cli, env: Option<&str>, all: bool, format: Format) -> CmdResult {
@@ -17,25 +17,29 @@ pub fn run(cli: &Cli, env: Option<&str>, all: bool, format: Format) -> CmdResult
         let Some(name) = env else {
             return Err(Failure::usage(format!(
                 "name an environment or pass --all; environments with a runtime: {}",
-                RUNTIMES.join(", ")
+                ids_text()
             )));
         };
         let spec = specs
             .require(name)
-            .map_err(|m| Failure::usage(format!("{m}; environments with a runtime: {}", RUNTIMES.join(", "))))?;
+            .map_err(|m| Failure::usage(format!("{m}; environments with a runtime: {}", ids_text())))?;
         if !has_runtime(&spec.id) {
             return Err(Failure::usage(format!(
                 "environment \"{}\" has a spec but no runtime, so it cannot be audited; environments with a runtime: {}",
                 spec.id,
-                RUNTIMES.join(", ")
+                ids_text()
             )));
         }
         vec![spec]
     };
     let mut reports = Vec::with_capacity(targets.len());
+    let progress = super::progress::Progress::bar(targets.len() as u64, "environments audited");
     for spec in targets {
+        progress.message(spec.id.clone());
         reports.push(audit::audit(spec).map_err(|e| Failure::failed(e.to_string()))?);
+        progress.inc(1);
     }
+    progress.finish();
     let passed = reports.iter().all(|r| r.passed);
     match format {
         Format::Json => {
@@ -44,7 +48,7 @@ pub fn run(cli: &Cli, env: Option<&str>, all: bool, format: Format) -> CmdResult
             } else {
                 serde_json::to_string_pretty(&reports[0])
             };
-            out(&format!("{}\n", text.unwrap_or_default()));
+            out(&format!("{}\n", text.unwrap_or_default()))?;
         }
         Format::Text | Format::Github => {
             let mut s = String::new();
@@ -67,7 +71,7 @@ pub fn run(cli: &Cli, env: Option<&str>, all: bool, format: Format) -> CmdResult
                     }
                 );
             }
-            out(&s);
+            out(&s)?;
         }
     }
     Ok(if passed { exit::OK } else { exit::FAILED })

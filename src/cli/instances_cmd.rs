@@ -40,9 +40,19 @@ pub(super) fn store_failure(e: StoreError) -> Failure {
     }
 }
 
+/// The store the instance commands use: run from a checkout (`./specs` holding the bundled
+/// specs), the bundled specs' frozen files are the editable ones there, not the binary's copies.
+fn store_here(specs: &crate::spec::SpecSet) -> Store<'_> {
+    let store = Store::new(specs);
+    match Store::find_checkout(std::path::Path::new("")) {
+        Some(dir) => store.with_checkout(dir),
+        None => store,
+    }
+}
+
 pub fn instances(cli: &Cli, cmd: &InstancesCommand) -> CmdResult {
     let specs = load_specs(cli)?;
-    let store = Store::new(&specs);
+    let store = store_here(&specs);
     match cmd {
         InstancesCommand::List { format } => {
             let rows: Vec<serde_json::Value> = store
@@ -73,7 +83,7 @@ pub fn instances(cli: &Cli, cmd: &InstancesCommand) -> CmdResult {
                 out(&format!(
                     "{}\n",
                     serde_json::to_string_pretty(&rows).unwrap_or_default()
-                ));
+                ))?;
             } else {
                 let mut s = format!(
                     "{:<52} {:<6} {:>6}  {:<11} {}\n",
@@ -90,23 +100,32 @@ pub fn instances(cli: &Cli, cmd: &InstancesCommand) -> CmdResult {
                         r["kind"].as_str().unwrap_or("")
                     );
                 }
-                out(&s);
+                out(&s)?;
             }
             Ok(exit::OK)
         }
         InstancesCommand::Show { name, format } => {
             let frozen = store.load(name).map_err(store_failure)?;
-            print_set(&frozen, *format);
+            print_set(&frozen, *format)?;
             Ok(exit::OK)
         }
         InstancesCommand::Verify { format } => {
             let problems = store.verify();
             let n = store.declared().len();
+            let files = store.checked_files();
+            let source = store.bundled_source();
             if *format == Format::Json {
-                let v = serde_json::json!({"sets": n, "ok": problems.is_empty(), "problems": problems});
-                out(&format!("{}\n", serde_json::to_string_pretty(&v).unwrap_or_default()));
+                let v = serde_json::json!({"sets": n, "ok": problems.is_empty(), "problems": problems,
+                    "files": files, "bundled_sets_from": source});
+                out(&format!("{}\n", serde_json::to_string_pretty(&v).unwrap_or_default()))?;
             } else {
                 let mut s = String::new();
+                if specs.envs().iter().any(|e| e.origin.starts_with("bundled:")) {
+                    let _ = writeln!(s, "bundled sets read from {source}");
+                }
+                for f in &files {
+                    let _ = writeln!(s, "checked {f}");
+                }
                 for p in &problems {
                     let _ = match format {
                         Format::Github => writeln!(s, "::error file={}::{}: {}", p.file, p.set, p.problem),
@@ -119,17 +138,16 @@ pub fn instances(cli: &Cli, cmd: &InstancesCommand) -> CmdResult {
                     if problems.is_empty() { "ok" } else { "FAILED" },
                     problems.len()
                 );
-                out(&s);
+                out(&s)?;
             }
             Ok(if problems.is_empty() { exit::OK } else { exit::FAILED })
         }
     }
 }
 
-pub fn print_set(frozen: &FrozenSet, format: Format) {
+pub fn print_set(frozen: &FrozenSet, format: Format) -> Result<(), Failure> {
     if format == Format::Json {
-        out(&frozen.to_text());
-        return;
+        return out(&frozen.to_text());
     }
     let mut s = String::new();
     let _ = writeln!(s, "{} — {}", frozen.qualified_name(), frozen.description);
@@ -164,12 +182,12 @@ pub fn print_set(frozen: &FrozenSet, format: Format) {
         }
         s.push('\n');
     }
-    out(&s);
+    out(&s)
 }
 
 pub fn freeze(cli: &Cli, names: &[String], out_dir: Option<&PathBuf>, force: bool) -> CmdResult {
     let specs = load_specs(cli)?;
-    let store = Store::new(&specs);
+    let store = store_here(&specs);
     let outcomes = store
         .freeze(names, out_dir.map(PathBuf::as_path), force)
         .map_err(store_failure)?;
@@ -178,7 +196,7 @@ pub fn freeze(cli: &Cli, names: &[String], out_dir: Option<&PathBuf>, force: boo
         let _ = writeln!(s, "{:<9} {} -> {}", o.action, o.set, o.file);
     }
     let _ = writeln!(s, "{} set(s) frozen", outcomes.len());
-    out(&s);
+    out(&s)?;
     Ok(exit::OK)
 }
 
@@ -189,6 +207,6 @@ pub fn sample(cli: &Cli, env: &str, distribution: &str, n: u64, seed: u64, forma
         crate::instances::DeriveError::Sampling { .. } => Failure::failed(e.to_string()),
         _ => Failure::usage(e.to_string()),
     })?;
-    print_set(&set, format);
+    print_set(&set, format)?;
     Ok(exit::OK)
 }

@@ -4,8 +4,10 @@
 mod audit_cmd;
 mod bench_cmd;
 mod context_args;
+mod fold_cmd;
 mod instances_cmd;
 mod plot_cmd;
+mod progress;
 mod render_cmd;
 mod rollout_cmd;
 mod run_cmd;
@@ -74,7 +76,7 @@ pub enum Command {
         env: String,
         #[arg(long)]
         distribution: String,
-        /// Number of contexts (1 to 1,000,000).
+        /// Number of contexts: 1 to 1,000,000, and at most 1,000,000 values (contexts × varied features).
         #[arg(short = 'n', long = "num", value_name = "N")]
         n: u64,
         #[arg(long)]
@@ -108,6 +110,8 @@ pub enum Command {
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
+    /// RNA secondary structure (MFE, ViennaRNA 2.x default model) like RNAfold; `fold eval` like RNAeval.
+    Fold(fold_cmd::FoldArgs),
     /// Steps per second of one environment and of a VecEnv (random actions, auto-reset), as one JSON line.
     Bench {
         /// Environment id or alias, e.g. `cartpole`.
@@ -207,6 +211,7 @@ pub fn main() -> ExitCode {
             threads,
         } => bench_cmd::run(&cli, env, *num_envs, *steps, *threads),
         Command::Audit { env, all, format } => audit_cmd::run(&cli, env.as_deref(), *all, *format),
+        Command::Fold(args) => fold_cmd::run(args),
     };
     match result {
         Ok(code) => ExitCode::from(code),
@@ -217,12 +222,17 @@ pub fn main() -> ExitCode {
     }
 }
 
-/// Write to stdout, treating a closed pipe (`carl-spec list | head`) as success.
-pub fn out(text: &str) {
+/// Write to stdout, treating a closed pipe (`carl-spec list | head`) as success; any other
+/// failure (a full disk: `> /dev/full`) is an error, never a silently truncated result.
+pub fn out(text: &str) -> Result<(), Failure> {
     use std::io::Write;
     let mut stdout = std::io::stdout().lock();
-    let _ = stdout.write_all(text.as_bytes());
-    let _ = stdout.flush();
+    match stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(Failure::failed(format!("cannot write to standard output: {e}")))
+        }
+        _ => Ok(()),
+    }
 }
 
 pub(crate) fn load_specs(cli: &Cli) -> Result<crate::spec::SpecSet, Failure> {

@@ -1,13 +1,16 @@
 //! `carl-spec plot ENV/SET --out FILE.svg|FILE.png [--mark ENV/SET]... [--rug ENV/SET]... [--force]`
+//!
+//! The output path follows `crate::output`'s rule, checked before any set is loaded.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::Args;
 
 use super::instances_cmd::store_failure;
 use super::{Cli, CmdResult, Failure, exit, load_specs, out};
 use crate::instances::Store;
-use crate::plot::{self, Format, Overlay, WriteError};
+use crate::output;
+use crate::plot::{self, Format, Overlay};
 
 #[derive(Args, Debug)]
 pub struct PlotArgs {
@@ -34,7 +37,7 @@ pub struct PlotArgs {
 pub fn plot(cli: &Cli, args: &PlotArgs) -> CmdResult {
     // Check everything that needs no work first, so a bad call writes nothing.
     let format = Format::from_path(&args.out).map_err(Failure::usage)?;
-    check_target(&args.out, args.force)?;
+    output::check_file(&args.out, args.force).map_err(|e| Failure::usage(e.to_string()))?;
 
     let specs = load_specs(cli)?;
     let store = Store::new(&specs);
@@ -53,7 +56,7 @@ pub fn plot(cli: &Cli, args: &PlotArgs) -> CmdResult {
         eprintln!("warning: {w}");
     }
     let bytes = plot::render(&figure, format).map_err(Failure::failed)?;
-    plot::write_output(&args.out, &bytes, args.force).map_err(write_failure)?;
+    output::write_file(&args.out, &bytes, args.force).map_err(|e| Failure::usage(e.to_string()))?;
 
     let marks: usize = figure.panels.iter().map(|p| p.marks.len()).sum();
     let rugs: usize = figure.panels.iter().map(|p| p.rugs.len()).sum();
@@ -65,31 +68,6 @@ pub fn plot(cli: &Cli, args: &PlotArgs) -> CmdResult {
         set.instances.len(),
         figure.panels.len(),
         features.join(", "),
-    ));
+    ))?;
     Ok(exit::OK)
-}
-
-fn write_failure(e: WriteError) -> Failure {
-    Failure::usage(e.to_string())
-}
-
-/// Fail early (before loading anything) when the output could not or must not be written.
-fn check_target(path: &Path, force: bool) -> Result<(), Failure> {
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    if !dir.is_dir() {
-        return Err(write_failure(WriteError::NoDir {
-            path: path.display().to_string(),
-            dir: dir.display().to_string(),
-        }));
-    }
-    if path.is_dir() {
-        return Err(Failure::usage(format!("{} is a directory", path.display())));
-    }
-    if !force && path.symlink_metadata().is_ok() {
-        return Err(write_failure(WriteError::Exists(path.display().to_string())));
-    }
-    Ok(())
 }

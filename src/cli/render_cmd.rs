@@ -1,24 +1,22 @@
 //! `carl-spec render ENV …`: pictures of a configured instance. `--out frame.png` writes one
 //! frame (after `--steps` steps, default the reset state), `--out run.gif` an animation of the
-//! episode, `--out DIR/` a numbered PNG per frame. Files are written atomically and never
-//! replace existing ones without `--force`.
+//! episode, `--out DIR/` a numbered PNG per frame. The output path follows the crate's one rule
+//! (`crate::output`, `crate::render`): checked before the episode runs, parent directory must
+//! exist, nothing replaced without `--force`, atomic writes; `--force` on a frame directory
+//! leaves exactly this run's frames in it.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::Args;
 
-use super::context_args::ContextArgs;
-use super::rollout_cmd::{parse_action, random_action};
+use super::context_args::{ContextArgs, PolicyArg};
 use super::{Cli, CmdResult, Failure, exit};
-use crate::envs::api::{Action, Env};
-use crate::envs::registry::{MakeOptions, make_with};
-use crate::plot::write_output;
-use crate::render::Frame;
-use crate::render::encode::{gif_bytes, png_bytes};
-use crate::sampling::Pcg64;
-
-/// Environments with a built-in controller for `--policy heuristic`.
-const HEURISTICS: &[&str] = &["lunar_lander", "bipedal_walker"];
+use crate::envs::Env;
+use crate::envs::registry::{ids_where, lookup};
+use crate::episode::policies::policy_for;
+use crate::episode::{EpisodeConfig, EpisodeError, EpisodeListener, Flow, StepRecord, run_episode};
+use crate::pixels::Frame;
+use crate::render::{RenderError, RenderOutput};
 
 /// Frames an animation may have (a 600×400 GIF frame is ~100 kB).
 const MAX_FRAMES: usize = 2000;
@@ -37,8 +35,8 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N")]
     pub steps: Option<u64>,
     /// Who acts during the steps.
-    #[arg(long, value_enum, default_value_t = RenderPolicy::Random)]
-    pub policy: RenderPolicy,
+    #[arg(long, value_enum, default_value_t = PolicyArg::Random)]
+    pub policy: PolicyArg,
     /// Keep every K-th frame of an animation.
     #[arg(long, value_name = "K", default_value_t = 2)]
     pub every: u64,
@@ -48,156 +46,124 @@ pub struct RenderArgs {
     /// Output: `*.png` (one frame), `*.gif` (animation) or a directory (`DIR/`: frame_00000.png, …).
     #[arg(long, value_name = "PATH")]
     pub out: PathBuf,
-    /// Replace existing output files.
+    /// Replace existing output files (in a frame directory: replace and remove the old frames).
     #[arg(long)]
     pub force: bool,
 }
 
-#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum RenderPolicy {
-    /// Uniform over the action space, seeded with `--seed`.
-    Random,
-    /// Action 0 (discrete) or all zeros (continuous).
-    Noop,
-    /// The environment's built-in controller (lunar_lander, bipedal_walker: Gymnasium's heuristics).
-    Heuristic,
-}
-
-enum Output {
-    Png(PathBuf),
-    Gif(PathBuf),
-    Frames(PathBuf),
-}
-
-fn output_kind(out: &Path) -> Result<Output, Failure> {
-    let text = out.to_string_lossy();
-    if out.is_dir() || text.ends_with('/') || text.ends_with(std::path::MAIN_SEPARATOR) {
-        return Ok(Output::Frames(out.to_path_buf()));
-    }
-    match out
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .as_deref()
-    {
-        Some("png") => Ok(Output::Png(out.to_path_buf())),
-        Some("gif") => Ok(Output::Gif(out.to_path_buf())),
-        _ => Err(Failure::usage(format!(
-            "--out {}: use a .png file (one frame), a .gif file (animation) or a directory ending in / (PNG frames)",
-            out.display()
-        ))),
+fn render_failure(e: RenderError) -> Failure {
+    match e {
+        RenderError::Encode(m) => Failure::failed(m),
+        e => Failure::usage(e.to_string()),
     }
 }
 
 pub fn run(cli: &Cli, args: &RenderArgs) -> CmdResult {
-    let output = output_kind(&args.out)?;
+    let output = RenderOutput::parse(&args.out).map_err(render_failure)?;
+    output.check(args.force).map_err(|e| Failure::usage(e.to_string()))?;
     if args.every == 0 {
         return Err(Failure::usage("--every must be at least 1"));
     }
+    // Environments without a renderer (spec-only ones included) hear which ones have one.
+    if let Ok(spec) = super::load_specs(cli)?.require(&args.env)
+        && lookup(&spec.id).is_none_or(|r| !r.renders)
+    {
+        return Err(Failure::usage(format!(
+            "{} has no renderer yet; render works for: {}",
+            spec.id,
+            ids_where(|r| r.renders)
+        )));
+    }
     let resolved = args.ctx.resolve(cli, &args.env, "render")?;
-    let opts = MakeOptions {
-        allow_out_of_bounds: resolved.allow_out_of_bounds,
-    };
-    let mut env = make_with(&resolved.spec, &resolved.context, opts).map_err(|e| Failure::usage(e.to_string()))?;
+    let reg = resolved.registration;
+    let mut env = resolved.build()?;
     let id = env.id();
-    if args.policy == RenderPolicy::Heuristic && !HEURISTICS.contains(&id) {
-        return Err(Failure::usage(format!(
-            "{id} has no built-in controller; use --policy random or noop"
-        )));
-    }
-    let space = env.action_space();
-    let mut rng = Pcg64::new(args.seed, crate::sampling::stream_id("render-policy"));
-    let mut obs = vec![0.0f32; env.obs_dim()];
-    env.reset_into(Some(args.seed), &mut obs)
-        .map_err(|e| Failure::failed(e.to_string()))?;
-    let Some(first) = env.render() else {
-        return Err(Failure::usage(format!(
-            "{id} has no renderer yet; render works for the physics environments (e.g. lunar_lander)"
-        )));
-    };
-    let animated = !matches!(output, Output::Png(_));
+    let mut policy = policy_for(reg, args.policy.into(), &env.action_space(), args.seed).map_err(Failure::usage)?;
+    let animated = output.is_animation();
     let steps = args.steps.unwrap_or(if animated { u64::MAX } else { 0 });
-    let mut walker = crate::envs::box2d::WalkerHeuristic::default();
-    let mut frames = vec![first];
-    let mut t = 0u64;
-    let mut last = None;
-    while t < steps {
-        let action = match args.policy {
-            RenderPolicy::Random => parse_action(&random_action(&mut rng, &space), &space).map_err(Failure::failed)?,
-            RenderPolicy::Noop => match &space {
-                crate::envs::Space::Discrete { start, .. } => Action::Discrete(*start),
-                crate::envs::Space::Box { low, .. } => Action::Continuous(vec![0.0; low.len()]),
-            },
-            RenderPolicy::Heuristic if id == "bipedal_walker" => Action::Continuous(walker.act(&obs).to_vec()),
-            RenderPolicy::Heuristic => Action::Discrete(crate::envs::box2d::heuristic(&obs)),
-        };
-        let out = env
-            .step_into(&action, &mut obs)
-            .map_err(|e| Failure::failed(format!("step {}: {e}", t + 1)))?;
-        t += 1;
-        let end = out.terminated || out.truncated;
-        if animated {
-            if t % args.every == 0 || end {
-                frames.push(env.render().ok_or_else(|| Failure::failed("renderer stopped"))?);
-            }
-            if frames.len() > MAX_FRAMES {
-                return Err(Failure::usage(format!(
-                    "more than {MAX_FRAMES} frames; pass --steps or a larger --every"
-                )));
-            }
-        }
-        if end {
-            last = Some(if out.terminated { "terminated" } else { "truncated" });
-            break;
-        }
-    }
+    let mut frames = FrameCollector {
+        animated,
+        every: args.every,
+        frames: Vec::new(),
+        progress: if animated {
+            super::progress::Progress::counter("frames drawn")
+        } else {
+            super::progress::Progress::bar(0, "")
+        },
+    };
+    let config = EpisodeConfig {
+        seed: args.seed,
+        initial_state: None,
+        max_steps: Some(steps),
+    };
+    let summary = run_episode(&mut env, policy.as_mut(), &config, &mut frames).map_err(|e| match e {
+        EpisodeError::Listener(m) => Failure::usage(m),
+        e => Failure::failed(e.to_string()),
+    })?;
+    frames.progress.finish();
+    let mut frames = frames.frames;
     if !animated {
         frames = vec![env.render().ok_or_else(|| Failure::failed("renderer stopped"))?];
     }
+    let t = summary.steps;
+    let last = matches!(
+        summary.end,
+        crate::episode::EpisodeEnd::Terminated | crate::episode::EpisodeEnd::Truncated
+    )
+    .then(|| summary.end.as_str());
     let title = format!("{id}, seed {}, step {t}", args.seed);
-    let io = |e: crate::plot::WriteError| Failure::usage(e.to_string());
     let (w, h) = (frames[0].width, frames[0].height);
-    match &output {
-        Output::Png(p) => {
-            write_output(p, &png_bytes(&frames[0], &title).map_err(Failure::failed)?, args.force).map_err(io)?;
-        }
-        Output::Gif(p) => {
-            write_output(p, &gif_bytes(&frames, args.delay).map_err(Failure::failed)?, args.force).map_err(io)?;
-        }
-        Output::Frames(dir) => write_frames(dir, &frames, &title, args.force)?,
+    let written = output
+        .write(&frames, &title, args.delay, args.force)
+        .map_err(render_failure)?;
+    for p in &written.removed {
+        eprintln!("removed {} (a frame of an earlier run)", p.display());
     }
     let ended = last.map(|s| format!(", episode {s}")).unwrap_or_default();
-    println!(
-        "wrote {} ({} frame{}, {w}x{h}, {id}, seed {}, {t} step{}{ended})",
+    super::out(&format!(
+        "wrote {} ({} frame{}, {w}x{h}, {id}, seed {}, {t} step{}{ended})\n",
         args.out.display(),
-        frames.len(),
-        if frames.len() == 1 { "" } else { "s" },
+        written.frames,
+        if written.frames == 1 { "" } else { "s" },
         args.seed,
         if t == 1 { "" } else { "s" },
-    );
+    ))?;
     Ok(exit::OK)
 }
 
-/// `DIR/frame_00000.png`, …; the directory is created if its parent exists. Nothing is written
-/// if any frame file exists already (without `--force`).
-fn write_frames(dir: &Path, frames: &[Frame], title: &str, force: bool) -> Result<(), Failure> {
-    if !dir.is_dir() {
-        std::fs::create_dir(dir).map_err(|e| Failure::usage(format!("cannot create {}: {e}", dir.display())))?;
-    }
-    let paths: Vec<PathBuf> = (0..frames.len())
-        .map(|i| dir.join(format!("frame_{i:05}.png")))
-        .collect();
-    if !force {
-        if let Some(p) = paths.iter().find(|p| p.symlink_metadata().is_ok()) {
-            return Err(Failure::usage(format!(
-                "{} exists; pass --force to replace it",
-                p.display()
+/// Collects the frames of an animation: the reset, every `every`-th step and the last one.
+struct FrameCollector {
+    animated: bool,
+    every: u64,
+    frames: Vec<Frame>,
+    progress: super::progress::Progress,
+}
+
+impl FrameCollector {
+    fn push<E: Env + ?Sized>(&mut self, env: &E) -> Result<Flow, EpisodeError> {
+        let frame = env
+            .render()
+            .ok_or_else(|| EpisodeError::Listener(format!("{} drew no picture", env.id())))?;
+        self.frames.push(frame);
+        self.progress.inc(1);
+        if self.frames.len() > MAX_FRAMES {
+            return Err(EpisodeError::Listener(format!(
+                "more than {MAX_FRAMES} frames; pass --steps or a larger --every"
             )));
         }
+        Ok(Flow::Continue)
     }
-    for (f, p) in frames.iter().zip(&paths) {
-        let bytes = png_bytes(f, title).map_err(Failure::failed)?;
-        write_output(p, &bytes, force).map_err(|e| Failure::usage(e.to_string()))?;
+}
+
+impl<E: Env + ?Sized> EpisodeListener<E> for FrameCollector {
+    fn on_reset(&mut self, env: &E, _obs: &[f32]) -> Result<Flow, EpisodeError> {
+        self.push(env)
     }
-    Ok(())
+    fn on_step(&mut self, env: &E, s: &StepRecord<'_>) -> Result<Flow, EpisodeError> {
+        let end = s.outcome.terminated || s.outcome.truncated;
+        if self.animated && (s.t % self.every == 0 || end) {
+            return self.push(env);
+        }
+        Ok(Flow::Continue)
+    }
 }

@@ -1,28 +1,25 @@
-//! `carl-spec rollout ENV …`: run one episode and print JSON Lines.
-//!
-//! First line `{"reset": {"obs": […], "context": {…}}}`, then one line per step
-//! `{"t": 1, "action": …, "obs": […], "reward": r, "terminated": b, "truncated": b}`, stopping at
-//! termination or truncation. With `--actions -` each action is read from standard input (one JSON
-//! value per line) and the step's line is written and flushed before the next is read, so any
-//! program can drive an environment in a closed loop through a pipe.
+//! `carl-spec rollout ENV …`: run one episode and print JSON Lines ([`crate::episode::jsonl`]).
 
-use std::io::{BufRead, Write};
+use std::io::BufReader;
 use std::path::PathBuf;
 
 use clap::Args;
 use serde_json::json;
 
+use super::context_args::{ContextArgs, PolicyArg};
 use super::{Cli, CmdResult, Failure, exit};
-use crate::envs::api::{Action, Env, Space};
-use crate::envs::registry::{MakeOptions, make_with, resolve_context};
-use crate::sampling::{Pcg64, dist};
+use crate::envs::Env;
+use crate::envs::policy::Policy;
+use crate::episode::jsonl::{ActionList, ActionStream, JsonLinesWriter};
+use crate::episode::policies::policy_for;
+use crate::episode::{EpisodeConfig, EpisodeError, run_episode};
 
 #[derive(Args, Debug)]
 pub struct RolloutArgs {
     /// Environment id or alias (any environment with a runtime; `carl-spec list` shows them all).
     pub env: String,
     #[command(flatten)]
-    pub ctx: super::context_args::ContextArgs,
+    pub ctx: ContextArgs,
     /// Seed of the reset (initial state) and of the random policy.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -31,63 +28,19 @@ pub struct RolloutArgs {
     #[arg(long, value_name = "V1,V2,…", allow_hyphen_values = true)]
     pub initial_state: Option<String>,
     /// JSON array of actions, or `-` to read one JSON action per line from standard input.
-    #[arg(long, value_name = "FILE")]
+    #[arg(long, value_name = "FILE", conflicts_with = "policy")]
     pub actions: Option<PathBuf>,
-    /// Policy when no actions are given.
-    #[arg(long, value_enum, default_value_t = Policy::Random)]
-    pub policy: Policy,
+    /// Policy when no actions are given (heuristic: the environment's built-in controller).
+    #[arg(long, value_enum, default_value_t = PolicyArg::Random)]
+    pub policy: PolicyArg,
     /// Stop after at most N steps (the episode may end earlier).
     #[arg(long, value_name = "N")]
     pub steps: Option<u64>,
 }
 
-#[derive(Copy, Clone, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum Policy {
-    /// Uniform over the action space, from a generator seeded with `--seed`.
-    Random,
-}
-
-// Lines are structs so their keys come out in the documented order.
-#[derive(serde::Serialize)]
-pub(super) struct ResetLine<'a> {
-    pub(super) reset: ResetBody<'a>,
-}
-
-#[derive(serde::Serialize)]
-pub(super) struct ResetBody<'a> {
-    pub(super) obs: &'a [f32],
-    pub(super) context: &'a serde_json::Map<String, serde_json::Value>,
-}
-
-#[derive(serde::Serialize)]
-pub(super) struct StepLine<'a> {
-    pub(super) t: u64,
-    pub(super) action: &'a serde_json::Value,
-    pub(super) obs: &'a [f32],
-    pub(super) reward: f64,
-    pub(super) terminated: bool,
-    pub(super) truncated: bool,
-}
-
-enum ActionSource {
-    List(std::vec::IntoIter<serde_json::Value>),
-    Stdin(std::io::StdinLock<'static>),
-    Random(Pcg64),
-}
-
 pub fn run(cli: &Cli, args: &RolloutArgs) -> CmdResult {
     let resolved = args.ctx.resolve(cli, &args.env, "rollout")?;
-    let (spec, ctx, allow) = (&resolved.spec, &resolved.context, resolved.allow_out_of_bounds);
-    let opts = MakeOptions {
-        allow_out_of_bounds: allow,
-    };
-    let mut env = make_with(spec, ctx, opts).map_err(|e| Failure::usage(e.to_string()))?;
-    let full: serde_json::Map<String, serde_json::Value> = resolve_context(spec, ctx, opts)
-        .map_err(|e| Failure::usage(e.to_string()))?
-        .into_iter()
-        .map(|(k, v)| (k, json!(v)))
-        .collect();
-
+    let mut env = resolved.build()?;
     let initial_state = match &args.initial_state {
         None => None,
         Some(s) => Some(
@@ -96,143 +49,49 @@ pub fn run(cli: &Cli, args: &RolloutArgs) -> CmdResult {
                 .collect::<Result<Vec<f64>, _>>()
                 .map_err(|_| {
                     Failure::usage(format!(
-                        "--initial-state \"{s}\" is not a comma-separated list of numbers"
+                        "--initial-state \"{}\" is not a comma-separated list of numbers",
+                        crate::episode::jsonl::quote_input(s)
                     ))
                 })?,
         ),
     };
-
-    let mut source = match &args.actions {
-        Some(p) if p.as_os_str() == "-" => ActionSource::Stdin(std::io::stdin().lock()),
+    let space = env.action_space();
+    let interactive = args.actions.as_ref().is_some_and(|p| p.as_os_str() == "-");
+    let mut policy: Box<dyn Policy> = match &args.actions {
+        Some(p) if p.as_os_str() == "-" => Box::new(ActionStream::new(BufReader::new(std::io::stdin()), space)),
         Some(p) => {
             let text =
                 std::fs::read_to_string(p).map_err(|e| Failure::usage(format!("cannot read {}: {e}", p.display())))?;
-            let v: serde_json::Value =
-                serde_json::from_str(&text).map_err(|e| Failure::usage(format!("{}: not JSON: {e}", p.display())))?;
-            let list = v
-                .as_array()
-                .cloned()
-                .ok_or_else(|| Failure::usage(format!("{}: expected a JSON array of actions", p.display())))?;
-            ActionSource::List(list.into_iter())
+            Box::new(ActionList::parse(&text, &p.display().to_string(), space).map_err(Failure::usage)?)
         }
-        None => ActionSource::Random(Pcg64::new(args.seed, crate::sampling::stream_id("rollout-policy"))),
+        None => policy_for(resolved.registration, args.policy.into(), &space, args.seed).map_err(Failure::usage)?,
     };
-
+    let context = resolved
+        .full_context()?
+        .into_iter()
+        .map(|(k, v)| (k, json!(v)))
+        .collect();
     let stdout = std::io::stdout();
-    let mut w = std::io::BufWriter::new(stdout.lock());
-
-    let mut obs = vec![0.0f32; env.obs_dim()];
-    env.reset_into(Some(args.seed), &mut obs)
-        .map_err(|e| Failure::failed(e.to_string()))?;
-    if let Some(state) = &initial_state {
-        env.set_state(state)
-            .map_err(|e| Failure::usage(format!("--initial-state: {e}")))?;
-        env.observe_into(&mut obs).map_err(|e| Failure::failed(e.to_string()))?;
+    let mut writer = JsonLinesWriter::new(std::io::BufWriter::new(stdout.lock()), context, interactive);
+    if !resolved.noise.is_empty() {
+        writer = writer.observing_context();
     }
-    let interactive = matches!(source, ActionSource::Stdin(_));
-    let reset_line = ResetLine {
-        reset: ResetBody {
-            obs: &obs,
-            context: &full,
-        },
+    let config = EpisodeConfig {
+        seed: args.seed,
+        initial_state,
+        max_steps: args.steps,
     };
-    if !emit(&mut w, &reset_line, interactive) {
-        return Ok(exit::OK);
-    }
-    let action_space = env.action_space();
-    let mut t = 0u64;
-    let mut line = String::new();
-    while args.steps.is_none_or(|n| t < n) {
-        let action_json = match &mut source {
-            ActionSource::List(it) => match it.next() {
-                Some(a) => a,
-                None => break,
-            },
-            ActionSource::Stdin(lock) => {
-                line.clear();
-                match lock.read_line(&mut line) {
-                    Ok(0) => break,
-                    Ok(_) if line.trim().is_empty() => continue,
-                    Ok(_) => serde_json::from_str(line.trim()).map_err(|e| {
-                        Failure::usage(format!("step {}: action \"{}\" is not JSON: {e}", t + 1, line.trim()))
-                    })?,
-                    Err(e) => return Err(Failure::usage(format!("reading actions from stdin: {e}"))),
-                }
-            }
-            ActionSource::Random(rng) => random_action(rng, &action_space),
-        };
-        let action =
-            parse_action(&action_json, &action_space).map_err(|m| Failure::usage(format!("step {}: {m}", t + 1)))?;
-        let out = env
-            .step_into(&action, &mut obs)
-            .map_err(|e| Failure::usage(format!("step {}: {e}", t + 1)))?;
-        t += 1;
-        let line_out = StepLine {
-            t,
-            action: &action_json,
-            obs: &obs,
-            reward: out.reward,
-            terminated: out.terminated,
-            truncated: out.truncated,
-        };
-        if !emit(&mut w, &line_out, interactive) {
-            return Ok(exit::OK);
+    let result = run_episode(&mut env, policy.as_mut(), &config, &mut writer);
+    // Lines already written stay valid JSON Lines; flush them before reporting an error.
+    writer.finish().map_err(|e| Failure::failed(e.to_string()))?;
+    result.map_err(|e| {
+        if let EpisodeError::InitialState(e) = e {
+            Failure::usage(format!("--initial-state: {e}"))
+        } else if e.is_bad_input() {
+            Failure::usage(e.to_string())
+        } else {
+            Failure::failed(e.to_string())
         }
-        if out.terminated || out.truncated {
-            break;
-        }
-    }
-    let _ = w.flush();
+    })?;
     Ok(exit::OK)
-}
-
-/// Write one JSON line; false when stdout is closed (the reader went away: stop quietly).
-pub(super) fn emit(w: &mut impl Write, v: &impl serde::Serialize, flush: bool) -> bool {
-    serde_json::to_writer(&mut *w, v).is_ok() && w.write_all(b"\n").is_ok() && (!flush || w.flush().is_ok())
-}
-
-pub(super) fn random_action(rng: &mut Pcg64, space: &Space) -> serde_json::Value {
-    match space {
-        Space::Discrete { n, start } => json!(start + dist::below(rng, (*n).max(1) as u64) as i64),
-        Space::Box { low, high, .. } => {
-            let v: Vec<f32> = low
-                .iter()
-                .zip(high)
-                .map(|(l, h)| dist::uniform(rng, *l as f64, *h as f64) as f32)
-                .collect();
-            json!(v)
-        }
-    }
-}
-
-pub(super) fn parse_action(v: &serde_json::Value, space: &Space) -> Result<Action, String> {
-    match space {
-        Space::Discrete { n, start } => {
-            let a = v
-                .as_i64()
-                .ok_or_else(|| format!("expected an integer action in {start}..{}, got {v}", start + n))?;
-            Ok(Action::Discrete(a))
-        }
-        Space::Box { low, .. } => {
-            let xs: Vec<f32> = match v {
-                serde_json::Value::Number(x) if low.len() == 1 => vec![x.as_f64().unwrap_or(f64::NAN) as f32],
-                serde_json::Value::Array(items) => items
-                    .iter()
-                    .map(|x| {
-                        x.as_f64()
-                            .map(|f| f as f32)
-                            .ok_or_else(|| format!("action element {x} is not a number"))
-                    })
-                    .collect::<Result<_, _>>()?,
-                _ => return Err(format!("expected an array of {} number(s), got {v}", low.len())),
-            };
-            if xs.len() != low.len() {
-                return Err(format!("expected {} number(s), got {}", low.len(), xs.len()));
-            }
-            if xs.iter().any(|x| !x.is_finite()) {
-                return Err("action values must be finite".into());
-            }
-            Ok(Action::Continuous(xs))
-        }
-    }
 }

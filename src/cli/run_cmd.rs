@@ -6,17 +6,21 @@
 //! --actions -`: `{"episode": {"body", "gravity", "seed"}}`, the reset line, then one line per step;
 //! after each observation line (flushed) one JSON action is read from stdin. The table then goes
 //! to stderr so stdout carries only JSON lines.
+//!
+//! Arguments and output paths are checked before the evaluation starts (`crate::output`'s rule:
+//! the directory must exist, nothing is replaced without `--force`, writes are atomic).
 
 use std::io::{BufRead, Write};
 use std::path::{Path, PathBuf};
 
 use clap::{Subcommand, ValueEnum};
 
-use super::rollout_cmd::{ResetBody, ResetLine, StepLine, emit, parse_action};
 use super::{Cli, CmdResult, Failure, exit, load_specs, out};
 use crate::envs::api::{Action, Space};
+use crate::episode::StepRecord;
+use crate::episode::jsonl::{parse_action, quote_input, write_reset, write_step};
 use crate::experiments::landing_in_space::{self as lis, Config, Driver, EpisodeInfo, Heuristic};
-use crate::instances::frozen::write_atomic;
+use crate::output;
 
 #[derive(Subcommand, Debug)]
 pub enum RunCommand {
@@ -67,21 +71,37 @@ pub fn run(cli: &Cli, cmd: &RunCommand) -> CmdResult {
             figure,
             force,
         } => {
-            if !crash_penalty.is_finite() {
-                return Err(Failure::usage(format!("--crash-penalty {crash_penalty} is not finite")));
-            }
-            for p in [out_path, figure].into_iter().flatten() {
-                check_target(p, *force)?;
-            }
-            let specs = load_specs(cli)?;
             let cfg = Config {
                 episodes: *episodes as usize,
                 seed: *seed,
                 crash_penalty: *crash_penalty,
             };
+            cfg.check().map_err(Failure::usage)?;
+            // Before the evaluation: a bad path must not cost the whole run.
+            for p in [out_path, figure].into_iter().flatten() {
+                output::check_file(p, *force).map_err(|e| Failure::usage(e.to_string()))?;
+            }
+            if let (Some(a), Some(b)) = (out_path, figure) {
+                if a == b {
+                    return Err(Failure::usage(format!(
+                        "--out and --figure are both {}; give two different files",
+                        a.display()
+                    )));
+                }
+            }
+            let specs = load_specs(cli)?;
             let (results, interactive) = match policy {
                 RunPolicy::Heuristic => (
-                    lis::evaluate(&specs, &cfg, "heuristic", &mut Heuristic).map_err(Failure::usage)?,
+                    lis::evaluate(
+                        &specs,
+                        &cfg,
+                        "heuristic",
+                        &mut Counted {
+                            inner: Heuristic,
+                            progress: super::progress::Progress::counter("episodes"),
+                        },
+                    )
+                    .map_err(Failure::usage)?,
                     false,
                 ),
                 RunPolicy::Stdin => {
@@ -99,38 +119,33 @@ pub fn run(cli: &Cli, cmd: &RunCommand) -> CmdResult {
                     }
                 }
             };
+            results.check_finite().map_err(Failure::failed)?;
             let table = lis::table(&results);
             if interactive {
                 eprint!("{table}");
             } else {
-                out(&table);
+                out(&table)?;
             }
             if let Some(p) = out_path {
                 let mut text = serde_json::to_string_pretty(&results)
                     .map_err(|e| Failure::failed(format!("serialising results: {e}")))?;
                 text.push('\n');
-                write(p, &text)?;
+                write(p, text.as_bytes(), *force)?;
             }
             if let Some(p) = figure {
-                write(p, &lis::figure_svg(&results))?;
+                write(
+                    p,
+                    lis::figure_svg(&results).map_err(Failure::failed)?.as_bytes(),
+                    *force,
+                )?;
             }
             Ok(exit::OK)
         }
     }
 }
 
-fn check_target(p: &Path, force: bool) -> Result<(), Failure> {
-    if p.exists() && !force {
-        return Err(Failure::usage(format!(
-            "{} exists; pass --force to replace it",
-            p.display()
-        )));
-    }
-    Ok(())
-}
-
-fn write(p: &Path, text: &str) -> Result<(), Failure> {
-    write_atomic(p, text).map_err(|e| Failure::usage(format!("cannot write {}: {e}", p.display())))
+fn write(p: &Path, bytes: &[u8], force: bool) -> Result<(), Failure> {
+    output::write_file(p, bytes, force).map_err(|e| Failure::usage(e.to_string()))
 }
 
 /// Streams episodes on stdout and reads actions from stdin.
@@ -151,15 +166,13 @@ impl<W: Write, R: BufRead> Driver for StdinDriver<W, R> {
         context: &serde_json::Map<String, serde_json::Value>,
     ) -> Result<(), String> {
         self.space = Some(info.action_space.clone());
-        let ok = emit(&mut self.w, &serde_json::json!({ "episode": info }), false)
-            && emit(
-                &mut self.w,
-                &ResetLine {
-                    reset: ResetBody { obs, context },
-                },
-                true,
-            );
-        if ok { Ok(()) } else { Err(CLOSED.into()) }
+        let w = &mut self.w;
+        let r = serde_json::to_writer(&mut *w, &serde_json::json!({ "episode": info }))
+            .map_err(std::io::Error::from)
+            .and_then(|()| w.write_all(b"\n"))
+            .and_then(|()| write_reset(w, obs, context, None))
+            .and_then(|()| w.flush());
+        emitted(r)
     }
 
     fn act(&mut self, t: u64, _obs: &[f32]) -> Result<Action, String> {
@@ -172,8 +185,13 @@ impl<W: Write, R: BufRead> Driver for StdinDriver<W, R> {
                 Err(e) => return Err(format!("reading actions from stdin: {e}")),
             }
         }
-        let v: serde_json::Value = serde_json::from_str(self.line.trim())
-            .map_err(|e| format!("step {}: action \"{}\" is not JSON: {e}", t + 1, self.line.trim()))?;
+        let v: serde_json::Value = serde_json::from_str(self.line.trim()).map_err(|e| {
+            format!(
+                "step {}: action \"{}\" is not JSON: {e}",
+                t + 1,
+                quote_input(self.line.trim())
+            )
+        })?;
         let space = self.space.as_ref().ok_or("no episode has begun")?;
         parse_action(&v, space).map_err(|m| format!("step {}: {m}", t + 1))
     }
@@ -187,22 +205,59 @@ impl<W: Write, R: BufRead> Driver for StdinDriver<W, R> {
         terminated: bool,
         truncated: bool,
     ) -> Result<(), String> {
-        let a = match action {
-            Action::Discrete(a) => serde_json::json!(a),
-            Action::Continuous(v) => serde_json::json!(v),
-        };
-        let line = StepLine {
+        let record = StepRecord {
             t,
-            action: &a,
+            action,
             obs,
-            reward,
-            terminated,
-            truncated,
+            outcome: crate::envs::StepOutcome {
+                reward,
+                terminated,
+                truncated,
+            },
         };
-        if emit(&mut self.w, &line, true) {
-            Ok(())
-        } else {
-            Err(CLOSED.into())
-        }
+        let r = write_step(&mut self.w, &record, None).and_then(|()| self.w.flush());
+        emitted(r)
+    }
+}
+
+/// A closed pipe ends the run quietly ([`CLOSED`]); any other write failure is an error.
+fn emitted(r: std::io::Result<()>) -> Result<(), String> {
+    match r {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Err(CLOSED.into()),
+        Err(e) => Err(format!("cannot write to standard output: {e}")),
+    }
+}
+
+/// A driver that counts episodes on the progress line.
+struct Counted<D> {
+    inner: D,
+    progress: super::progress::Progress,
+}
+
+impl<D: Driver> Driver for Counted<D> {
+    fn begin(
+        &mut self,
+        info: &EpisodeInfo,
+        obs: &[f32],
+        context: &serde_json::Map<String, serde_json::Value>,
+    ) -> Result<(), String> {
+        self.progress.inc(1);
+        self.progress.message(info.body.clone());
+        self.inner.begin(info, obs, context)
+    }
+    fn act(&mut self, t: u64, obs: &[f32]) -> Result<Action, String> {
+        self.inner.act(t, obs)
+    }
+    fn stepped(
+        &mut self,
+        t: u64,
+        action: &Action,
+        obs: &[f32],
+        reward: f64,
+        terminated: bool,
+        truncated: bool,
+    ) -> Result<(), String> {
+        self.inner.stepped(t, action, obs, reward, terminated, truncated)
     }
 }

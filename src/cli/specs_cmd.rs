@@ -3,7 +3,8 @@
 use std::fmt::Write as _;
 
 use super::{Cli, CmdResult, Failure, Format, exit, load_specs, out};
-use crate::spec::model::{Effect, EnvSpec, FeatureType, Value};
+use crate::spec::model::{EnvSpec, FeatureType, Value};
+use crate::spec::stats::compute_stats;
 
 pub fn list(cli: &Cli, format: Format) -> CmdResult {
     let specs = load_specs(cli)?;
@@ -23,7 +24,7 @@ pub fn list(cli: &Cli, format: Format) -> CmdResult {
         out(&format!(
             "{}\n",
             serde_json::to_string_pretty(&rows).unwrap_or_default()
-        ));
+        ))?;
         return Ok(exit::OK);
     }
     let mut s = format!(
@@ -41,7 +42,7 @@ pub fn list(cli: &Cli, format: Format) -> CmdResult {
             e.aliases.join(", ")
         );
     }
-    out(&s);
+    out(&s)?;
     Ok(exit::OK)
 }
 
@@ -49,15 +50,15 @@ pub fn show(cli: &Cli, id: &str, format: Format) -> CmdResult {
     let specs = load_specs(cli)?;
     let env = specs.require(id).map_err(Failure::usage)?;
     if format == Format::Json {
-        out(&format!("{}\n", serde_json::to_string_pretty(env).unwrap_or_default()));
+        out(&format!("{}\n", serde_json::to_string_pretty(env).unwrap_or_default()))?;
         return Ok(exit::OK);
     }
-    out(&render_env(env));
+    out(&render_env(env))?;
     Ok(exit::OK)
 }
 
 pub fn schema() -> CmdResult {
-    out(&crate::schema::schema_text());
+    out(&crate::schema::schema_text())?;
     Ok(exit::OK)
 }
 
@@ -155,38 +156,11 @@ fn render_env(e: &EnvSpec) -> String {
     s
 }
 
-/// Aggregate counts over a spec set (the paper reports 131 features, 98 % dynamics, 5 % reward,
-/// 87 % continuous).
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct Stats {
-    pub environments: usize,
-    pub features: usize,
-    pub dynamics: usize,
-    pub reward: usize,
-    pub continuous: usize,
-    pub per_effect: Vec<(String, usize)>,
-}
-
-pub fn compute_stats(envs: &[EnvSpec]) -> Stats {
-    let all: Vec<_> = envs.iter().flat_map(|e| e.features.iter()).collect();
-    Stats {
-        environments: envs.len(),
-        features: all.len(),
-        dynamics: all.iter().filter(|f| f.affects(Effect::Dynamics)).count(),
-        reward: all.iter().filter(|f| f.affects(Effect::Reward)).count(),
-        continuous: all.iter().filter(|f| f.is_continuous()).count(),
-        per_effect: Effect::ALL
-            .iter()
-            .map(|e| (e.as_str().to_string(), all.iter().filter(|f| f.affects(*e)).count()))
-            .collect(),
-    }
-}
-
 pub fn stats(cli: &Cli, format: Format) -> CmdResult {
     let specs = load_specs(cli)?;
     let st = compute_stats(specs.envs());
     if format == Format::Json {
-        out(&format!("{}\n", serde_json::to_string_pretty(&st).unwrap_or_default()));
+        out(&format!("{}\n", serde_json::to_string_pretty(&st).unwrap_or_default()))?;
         return Ok(exit::OK);
     }
     let pct = |n: usize| {
@@ -213,6 +187,6 @@ pub fn stats(cli: &Cli, format: Format) -> CmdResult {
     for (e, n) in &st.per_effect {
         let _ = writeln!(s, "  {e:<20} {n:>4} ({:.0}%)", pct(*n));
     }
-    out(&s);
+    out(&s)?;
     Ok(exit::OK)
 }

@@ -52,7 +52,7 @@ pub fn run(paths: &[PathBuf], format: Format) -> CmdResult {
             s.push_str(if report.has_errors() { "invalid: " } else { "valid: " });
             s.push_str(&summary);
             s.push('\n');
-            out(&s);
+            out(&s)?;
         }
         Format::Json => {
             let v = serde_json::json!({
@@ -63,7 +63,7 @@ pub fn run(paths: &[PathBuf], format: Format) -> CmdResult {
                 "warnings": report.warnings(),
                 "diagnostics": report.diagnostics,
             });
-            out(&format!("{}\n", serde_json::to_string_pretty(&v).unwrap_or_default()));
+            out(&format!("{}\n", serde_json::to_string_pretty(&v).unwrap_or_default()))?;
         }
         Format::Github => {
             let mut s = String::new();
@@ -73,7 +73,7 @@ pub fn run(paths: &[PathBuf], format: Format) -> CmdResult {
             }
             s.push_str(&summary);
             s.push('\n');
-            out(&s);
+            out(&s)?;
         }
     }
     Ok(if report.has_errors() { exit::FAILED } else { exit::OK })

@@ -204,7 +204,7 @@ pub trait Env {
 
     /// A picture of the current state for humans (Gymnasium's `render_mode="rgb_array"`), or
     /// `None` for environments without a renderer. Never changes the simulation.
-    fn render(&self) -> Option<crate::render::Frame> {
+    fn render(&self) -> Option<crate::pixels::Frame> {
         None
     }
 
@@ -250,7 +250,7 @@ impl<E: Env + ?Sized> Env for Box<E> {
     fn info(&self) -> Info {
         (**self).info()
     }
-    fn render(&self) -> Option<crate::render::Frame> {
+    fn render(&self) -> Option<crate::pixels::Frame> {
         (**self).render()
     }
 }
@@ -334,7 +334,7 @@ impl<E: Env> Env for TimeLimit<E> {
     fn info(&self) -> Info {
         self.env.info()
     }
-    fn render(&self) -> Option<crate::render::Frame> {
+    fn render(&self) -> Option<crate::pixels::Frame> {
         self.env.render()
     }
 }

@@ -79,11 +79,11 @@
 //! environments).
 
 use super::api::{Action, Env, EnvError, Info, Space, Step, StepOutcome, check_obs_len};
-use super::registry::{Context, MakeError, MakeOptions, SpecEnv, make_with, resolve_context};
+use super::registry::{Context, EnvOptions, MakeError, MakeOptions, SpecEnv, make_env, resolve_context};
 use super::rng::DEFAULT_SEED;
 use crate::instances::FrozenSet;
 use crate::instances::derive::{DeriveError, sample_distribution};
-use crate::sampling::{Pcg64, dist::below, stream_id};
+use crate::sampling::{Pcg64, dist::below, dist::std_normal, stream_id};
 use crate::spec::model::{Distribution, EnvSpec, FeatureType, Value};
 use crate::suggest::did_you_mean;
 
@@ -93,6 +93,10 @@ pub const SELECTION_STREAM: &str = "carl-spec/contextual/selection";
 pub const CONTEXT_STREAM: &str = "carl-spec/contextual/context";
 /// Stream name of the runtime reset-seed generator.
 pub const ENV_STREAM: &str = "carl-spec/contextual/env";
+/// Stream name of the context-noise generator.
+pub const NOISE_STREAM: &str = "carl-spec/contextual/noise";
+/// Info key prefix of the observed (noisy) context values; `context.<feature>` holds the true ones.
+pub const OBSERVED_PREFIX: &str = "observed_context.";
 
 /// Where the contexts come from.
 // A `FrozenSet` is large, but a source is built once and consumed by `ContextualEnv::new`.
@@ -136,10 +140,52 @@ pub enum Visibility {
     Visible(Features),
 }
 
-#[derive(Debug, Clone, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct ContextualOptions {
     pub selection: Selection,
     pub visibility: Visibility,
+    /// Gaussian noise on what the agent observes of visible features (the dynamics always use
+    /// the true context).
+    pub noise: ContextNoise,
+    /// Variant options of the runtime (`continuous`, `hardcore`, …), the same for every instance.
+    pub env_options: EnvOptions,
+    /// A fixed context may lie outside the spec's bounds (a set's instances follow the set's
+    /// own declaration; distribution draws never may).
+    pub allow_out_of_bounds: bool,
+}
+
+/// The paper's "context measured with noise": each listed visible feature is observed as
+/// `true value + std · N(0, 1)`, drawn from the wrapper's own noise stream.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ContextNoise {
+    /// `(feature, std)`; canonical names or aliases of visible features.
+    pub features: Vec<(String, NoiseStd)>,
+    pub redraw: NoiseRedraw,
+}
+
+impl ContextNoise {
+    pub fn is_empty(&self) -> bool {
+        self.features.is_empty()
+    }
+}
+
+/// The noise's standard deviation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum NoiseStd {
+    /// In the feature's own unit.
+    Absolute(f64),
+    /// A fraction of `|default|` (e.g. 0.1 for 10 %).
+    Relative(f64),
+}
+
+/// When a new noise value is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum NoiseRedraw {
+    /// Once per episode, at reset: a consistently wrong measurement.
+    #[default]
+    Episode,
+    /// At every step: a noisy sensor.
+    Step,
 }
 
 /// What the wrapper reports about the current episode's context.
@@ -178,13 +224,15 @@ pub enum ContextualError {
     DuplicateFeature { env: String, name: String },
     #[error("{env}: feature \"{name}\" has no numeric value in {who}, so it cannot be observed")]
     MissingValue { env: String, name: String, who: String },
+    #[error("{env}: noise on \"{name}\": {message}")]
+    Noise { env: String, name: String, message: String },
     #[error("{env}: the observation space is not a Box, so the context cannot be appended")]
     NotBox { env: String },
     #[error("{who}: {source}")]
     Make {
         who: String,
         #[source]
-        source: MakeError,
+        source: Box<MakeError>,
     },
     #[error("{0}")]
     Derive(#[from] DeriveError),
@@ -221,6 +269,13 @@ pub struct ContextualEnv {
     selection_rng: Pcg64,
     context_rng: Pcg64,
     env_rng: Pcg64,
+    noise_rng: Pcg64,
+    /// Per visible feature: the noise std in the feature's unit (0: observed exactly).
+    noise_std: Vec<f64>,
+    noise_redraw: NoiseRedraw,
+    env_options: EnvOptions,
+    /// What the agent observes of the visible features this step (true value + noise).
+    observed: Vec<f32>,
     resets: u64,
     /// Round robin: the instance of the next unseeded reset.
     round_robin_next: u64,
@@ -229,7 +284,7 @@ pub struct ContextualEnv {
 fn make_err(who: &str) -> impl FnOnce(MakeError) -> ContextualError + '_ {
     move |source| ContextualError::Make {
         who: who.to_string(),
-        source,
+        source: Box::new(source),
     }
 }
 
@@ -238,12 +293,13 @@ fn build_slot(
     spec: &EnvSpec,
     ctx: &Context,
     opts: MakeOptions,
+    env_options: &EnvOptions,
     who: &str,
     instance_id: Option<usize>,
     instance_name: Option<String>,
 ) -> Result<Slot, ContextualError> {
     let context = resolve_context(spec, ctx, opts).map_err(make_err(who))?;
-    let env = make_with(spec, ctx, opts).map_err(make_err(who))?;
+    let env = make_env(spec, ctx, opts, env_options).map_err(make_err(who))?;
     Ok(Slot {
         env,
         info: ContextInfo {
@@ -376,7 +432,15 @@ impl ContextualEnv {
                     let who = format!("{} instance {}", set.qualified_name(), inst.label());
                     let mut ctx = spec.default_context();
                     ctx.extend(inst.context.iter().map(|(k, v)| (k.clone(), v.clone())));
-                    slots.push(build_slot(spec, &ctx, opts, &who, Some(inst.id), inst.name.clone())?);
+                    slots.push(build_slot(
+                        spec,
+                        &ctx,
+                        opts,
+                        &options.env_options,
+                        &who,
+                        Some(inst.id),
+                        inst.name.clone(),
+                    )?);
                     labels.push(who);
                 }
                 (
@@ -389,7 +453,10 @@ impl ContextualEnv {
             }
             ContextSource::Fixed(ctx) => {
                 let who = format!("{} fixed context", spec.id);
-                let slot = build_slot(spec, &ctx, MakeOptions::default(), &who, None, None)?;
+                let opts = MakeOptions {
+                    allow_out_of_bounds: options.allow_out_of_bounds,
+                };
+                let slot = build_slot(spec, &ctx, opts, &options.env_options, &who, None, None)?;
                 (Mode::Fixed, vec![slot], vec![who])
             }
             ContextSource::Distribution { name } => {
@@ -407,7 +474,15 @@ impl ContextualEnv {
                 // Check the distribution compiles (names, types, bounds) before the first reset.
                 sample_distribution(spec, &name, &dist, 1, DEFAULT_SEED)?;
                 let who = format!("{} defaults (before the first reset of {name})", spec.id);
-                let slot = build_slot(spec, &spec.default_context(), MakeOptions::default(), &who, None, None)?;
+                let slot = build_slot(
+                    spec,
+                    &spec.default_context(),
+                    MakeOptions::default(),
+                    &options.env_options,
+                    &who,
+                    None,
+                    None,
+                )?;
                 (Mode::Distribution { name, dist }, vec![slot], vec![who])
             }
         };
@@ -416,6 +491,7 @@ impl ContextualEnv {
         for (slot, who) in slots.iter_mut().zip(&labels) {
             fill_visible(spec, slot, &visible, who)?;
         }
+        let noise_std = noise_stds(spec, &visible, &options.noise)?;
 
         // Base observation space: hull over the slots, widened for distributions.
         let mut base = slots[0].env.observation_space();
@@ -430,7 +506,7 @@ impl ContextualEnv {
                 let Some(ctx) = probe_context(spec, fname) else {
                     continue;
                 };
-                let Ok(probe) = make_with(spec, &ctx, allow) else {
+                let Ok(probe) = make_env(spec, &ctx, allow, &options.env_options) else {
                     continue;
                 };
                 if let (Space::Box { low, high, .. }, Space::Box { low: pl, high: ph, .. }) =
@@ -478,6 +554,10 @@ impl ContextualEnv {
                         hi = hi.max(s.ctx_obs[k]);
                     }
                 }
+                if noise_std[k] > 0.0 {
+                    // A Gaussian measurement can land anywhere.
+                    (lo, hi) = (f32::NEG_INFINITY, f32::INFINITY);
+                }
                 low.push(lo);
                 high.push(hi);
             }
@@ -494,6 +574,7 @@ impl ContextualEnv {
             _ => 0,
         };
         let id = slots[0].env.id();
+        let slots_first_ctx_obs = slots[current].ctx_obs.clone();
         let mut env = ContextualEnv {
             spec: spec.clone(),
             id,
@@ -506,6 +587,11 @@ impl ContextualEnv {
             selection_rng: Pcg64::new(0, 0),
             context_rng: Pcg64::new(0, 0),
             env_rng: Pcg64::new(0, 0),
+            noise_rng: Pcg64::new(0, 0),
+            observed: slots_first_ctx_obs,
+            noise_std,
+            noise_redraw: options.noise.redraw,
+            env_options: options.env_options.clone(),
             resets: 0,
             round_robin_next: 0,
         };
@@ -517,6 +603,26 @@ impl ContextualEnv {
         self.selection_rng = Pcg64::new(seed, stream_id(SELECTION_STREAM));
         self.context_rng = Pcg64::new(seed, stream_id(CONTEXT_STREAM));
         self.env_rng = Pcg64::new(seed, stream_id(ENV_STREAM));
+        self.noise_rng = Pcg64::new(seed, stream_id(NOISE_STREAM));
+    }
+
+    /// Observe the current slot's visible features, with fresh noise where there is noise.
+    fn draw_observed(&mut self) {
+        let truth = &self.slots[self.current].ctx_obs;
+        self.observed.clear();
+        for (x, std) in truth.iter().zip(&self.noise_std) {
+            let noisy = if *std > 0.0 {
+                (f64::from(*x) + std * std_normal(&mut self.noise_rng)) as f32
+            } else {
+                *x
+            };
+            self.observed.push(noisy);
+        }
+    }
+
+    /// What the agent observes of the visible features now (equal to the true values without noise).
+    pub fn observed_context(&self) -> &[f32] {
+        &self.observed
     }
 
     /// The current episode's context (before the first reset: the initial slot's).
@@ -578,7 +684,7 @@ impl ContextualEnv {
     }
 
     fn write_context(&self, obs: &mut [f32]) {
-        obs[self.base_dim..].copy_from_slice(&self.slots[self.current].ctx_obs);
+        obs[self.base_dim..].copy_from_slice(&self.observed);
     }
 
     fn info_map(&self) -> Info {
@@ -595,8 +701,54 @@ impl ContextualEnv {
         for (k, v) in &ci.context {
             info.insert(format!("context.{k}"), *v);
         }
+        if self.noise_std.iter().any(|s| *s > 0.0) {
+            for (k, v) in self.visible.iter().zip(&self.observed) {
+                info.insert(format!("{OBSERVED_PREFIX}{k}"), f64::from(*v));
+            }
+        }
         info
     }
+}
+
+/// Per visible feature, the noise std in the feature's unit (0 where there is no noise).
+fn noise_stds(spec: &EnvSpec, visible: &[String], noise: &ContextNoise) -> Result<Vec<f64>, ContextualError> {
+    let mut stds = vec![0.0; visible.len()];
+    for (name, std) in &noise.features {
+        let err = |message: String| ContextualError::Noise {
+            env: spec.id.clone(),
+            name: name.clone(),
+            message,
+        };
+        let f = spec.feature(name).ok_or_else(|| {
+            let hint = did_you_mean(name, spec.feature_names())
+                .map(|s| format!(" (did you mean \"{s}\"?)"))
+                .unwrap_or_default();
+            err(format!("no such context feature{hint}"))
+        })?;
+        let k = visible.iter().position(|v| *v == f.name).ok_or_else(|| {
+            err("the feature is not observed; noise applies to visible features (make it visible first)".into())
+        })?;
+        let sd = match *std {
+            NoiseStd::Absolute(sd) => sd,
+            NoiseStd::Relative(r) => {
+                let d = f.default_f64().unwrap_or(0.0).abs();
+                if d == 0.0 && r > 0.0 {
+                    return Err(err(
+                        "relative noise on a feature whose default is 0 is always 0; give an absolute std".into(),
+                    ));
+                }
+                r * d
+            }
+        };
+        if !sd.is_finite() || sd < 0.0 {
+            return Err(err(format!("the std must be finite and >= 0, got {sd}")));
+        }
+        if stds[k] != 0.0 {
+            return Err(err("listed twice".into()));
+        }
+        stds[k] = sd;
+    }
+    Ok(stds)
 }
 
 /// A fresh slot for one draw of a distribution (reset time only; allocates).
@@ -605,6 +757,7 @@ fn draw_slot(
     name: &str,
     dist: &Distribution,
     visible: &[String],
+    env_options: &EnvOptions,
     context_seed: u64,
 ) -> Result<Slot, String> {
     let (names, rows) = sample_distribution(spec, name, dist, 1, context_seed)
@@ -614,7 +767,8 @@ fn draw_slot(
         ctx.extend(names.into_iter().zip(row));
     }
     let who = format!("{name} draw with seed {context_seed}");
-    let mut slot = build_slot(spec, &ctx, MakeOptions::default(), &who, None, None).map_err(|e| e.to_string())?;
+    let mut slot =
+        build_slot(spec, &ctx, MakeOptions::default(), env_options, &who, None, None).map_err(|e| e.to_string())?;
     fill_visible(spec, &mut slot, visible, &who).map_err(|e| e.to_string())?;
     slot.info.context_seed = Some(context_seed);
     Ok(slot)
@@ -657,7 +811,7 @@ impl Env for ContextualEnv {
             Mode::Fixed => 0,
             Mode::Distribution { name, dist } => {
                 let context_seed = self.context_rng.next_u64();
-                self.slots[0] = draw_slot(&self.spec, name, dist, &self.visible, context_seed)
+                self.slots[0] = draw_slot(&self.spec, name, dist, &self.visible, &self.env_options, context_seed)
                     .map_err(|message| EnvError::Context { env: self.id, message })?;
                 0
             }
@@ -675,6 +829,7 @@ impl Env for ContextualEnv {
         let slot = &mut self.slots[index];
         slot.info.episode = episode;
         slot.env.reset_into(runtime_seed, &mut obs[..self.base_dim])?;
+        self.draw_observed();
         self.write_context(obs);
         Ok(())
     }
@@ -685,6 +840,9 @@ impl Env for ContextualEnv {
         let out = self.slots[self.current]
             .env
             .step_into(action, &mut obs[..self.base_dim])?;
+        if self.noise_redraw == NoiseRedraw::Step && !self.noise_std.is_empty() {
+            self.draw_observed();
+        }
         self.write_context(obs);
         Ok(out)
     }
@@ -711,7 +869,7 @@ impl Env for ContextualEnv {
         self.info_map()
     }
 
-    fn render(&self) -> Option<crate::render::Frame> {
+    fn render(&self) -> Option<crate::pixels::Frame> {
         self.slots[self.current].env.render()
     }
 }

@@ -1,405 +1,694 @@
-//! From spec + context to a running environment.
+//! The environment table: every runtime declared once.
 //!
-//! A context is a plain value (`Context`: feature name → value). `make` checks every name and
-//! value against the environment's spec (unknown names and out-of-bounds values are errors unless
-//! explicitly allowed), writes them into the runtime's `Params`, and wraps the result in the spec's
-//! episode limit. Nothing is shared between environments: each owns its `Params`.
+//! An entry says how to build the runtime from a resolved context, which variant options it
+//! takes, whether it has a hand-written controller and a renderer, how the sensitivity audit
+//! probes it, how `bench` and [`VecEnv`](super::vec_env::VecEnv) treat it, and whether it has a
+//! vector kernel. Everything that runs environments (the CLI's `rollout`, `render`, `bench`,
+//! `audit`, the contextual wrapper, `VecEnv`, the Python package) reads this table, so adding an
+//! environment is one module (its `Env`, `Params`, `impl Runtime`) plus one entry here.
+//!
+//! [`make`] checks every context name and value against the environment's spec (unknown names
+//! and out-of-bounds values are errors unless explicitly allowed), writes them into the runtime's
+//! `Params`, and wraps the result in the spec's episode limit. Nothing is shared between
+//! environments: each owns its `Params`.
 
-use std::collections::BTreeMap;
-
-use super::api::{Action, Env, EnvError, Space, StepOutcome, TimeLimit};
+use super::api::{Action, Space, TimeLimit};
 use super::box2d::{
-    BipedalWalker, BipedalWalkerParams, LunarLander, LunarLanderParams, VehicleRacing, VehicleRacingParams,
+    BipedalWalker, BipedalWalkerOptions, BipedalWalkerParams, LunarLander, LunarLanderOptions, LunarLanderParams,
+    VehicleRacing, VehicleRacingOptions, VehicleRacingParams, WalkerHeuristic,
 };
-use super::classic::{Acrobot, CartPole, MountainCar, MountainCarContinuous, Pendulum};
-use crate::spec::model::{EnvSpec, FeatureType, Scalar, Value};
-use crate::suggest::did_you_mean;
+use super::classic::{
+    Acrobot, AcrobotParams, CartPole, CartPoleParams, MountainCar, MountainCarContinuous, MountainCarContinuousParams,
+    MountainCarParams, Pendulum, PendulumParams,
+};
+use super::policy::{FnPolicy, Policy, PolicyError};
+use super::rna_design::{Dataset, RnaDesign, RnaDesignParams};
+use super::robots::{self, RobotParams};
+use super::runtime::AnyEnv;
+use crate::spec::model::EnvSpec;
 
-/// Feature values by name (canonical names or aliases); missing features take their defaults.
-pub type Context = BTreeMap<String, Value>;
+pub use super::context::{
+    Context, EnvOptions, MakeError, MakeOptions, OptionKind, OptionSpec, OptionValues, resolve_context, resolve_options,
+};
 
-/// Environment ids that have a runtime in this crate.
-pub const RUNTIMES: &[&str] = &[
-    "cartpole",
-    "pendulum",
-    "mountain_car",
-    "mountain_car_continuous",
-    "acrobot",
-    "lunar_lander",
-    "bipedal_walker",
-    "vehicle_racing",
-    "ant",
-    "half_cheetah",
-    "ur5e",
-    "fetch",
-    "humanoid",
-    "grasp",
-];
+/// Builds a runtime from every feature's value (canonical names, spec order) and the resolved
+/// variant options.
+pub type BuildFn = fn(&[(String, f64)], &OptionValues) -> Result<AnyEnv, MakeError>;
 
-pub fn has_runtime(id: &str) -> bool {
-    RUNTIMES.contains(&id)
+/// The hand-written controller for a runtime with this action space.
+pub type HeuristicFn = fn(&Space) -> Box<dyn Policy>;
+
+/// One runtime's declaration.
+#[derive(Debug, Clone, Copy)]
+pub struct Registration {
+    /// The spec's environment id.
+    pub id: &'static str,
+    /// Build the runtime from every feature's value (canonical names, spec order) and the
+    /// resolved options.
+    pub build: BuildFn,
+    /// Variant options (`continuous`, `hardcore`, …).
+    pub options: &'static [OptionSpec],
+    /// The environment's hand-written controller, for the runtime built (its action space says
+    /// e.g. discrete or continuous).
+    pub heuristic: Option<HeuristicFn>,
+    /// Whether `Env::render` draws pictures.
+    pub renders: bool,
+    /// How one step costs: sets thread work-sharing and `bench` defaults.
+    pub cost: StepCost,
+    /// How the sensitivity audit probes this runtime.
+    pub audit: AuditProfile,
+    /// A batched kernel `VecEnv` uses instead of an array of environments.
+    pub vector_kernel: Option<VectorKernel>,
 }
 
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum MakeError {
-    #[error("environment \"{0}\" has a spec but no runtime yet; runtimes exist for: {list}", list = RUNTIMES.join(", "))]
-    NoRuntime(String),
-    #[error("{env} has no context feature \"{name}\"{hint}; valid names: {valid}")]
-    UnknownFeature {
-        env: String,
-        name: String,
-        hint: String,
-        valid: String,
-    },
-    #[error("{env}: {name} = {value} is outside its bounds {bounds} (use --allow-out-of-bounds to run it anyway)")]
-    OutOfBounds {
-        env: String,
-        name: String,
-        value: f64,
-        bounds: String,
-    },
-    #[error("{env}: {name} needs a {expected} value, got {got}")]
-    BadValue {
-        env: String,
-        name: String,
-        expected: &'static str,
-        got: String,
-    },
-    #[error("{env}: {name} = {value} is not finite")]
-    NotFinite { env: String, name: String, value: f64 },
+/// What one step costs, roughly.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StepCost {
+    /// Nanoseconds (closed-form dynamics): `VecEnv` shares work in blocks of 16 environments,
+    /// `bench` defaults to 1024 environments.
+    Light,
+    /// Microseconds or more (a physics world, a rendered picture): blocks of 1, 64 environments.
+    Heavy,
 }
 
-/// The runtime environments behind one type (static dispatch keeps stepping cheap): the
-/// classic-control ones and, boxed because they own physics worlds and tracks, LunarLander,
-/// BipedalWalker, VehicleRacing and the robots.
-#[derive(Debug, Clone)]
-pub enum ClassicEnv {
-    CartPole(CartPole),
-    Pendulum(Pendulum),
-    MountainCar(MountainCar),
-    MountainCarContinuous(MountainCarContinuous),
-    Acrobot(Acrobot),
-    LunarLander(Box<LunarLander>),
-    BipedalWalker(Box<BipedalWalker>),
-    VehicleRacing(Box<VehicleRacing>),
-    /// An articulated robot on rapier3d (see [`crate::envs::robots`]).
-    Robot(Box<super::robots::Locomotion>),
-    /// The UR5e reach task on rapier3d (see [`crate::envs::robots::reach`]).
-    Reach(Box<super::robots::Reach>),
-    /// Brax's fetch task on rapier3d (see [`crate::envs::robots::fetch`]).
-    Fetch(Box<super::robots::Fetch>),
-    /// Brax's grasp task on rapier3d (see [`crate::envs::robots::grasp`]).
-    Grasp(Box<super::robots::Grasp>),
-}
-
-impl ClassicEnv {
-    /// Whether one step costs microseconds or more (a physics world or a rendered picture)
-    /// rather than nanoseconds: a [`VecEnv`](super::vec_env::VecEnv) then shares work between
-    /// threads environment by environment instead of in blocks of 16.
-    pub fn is_heavy(&self) -> bool {
-        !matches!(
-            self,
-            ClassicEnv::CartPole(_)
-                | ClassicEnv::Pendulum(_)
-                | ClassicEnv::MountainCar(_)
-                | ClassicEnv::MountainCarContinuous(_)
-                | ClassicEnv::Acrobot(_)
-        )
-    }
-
-    /// The LunarLander inside, to set its options (continuous actions, crash penalty).
-    pub fn as_lunar_lander_mut(&mut self) -> Option<&mut LunarLander> {
+impl StepCost {
+    /// Environments per `bench` VecEnv run unless told otherwise.
+    pub fn bench_num_envs(self) -> usize {
         match self {
-            ClassicEnv::LunarLander(l) => Some(l),
-            _ => None,
+            StepCost::Light => 1024,
+            StepCost::Heavy => 64,
         }
     }
-
-    /// The BipedalWalker inside, to set its options (hardcore terrain, solver, lidar drawing).
-    pub fn as_bipedal_walker_mut(&mut self) -> Option<&mut BipedalWalker> {
+    /// Smallest block of environments one `VecEnv` thread claims.
+    pub fn min_block(self) -> usize {
         match self {
-            ClassicEnv::BipedalWalker(w) => Some(w),
-            _ => None,
-        }
-    }
-
-    /// The VehicleRacing inside, to set its options (discrete actions).
-    pub fn as_vehicle_racing_mut(&mut self) -> Option<&mut VehicleRacing> {
-        match self {
-            ClassicEnv::VehicleRacing(v) => Some(v),
-            _ => None,
+            StepCost::Light => 16,
+            StepCost::Heavy => 1,
         }
     }
 }
 
-macro_rules! dispatch {
-    ($self:expr, $e:ident => $body:expr) => {
-        match $self {
-            ClassicEnv::CartPole($e) => $body,
-            ClassicEnv::Pendulum($e) => $body,
-            ClassicEnv::MountainCar($e) => $body,
-            ClassicEnv::MountainCarContinuous($e) => $body,
-            ClassicEnv::Acrobot($e) => $body,
-            ClassicEnv::LunarLander($e) => $body,
-            ClassicEnv::BipedalWalker($e) => $body,
-            ClassicEnv::VehicleRacing($e) => $body,
-            ClassicEnv::Robot($e) => $body,
-            ClassicEnv::Reach($e) => $body,
-            ClassicEnv::Fetch($e) => $body,
-            ClassicEnv::Grasp($e) => $body,
-        }
+/// Batched kernels (structure-of-arrays stepping) that [`VecEnv`](super::vec_env::VecEnv) has.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VectorKernel {
+    /// CartPole's state and constants in contiguous arrays; the same step function as the
+    /// scalar environment.
+    CartPole,
+}
+
+/// How much the audit probes a runtime, and where its state space lies.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct AuditProfile {
+    /// Trajectories (one per reset seed `0..n`) whose states become base states.
+    pub trajectory_seeds: u64,
+    /// Random-action steps per trajectory.
+    pub trajectory_steps: usize,
+    /// Extra base states drawn uniformly from a box over the state space.
+    pub random_states: usize,
+    /// Seeds `0..n` used to compare initial states.
+    pub reset_seeds: u64,
+    /// Ranges of leading state components that the box must cover beyond what trajectories
+    /// reach (angles seen through cos/sin, joint limits, goal regions).
+    #[serde(skip)]
+    pub state_hint: &'static [(f64, f64)],
+}
+
+impl AuditProfile {
+    /// The default probes: all five classic-control runtimes in well under a second.
+    pub const STANDARD: AuditProfile = AuditProfile {
+        trajectory_seeds: 8,
+        trajectory_steps: 24,
+        random_states: 256,
+        reset_seeds: 16,
+        state_hint: &[],
+    };
+    /// Articulated robots: each transition is five 3-D multibody physics steps.
+    const ROBOT: AuditProfile = AuditProfile {
+        trajectory_seeds: 3,
+        trajectory_steps: 8,
+        random_states: 8,
+        reset_seeds: 4,
+        state_hint: &[],
     };
 }
 
-impl Env for ClassicEnv {
-    fn id(&self) -> &'static str {
-        dispatch!(self, e => e.id())
-    }
-    fn obs_dim(&self) -> usize {
-        dispatch!(self, e => e.obs_dim())
-    }
-    fn state_dim(&self) -> usize {
-        dispatch!(self, e => e.state_dim())
-    }
-    fn observation_space(&self) -> Space {
-        dispatch!(self, e => e.observation_space())
-    }
-    fn action_space(&self) -> Space {
-        dispatch!(self, e => e.action_space())
-    }
-    #[inline]
-    fn reset_into(&mut self, seed: Option<u64>, obs: &mut [f32]) -> Result<(), EnvError> {
-        dispatch!(self, e => e.reset_into(seed, obs))
-    }
-    #[inline]
-    fn step_into(&mut self, action: &Action, obs: &mut [f32]) -> Result<StepOutcome, EnvError> {
-        dispatch!(self, e => e.step_into(action, obs))
-    }
-    fn observe_into(&self, obs: &mut [f32]) -> Result<(), EnvError> {
-        dispatch!(self, e => e.observe_into(obs))
-    }
-    fn state(&self) -> Vec<f64> {
-        dispatch!(self, e => e.state())
-    }
-    fn set_state(&mut self, state: &[f64]) -> Result<(), EnvError> {
-        dispatch!(self, e => e.set_state(state))
-    }
-    fn info(&self) -> super::api::Info {
-        dispatch!(self, e => e.info())
-    }
-    fn render(&self) -> Option<crate::render::Frame> {
-        dispatch!(self, e => e.render())
+impl Default for AuditProfile {
+    fn default() -> Self {
+        AuditProfile::STANDARD
     }
 }
 
 /// A runtime environment as `make` returns it: the spec's episode limit around the dynamics.
-pub type SpecEnv = TimeLimit<ClassicEnv>;
+pub type SpecEnv = TimeLimit<AnyEnv>;
 
-/// Options for [`make_with`].
-#[derive(Debug, Clone, Copy, Default)]
-pub struct MakeOptions {
-    /// Accept values outside the spec's bounds (deliberate out-of-distribution runs).
-    pub allow_out_of_bounds: bool,
-}
+const PI: f64 = std::f64::consts::PI;
 
-/// Build `spec`'s environment under `context` (bounds enforced).
-pub fn make(spec: &EnvSpec, context: &Context) -> Result<SpecEnv, MakeError> {
-    make_with(spec, context, MakeOptions::default())
-}
-
-pub fn make_with(spec: &EnvSpec, context: &Context, opts: MakeOptions) -> Result<SpecEnv, MakeError> {
-    // "No runtime" first: a spec-only environment may have features (strings, lists) that no
-    // runtime could take, and the missing runtime is what the user needs to hear.
-    if !has_runtime(&spec.id) {
-        return Err(MakeError::NoRuntime(spec.id.clone()));
-    }
-    let values = resolve_context(spec, context, opts)?;
-    let env = build(&spec.id, &values)?;
-    Ok(TimeLimit::new(env, spec.max_episode_steps))
-}
-
-/// Check a context against the spec and return every feature's numeric value (defaults filled in),
-/// keyed by canonical name, in spec order.
-pub fn resolve_context(spec: &EnvSpec, context: &Context, opts: MakeOptions) -> Result<Vec<(String, f64)>, MakeError> {
-    let env = spec.id.clone();
-    for name in context.keys() {
-        if spec.feature(name).is_none() {
-            let names = spec.feature_names();
-            let hint = did_you_mean(name, names.clone())
-                .map(|s| format!(" (did you mean \"{s}\"?)"))
-                .unwrap_or_default();
-            return Err(MakeError::UnknownFeature {
-                env,
-                name: name.clone(),
-                hint,
-                valid: names.collect::<Vec<_>>().join(", "),
-            });
-        }
-    }
-    let mut out = Vec::with_capacity(spec.features.len());
-    for f in &spec.features {
-        let given = context.iter().find(|(k, _)| f.matches_name(k)).map(|(_, v)| v);
-        let value = given.or(f.default.as_ref());
-        let Some(value) = value else { continue };
-        let x = match (f.kind, value) {
-            (FeatureType::Float | FeatureType::Int, Value::Number(x)) => *x,
-            (FeatureType::Bool, Value::Bool(b)) => f64::from(u8::from(*b)),
-            // A categorical feature takes one of its numeric choices, or the label of one.
-            (FeatureType::Categorical, Value::Number(x)) => *x,
-            (FeatureType::Categorical, Value::String(label)) => {
-                let idx = f
-                    .choice_labels
-                    .as_ref()
-                    .and_then(|labels| labels.iter().position(|l| l == label));
-                match idx.and_then(|i| f.choices.as_ref()?.get(i)) {
-                    Some(Scalar::Number(x)) => *x,
-                    _ => {
-                        return Err(MakeError::BadValue {
-                            env,
-                            name: f.name.clone(),
-                            expected: "choice or choice label",
-                            got: label.clone(),
-                        });
-                    }
-                }
-            }
-            (_, v) => {
-                return Err(MakeError::BadValue {
-                    env,
-                    name: f.name.clone(),
-                    expected: "numeric",
-                    got: crate::validate::value_text(v),
-                });
-            }
-        };
-        if !x.is_finite() {
-            return Err(MakeError::NotFinite {
-                env,
-                name: f.name.clone(),
-                value: x,
-            });
-        }
-        if f.kind == FeatureType::Int && x.fract() != 0.0 {
-            return Err(MakeError::BadValue {
-                env,
-                name: f.name.clone(),
-                expected: "integer",
-                got: x.to_string(),
-            });
-        }
-        if f.kind == FeatureType::Categorical && given.is_some() && !opts.allow_out_of_bounds {
-            let choices = f.choices.as_deref().unwrap_or_default();
-            let numeric = choices.iter().any(|c| matches!(c, Scalar::Number(_)));
-            if numeric && !choices.iter().any(|c| matches!(c, Scalar::Number(v) if *v == x)) {
-                return Err(MakeError::OutOfBounds {
-                    env,
-                    name: f.name.clone(),
-                    value: x,
-                    bounds: format!(
-                        "choices {}",
-                        crate::validate::value_text(&Value::List(
-                            choices
-                                .iter()
-                                .filter_map(|c| match c {
-                                    Scalar::Number(v) => Some(*v),
-                                    _ => None,
-                                })
-                                .collect()
-                        ))
-                    ),
-                });
-            }
-        }
-        if given.is_some() && !opts.allow_out_of_bounds && !f.in_bounds(x) {
-            let b = |v: Option<f64>, inf: &str| v.map_or(inf.to_string(), |v| v.to_string());
-            return Err(MakeError::OutOfBounds {
-                env,
-                name: f.name.clone(),
-                value: x,
-                bounds: format!("[{}, {}]", b(f.bounds[0], "-inf"), b(f.bounds[1], "inf")),
-            });
-        }
-        out.push((f.name.clone(), x));
-    }
-    Ok(out)
-}
-
-/// Write every `(feature, value)` into a runtime's parameters with `set`; a name the runtime does
-/// not know means the spec and the runtime disagree.
-fn apply(
-    id: &str,
-    values: &[(String, f64)],
-    mut set: impl FnMut(&str, f64) -> Result<(), super::api::UnknownFeature>,
-) -> Result<(), MakeError> {
-    for (name, x) in values {
-        set(name, *x).map_err(|e| MakeError::UnknownFeature {
-            env: id.to_string(),
-            name: name.clone(),
-            hint: " (the spec names a feature the runtime does not know)".into(),
-            valid: e.known,
-        })?;
-    }
-    Ok(())
-}
-
-fn build(id: &str, values: &[(String, f64)]) -> Result<ClassicEnv, MakeError> {
-    macro_rules! with_params {
-        ($params:ty, $env:ident, $variant:ident) => {{
-            let mut p = <$params>::default();
-            apply(id, values, |name, x| p.set(name, x))?;
-            ClassicEnv::$variant($env::new(p))
-        }};
-    }
-    use super::classic::*;
-    Ok(match id {
-        "cartpole" => with_params!(CartPoleParams, CartPole, CartPole),
-        "pendulum" => with_params!(PendulumParams, Pendulum, Pendulum),
-        "mountain_car" => with_params!(MountainCarParams, MountainCar, MountainCar),
-        "mountain_car_continuous" => with_params!(
-            MountainCarContinuousParams,
-            MountainCarContinuous,
-            MountainCarContinuous
-        ),
-        "acrobot" => with_params!(AcrobotParams, Acrobot, Acrobot),
-        "lunar_lander" => {
-            let mut p = LunarLanderParams::default();
-            apply(id, values, |name, x| p.set(name, x))?;
-            ClassicEnv::LunarLander(Box::new(LunarLander::new(p)))
-        }
-        "bipedal_walker" => {
-            let mut p = BipedalWalkerParams::default();
-            apply(id, values, |name, x| p.set(name, x))?;
-            ClassicEnv::BipedalWalker(Box::new(BipedalWalker::new(p)))
-        }
-        "vehicle_racing" => {
-            let mut p = VehicleRacingParams::default();
-            apply(id, values, |name, x| p.set(name, x))?;
-            let env = VehicleRacing::new(p).map_err(|message| MakeError::BadValue {
-                env: id.to_string(),
+/// Every runtime of this crate.
+pub static REGISTRY: &[Registration] = &[
+    Registration {
+        id: "cartpole",
+        build: |v, _| {
+            Ok(AnyEnv::new(CartPole::new(params::<CartPoleParams>(
+                "cartpole",
+                v,
+                CartPoleParams::set,
+            )?)))
+        },
+        options: &[],
+        heuristic: None,
+        renders: false,
+        cost: StepCost::Light,
+        audit: AuditProfile::STANDARD,
+        vector_kernel: Some(VectorKernel::CartPole),
+    },
+    Registration {
+        id: "pendulum",
+        build: |v, _| {
+            Ok(AnyEnv::new(Pendulum::new(params::<PendulumParams>(
+                "pendulum",
+                v,
+                PendulumParams::set,
+            )?)))
+        },
+        options: &[],
+        heuristic: None,
+        renders: false,
+        cost: StepCost::Light,
+        audit: AuditProfile {
+            state_hint: &[(-PI, PI), (-8.0, 8.0)],
+            ..AuditProfile::STANDARD
+        },
+        vector_kernel: None,
+    },
+    Registration {
+        id: "mountain_car",
+        build: |v, _| {
+            let p = params::<MountainCarParams>("mountain_car", v, MountainCarParams::set)?;
+            Ok(AnyEnv::new(MountainCar::new(p)))
+        },
+        options: &[],
+        heuristic: None,
+        renders: false,
+        cost: StepCost::Light,
+        audit: AuditProfile::STANDARD,
+        vector_kernel: None,
+    },
+    Registration {
+        id: "mountain_car_continuous",
+        build: |v, _| {
+            let p =
+                params::<MountainCarContinuousParams>("mountain_car_continuous", v, MountainCarContinuousParams::set)?;
+            Ok(AnyEnv::new(MountainCarContinuous::new(p)))
+        },
+        options: &[],
+        heuristic: None,
+        renders: false,
+        cost: StepCost::Light,
+        audit: AuditProfile::STANDARD,
+        vector_kernel: None,
+    },
+    Registration {
+        id: "acrobot",
+        build: |v, _| {
+            Ok(AnyEnv::new(Acrobot::new(params::<AcrobotParams>(
+                "acrobot",
+                v,
+                AcrobotParams::set,
+            )?)))
+        },
+        options: &[],
+        heuristic: None,
+        renders: false,
+        cost: StepCost::Light,
+        audit: AuditProfile {
+            state_hint: &[(-PI, PI), (-PI, PI), (-4.0 * PI, 4.0 * PI), (-9.0 * PI, 9.0 * PI)],
+            ..AuditProfile::STANDARD
+        },
+        vector_kernel: None,
+    },
+    Registration {
+        id: "lunar_lander",
+        build: |v, o| {
+            let p = params::<LunarLanderParams>("lunar_lander", v, LunarLanderParams::set)?;
+            let opts = LunarLanderOptions {
+                continuous: o.flag("continuous"),
+                crash_penalty: o.get("crash_penalty"),
+                ..LunarLanderOptions::default()
+            };
+            Ok(AnyEnv::new(LunarLander::with_options(p, opts)))
+        },
+        options: &[
+            OptionSpec {
+                name: "continuous",
+                help: "LunarLanderContinuous: actions [main, lateral] in [-1, 1]",
+                kind: OptionKind::Bool { default: false },
+            },
+            OptionSpec {
+                name: "crash_penalty",
+                help: "reward on crash or leaving the view is -crash_penalty (Gymnasium 100, the paper's evaluation 10000)",
+                kind: OptionKind::Number {
+                    default: 100.0,
+                    min: 0.0,
+                    max: 1e9,
+                },
+            },
+        ],
+        heuristic: Some(lander_heuristic),
+        renders: true,
+        cost: StepCost::Heavy,
+        audit: AuditProfile::STANDARD,
+        vector_kernel: None,
+    },
+    Registration {
+        id: "bipedal_walker",
+        build: |v, o| {
+            let p = params::<BipedalWalkerParams>("bipedal_walker", v, BipedalWalkerParams::set)?;
+            let opts = BipedalWalkerOptions {
+                hardcore: o.flag("hardcore"),
+                ..BipedalWalkerOptions::default()
+            };
+            Ok(AnyEnv::new(BipedalWalker::with_options(p, opts)))
+        },
+        options: &[OptionSpec {
+            name: "hardcore",
+            help: "BipedalWalkerHardcore: stumps, stairs and pits between grass stretches",
+            kind: OptionKind::Bool { default: false },
+        }],
+        heuristic: Some(|_| Box::new(WalkerPolicy(WalkerHeuristic::default()))),
+        renders: true,
+        cost: StepCost::Heavy,
+        // Each probe rebuilds a physics world and the 4-D action grid is larger (a probe costs
+        // ~40 µs against well under 1 µs for classic control). Hull x over the whole default
+        // course (200 steps of 14/30 m = 93.3 m) and a little beyond both ends, so states reach
+        // `x < 0` and the finish line.
+        audit: AuditProfile {
+            trajectory_seeds: 4,
+            trajectory_steps: 24,
+            random_states: 128,
+            reset_seeds: 8,
+            state_hint: &[(-1.0, 95.0)],
+        },
+        vector_kernel: None,
+    },
+    Registration {
+        id: "vehicle_racing",
+        build: |v, o| {
+            let p = params::<VehicleRacingParams>("vehicle_racing", v, VehicleRacingParams::set)?;
+            let opts = VehicleRacingOptions {
+                continuous: o.flag("continuous"),
+                ..VehicleRacingOptions::default()
+            };
+            let env = VehicleRacing::with_options(p, opts).map_err(|message| MakeError::BadValue {
+                env: "vehicle_racing".into(),
                 name: "VEHICLE".into(),
                 expected: "vehicle index in 0..=28",
                 got: message,
             })?;
-            ClassicEnv::VehicleRacing(Box::new(env))
-        }
-        other => {
-            let Some(mut p) = super::robots::blank_params(other) else {
-                return Err(MakeError::NoRuntime(other.to_string()));
+            Ok(AnyEnv::new(env))
+        },
+        options: &[OptionSpec {
+            name: "continuous",
+            help: "actions [steer, gas, brake] (CarRacing-v3's default); false: 5 discrete actions",
+            kind: OptionKind::Bool { default: true },
+        }],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        audit: AuditProfile::STANDARD,
+        vector_kernel: None,
+    },
+    Registration {
+        id: "ant",
+        build: |v, _| Ok(AnyEnv::new(locomotion("ant", v)?)),
+        options: &[],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        audit: AuditProfile::ROBOT,
+        vector_kernel: None,
+    },
+    Registration {
+        id: "half_cheetah",
+        build: |v, _| Ok(AnyEnv::new(locomotion("half_cheetah", v)?)),
+        options: &[],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        audit: AuditProfile::ROBOT,
+        vector_kernel: None,
+    },
+    Registration {
+        id: "ur5e",
+        build: |v, _| {
+            let p = robot_params("ur5e", v)?;
+            robots::make_reach(p)
+                .map(AnyEnv::new)
+                .ok_or_else(|| missing_model("ur5e"))
+        },
+        options: &[],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        // Joint angles beyond the ±2π joint limits (where joint_stiffness acts).
+        audit: AuditProfile {
+            state_hint: &[(-8.0, 8.0); 6],
+            ..AuditProfile::ROBOT
+        },
+        vector_kernel: None,
+    },
+    Registration {
+        id: "fetch",
+        build: |v, _| {
+            let p = robot_params("fetch", v)?;
+            robots::make_fetch(p)
+                .map(AnyEnv::new)
+                .ok_or_else(|| missing_model("fetch"))
+        },
+        options: &[],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        // Eleven bodies and 21 probe actions per state; one trajectory suffices (the random
+        // states reach beyond the joint limits, the goal states hit targets). The root at its
+        // standing pose (x y z qw qx qy qz), hinge angles beyond the ±60° limits.
+        audit: AuditProfile {
+            trajectory_seeds: 1,
+            trajectory_steps: 8,
+            random_states: 8,
+            reset_seeds: 4,
+            state_hint: &[
+                (0.0, 0.0),
+                (0.0, 0.0),
+                (1.38, 1.38),
+                (1.0, 1.0),
+                (0.0, 0.0),
+                (0.0, 0.0),
+                (0.0, 0.0),
+                (-1.6, 1.6),
+                (-1.6, 1.6),
+                (-1.6, 1.6),
+                (-1.6, 1.6),
+                (-1.6, 1.6),
+                (-1.6, 1.6),
+                (-1.6, 1.6),
+                (-1.6, 1.6),
+                (-1.6, 1.6),
+                (-1.6, 1.6),
+            ],
+        },
+        vector_kernel: None,
+    },
+    Registration {
+        id: "humanoid",
+        build: |v, _| Ok(AnyEnv::new(locomotion("humanoid", v)?)),
+        options: &[],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        // Transitions cost ~5x an Ant's (20 links, 23 DoFs): fewer base states, one trajectory
+        // long enough for the feet to land (~10 steps); root heights down to 0.9 m put the feet
+        // in contact, where friction acts.
+        audit: AuditProfile {
+            trajectory_seeds: 1,
+            trajectory_steps: 12,
+            random_states: 4,
+            reset_seeds: 3,
+            state_hint: &[(-0.5, 0.5), (-0.5, 0.5), (0.9, 1.45)],
+        },
+        vector_kernel: None,
+    },
+    Registration {
+        id: "grasp",
+        build: |v, _| {
+            let p = robot_params("grasp", v)?;
+            robots::make_grasp(p)
+                .map(AnyEnv::new)
+                .ok_or_else(|| missing_model("grasp"))
+        },
+        options: &[],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        // A 19-DoF hand and 39 probe actions; each transition rebuilds the world and takes four
+        // physics steps. Palm slides, then the 16 finger joints beyond their limits.
+        audit: AuditProfile {
+            trajectory_seeds: 1,
+            trajectory_steps: 2,
+            random_states: 3,
+            reset_seeds: 2,
+            state_hint: &[
+                (-3.0, 3.0),
+                (-3.0, 3.0),
+                (3.0, 6.0),
+                (-2.0, 2.0),
+                (-2.0, 2.0),
+                (-2.5, 2.5),
+                (-2.5, 2.5),
+                (-2.0, 2.0),
+                (-2.0, 2.0),
+                (-2.5, 2.5),
+                (-2.5, 2.5),
+                (-2.0, 2.0),
+                (-2.0, 2.0),
+                (-2.5, 2.5),
+                (-2.5, 2.5),
+                (-2.0, 2.0),
+                (-2.0, 2.0),
+                (-2.5, 2.5),
+                (-2.5, 2.5),
+            ],
+        },
+        vector_kernel: None,
+    },
+    Registration {
+        id: "rna_design",
+        build: |v, o| {
+            let p = rna_design_params(v, o)?;
+            let env = RnaDesign::new(p).map_err(|e| MakeError::BadValue {
+                env: "rna_design".into(),
+                name: "dataset".into(),
+                expected: "loadable",
+                got: e.to_string(),
+            })?;
+            Ok(AnyEnv::new(env))
+        },
+        options: &[OptionSpec {
+            name: "max_improvement_folds",
+            help: "cap on the folds of LEARNA's local improvement per episode (it costs up to 4^d folds); 0: no cap, as LEARNA",
+            kind: OptionKind::Number {
+                default: 0.0,
+                min: 0.0,
+                max: 1e12,
+            },
+        }],
+        heuristic: None,
+        renders: false,
+        cost: StepCost::Heavy,
+        // A step is a table write; the last one of an episode folds (up to 400 nt for Eterna100).
+        audit: AuditProfile {
+            trajectory_seeds: 4,
+            trajectory_steps: 24,
+            random_states: 0,
+            reset_seeds: 8,
+            state_hint: &[],
+        },
+        vector_kernel: None,
+    },
+    Registration {
+        id: "mario",
+        build: |v, o| {
+            let options = super::mario::MarioOptions {
+                frame_dim: o.get("frame_dim") as usize,
+                sticky_action_probability: o.get("sticky_action_probability"),
+                sparse_rewards: o.flag("sparse_rewards"),
+                ..super::mario::MarioOptions::default()
             };
-            apply(id, values, |name, x| p.set(name, x))?;
-            if other == "ur5e" {
-                let env = super::robots::make_reach(p).ok_or_else(|| MakeError::NoRuntime(other.to_string()))?;
-                ClassicEnv::Reach(Box::new(env))
-            } else if other == "fetch" {
-                let env = super::robots::make_fetch(p).ok_or_else(|| MakeError::NoRuntime(other.to_string()))?;
-                ClassicEnv::Fetch(Box::new(env))
-            } else if other == "grasp" {
-                let env = super::robots::make_grasp(p).ok_or_else(|| MakeError::NoRuntime(other.to_string()))?;
-                ClassicEnv::Grasp(Box::new(env))
-            } else {
-                let env = super::robots::make_robot(other, p).ok_or_else(|| MakeError::NoRuntime(other.to_string()))?;
-                ClassicEnv::Robot(Box::new(env))
+            let env = super::mario::Mario::from_context_with(v, options).map_err(|e| MakeError::Runtime {
+                env: "mario".into(),
+                message: e.to_string(),
+            })?;
+            Ok(AnyEnv::new(env))
+        },
+        options: &[
+            OptionSpec {
+                name: "frame_dim",
+                help: "side of the grayscale observation frames: 64 (the paper, CARL 2021) or 84 (carl-bench 1.1.1)",
+                kind: OptionKind::Number {
+                    default: 64.0,
+                    min: 16.0,
+                    max: 256.0,
+                },
+            },
+            OptionSpec {
+                name: "sticky_action_probability",
+                help: "probability of repeating the previous action (CARL's default 0.1, unseeded there; seeded by reset here)",
+                kind: OptionKind::Number {
+                    default: 0.0,
+                    min: 0.0,
+                    max: 1.0,
+                },
+            },
+            OptionSpec {
+                name: "sparse_rewards",
+                help: "reward 1 only on completing the level (CARL's sparse_rewards)",
+                kind: OptionKind::Bool { default: false },
+            },
+        ],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        // Every transition re-runs the reset tick and draws the observation; a new level per
+        // perturbed generator feature.
+        audit: AuditProfile {
+            trajectory_seeds: 2,
+            trajectory_steps: 24,
+            random_states: 16,
+            reset_seeds: 2,
+            state_hint: &[],
+        },
+        vector_kernel: None,
+    },
+];
+
+/// The registration of environment `id` (a spec id, not an alias).
+pub fn lookup(id: &str) -> Option<&'static Registration> {
+    REGISTRY.iter().find(|r| r.id == id)
+}
+
+/// Whether `id` has a runtime.
+pub fn has_runtime(id: &str) -> bool {
+    lookup(id).is_some()
+}
+
+/// Ids of every runtime, in table order.
+pub fn ids() -> impl Iterator<Item = &'static str> {
+    REGISTRY.iter().map(|r| r.id)
+}
+
+/// `"cartpole, pendulum, …"`: for messages.
+pub fn ids_text() -> String {
+    ids().collect::<Vec<_>>().join(", ")
+}
+
+/// Ids of the runtimes that satisfy `pred`, comma-separated (e.g. those with a renderer).
+pub fn ids_where(pred: impl Fn(&Registration) -> bool) -> String {
+    REGISTRY
+        .iter()
+        .filter(|r| pred(r))
+        .map(|r| r.id)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Build `spec`'s environment under `context` (bounds enforced, default options).
+pub fn make(spec: &EnvSpec, context: &Context) -> Result<SpecEnv, MakeError> {
+    make_env(spec, context, MakeOptions::default(), &EnvOptions::new())
+}
+
+/// [`make`] with a bounds policy.
+pub fn make_with(spec: &EnvSpec, context: &Context, opts: MakeOptions) -> Result<SpecEnv, MakeError> {
+    make_env(spec, context, opts, &EnvOptions::new())
+}
+
+/// [`make`] with a bounds policy and variant options (`continuous = true`, …).
+pub fn make_env(
+    spec: &EnvSpec,
+    context: &Context,
+    opts: MakeOptions,
+    options: &EnvOptions,
+) -> Result<SpecEnv, MakeError> {
+    // "No runtime" first: a spec-only environment may have features (strings, lists) that no
+    // runtime could take, and the missing runtime is what the user needs to hear.
+    let reg = lookup(&spec.id).ok_or_else(|| MakeError::NoRuntime {
+        env: spec.id.clone(),
+        available: ids_text(),
+    })?;
+    let values = resolve_context(spec, context, opts)?;
+    let options = resolve_options(reg.id, reg.options, options)?;
+    let env = (reg.build)(&values, &options)?;
+    Ok(TimeLimit::new(env, spec.max_episode_steps))
+}
+
+/// A `Params` value with every feature written in (a name the runtime does not know means
+/// the spec and the runtime disagree).
+fn params<P: Default>(
+    id: &str,
+    values: &[(String, f64)],
+    set: fn(&mut P, &str, f64) -> Result<(), super::api::UnknownFeature>,
+) -> Result<P, MakeError> {
+    let mut p = P::default();
+    super::context::apply(id, values, |name, x| set(&mut p, name, x))?;
+    Ok(p)
+}
+
+/// rna_design's context: the spec's `dataset` choice index (eterna, rfam_learn, rfam_taneda)
+/// becomes a [`Dataset`]; Rfam-Learn is read from `$CARL_SPEC_DATA`.
+fn rna_design_params(values: &[(String, f64)], options: &OptionValues) -> Result<RnaDesignParams, MakeError> {
+    let mut p = RnaDesignParams::default();
+    for (name, x) in values {
+        match name.as_str() {
+            "mutation_threshold" => p.mutation_threshold = *x,
+            "reward_exponent" => p.reward_exponent = *x,
+            "state_radius" => p.state_radius = *x as usize,
+            "dataset" => {
+                p.dataset = match *x as usize {
+                    0 => Dataset::Eterna,
+                    1 => Dataset::RfamLearn(super::rna_design::RfamLearnSplit::Train),
+                    _ => Dataset::RfamTaneda,
+                }
+            }
+            other => {
+                return Err(MakeError::UnknownFeature {
+                    env: "rna_design".into(),
+                    name: other.into(),
+                    hint: " (the spec names a feature the runtime does not know)".into(),
+                    valid: "mutation_threshold, reward_exponent, state_radius, dataset".into(),
+                });
             }
         }
-    })
+    }
+    let cap = options.get("max_improvement_folds");
+    p.max_improvement_folds = (cap > 0.0).then_some(cap as u64);
+    Ok(p)
+}
+
+fn robot_params(id: &str, values: &[(String, f64)]) -> Result<RobotParams, MakeError> {
+    let mut p = robots::blank_params(id).ok_or_else(|| missing_model(id))?;
+    super::context::apply(id, values, |name, x| p.set(name, x))?;
+    Ok(p)
+}
+
+fn locomotion(id: &str, values: &[(String, f64)]) -> Result<robots::Locomotion, MakeError> {
+    let p = robot_params(id, values)?;
+    robots::make_robot(id, p).ok_or_else(|| missing_model(id))
+}
+
+/// The embedded robot description failed to load (a build defect, reported, never a panic).
+fn missing_model(id: &str) -> MakeError {
+    MakeError::NoRuntime {
+        env: format!("{id} (its embedded robot model failed to load)"),
+        available: ids_text(),
+    }
+}
+
+/// Gymnasium's lander heuristic, discrete or continuous after the action space.
+fn lander_heuristic(space: &Space) -> Box<dyn Policy> {
+    match space {
+        Space::Discrete { .. } => Box::new(FnPolicy(|obs| Action::Discrete(super::box2d::heuristic(obs)))),
+        Space::Box { .. } => Box::new(FnPolicy(|obs| {
+            Action::Continuous(super::box2d::heuristic_continuous(obs).to_vec())
+        })),
+    }
+}
+
+/// Gymnasium's scripted walker gait (it remembers its phase between steps).
+struct WalkerPolicy(WalkerHeuristic);
+
+impl Policy for WalkerPolicy {
+    fn reset(&mut self) {
+        self.0 = WalkerHeuristic::default();
+    }
+    fn act(&mut self, obs: &[f32]) -> Result<Option<Action>, PolicyError> {
+        Ok(Some(Action::Continuous(self.0.act(obs).to_vec())))
+    }
 }

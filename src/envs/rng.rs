@@ -92,9 +92,7 @@ pub const DEFAULT_SEED: u64 = 0;
 
 impl EnvRng {
     pub fn from_seed(seed: u64) -> Self {
-        EnvRng {
-            pcg: numpy_pcg64(seed),
-        }
+        EnvRng { pcg: numpy_pcg64(seed) }
     }
 
     #[inline]
@@ -138,10 +136,30 @@ mod tests {
     #[test]
     fn seed_sequence_and_pcg64_equal_numpy() {
         let words: &[(u64, [u32; 8])] = &[
-            (0, [0xb0f478be, 0xdb2cd7e7, 0x2c71ba49, 0xabf4641a, 0x9d7b8d41, 0x20c6ed6d, 0x223c39d4, 0x2c4099de]),
-            (42, [0xcd540ab7, 0x9f1e2e6d, 0x79fb94b6, 0xd57873dc, 0x64d420b7, 0x7d282a1b, 0x4692d5ff, 0x33657971]),
-            ((1 << 32) + 7, [0x16073898, 0x5c15e68f, 0xd1803233, 0x473d7918, 0xc4907c0f, 0xf3e9cae3, 0x099c820f, 0xdd958930]),
-            (u64::MAX, [0x928cad0d, 0xaebca151, 0x8638dc7a, 0x119c3044, 0x59e642a7, 0x1bbb1556, 0xe8c4a8f6, 0xa76b11e3]),
+            (
+                0,
+                [
+                    0xb0f478be, 0xdb2cd7e7, 0x2c71ba49, 0xabf4641a, 0x9d7b8d41, 0x20c6ed6d, 0x223c39d4, 0x2c4099de,
+                ],
+            ),
+            (
+                42,
+                [
+                    0xcd540ab7, 0x9f1e2e6d, 0x79fb94b6, 0xd57873dc, 0x64d420b7, 0x7d282a1b, 0x4692d5ff, 0x33657971,
+                ],
+            ),
+            (
+                (1 << 32) + 7,
+                [
+                    0x16073898, 0x5c15e68f, 0xd1803233, 0x473d7918, 0xc4907c0f, 0xf3e9cae3, 0x099c820f, 0xdd958930,
+                ],
+            ),
+            (
+                u64::MAX,
+                [
+                    0x928cad0d, 0xaebca151, 0x8638dc7a, 0x119c3044, 0x59e642a7, 0x1bbb1556, 0xe8c4a8f6, 0xa76b11e3,
+                ],
+            ),
         ];
         for (seed, w) in words {
             assert_eq!(seed_sequence_words::<8>(*seed), *w, "seed {seed}");
@@ -162,8 +180,24 @@ mod tests {
     #[test]
     fn uniform_equals_numpy_generator() {
         let cases: &[(u64, [f64; 4])] = &[
-            (0, [0.013696168732145436, -0.02302132862361297, -0.045902647606380534, -0.04834723644714709]),
-            (42, [0.027395604855596334, -0.006112156024794771, 0.03585979199113824, 0.019736802905936393]),
+            (
+                0,
+                [
+                    0.013696168732145436,
+                    -0.02302132862361297,
+                    -0.045902647606380534,
+                    -0.04834723644714709,
+                ],
+            ),
+            (
+                42,
+                [
+                    0.027395604855596334,
+                    -0.006112156024794771,
+                    0.03585979199113824,
+                    0.019736802905936393,
+                ],
+            ),
         ];
         for (seed, want) in cases {
             let mut rng = EnvRng::from_seed(*seed);

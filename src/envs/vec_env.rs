@@ -33,10 +33,11 @@
 //! # Layout and speed
 //!
 //! Outputs are flat, preallocated buffers (`obs` is `num_envs × obs_dim`, row `i` is
-//! environment `i`), so `step` never allocates. CartPole has a structure-of-arrays kernel:
-//! the four state components live in separate contiguous `Vec<f64>`s next to per-environment
-//! parameters, and its arithmetic is the scalar [`CartPole`](super::classic::CartPole) step
-//! operation by operation (bit-identical; `tests/vec_env.rs` checks it). The other
+//! environment `i`), so `step` never allocates. An environment whose registry entry declares a
+//! vector kernel (CartPole) is stepped structure-of-arrays: the four state components live in
+//! separate contiguous `Vec<f64>`s next to per-environment constants, and each step calls the
+//! scalar environment's own step function ([`cartpole::dynamics`]), so the two are bit-identical
+//! by construction (`tests/vec_env.rs` checks it anyway). The other
 //! environments use an array of scalar environments (static dispatch, no allocation).
 //! With `threads > 1` the batch is cut into blocks (~8 per thread, at least 16 environments,
 //! or at least 1 for environments whose step is a physics world or a picture)
@@ -48,12 +49,13 @@ use std::ops::Range;
 use std::sync::Mutex;
 
 use super::api::{Action, Env, EnvError, Space};
-use super::classic::CartPoleParams;
+use super::classic::cartpole::{self, CartPoleConstants};
+use super::classic::{CartPole, CartPoleParams};
 use super::contextual::{ContextInfo, ContextualEnv};
-use super::classic::cartpole::{THETA_THRESHOLD_RADIANS, X_THRESHOLD};
 use super::pool::Pool;
-use super::registry::{ClassicEnv, Context, MakeError, MakeOptions, SpecEnv, make_with};
-use super::rng::{EnvRng, uniform};
+use super::registry::{Context, MakeError, MakeOptions, SpecEnv, VectorKernel, lookup, make_with};
+use super::rng::EnvRng;
+use super::runtime::AnyEnv;
 use crate::spec::model::EnvSpec;
 
 /// One action per environment: `Discrete` has `num_envs` entries, `Continuous` has
@@ -130,32 +132,18 @@ enum ActionKind {
     Continuous(usize),
 }
 
-/// Per-environment CartPole constants (derived values computed exactly as the scalar step does).
+/// Per-environment CartPole context: the step's constants and the reset's parameters.
 #[derive(Debug, Clone, Copy)]
 struct CartPoleK {
-    gravity: f64,
-    masspole: f64,
-    pole_length: f64,
-    force_mag: f64,
-    tau: f64,
-    total_mass: f64,
-    polemass_length: f64,
-    init_lo: f64,
-    init_hi: f64,
+    step: CartPoleConstants,
+    params: CartPoleParams,
 }
 
 impl From<&CartPoleParams> for CartPoleK {
     fn from(p: &CartPoleParams) -> Self {
         CartPoleK {
-            gravity: p.gravity,
-            masspole: p.masspole,
-            pole_length: p.pole_length,
-            force_mag: p.force_magnifier,
-            tau: p.update_interval,
-            total_mass: p.total_mass(),
-            polemass_length: p.polemass_length(),
-            init_lo: p.initial_state_lower,
-            init_hi: p.initial_state_upper,
+            step: CartPoleConstants::from(p),
+            params: *p,
         }
     }
 }
@@ -174,7 +162,7 @@ struct CartPoleSoa {
 enum Envs {
     CartPole(CartPoleSoa),
     /// Scalar environments plus one reusable `Action` each (so continuous actions don't allocate).
-    Array(Vec<ClassicEnv>, Vec<Action>),
+    Array(Vec<AnyEnv>, Vec<Action>),
     /// Contextual environments (each re-selects its context at every reset), with actions as above.
     Contextual(Vec<ContextualEnv>, Vec<Action>),
 }
@@ -186,7 +174,7 @@ trait BatchEnv: Env {
         -1
     }
 }
-impl BatchEnv for ClassicEnv {}
+impl BatchEnv for AnyEnv {}
 impl BatchEnv for ContextualEnv {
     fn instance_id(&self) -> i64 {
         self.context_info().instance_id.map_or(-1, |i| i as i64)
@@ -200,7 +188,7 @@ pub struct VecEnv {
     n: usize,
     obs_dim: usize,
     action: ActionKind,
-    proto: ClassicEnv,
+    proto: AnyEnv,
     envs: Envs,
     max_steps: u64,
     elapsed: Vec<u64>,
@@ -298,20 +286,20 @@ impl VecEnv {
         let max_steps = first.max_episode_steps().unwrap_or(u64::MAX);
         let proto = first.inner().clone();
         let n = envs.len();
-        let min_block = if proto.is_heavy() { 1 } else { 16 };
+        let reg = lookup(id);
+        let min_block = reg.map_or(1, |r| r.cost.min_block());
         let action = match proto.action_space() {
             Space::Discrete { n, .. } => ActionKind::Discrete(n),
             s @ Space::Box { .. } => ActionKind::Continuous(s.flat_dim()),
         };
-        let inner: Vec<ClassicEnv> = envs.into_iter().map(|e| e.into_inner()).collect();
-        let envs = match (&proto, opts.kernel) {
-            (ClassicEnv::CartPole(_), Kernel::Auto) => {
+        let inner: Vec<AnyEnv> = envs.into_iter().map(|e| e.into_inner()).collect();
+        let kernel = reg.and_then(|r| r.vector_kernel);
+        let envs = match (kernel, opts.kernel) {
+            (Some(VectorKernel::CartPole), Kernel::Auto) => {
                 let k = inner
                     .iter()
-                    .map(|e| match e {
-                        ClassicEnv::CartPole(c) => CartPoleK::from(c.params()),
-                        _ => unreachable!("checked: one kind"),
-                    })
+                    .filter_map(|e| e.downcast_ref::<CartPole>())
+                    .map(|c| CartPoleK::from(c.params()))
                     .collect();
                 Envs::CartPole(CartPoleSoa {
                     x: vec![0.0; n],
@@ -335,7 +323,11 @@ impl VecEnv {
 
     /// Batch contextual environments (all of one kind). Each keeps its own source, selection and
     /// streams; its episode limit is its own (the wrapped runtimes count their steps).
-    pub fn from_contextual(envs: Vec<ContextualEnv>, opts: VecOptions, mode: AutoresetMode) -> Result<VecEnv, VecEnvError> {
+    pub fn from_contextual(
+        envs: Vec<ContextualEnv>,
+        opts: VecOptions,
+        mode: AutoresetMode,
+    ) -> Result<VecEnv, VecEnvError> {
         let Some(first) = envs.first() else {
             return Err(VecEnvError::Empty);
         };
@@ -347,7 +339,7 @@ impl VecEnv {
             });
         }
         let proto = first.inner().inner().clone();
-        let min_block = if proto.is_heavy() { 1 } else { 16 };
+        let min_block = lookup(id).map_or(1, |r| r.cost.min_block());
         let n = envs.len();
         let a = match first.action_space() {
             Space::Discrete { .. } => Action::Discrete(0),
@@ -375,7 +367,7 @@ impl VecEnv {
 
     fn assemble(
         id: &'static str,
-        proto: ClassicEnv,
+        proto: AnyEnv,
         envs: Envs,
         max_steps: u64,
         opts: VecOptions,
@@ -491,7 +483,8 @@ impl VecEnv {
     /// same-step: in the other modes `obs` itself holds it).
     pub fn final_obs(&self, i: usize) -> Option<&[f32]> {
         let done = *self.terminated.get(i)? || self.truncated[i];
-        (done && self.mode == AutoresetMode::SameStep).then(|| &self.final_obs[i * self.obs_dim..(i + 1) * self.obs_dim])
+        (done && self.mode == AutoresetMode::SameStep)
+            .then(|| &self.final_obs[i * self.obs_dim..(i + 1) * self.obs_dim])
     }
     /// The flat final-observation buffer (`num_envs × obs_dim`); row `i` is meaningful only where
     /// `terminated[i] || truncated[i]` after the latest step.
@@ -728,13 +721,10 @@ fn write4(o: &mut [f32], a: f64, b: f64, c: f64, d: f64) {
     o[3] = d as f32;
 }
 
-/// `CartPole::reset_into`'s draws: x, x_dot, theta, theta_dot in that order.
+/// `CartPole::reset_into`'s draws (the same function).
 #[inline]
 fn cartpole_reset(k: &CartPoleK, rng: &mut EnvRng) -> (f64, f64, f64, f64) {
-    let x = uniform(rng, k.init_lo, k.init_hi);
-    let xd = uniform(rng, k.init_lo, k.init_hi);
-    let th = uniform(rng, k.init_lo, k.init_hi);
-    let thd = uniform(rng, k.init_lo, k.init_hi);
+    let [x, xd, th, thd] = cartpole::initial_state(&k.params, rng);
     (x, xd, th, thd)
 }
 
@@ -780,23 +770,10 @@ unsafe fn cartpole_chunk(s: &SoaRaw, o: &Raw, actions: &[i64], r: Range<usize>, 
     );
     for j in 0..len {
         let p = &ks[j];
-        let (x, x_dot, theta, theta_dot) = (xs[j], xds[j], ths[j], thds[j]);
-        // Same operations, same order as `CartPole::step_into`.
-        let force = if actions[j] == 1 { p.force_mag } else { -p.force_mag };
-        let costheta = theta.cos();
-        let sintheta = theta.sin();
-        let temp = (force + p.polemass_length * (theta_dot * theta_dot) * sintheta) / p.total_mass;
-        let thetaacc = (p.gravity * sintheta - costheta * temp)
-            / (p.pole_length * (4.0 / 3.0 - p.masspole * (costheta * costheta) / p.total_mass));
-        let xacc = temp - p.polemass_length * thetaacc * costheta / p.total_mass;
-        let tau = p.tau;
-        let x = x + tau * x_dot;
-        let x_dot = x_dot + tau * xacc;
-        let theta = theta + tau * theta_dot;
-        let theta_dot = theta_dot + tau * thetaacc;
-        #[allow(clippy::manual_range_contains)]
-        let terminated =
-            x < -X_THRESHOLD || x > X_THRESHOLD || theta < -THETA_THRESHOLD_RADIANS || theta > THETA_THRESHOLD_RADIANS;
+        // The scalar environment's step function itself.
+        let next = cartpole::dynamics(&p.step, [xs[j], xds[j], ths[j], thds[j]], actions[j]);
+        let terminated = cartpole::is_terminal(next);
+        let [x, x_dot, theta, theta_dot] = next;
         let e = el[j] + 1;
         let truncated = e >= max_steps;
         // With same-step autoreset no env is ever stepped after termination, so the scalar

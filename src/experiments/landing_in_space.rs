@@ -22,7 +22,7 @@ use serde::Serialize;
 use serde_json::json;
 
 use crate::envs::api::{Action, Env, Space};
-use crate::envs::box2d::{Outcome, PHYSICS_ENGINE, heuristic};
+use crate::envs::box2d::{LunarLander, Outcome, PHYSICS_ENGINE, heuristic};
 use crate::envs::registry::{MakeOptions, make_with, resolve_context};
 use crate::instances::{FrozenSet, Store};
 use crate::sampling::{Pcg64, stream_id};
@@ -43,6 +43,32 @@ pub struct Config {
     pub seed: u64,
     /// Reward on crash / out of view is `-crash_penalty` (Gymnasium 100, the paper's evaluation 10000).
     pub crash_penalty: f64,
+}
+
+/// Largest crash penalty accepted: 10^5 times the paper's 10,000. Far beyond any sensible
+/// evaluation, and small enough that sums and variances of returns stay finite.
+pub const MAX_CRASH_PENALTY: f64 = 1e9;
+
+impl Config {
+    /// An error message for values that cannot give meaningful (finite) results.
+    pub fn check(&self) -> Result<(), String> {
+        let p = self.crash_penalty;
+        // Short for huge values: `{}` of 1e308 has 309 digits.
+        let shown = if p.abs() >= 1e16 {
+            format!("{p:e}")
+        } else {
+            format!("{p}")
+        };
+        if !p.is_finite() {
+            return Err(format!("crash penalty {shown} is not finite"));
+        }
+        if !(0.0..=MAX_CRASH_PENALTY).contains(&p) {
+            return Err(format!(
+                "crash penalty {shown} is outside 0..={MAX_CRASH_PENALTY:e} (the reward on a crash is minus the penalty; Gymnasium uses 100, the paper's evaluation 10000)"
+            ));
+        }
+        Ok(())
+    }
 }
 
 impl Default for Config {
@@ -205,9 +231,7 @@ pub struct Results {
 
 /// Evaluate `driver` on every test body and on the train sample.
 pub fn evaluate(specs: &SpecSet, cfg: &Config, policy: &str, driver: &mut dyn Driver) -> Result<Results, String> {
-    if !cfg.crash_penalty.is_finite() {
-        return Err(format!("crash penalty {} is not finite", cfg.crash_penalty));
-    }
+    cfg.check()?;
     let store = Store::new(specs);
     let test = store.load(TEST_SET).map_err(|e| e.to_string())?;
     let train = store.load(TRAIN_SET).map_err(|e| e.to_string())?;
@@ -272,7 +296,7 @@ fn run_episode(
         .collect();
     let gravity = full.get("GRAVITY_Y").and_then(|v| v.as_f64()).unwrap_or(f64::NAN);
     env.inner_mut()
-        .as_lunar_lander_mut()
+        .downcast_mut::<LunarLander>()
         .ok_or_else(|| format!("{} is not LunarLander", set.env))?
         .options_mut()
         .crash_penalty = cfg.crash_penalty;
@@ -299,7 +323,7 @@ fn run_episode(
         ret += out.reward;
         driver.stepped(t, &action, &obs, out.reward, out.terminated, out.truncated)?;
         if out.terminated || out.truncated {
-            let outcome = env.inner_mut().as_lunar_lander_mut().map(|l| l.outcome());
+            let outcome = env.inner().downcast_ref::<LunarLander>().map(|l| l.outcome());
             let end = match (out.terminated, outcome) {
                 (true, Some(Outcome::Landed)) => EpisodeEnd::Landed,
                 (true, Some(Outcome::OutOfView)) => EpisodeEnd::OutOfView,
@@ -315,6 +339,32 @@ fn run_episode(
                 end,
             });
         }
+    }
+}
+
+impl Results {
+    /// An error naming the first row with a non-finite statistic (such numbers would be `null`
+    /// in JSON and `NaN` in the figure).
+    pub fn check_finite(&self) -> Result<(), String> {
+        for r in &self.rows {
+            let stats = [
+                ("mean return", r.mean_return),
+                ("std of returns", r.std_return),
+                ("mean length", r.mean_length),
+            ];
+            for (what, v) in stats {
+                if !v.is_finite() {
+                    return Err(format!("row {}: the {what} is {v}, not a finite number", r.body));
+                }
+            }
+            if let Some(run) = r.runs.iter().find(|x| !x.ret.is_finite()) {
+                return Err(format!(
+                    "row {}: episode with seed {} returned {}",
+                    r.body, run.seed, run.ret
+                ));
+            }
+        }
+        Ok(())
     }
 }
 
@@ -358,8 +408,10 @@ fn esc(s: &str) -> String {
 }
 
 /// An SVG bar chart: mean return per body (weakest to strongest gravity, then the train sample)
-/// with ±std whiskers, coloured by split.
-pub fn figure_svg(results: &Results) -> String {
+/// with ±std whiskers, coloured by split. An error (never a broken file) if any number to draw
+/// is not finite.
+pub fn figure_svg(results: &Results) -> Result<String, String> {
+    results.check_finite()?;
     let mut rows: Vec<&Row> = results.rows.iter().filter(|r| r.body != TRAIN_ROW).collect();
     rows.sort_by(|a, b| a.gravity.abs().total_cmp(&b.gravity.abs()));
     rows.extend(results.rows.iter().filter(|r| r.body == TRAIN_ROW));
@@ -475,5 +527,76 @@ pub fn figure_svg(results: &Results) -> String {
         ));
     }
     s.push_str("</svg>\n");
-    s
+    // Finite statistics can still overflow the axis arithmetic; a coordinate is never NaN/inf.
+    let bad = ["NaN", "inf"]
+        .into_iter()
+        .find(|w| s.contains(&format!("=\"{w}")) || s.contains(&format!("=\"-{w}")));
+    if let Some(w) = bad {
+        return Err(format!(
+            "the figure would contain a {w} coordinate; refusing to write it"
+        ));
+    }
+    Ok(s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn results(rets: &[f64]) -> Results {
+        let runs = rets
+            .iter()
+            .enumerate()
+            .map(|(k, &ret)| EpisodeResult {
+                instance: 0,
+                gravity: -10.0,
+                seed: k as u64,
+                ret,
+                length: 10,
+                end: EpisodeEnd::Crashed,
+            })
+            .collect();
+        Results {
+            experiment: "landing_in_space",
+            policy: "heuristic".into(),
+            episodes_per_row: rets.len(),
+            seed: 0,
+            crash_penalty: 1e308,
+            seed_derivation: "",
+            physics_engine: PHYSICS_ENGINE,
+            generator: String::new(),
+            instance_sets: json!({}),
+            rows: vec![Row::from_runs("Earth", "in_distribution", runs)],
+        }
+    }
+
+    #[test]
+    fn absurd_crash_penalties_are_refused() {
+        for p in [f64::NAN, f64::INFINITY, 1e308, MAX_CRASH_PENALTY * 2.0, -1.0] {
+            let cfg = Config {
+                crash_penalty: p,
+                ..Config::default()
+            };
+            let err = cfg.check().unwrap_err();
+            assert!(err.len() < 200, "{err}");
+        }
+        for p in [0.0, 100.0, 10_000.0, MAX_CRASH_PENALTY] {
+            let cfg = Config {
+                crash_penalty: p,
+                ..Config::default()
+            };
+            assert!(cfg.check().is_ok(), "{p}");
+        }
+    }
+
+    #[test]
+    fn the_figure_refuses_non_finite_numbers() {
+        // Regression: --crash-penalty 1e308 gave mean -inf, std NaN and "NaN" in the SVG.
+        let bad = results(&[-1e308, -1e308, 0.0]);
+        assert!(bad.check_finite().is_err());
+        let err = figure_svg(&bad).unwrap_err();
+        assert!(err.contains("Earth"), "{err}");
+        let good = figure_svg(&results(&[-100.0, 50.0, 0.0])).unwrap();
+        assert!(!good.contains("NaN") && !good.contains("inf\""), "{good}");
+    }
 }

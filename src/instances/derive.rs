@@ -5,7 +5,7 @@ use std::collections::BTreeMap;
 use super::frozen::{FORMAT, FrozenSet, Instance, Provenance, spec_digest};
 use crate::sampling::{self, FeatureInfo, SamplingError};
 use crate::spec::model::{Distribution, EnvSpec, Feature, Value};
-use crate::spec::raw::MAX_INSTANCES;
+use crate::spec::raw::{MAX_INSTANCES, MAX_SET_VALUES};
 use crate::suggest::did_you_mean;
 
 #[derive(Debug, thiserror::Error)]
@@ -20,6 +20,12 @@ pub enum DeriveError {
     Sampling { context: String, source: SamplingError },
     #[error("size {0} is not in 1..={MAX_INSTANCES}")]
     Size(u64),
+    #[error(
+        "{n} instances × {features} varied feature(s) = {} values, more than the limit of {MAX_SET_VALUES} per set \
+         (about 1.5 KB of memory per value); sample fewer instances",
+        n.saturating_mul(*features)
+    )]
+    TooManyValues { n: u64, features: u64 },
     #[error("{0}")]
     Invalid(String),
 }
@@ -38,16 +44,6 @@ fn hint<'a>(name: &str, known: impl Iterator<Item = &'a str> + Clone) -> String 
     }
 }
 
-fn info(f: &Feature) -> FeatureInfo {
-    FeatureInfo {
-        name: f.name.clone(),
-        kind: f.kind,
-        default: f.default.clone(),
-        bounds: f.bounds,
-        choices: f.choices.clone(),
-    }
-}
-
 /// Draw `n` contexts from a named distribution. Columns are the distribution's features by canonical
 /// name; each feature has its own stream (seed, feature name), so values don't depend on which other
 /// features the distribution varies.
@@ -61,6 +57,10 @@ pub fn sample_distribution(
     if n == 0 || n > MAX_INSTANCES {
         return Err(DeriveError::Size(n));
     }
+    let features = dist.features.len() as u64;
+    if n.saturating_mul(features) > MAX_SET_VALUES {
+        return Err(DeriveError::TooManyValues { n, features });
+    }
     let mut cols = Vec::new();
     for (name, sampler) in &dist.features {
         let f = spec.feature(name).ok_or_else(|| DeriveError::UnknownFeature {
@@ -68,7 +68,7 @@ pub fn sample_distribution(
             name: name.clone(),
             hint: hint(name, spec.feature_names()),
         })?;
-        cols.push((info(f), sampler));
+        cols.push((FeatureInfo::from_feature(f), sampler));
     }
     let names = cols.iter().map(|(i, _)| i.name.clone()).collect();
     let rows =

@@ -2,7 +2,7 @@
 
 use std::collections::BTreeMap;
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
@@ -155,6 +155,15 @@ fn hex(bytes: &[u8]) -> String {
 /// Write `text` to `path` atomically: a temporary file in the same directory, flushed to disk, then
 /// renamed over the target. An interrupted write leaves the old file (or none), never half a file.
 pub fn write_atomic(path: &Path, text: &str) -> std::io::Result<()> {
+    let tmp = write_temp(path, text)?;
+    std::fs::rename(&tmp, path).inspect_err(|_| {
+        let _ = std::fs::remove_file(&tmp);
+    })
+}
+
+/// Write `text` to the temporary file of `path` (`.NAME.PID.tmp` beside it, synced) and return
+/// its path; the caller renames it into place. Creates the directory.
+pub fn write_temp(path: &Path, text: &str) -> std::io::Result<PathBuf> {
     let dir = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
@@ -168,11 +177,56 @@ pub fn write_atomic(path: &Path, text: &str) -> std::io::Result<()> {
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
         f.write_all(text.as_bytes())?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
+        f.sync_all()
     })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
+    match result {
+        Ok(()) => Ok(tmp),
+        Err(e) => {
+            let _ = std::fs::remove_file(&tmp);
+            Err(e)
+        }
     }
-    result
+}
+
+/// Remove temporary files (`.NAME.json.PID.tmp`) that a killed `freeze` left in `dir`: those of
+/// processes that no longer run (checked in /proc), or, where /proc is absent, older than a day.
+/// Returns the files removed.
+pub fn remove_stale_temp_files(dir: &Path) -> Vec<PathBuf> {
+    let mut removed = Vec::new();
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return removed;
+    };
+    let proc_fs = Path::new("/proc/self").exists();
+    for e in entries.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        let Some(pid) = temp_file_pid(&name) else { continue };
+        let stale = if proc_fs {
+            pid != std::process::id() && !Path::new(&format!("/proc/{pid}")).exists()
+        } else {
+            e.metadata()
+                .and_then(|m| m.modified())
+                .is_ok_and(|t| t.elapsed().is_ok_and(|age| age.as_secs() > 86_400))
+        };
+        if stale && std::fs::remove_file(e.path()).is_ok() {
+            removed.push(e.path());
+        }
+    }
+    removed
+}
+
+/// The process id in a temporary file name `.NAME.json.PID.tmp`.
+fn temp_file_pid(name: &str) -> Option<u32> {
+    let rest = name.strip_prefix('.')?.strip_suffix(".tmp")?;
+    let (file, pid) = rest.rsplit_once('.')?;
+    file.ends_with(".json").then(|| pid.parse().ok())?
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn temp_file_names_give_their_pid() {
+        assert_eq!(super::temp_file_pid(".train.json.1234.tmp"), Some(1234));
+        assert_eq!(super::temp_file_pid("train.json"), None);
+        assert_eq!(super::temp_file_pid(".notes.txt.12.tmp"), None);
+    }
 }

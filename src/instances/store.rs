@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use super::derive::{DeriveError, derive_set};
-use super::frozen::{FORMAT, FrozenSet, spec_digest, write_atomic};
+use super::frozen::{FORMAT, FrozenSet, remove_stale_temp_files, spec_digest, write_temp};
 use crate::spec::SpecSet;
 use crate::spec::load::{INSTANCES_DIR, bundled_files};
 use crate::spec::model::EnvSpec;
@@ -95,11 +95,39 @@ pub struct FreezeOutcome {
 
 pub struct Store<'a> {
     specs: &'a SpecSet,
+    /// A checkout's `specs/` folder: the bundled specs' frozen files are read from (and checked
+    /// in) its `instances/`, the copies a user can edit, instead of those built into the binary.
+    checkout: Option<PathBuf>,
 }
 
 impl<'a> Store<'a> {
+    /// Frozen files of bundled specs are read from the copies built into the binary.
     pub fn new(specs: &'a SpecSet) -> Self {
-        Store { specs }
+        Store { specs, checkout: None }
+    }
+
+    /// Read (and verify) the bundled specs' frozen files in `specs_dir/instances/` (a checkout).
+    pub fn with_checkout(mut self, specs_dir: PathBuf) -> Self {
+        self.checkout = Some(specs_dir);
+        self
+    }
+
+    /// `dir/specs` when it is a carl-spec checkout's spec folder (it holds the bundled specs and
+    /// an `instances/` folder), e.g. when a command runs from the repository root.
+    pub fn find_checkout(dir: &Path) -> Option<PathBuf> {
+        let specs = dir.join("specs");
+        let has_bundled_spec = bundled_files()
+            .iter()
+            .any(|(p, _)| !p.contains('/') && specs.join(p).is_file());
+        (has_bundled_spec && specs.join(INSTANCES_DIR).is_dir()).then_some(specs)
+    }
+
+    /// Where the bundled specs' frozen files are read from, for messages.
+    pub fn bundled_source(&self) -> String {
+        match &self.checkout {
+            Some(d) => format!("{} (checkout)", d.join(INSTANCES_DIR).display()),
+            None => "the copies built into this binary (no specs/ checkout here)".into(),
+        }
     }
 
     /// Every declared set: (env spec, set name).
@@ -136,7 +164,10 @@ impl<'a> Store<'a> {
     pub fn location(&self, spec: &EnvSpec, set: &str) -> Location {
         let rel = format!("{INSTANCES_DIR}/{}/{set}.json", spec.id);
         if spec.origin.starts_with("bundled:") {
-            Location::Bundled(rel)
+            match &self.checkout {
+                Some(dir) => Location::File(dir.join(rel)),
+                None => Location::Bundled(rel),
+            }
         } else {
             let dir = Path::new(&spec.origin)
                 .parent()
@@ -171,7 +202,22 @@ impl<'a> Store<'a> {
                 where_: loc.describe(),
             });
         }
+        // The hash only proves the file is consistent with itself (anyone can recompute it):
+        // every name and value is checked against the spec before it is used.
+        check_against_spec(&frozen, spec, &set, def.allow_out_of_bounds).map_err(|reason| StoreError::Corrupt {
+            name: qualified.clone(),
+            where_: loc.describe(),
+            reason,
+        })?;
         Ok(frozen)
+    }
+
+    /// The frozen files `verify` reads: one per declared set (existing or not).
+    pub fn checked_files(&self) -> Vec<String> {
+        self.declared()
+            .into_iter()
+            .map(|(spec, set)| self.location(spec, set).describe())
+            .collect()
     }
 
     /// Re-derive every declared set and compare with its frozen file; also flag files that belong
@@ -215,19 +261,42 @@ impl<'a> Store<'a> {
                 Err(e) => push(format!("cannot re-derive: {e}")),
             }
         }
-        // Orphans: bundled frozen files without a declared set (when the bundled specs are loaded).
+        // A checkout's spec files must be the ones this binary was built with, or the frozen files
+        // would be checked against other specs than the user sees.
+        if let Some(dir) = &self.checkout {
+            for (path, text) in bundled_files()
+                .iter()
+                .filter(|(p, _)| !p.starts_with(&format!("{INSTANCES_DIR}/")))
+            {
+                let file = dir.join(path);
+                if std::fs::read_to_string(&file).is_ok_and(|t| t != *text) {
+                    problems.push(VerifyProblem {
+                        set: "-".into(),
+                        file: file.display().to_string(),
+                        problem: "differs from the copy built into this binary: rebuild (cargo build --release) so verify checks the spec you edited".into(),
+                    });
+                }
+            }
+        }
+        // Orphans: frozen files without a declared set (when the bundled specs are loaded).
         let has_bundled = self.specs.envs().iter().any(|e| e.origin.starts_with("bundled:"));
-        let bundled_frozen = bundled_files()
-            .iter()
-            .filter(|(p, _)| has_bundled && p.starts_with(&format!("{INSTANCES_DIR}/")));
-        for (path, _) in bundled_frozen {
+        let frozen_files: Vec<(String, String)> = match &self.checkout {
+            _ if !has_bundled => Vec::new(),
+            Some(dir) => list_frozen(&dir.join(INSTANCES_DIR)),
+            None => bundled_files()
+                .iter()
+                .filter(|(p, _)| p.starts_with(&format!("{INSTANCES_DIR}/")))
+                .map(|(p, _)| (p.to_string(), format!("specs/{p}")))
+                .collect(),
+        };
+        for (path, shown) in frozen_files {
             let parts: Vec<&str> = path.trim_end_matches(".json").split('/').collect();
             if let [_, env, set] = parts[..]
                 && self.specs.get(env).is_none_or(|s| !s.instance_sets.contains_key(set))
             {
                 problems.push(VerifyProblem {
                     set: format!("{env}/{set}"),
-                    file: format!("specs/{path}"),
+                    file: shown,
                     problem:
                         "frozen file of a set no spec declares (renamed or removed?); delete it or declare the set"
                             .into(),
@@ -270,10 +339,7 @@ impl<'a> Store<'a> {
             let action = match &existing {
                 Some(old) if *old == text => "unchanged",
                 Some(old) if !force => {
-                    let what = match parse_frozen(old) {
-                        Ok(old) => diff(&old, frozen).into_iter().take(3).collect::<Vec<_>>().join("; "),
-                        Err(e) => e,
-                    };
+                    let what = describe_difference(old, frozen);
                     refused.push(format!("{} exists and differs ({what})", path.display()));
                     continue;
                 }
@@ -292,14 +358,13 @@ impl<'a> Store<'a> {
                 refused.join("\n")
             )));
         }
-        for ((frozen, path), outcome) in planned.iter().zip(&outcomes) {
-            if outcome.action != "unchanged" {
-                write_atomic(path, &frozen.to_text()).map_err(|e| StoreError::Write {
-                    path: path.display().to_string(),
-                    source: e,
-                })?;
-            }
-        }
+        let writes: Vec<(&Path, String)> = planned
+            .iter()
+            .zip(&outcomes)
+            .filter(|(_, o)| o.action != "unchanged")
+            .map(|((frozen, path), _)| (path.as_path(), frozen.to_text()))
+            .collect();
+        write_all_or_nothing(&writes)?;
         Ok(outcomes)
     }
 
@@ -323,6 +388,128 @@ impl<'a> Store<'a> {
     }
 }
 
+/// Write every file or none: all temporary files are written (and synced) first; only when all
+/// succeeded are they renamed over their targets. A rename failing midway (rare: the temporary
+/// files sit beside their targets) is reported with the files already replaced. Temporary files
+/// left by killed runs are removed first.
+fn write_all_or_nothing(writes: &[(&Path, String)]) -> Result<(), StoreError> {
+    let mut temps: Vec<(PathBuf, &Path)> = Vec::new();
+    let undo = |temps: &[(PathBuf, &Path)]| {
+        for (t, _) in temps {
+            let _ = std::fs::remove_file(t);
+        }
+    };
+    for (path, text) in writes {
+        if let Some(dir) = path.parent() {
+            remove_stale_temp_files(dir);
+        }
+        match write_temp(path, text) {
+            Ok(t) => temps.push((t, path)),
+            Err(e) => {
+                undo(&temps);
+                return Err(StoreError::Write {
+                    path: format!("{} (nothing written)", path.display()),
+                    source: e,
+                });
+            }
+        }
+    }
+    for (k, (tmp, path)) in temps.iter().enumerate() {
+        if let Err(e) = std::fs::rename(tmp, path) {
+            undo(&temps[k..]);
+            let done: Vec<String> = temps[..k].iter().map(|(_, p)| p.display().to_string()).collect();
+            return Err(StoreError::Write {
+                path: format!(
+                    "{} (already replaced: {})",
+                    path.display(),
+                    if done.is_empty() {
+                        "none".into()
+                    } else {
+                        done.join(", ")
+                    }
+                ),
+                source: e,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Every name and value of a frozen set against its spec: the set is the one asked for, it varies
+/// only features of the spec (by canonical name), and every value has its feature's type (among
+/// its choices) and lies inside its bounds unless the set allows out-of-bounds values.
+pub fn check_against_spec(
+    frozen: &FrozenSet,
+    spec: &EnvSpec,
+    set: &str,
+    allow_out_of_bounds: bool,
+) -> Result<(), String> {
+    use crate::sampling::FeatureInfo;
+    use crate::sampling::feature::check_instance_value;
+    use crate::text::quote;
+    if frozen.env != spec.id || frozen.set != set {
+        return Err(format!(
+            "the file holds {}/{}, not {}/{set}",
+            quote(&frozen.env),
+            quote(&frozen.set),
+            spec.id
+        ));
+    }
+    let infos: Vec<(&str, FeatureInfo)> = frozen
+        .features
+        .iter()
+        .map(|name| match spec.features.iter().find(|f| f.name == *name) {
+            Some(f) => Ok((name.as_str(), FeatureInfo::from_feature(f))),
+            None => Err(format!(
+                "it varies {}, which is not a feature of {}",
+                quote(name),
+                spec.id
+            )),
+        })
+        .collect::<Result<_, _>>()?;
+    for (i, inst) in frozen.instances.iter().enumerate() {
+        if inst.id != i {
+            return Err(format!("instance {i} has id {}", inst.id));
+        }
+        for (name, value) in &inst.context {
+            let (_, info) = infos.iter().find(|(n, _)| n == name).ok_or_else(|| {
+                format!(
+                    "instance {}: {} is not among the set's features ({})",
+                    inst.label(),
+                    quote(name),
+                    frozen.features.join(", ")
+                )
+            })?;
+            check_instance_value(value, info, allow_out_of_bounds)
+                .map_err(|e| format!("instance {}: {name}: {e}", quote(&inst.label())))?;
+        }
+    }
+    Ok(())
+}
+
+/// Frozen files under `dir` (`instances/`): (path relative to the spec folder, path to show).
+fn list_frozen(dir: &Path) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    let Ok(envs) = std::fs::read_dir(dir) else { return out };
+    for env in envs.flatten() {
+        let Ok(sets) = std::fs::read_dir(env.path()) else {
+            continue;
+        };
+        for set in sets.flatten() {
+            let name = set.file_name().to_string_lossy().into_owned();
+            if name.ends_with(".json") && !name.starts_with('.') {
+                let env_name = env.file_name().to_string_lossy().into_owned();
+                out.push((
+                    format!("{INSTANCES_DIR}/{env_name}/{name}"),
+                    set.path().display().to_string(),
+                ));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
 /// Parse a frozen file and check its format tag and content hash.
 pub fn parse_frozen(text: &str) -> Result<FrozenSet, String> {
     let frozen: FrozenSet = serde_json::from_str(text).map_err(|e| format!("not a frozen instance set: {e}"))?;
@@ -342,6 +529,37 @@ pub fn parse_frozen(text: &str) -> Result<FrozenSet, String> {
 /// Human-readable differences between a frozen file and a fresh derivation.
 pub fn diff(frozen: &FrozenSet, derived: &FrozenSet) -> Vec<String> {
     let mut out = Vec::new();
+    let text = |s: &str| crate::text::quote(s);
+    if frozen.env != derived.env || frozen.set != derived.set {
+        out.push(format!(
+            "the file holds {}/{}, not {}",
+            text(&frozen.env),
+            text(&frozen.set),
+            derived.qualified_name()
+        ));
+    }
+    if frozen.provenance.generator != derived.provenance.generator {
+        out.push(format!(
+            "written by {}, this is {}",
+            text(&frozen.provenance.generator),
+            derived.provenance.generator
+        ));
+    }
+    if frozen.description != derived.description || frozen.role != derived.role {
+        out.push("the set's description or role changed".into());
+    }
+    if frozen.provenance.definition != derived.provenance.definition
+        || frozen.provenance.distribution != derived.provenance.distribution
+    {
+        out.push("the set's definition or distribution changed".into());
+    }
+    if frozen.features != derived.features {
+        out.push(format!(
+            "varies [{}] in the file, [{}] derived",
+            frozen.features.join(", "),
+            derived.features.join(", ")
+        ));
+    }
     if frozen.provenance.spec_digest != derived.provenance.spec_digest {
         out.push("the spec changed since the set was frozen (spec digest differs)".into());
     }
@@ -383,5 +601,30 @@ pub fn diff(frozen: &FrozenSet, derived: &FrozenSet) -> Vec<String> {
             }
         }
     }
+    if out.is_empty() && frozen.content_hash != derived.content_hash {
+        out.push(format!(
+            "content hash {} in the file, {} derived",
+            frozen.content_hash, derived.content_hash
+        ));
+    }
     out
+}
+
+/// What differs between an existing file's text and the one `freeze` would write; never empty
+/// when the texts differ.
+fn describe_difference(old: &str, new: &FrozenSet) -> String {
+    let found = match parse_frozen(old) {
+        Ok(old) => diff(&old, new),
+        Err(e) => vec![e],
+    };
+    if found.is_empty() {
+        "same values and metadata, different text (formatting edited by hand?)".into()
+    } else {
+        let n = found.len();
+        let mut shown: Vec<String> = found.into_iter().take(3).collect();
+        if n > 3 {
+            shown.push(format!("{} more", n - 3));
+        }
+        shown.join("; ")
+    }
 }

@@ -1,8 +1,8 @@
 //! What a plot shows (one panel per varied feature) and its layout as a [`Scene`].
 
-use super::font::text_width;
 use super::histogram::{Bins, bin, fmt_num, fmt_sig, ticks};
 use super::scene::{Anchor, Color, Scene, Shape, Stroke};
+use crate::pixels::font::text_width;
 
 /// How a named instance is coloured: by its split, if it has one.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
@@ -610,6 +610,7 @@ pub fn layout(fig: &Figure) -> Scene {
             "freedman-diaconis" => " (Freedman-Diaconis)",
             "sqrt" => " (square-root rule)",
             "fixed" => " (--bins)",
+            "inseparable" => " (values too close to tell apart)",
             _ => "",
         };
         let note = format!(

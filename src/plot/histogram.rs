@@ -54,11 +54,16 @@ pub fn bin(values: &[f64], integer: bool, fixed: Option<usize>) -> Bins {
         };
     };
     let n = sorted.len();
+    // Values closer than a normal number per bin (e.g. 0 and 1e-323) cannot be told apart on an
+    // axis, nor can a range that overflows (±1.8e308): one bin, as for a single value.
     let range = max - min;
+    let separable = (range / MAX_BINS as f64).is_normal();
+    let rule_one = if range == 0.0 { "single value" } else { "inseparable" };
+    let range = if separable { range } else { 0.0 };
     let (mut k, rule) = if let Some(k) = fixed {
         (k.clamp(1, MAX_BINS), "fixed")
     } else if range == 0.0 {
-        (1, "single value")
+        (1, rule_one)
     } else {
         let iqr = quantile(&sorted, 0.75) - quantile(&sorted, 0.25);
         if n >= 4 && iqr > 0.0 {
@@ -110,8 +115,15 @@ pub fn ticks(lo: f64, hi: f64, target: usize) -> (Vec<f64>, usize) {
         .map(|m| m * mag)
         .find(|s| *s >= raw)
         .unwrap_or(10.0 * mag);
-    let first = (lo / step).ceil() as i64;
-    let last = (hi / step).floor() as i64;
+    let first = (lo / step).ceil();
+    let last = (hi / step).floor();
+    // A range too small for a representable step (subnormal) or too wide for one (overflow).
+    if !(step.is_finite() && step > 0.0 && first.is_finite() && last.is_finite())
+        || last - first > 10.0 * target as f64 + 10.0
+    {
+        return (vec![lo], 0);
+    }
+    let (first, last) = (first as i64, last as i64);
     let ticks: Vec<f64> = (first..=last)
         .map(|i| {
             let t = i as f64 * step;
@@ -183,6 +195,19 @@ mod tests {
         assert_eq!(b.width.fract(), 0.0);
         assert_eq!(b.counts.iter().sum::<u64>(), 5);
         assert_eq!(bin(&[1.0, 2.0, 3.0], false, Some(7)).counts.len(), 7);
+    }
+
+    #[test]
+    fn subnormal_and_overflowing_ranges_give_one_bin_and_few_ticks() {
+        // Regression: 0 and 1e-323 made `ticks` allocate ~2^63 ticks (capacity overflow).
+        let b = bin(&[0.0, 1e-323], false, None);
+        assert_eq!((b.counts.clone(), b.rule), (vec![2], "inseparable"));
+        assert!(b.width.is_normal());
+        assert!(ticks(0.0, 1e-323, 10).0.len() <= 1);
+        let b = bin(&[-1e308, 1e308], false, None);
+        assert_eq!(b.counts.iter().sum::<u64>(), 2);
+        assert!(ticks(-1e308, 1e308, 10).0.len() <= 21);
+        assert!(ticks(-f64::MAX, f64::MAX, 10).0.len() <= 21);
     }
 
     #[test]

@@ -4,18 +4,18 @@
 //! * [`figure`]: what is shown and the layout (shared by both formats).
 //! * [`histogram`]: binning (Freedman–Diaconis, square-root fallback) and axis ticks.
 //! * [`svg`] / [`png`]: the two output formats, both written here without system libraries;
-//!   PNG text uses the built-in bitmap [`font`].
+//!   PNG pixels, colours and text come from the pixel layer ([`crate::pixels`]).
 //!
-//! Output is deterministic: the same sets give the same bytes.
+//! Output is deterministic: the same sets give the same bytes. A figure whose coordinates are
+//! not finite (values too far apart to draw) is an error, never a broken file. Files are
+//! written by [`crate::output`].
 
 pub mod figure;
-pub mod font;
 pub mod histogram;
 pub mod png;
 pub mod scene;
 pub mod svg;
 
-use std::io::Write;
 use std::path::Path;
 
 pub use figure::{Figure, Mark, MarkKind, Panel, Rug, layout};
@@ -212,79 +212,54 @@ pub fn build(
     ))
 }
 
-/// The figure in `format`.
+/// The figure in `format`; an error if any coordinate is not finite.
 pub fn render(fig: &Figure, format: Format) -> Result<Vec<u8>, String> {
     let scene = layout(fig);
+    scene.check_finite()?;
     match format {
         Format::Svg => Ok(svg::render(&scene).into_bytes()),
-        Format::Png => png::render(&scene).map_err(|e| format!("PNG encoding failed: {e}")),
+        Format::Png => png::render(&scene),
     }
 }
 
-/// Why the output file was not written.
-#[derive(Debug, thiserror::Error)]
-pub enum WriteError {
-    #[error("{0} exists; pass --force to replace it")]
-    Exists(String),
-    #[error("cannot write {path}: the directory {dir} does not exist")]
-    NoDir { path: String, dir: String },
-    #[error("cannot write {path}: {source}")]
-    Io { path: String, source: std::io::Error },
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
 
-/// Write `bytes` to `path` atomically (a temporary file in the same directory, synced, then
-/// moved into place). Without `force` an existing file is never replaced, even one created
-/// meanwhile: the temporary file is hard-linked to the target, which fails if it exists.
-/// The directory must exist.
-pub fn write_output(path: &Path, bytes: &[u8], force: bool) -> Result<(), WriteError> {
-    let shown = path.display().to_string();
-    let io = |source| WriteError::Io {
-        path: shown.clone(),
-        source,
-    };
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    if !dir.is_dir() {
-        return Err(WriteError::NoDir {
-            path: shown.clone(),
-            dir: dir.display().to_string(),
-        });
-    }
-    if !force && path.symlink_metadata().is_ok() {
-        return Err(WriteError::Exists(shown));
-    }
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        drop(f);
-        if force {
-            std::fs::rename(&tmp, path)
-        } else {
-            match std::fs::hard_link(&tmp, path) {
-                Ok(()) => std::fs::remove_file(&tmp),
-                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Err(e),
-                // File systems without hard links: checked above, rename.
-                Err(_) => std::fs::rename(&tmp, path),
-            }
+    fn figure(values: Vec<f64>) -> Figure {
+        Figure {
+            title: "toy/set".into(),
+            description: String::new(),
+            panels: vec![Panel {
+                feature: "x".into(),
+                unit: None,
+                bounds: [None, None],
+                integer: false,
+                values,
+                marks: Vec::new(),
+                rugs: Vec::new(),
+            }],
+            bins: None,
         }
-    })();
-    match result {
-        Ok(()) => Ok(()),
-        Err(e) => {
-            let _ = std::fs::remove_file(&tmp);
-            if e.kind() == std::io::ErrorKind::AlreadyExists {
-                Err(WriteError::Exists(shown))
-            } else {
-                Err(io(e))
-            }
+    }
+
+    #[test]
+    fn subnormal_differences_plot_without_panic() {
+        // Regression: explicit values 0 and 1e-323 panicked with "capacity overflow".
+        for format in [Format::Svg, Format::Png] {
+            let bytes = render(&figure(vec![0.0, 1e-323]), format).unwrap();
+            assert!(!bytes.is_empty());
+        }
+        let svg = String::from_utf8(render(&figure(vec![0.0, 1e-323]), Format::Svg).unwrap()).unwrap();
+        assert!(!svg.contains("NaN") && !svg.contains("inf"), "{svg}");
+        assert!(svg.contains("too close to tell apart"));
+    }
+
+    #[test]
+    fn values_too_far_apart_are_an_error_not_a_broken_file() {
+        for format in [Format::Svg, Format::Png] {
+            let err = render(&figure(vec![-1.7e308, 1.7e308]), format).unwrap_err();
+            assert!(err.contains("non-finite"), "{err}");
         }
     }
 }

@@ -1,50 +1,9 @@
 //! A backend-neutral drawing: shapes in pixel coordinates (origin top left), rendered to SVG text
-//! by [`super::svg`] and rasterized to PNG by [`super::png`]. Layout happens once, here-independent,
-//! so both formats show the same figure.
+//! by [`super::svg`] and rasterized to PNG by [`super::png`]. Layout happens once, independent of
+//! the format, so both formats show the same figure. Colours, strokes and text anchors are the
+//! pixel layer's ([`crate::pixels`]).
 
-/// An opaque sRGB colour.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Color(pub u8, pub u8, pub u8);
-
-impl Color {
-    pub const WHITE: Color = Color(255, 255, 255);
-    pub const BLACK: Color = Color(0, 0, 0);
-    pub fn hex(self) -> String {
-        format!("#{:02x}{:02x}{:02x}", self.0, self.1, self.2)
-    }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Stroke {
-    pub color: Color,
-    pub width: f64,
-    /// Dash and gap length; `None` = solid.
-    pub dash: Option<f64>,
-}
-
-impl Stroke {
-    pub fn solid(color: Color, width: f64) -> Self {
-        Stroke {
-            color,
-            width,
-            dash: None,
-        }
-    }
-    pub fn dashed(color: Color, width: f64, dash: f64) -> Self {
-        Stroke {
-            color,
-            width,
-            dash: Some(dash),
-        }
-    }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Anchor {
-    Start,
-    Middle,
-    End,
-}
+pub use crate::pixels::{Anchor, Color, Stroke};
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum Shape {
@@ -68,7 +27,7 @@ pub enum Shape {
         points: Vec<(f64, f64)>,
         fill: Color,
     },
-    /// `y` is the baseline; `scale` multiplies the built-in font's units (see [`super::font`]).
+    /// `y` is the baseline; `scale` multiplies the built-in font's units (see [`crate::pixels::font`]).
     /// `vertical` text reads bottom to top, rotated about (x, y).
     Text {
         x: f64,
@@ -103,6 +62,30 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// An error naming the first shape with a non-finite coordinate or size (NaN or ±inf would
+    /// give an SVG that viewers reject and a PNG with shapes missing).
+    pub fn check_finite(&self) -> Result<(), String> {
+        for item in &self.items {
+            let numbers: Vec<f64> = match &item.shape {
+                Shape::Rect {
+                    x, y, w, h, opacity, ..
+                } => vec![*x, *y, *w, *h, *opacity],
+                Shape::Line { x1, y1, x2, y2, stroke } => vec![*x1, *y1, *x2, *y2, stroke.width],
+                Shape::Polygon { points, .. } => points.iter().flat_map(|&(x, y)| [x, y]).collect(),
+                Shape::Text { x, y, .. } => vec![*x, *y],
+                Shape::GroupStart | Shape::GroupEnd => Vec::new(),
+            };
+            if numbers.iter().any(|v| !v.is_finite()) {
+                let what = if item.class.is_empty() { "shape" } else { item.class };
+                return Err(format!(
+                    "cannot draw \"{}\": a {what} would have a non-finite coordinate (the values are too far apart or too large to draw)",
+                    self.title
+                ));
+            }
+        }
+        Ok(())
+    }
+
     pub fn push(&mut self, class: &'static str, shape: Shape) {
         self.items.push(Item {
             shape,

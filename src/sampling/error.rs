@@ -2,6 +2,17 @@
 
 use thiserror::Error;
 
+/// Why a sampler was refused; the validator reports each as its own rule.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SamplerProblem {
+    /// A parameter is unusable (non-positive std, reversed interval, overflow, bad weights, …).
+    Params,
+    /// The sampler cannot produce the feature's type.
+    Type,
+    /// Nothing the sampler can draw lies inside the feature's bounds.
+    Support,
+}
+
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum SamplingError {
     /// The sampler's parameters are unusable for this feature (found by `FeatureSampler::compile`).
@@ -10,6 +21,10 @@ pub enum SamplingError {
         feature: String,
         kind: &'static str,
         message: String,
+        /// The parameter at fault, as a JSON pointer below the sampler (`std`, `intervals/1`);
+        /// empty for the sampler as a whole.
+        field: String,
+        problem: SamplerProblem,
     },
     /// The feature itself cannot be sampled (bad bounds, missing default, ...).
     #[error("feature `{feature}`: {message}")]

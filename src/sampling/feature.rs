@@ -2,8 +2,9 @@
 //! respect the feature's type and bounds.
 
 use super::dist;
-use super::error::SamplingError;
+use super::error::{SamplerProblem, SamplingError};
 use super::pcg64::Pcg64;
+use crate::spec::model::Feature;
 use crate::spec::raw::{AtBounds, Bounds, FeatureType, RawFeature, Sampler, Scalar, Value};
 
 /// Redraws allowed by `at_bounds = resample` before giving up (fixed: part of the output contract).
@@ -34,6 +35,18 @@ impl FeatureInfo {
             kind: f.kind,
             default: f.default.clone(),
             bounds: f.bounds.unwrap_or([None, None]),
+            choices: f.choices.clone(),
+        }
+    }
+
+    /// What the sampler needs of a resolved feature (the one conversion `freeze`, `sample` and
+    /// `validate` all use).
+    pub fn from_feature(f: &Feature) -> Self {
+        FeatureInfo {
+            name: f.name.clone(),
+            kind: f.kind,
+            default: f.default.clone(),
+            bounds: f.bounds,
             choices: f.choices.clone(),
         }
     }
@@ -163,11 +176,18 @@ impl FeatureSampler {
     pub fn compile(sampler: &Sampler, feature: FeatureInfo, at_bounds: AtBounds) -> Result<Self, SamplingError> {
         let kind = kind_name(sampler);
         let name = feature.name.clone();
-        let bad = |message: String| SamplingError::InvalidSampler {
+        // Refusals name the parameter at fault and the kind of problem, so the validator can
+        // point at it; `bad` is a parameter problem of the sampler as a whole.
+        let refuse = |problem: SamplerProblem, field: &str, message: String| SamplingError::InvalidSampler {
             feature: name.clone(),
             kind,
             message,
+            field: field.to_string(),
+            problem,
         };
+        let bad_at = |field: &str, message: String| refuse(SamplerProblem::Params, field, message);
+        let wrong_type = |field: &str, message: String| refuse(SamplerProblem::Type, field, message);
+        let no_support = |message: String| refuse(SamplerProblem::Support, "", message);
         let bad_feature = |message: String| SamplingError::InvalidFeature {
             feature: name.clone(),
             message,
@@ -208,14 +228,17 @@ impl FeatureSampler {
             if (mean.abs() + 40.0 * std).is_finite() {
                 Ok(())
             } else {
-                Err(bad(format!("mean {mean} with std {std} would overflow to infinity")))
+                Err(bad_at(
+                    "std",
+                    format!("mean {mean} with std {std} would overflow to infinity"),
+                ))
             }
         };
         let check_positive_std = |what: &str, s: f64| {
             if s.is_finite() && s > 0.0 {
                 Ok(())
             } else {
-                Err(bad(format!("{what} must be finite and > 0, got {s}")))
+                Err(bad_at(what, format!("{what} must be finite and > 0, got {s}")))
             }
         };
         // Continuous samplers need a float feature; int/bool/categorical/list features would get
@@ -224,21 +247,24 @@ impl FeatureSampler {
             if feature.kind == FeatureType::Float {
                 Ok(())
             } else {
-                Err(bad(format!(
-                    "{} feature needs {}, not a continuous sampler",
-                    type_name(feature.kind),
-                    match feature.kind {
-                        FeatureType::Int => "an integer-valued sampler (int_uniform, categorical or constant)",
-                        FeatureType::ListInt => "a constant list",
-                        _ => "a categorical or constant sampler",
-                    }
-                )))
+                Err(wrong_type(
+                    "kind",
+                    format!(
+                        "{} feature needs {}, not a continuous sampler",
+                        type_name(feature.kind),
+                        match feature.kind {
+                            FeatureType::Int => "an integer-valued sampler (int_uniform, categorical or constant)",
+                            FeatureType::ListInt => "a constant list",
+                            _ => "a categorical or constant sampler",
+                        }
+                    ),
+                ))
             }
         };
         // Support [s_lo, s_hi] must meet the bounds, else every policy fails or silently pins.
         let overlap = |s_lo: f64, s_hi: f64| {
             if s_hi < lo || s_lo > hi {
-                Err(bad(format!(
+                Err(no_support(format!(
                     "support [{s_lo}, {s_hi}] lies entirely outside the bounds {bounds_text}"
                 )))
             } else {
@@ -248,13 +274,14 @@ impl FeatureSampler {
 
         let draw = match sampler {
             Sampler::Constant { value } => {
-                check_value(value, &feature, lo, hi).map_err(bad)?;
+                check_value_type(value, &feature).map_err(|m| wrong_type("value", m))?;
+                check_value(value, &feature, lo, hi).map_err(no_support)?;
                 Draw::Fixed(value.clone())
             }
             Sampler::Normal { mean, std } => {
                 need_float()?;
                 if !mean.is_finite() {
-                    return Err(bad(format!("mean must be finite, got {mean}")));
+                    return Err(bad_at("mean", format!("mean must be finite, got {mean}")));
                 }
                 check_positive_std("std", *std)?;
                 check_no_overflow(*mean, *std)?;
@@ -270,12 +297,13 @@ impl FeatureSampler {
                 let mean = match &feature.default {
                     Some(Value::Number(d)) if d.is_finite() => *d,
                     Some(other) => {
-                        return Err(bad(format!(
-                            "needs a finite numeric default, the feature's is {other:?}"
-                        )));
+                        return Err(bad_at(
+                            "kind",
+                            format!("needs a finite numeric default, the feature's is {other:?}"),
+                        ));
                     }
                     None => {
-                        return Err(bad("needs the feature's default, which is not set".into()));
+                        return Err(bad_at("kind", "needs the feature's default, which is not set".into()));
                     }
                 };
                 // The CARL paper's rule: std relative to |default|, absolute fallback at 0.
@@ -285,9 +313,10 @@ impl FeatureSampler {
                     sigma_rel * mean.abs()
                 };
                 if !(std.is_finite() && std > 0.0) {
-                    return Err(bad(format!(
-                        "sigma_rel * |default| = {std} is not a usable std (overflow or underflow)"
-                    )));
+                    return Err(bad_at(
+                        "sigma_rel",
+                        format!("sigma_rel * |default| = {std} is not a usable std (overflow or underflow)"),
+                    ));
                 }
                 check_no_overflow(mean, std)?;
                 Draw::Normal { mean, std }
@@ -295,15 +324,15 @@ impl FeatureSampler {
             Sampler::TruncatedNormal { mean, std, low, high } => {
                 need_float()?;
                 if !mean.is_finite() {
-                    return Err(bad(format!("mean must be finite, got {mean}")));
+                    return Err(bad_at("mean", format!("mean must be finite, got {mean}")));
                 }
                 check_positive_std("std", *std)?;
-                check_interval(*low, *high).map_err(bad)?;
+                check_interval(*low, *high).map_err(|m| bad_at("low", m))?;
                 overlap(*low, *high)?;
                 let mut a = (low - mean) / std;
                 let mut b = (high - mean) / std;
                 if a > FAR_TAIL || b < -FAR_TAIL {
-                    return Err(bad(format!(
+                    return Err(no_support(format!(
                         "[{low}, {high}] is more than {FAR_TAIL:e} std from the mean {mean}; no representable mass"
                     )));
                 }
@@ -314,9 +343,10 @@ impl FeatureSampler {
                     b = f64::INFINITY;
                 }
                 if a >= b {
-                    return Err(bad(format!(
-                        "[{low}, {high}] is narrower than the float resolution at std {std}"
-                    )));
+                    return Err(bad_at(
+                        "low",
+                        format!("[{low}, {high}] is narrower than the float resolution at std {std}"),
+                    ));
                 }
                 Draw::Truncated {
                     mean: *mean,
@@ -329,15 +359,15 @@ impl FeatureSampler {
             }
             Sampler::Uniform { low, high } => {
                 need_float()?;
-                check_interval(*low, *high).map_err(bad)?;
+                check_interval(*low, *high).map_err(|m| bad_at("low", m))?;
                 overlap(*low, *high)?;
                 Draw::Uniform { low: *low, high: *high }
             }
             Sampler::LogUniform { low, high } => {
                 need_float()?;
-                check_interval(*low, *high).map_err(bad)?;
+                check_interval(*low, *high).map_err(|m| bad_at("low", m))?;
                 if *low <= 0.0 {
-                    return Err(bad(format!("low must be > 0, got {low}")));
+                    return Err(bad_at("low", format!("low must be > 0, got {low}")));
                 }
                 overlap(*low, *high)?;
                 Draw::LogUniform {
@@ -349,16 +379,20 @@ impl FeatureSampler {
             }
             Sampler::IntUniform { low, high } => {
                 if !matches!(feature.kind, FeatureType::Float | FeatureType::Int) {
-                    return Err(bad(format!("not usable for a {} feature", type_name(feature.kind))));
+                    return Err(wrong_type(
+                        "kind",
+                        format!("not usable for a {} feature", type_name(feature.kind)),
+                    ));
                 }
                 if low > high {
-                    return Err(bad(format!("low {low} > high {high}")));
+                    return Err(bad_at("low", format!("low {low} > high {high}")));
                 }
                 let limit = MAX_EXACT_INT as i64;
                 if low.unsigned_abs() > limit as u64 || high.unsigned_abs() > limit as u64 {
-                    return Err(bad(format!(
-                        "low and high must lie within +-2^53 ({limit}) to stay exact"
-                    )));
+                    return Err(bad_at(
+                        "low",
+                        format!("low and high must lie within +-2^53 ({limit}) to stay exact"),
+                    ));
                 }
                 overlap(*low as f64, *high as f64)?;
                 // Fits: both within 2^53, so the span is at most 2^54 + 1.
@@ -375,24 +409,26 @@ impl FeatureSampler {
                         &own
                     }
                     (None, None) => {
-                        return Err(bad("no choices given and the feature has none".into()));
+                        return Err(bad_at("kind", "no choices given and the feature has none".into()));
                     }
                 };
                 if choices.is_empty() {
-                    return Err(bad("choices are empty".into()));
+                    return Err(bad_at("choices", "choices are empty".into()));
                 }
                 let values: Vec<Value> = choices.iter().map(scalar_to_value).collect();
-                for v in &values {
-                    check_value_type(v, &feature).map_err(&bad)?;
+                for (i, v) in values.iter().enumerate() {
+                    check_value_type(v, &feature).map_err(|m| wrong_type(&format!("choices/{i}"), m))?;
                 }
                 if !values.iter().any(|v| match v {
                     Value::Number(x) => in_bounds(*x),
                     _ => true,
                 }) {
-                    return Err(bad(format!("every choice lies outside the bounds {bounds_text}")));
+                    return Err(no_support(format!(
+                        "every choice lies outside the bounds {bounds_text}"
+                    )));
                 }
                 let cum = match weights {
-                    Some(w) => cumulative(w, values.len()).map_err(&bad)?,
+                    Some(w) => cumulative(w, values.len()).map_err(|m| bad_at("weights", m))?,
                     None => (1..=values.len()).map(|i| i as f64).collect(),
                 };
                 Draw::Choice { values, cum }
@@ -404,19 +440,26 @@ impl FeatureSampler {
             } => {
                 need_float()?;
                 if intervals.is_empty() {
-                    return Err(bad("intervals are empty".into()));
+                    return Err(bad_at("intervals", "intervals are empty".into()));
                 }
-                for [l, h] in intervals {
-                    check_interval(*l, *h).map_err(&bad)?;
+                for (i, [l, h]) in intervals.iter().enumerate() {
+                    check_interval(*l, *h).map_err(|m| bad_at(&format!("intervals/{i}"), m))?;
                 }
                 if !intervals.iter().any(|[l, h]| *h >= lo && *l <= hi) {
-                    return Err(bad(format!("every interval lies outside the bounds {bounds_text}")));
+                    return Err(no_support(format!(
+                        "every interval lies outside the bounds {bounds_text}"
+                    )));
                 }
                 let pick = match (weights, stratified) {
                     (Some(_), true) => {
-                        return Err(bad("`weights` and `stratified` exclude each other".into()));
+                        return Err(bad_at(
+                            "stratified",
+                            "`weights` and `stratified` exclude each other".into(),
+                        ));
                     }
-                    (Some(w), false) => Pick::Weighted(cumulative(w, intervals.len()).map_err(&bad)?),
+                    (Some(w), false) => {
+                        Pick::Weighted(cumulative(w, intervals.len()).map_err(|m| bad_at("weights", m))?)
+                    }
                     (None, true) => Pick::Stratified,
                     (None, false) => Pick::Equal,
                 };
@@ -584,6 +627,28 @@ fn check_interval(low: f64, high: f64) -> Result<(), String> {
     Ok(())
 }
 
+/// A value of `f` as an instance holds it: the right type (among the choices, for features that
+/// have them) and, unless `allow_out_of_bounds`, inside the bounds (every element, for lists).
+/// Loading a frozen set runs this on every value, so a tampered file cannot smuggle values in.
+pub fn check_instance_value(v: &Value, f: &FeatureInfo, allow_out_of_bounds: bool) -> Result<(), String> {
+    if allow_out_of_bounds {
+        return check_value_type(v, f);
+    }
+    let lo = f.bounds[0].unwrap_or(f64::NEG_INFINITY);
+    let hi = f.bounds[1].unwrap_or(f64::INFINITY);
+    check_value(v, f, lo, hi)
+}
+
+/// A value for messages: strings quoted, escaped and cut.
+fn shown(v: &Value) -> String {
+    match v {
+        Value::Bool(b) => b.to_string(),
+        Value::Number(x) => x.to_string(),
+        Value::String(s) => crate::text::quote(s),
+        Value::List(l) => crate::text::escape(&format!("{l:?}")),
+    }
+}
+
 /// A value's type fits the feature (and for categorical features, is one of its choices).
 fn check_value_type(v: &Value, f: &FeatureInfo) -> Result<(), String> {
     let ok = match (f.kind, v) {
@@ -597,7 +662,8 @@ fn check_value_type(v: &Value, f: &FeatureInfo) -> Result<(), String> {
     };
     if !ok {
         return Err(format!(
-            "value {v:?} does not fit a {} feature{}",
+            "value {} does not fit a {} feature{}",
+            shown(v),
             type_name(f.kind),
             if f.kind == FeatureType::Int {
                 " (integers within +-2^53)"
@@ -609,7 +675,7 @@ fn check_value_type(v: &Value, f: &FeatureInfo) -> Result<(), String> {
     if let Some(choices) = &f.choices {
         let in_choices = choices.iter().any(|c| scalar_to_value(c) == *v);
         if !in_choices && !choices.is_empty() {
-            return Err(format!("value {v:?} is not among the feature's choices"));
+            return Err(format!("value {} is not among the feature's choices", shown(v)));
         }
     }
     Ok(())

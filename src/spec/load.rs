@@ -1,11 +1,15 @@
-//! Loading spec sets: the bundled specs (embedded at build time) and authors' directories.
+//! Spec sets: the bundled specs (embedded at build time), authors' directories, and the loaded set.
+//!
+//! Loading validates everything first; that pipeline lives above this module
+//! (`crate::validate`, which adds `SpecSet::bundled`, `bundled_with` and `from_inputs`), so the spec
+//! language never depends on its checker.
 
 use std::path::{Path, PathBuf};
 
 use super::model::EnvSpec;
 use super::raw::GridSet;
+use crate::diagnostics::{Input, MAX_FILE_BYTES, Report};
 use crate::suggest::did_you_mean;
-use crate::validate::{self, Input, Report};
 
 mod embedded {
     include!(concat!(env!("OUT_DIR"), "/bundled_specs.rs"));
@@ -47,29 +51,9 @@ pub enum LoadError {
 }
 
 impl SpecSet {
-    /// The specs shipped with carl-spec.
-    pub fn bundled() -> Result<SpecSet, LoadError> {
-        Self::from_inputs(&bundled_inputs(false))
-    }
-
-    /// Bundled specs plus an author's directory of specs (ids must not clash).
-    pub fn bundled_with(dir: Option<&Path>) -> Result<SpecSet, LoadError> {
-        let mut inputs = bundled_inputs(false);
-        if let Some(dir) = dir {
-            inputs.extend(read_inputs(&[dir.to_path_buf()])?);
-        }
-        Self::from_inputs(&inputs)
-    }
-
-    /// Validate and resolve; any error fails the whole load.
-    pub fn from_inputs(inputs: &[Input]) -> Result<SpecSet, LoadError> {
-        let (resolved, report) = validate::run(inputs);
-        if report.has_errors() {
-            return Err(LoadError::Invalid { report });
-        }
-        Ok(SpecSet {
-            envs: resolved.into_iter().map(|r| r.spec).collect(),
-        })
+    /// A set of already validated, resolved specs (see `crate::validate` for the loaders).
+    pub(crate) fn from_validated(envs: Vec<EnvSpec>) -> SpecSet {
+        SpecSet { envs }
     }
 
     /// By id or alias (e.g. `cartpole` or `CARLCartPoleEnv`).
@@ -140,7 +124,7 @@ fn read_limited(path: &Path) -> std::io::Result<Vec<u8>> {
     use std::io::Read;
     let f = std::fs::File::open(path)?;
     let mut buf = Vec::new();
-    f.take(validate::MAX_FILE_BYTES as u64 + 1).read_to_end(&mut buf)?;
+    f.take(MAX_FILE_BYTES as u64 + 1).read_to_end(&mut buf)?;
     Ok(buf)
 }
 

@@ -11,6 +11,9 @@ use serde::{Deserialize, Serialize};
 
 /// Instance sets larger than this are refused (a frozen set is a file people read and diff).
 pub const MAX_INSTANCES: u64 = 1_000_000;
+/// Most values (instances × varied features) one sampled set may hold: deriving, hashing and
+/// printing a set peaks at about 1.5 KB of memory per value (1.5 GB at this limit, measured).
+pub const MAX_SET_VALUES: u64 = 1_000_000;
 
 /// One environment's context specification (`specs/<id>.json`).
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema, PartialEq)]
@@ -123,10 +126,13 @@ pub struct FeaturePatch {
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct RawFeature {
-    /// Canonical name (the CARL paper's spelling).
+    /// Canonical name (the CARL paper's spelling): letters, digits and underscores, starting with a
+    /// letter, at most 64 characters (names become `--context` keys and column headers).
+    #[schemars(regex(pattern = r"^[A-Za-z][A-Za-z0-9_]{0,63}$"))]
     pub name: String,
-    /// Other names accepted on input, e.g. the newer carl-bench spelling.
+    /// Other names accepted on input, e.g. the newer carl-bench spelling (same pattern as `name`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[schemars(inner(regex(pattern = r"^[A-Za-z][A-Za-z0-9_]{0,63}$")))]
     pub aliases: Vec<String>,
     #[serde(rename = "type")]
     pub kind: FeatureType,

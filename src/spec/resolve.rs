@@ -5,8 +5,9 @@ use std::collections::BTreeMap;
 
 use super::model::{EnvSpec, Feature};
 use super::raw::{FeaturePatch, RawEnvSpec, RawFeature, RawFragment};
+use crate::diagnostics::Sink;
+use crate::diagnostics::rules as rule;
 use crate::suggest::did_you_mean;
-use crate::validate::Sink;
 
 /// Where a resolved feature (and each overridden field) is written: (file index, JSON pointer).
 #[derive(Debug, Clone, Default)]
@@ -54,9 +55,9 @@ pub fn resolve(
         let inc_ptr = format!("/include/{i}");
         let Some(entry) = fragments.get(&inc.fragment) else {
             let names: Vec<&str> = fragments.keys().map(String::as_str).collect();
-            sink.error(
+            sink.report(
                 file,
-                "unknown-fragment",
+                &rule::UNKNOWN_FRAGMENT,
                 &format!("{inc_ptr}/fragment"),
                 format!("no shared fragment named \"{}\"", inc.fragment),
                 Some(match did_you_mean(&inc.fragment, names.iter().copied()) {
@@ -70,9 +71,9 @@ pub fn resolve(
         let frag_names = || frag.features.iter().map(|f| f.name.as_str());
         for (j, name) in inc.except.iter().enumerate() {
             if !frag.features.iter().any(|f| &f.name == name) {
-                sink.error(
+                sink.report(
                     file,
-                    "unknown-feature",
+                    &rule::UNKNOWN_FEATURE,
                     &format!("{inc_ptr}/except/{j}"),
                     format!("fragment \"{}\" has no feature \"{name}\" to leave out", frag.fragment),
                     hint(name, frag_names()),
@@ -82,17 +83,17 @@ pub fn resolve(
         for name in inc.overrides.keys() {
             let ptr = format!("{inc_ptr}/overrides/{}", crate::json::escape_token(name));
             if !frag.features.iter().any(|f| &f.name == name) {
-                sink.error(
+                sink.report(
                     file,
-                    "unknown-feature",
+                    &rule::UNKNOWN_FEATURE,
                     &ptr,
                     format!("fragment \"{}\" has no feature \"{name}\" to override", frag.fragment),
                     hint(name, frag_names()),
                 );
             } else if inc.except.contains(name) {
-                sink.error(
+                sink.report(
                     file,
-                    "override-excluded",
+                    &rule::OVERRIDE_EXCLUDED,
                     &ptr,
                     format!("\"{name}\" is both left out (except) and overridden"),
                     Some("remove it from one of the two lists".into()),

@@ -4,142 +4,29 @@
 //! [`Diagnostic`] with a stable rule id. `SpecSet::load` runs the same pipeline, so anything the
 //! library accepts has passed validation.
 
-pub mod diagnostic;
+mod load;
 mod rules;
 pub use rules::value_text;
 pub mod schema_check;
 
 use std::collections::BTreeMap;
 
-pub use diagnostic::{Diagnostic, Location, Severity, SourceFile};
-
+use crate::diagnostics::rules as rule;
+pub use crate::diagnostics::{
+    Diagnostic, Input, Location, MAX_DIAGNOSTICS_PER_FILE, MAX_FILE_BYTES, Report, Severity, Sink, SourceFile,
+    diagnostic,
+};
 use crate::json::{self, Node, NodeKind};
 use crate::spec::raw::{RawDocument, RawEnvSpec, RawFragment};
 use crate::spec::resolve::{FragmentEntry, Resolved, resolve};
 use schema_check::SchemaChecker;
-
-/// Files larger than this are refused: no spec is anywhere near it, and it bounds time and memory.
-pub const MAX_FILE_BYTES: usize = 16 * 1024 * 1024;
-
-/// One spec document to validate.
-#[derive(Debug, Clone)]
-pub struct Input {
-    /// Display name: the path as given, or `bundled:<path>`.
-    pub name: String,
-    pub bytes: Vec<u8>,
-    /// Library inputs (bundled fragments offered to an author's specs) are only reported on when used.
-    pub library: bool,
-}
-
-/// The outcome of a validation run.
-#[derive(Debug, Clone, Default)]
-pub struct Report {
-    pub diagnostics: Vec<Diagnostic>,
-    pub files_checked: usize,
-    pub environments: usize,
-}
-
-impl Report {
-    pub fn errors(&self) -> usize {
-        self.diagnostics
-            .iter()
-            .filter(|d| d.severity == Severity::Error)
-            .count()
-    }
-    pub fn warnings(&self) -> usize {
-        self.diagnostics
-            .iter()
-            .filter(|d| d.severity == Severity::Warning)
-            .count()
-    }
-    pub fn has_errors(&self) -> bool {
-        self.errors() > 0
-    }
-    /// All diagnostics rendered as text (no color), for error messages.
-    pub fn render_text(&self) -> String {
-        self.diagnostics
-            .iter()
-            .map(|d| d.render_text(false))
-            .collect::<Vec<_>>()
-            .join("\n")
-    }
-}
-
-impl std::fmt::Display for Report {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.render_text())
-    }
-}
-
-impl std::error::Error for Report {}
-
-/// At most this many diagnostics are kept per file (each costs a line/column lookup).
-pub const MAX_DIAGNOSTICS_PER_FILE: usize = 200;
-
-/// Collects diagnostics against the files of a run.
-pub struct Sink<'a> {
-    pub files: &'a [SourceFile],
-    pub out: Vec<Diagnostic>,
-    /// Diagnostics kept / dropped per file index.
-    counts: BTreeMap<usize, (usize, usize)>,
-}
-
-impl Sink<'_> {
-    pub fn error(&mut self, file: usize, rule: &str, pointer: &str, message: impl Into<String>, help: Option<String>) {
-        self.push(Severity::Error, file, rule, pointer, message, help);
-    }
-    pub fn warning(
-        &mut self,
-        file: usize,
-        rule: &str,
-        pointer: &str,
-        message: impl Into<String>,
-        help: Option<String>,
-    ) {
-        self.push(Severity::Warning, file, rule, pointer, message, help);
-    }
-    fn push(
-        &mut self,
-        sev: Severity,
-        file: usize,
-        rule: &str,
-        pointer: &str,
-        message: impl Into<String>,
-        help: Option<String>,
-    ) {
-        let c = self.counts.entry(file).or_default();
-        if c.0 >= MAX_DIAGNOSTICS_PER_FILE {
-            c.1 += 1;
-            return;
-        }
-        c.0 += 1;
-        let d = self.files[file].diagnostic(sev, rule, pointer, message, help);
-        self.out.push(d);
-    }
-
-    /// One closing note per file whose diagnostics were cut.
-    fn finish(mut self) -> Vec<Diagnostic> {
-        for (&file, &(_, dropped)) in &self.counts {
-            if dropped > 0 {
-                self.out.push(Diagnostic::file_level(
-                    Severity::Error,
-                    "too-many-problems",
-                    &self.files[file].name,
-                    format!("{dropped} more problem(s) in this file not shown"),
-                    Some("fix the ones above and run again".into()),
-                ));
-            }
-        }
-        self.out
-    }
-}
 
 /// Validate a set of documents and return the resolved environment specs of the valid ones.
 pub fn run(inputs: &[Input]) -> (Vec<Resolved>, Report) {
     let checker = match schema_check::shared() {
         Ok(c) => c,
         Err(e) => {
-            let d = Diagnostic::file_level(Severity::Error, "internal", "<schema>", e, None);
+            let d = Diagnostic::file_level(&rule::INTERNAL, "<schema>", e, None);
             return (
                 Vec::new(),
                 Report {
@@ -166,11 +53,7 @@ pub fn run(inputs: &[Input]) -> (Vec<Resolved>, Report) {
         *n += 1;
         *n <= MAX_DIAGNOSTICS_PER_FILE
     });
-    let mut sink = Sink {
-        files: &files,
-        out: early,
-        counts: BTreeMap::new(),
-    };
+    let mut sink = Sink::new(&files, early);
 
     // Fragments: authors' own shadow the bundled library; duplicates among one kind are errors.
     let mut fragments: BTreeMap<String, FragmentEntry<'_>> = BTreeMap::new();
@@ -181,9 +64,9 @@ pub fn run(inputs: &[Input]) -> (Vec<Resolved>, Report) {
             if let Some(prev) = fragments.get(&frag.fragment)
                 && inputs[prev.file].library == inputs[i].library
             {
-                sink.error(
+                sink.report(
                     i,
-                    "duplicate-fragment",
+                    &rule::DUPLICATE_FRAGMENT,
                     "/fragment",
                     format!(
                         "fragment \"{}\" is also defined in {}",
@@ -238,8 +121,7 @@ fn check_document(input: &Input, checker: &SchemaChecker) -> (SourceFile, Option
     let name = input.name.clone();
     if input.bytes.len() > MAX_FILE_BYTES {
         let d = Diagnostic::file_level(
-            Severity::Error,
-            "file-too-large",
+            &rule::FILE_TOO_LARGE,
             &name,
             format!(
                 "file is {} bytes; spec files are limited to {} bytes",
@@ -261,8 +143,7 @@ fn check_document(input: &Input, checker: &SchemaChecker) -> (SourceFile, Option
                 location: Some(loc),
                 snippet: Some(snip),
                 ..Diagnostic::file_level(
-                    Severity::Error,
-                    "not-utf8",
+                    &rule::NOT_UTF8,
                     &name,
                     format!("invalid UTF-8 at byte {}: spec files are UTF-8 JSON", e.valid_up_to()),
                     Some("is this a binary file? re-save it as UTF-8".into()),
@@ -280,8 +161,7 @@ fn check_document(input: &Input, checker: &SchemaChecker) -> (SourceFile, Option
                 location: Some(loc),
                 snippet: Some(snip),
                 ..Diagnostic::file_level(
-                    Severity::Error,
-                    "json-syntax",
+                    &rule::JSON_SYNTAX,
                     &name,
                     e.message,
                     Some("fix the JSON syntax here".into()),
@@ -298,8 +178,8 @@ fn check_document(input: &Input, checker: &SchemaChecker) -> (SourceFile, Option
 
     if !matches!(root.kind, NodeKind::Object(_)) {
         diags.push(file.diagnostic(
-            Severity::Error,
-            "schema/type",
+            &rule::SCHEMA,
+            Some("type"),
             "",
             "a spec file must be a JSON object",
             Some("start from an existing spec in specs/".into()),
@@ -310,9 +190,8 @@ fn check_document(input: &Input, checker: &SchemaChecker) -> (SourceFile, Option
     let problems = checker.check(&value);
     if !problems.is_empty() {
         for p in problems {
-            let rule = format!("schema/{}", p.keyword);
             let on_key = p.keyword == "additionalProperties";
-            let mut d = file.diagnostic(Severity::Error, &rule, &p.pointer, p.message, p.help);
+            let mut d = file.diagnostic(&rule::SCHEMA, Some(&p.keyword), &p.pointer, p.message, p.help);
             if on_key && let Some((loc, snip)) = file.locate_pointer(&p.pointer, true) {
                 d.location = Some(loc);
                 d.snippet = Some(snip);
@@ -330,7 +209,7 @@ fn check_document(input: &Input, checker: &SchemaChecker) -> (SourceFile, Option
     match doc {
         Ok(doc) => (file, Some(doc), diags),
         Err(msg) => {
-            diags.push(file.diagnostic(Severity::Error, "schema/deserialize", "", msg, None));
+            diags.push(file.diagnostic(&rule::SCHEMA, Some("deserialize"), "", msg, None));
             (file, None, diags)
         }
     }
@@ -352,8 +231,7 @@ fn duplicate_keys(node: &Node, pointer: &str, file: &SourceFile, out: &mut Vec<D
                         snippet: Some(snip),
                         pointer: child.clone(),
                         ..Diagnostic::file_level(
-                            Severity::Error,
-                            "duplicate-key",
+                            &rule::DUPLICATE_KEY,
                             &file.name,
                             format!("property \"{}\" appears more than once in this object", m.key),
                             Some("JSON readers silently keep only one of them: remove the duplicate".into()),

@@ -5,22 +5,26 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use super::Sink;
+use crate::diagnostics::Sink;
+use crate::diagnostics::rules as rule;
 use crate::json::escape_token;
+use crate::sampling::error::SamplerProblem;
+use crate::sampling::{FeatureInfo, FeatureSampler, SamplingError};
 use crate::spec::model::{Feature, InstanceSet};
-use crate::spec::raw::{FeatureType, RawFragment, Sampler, Scalar, Space, Value};
+use crate::spec::raw::{AtBounds, FeatureType, RawFragment, Sampler, Scalar, Space, Value};
 use crate::spec::resolve::{FeatureSite, Resolved};
 use crate::suggest::did_you_mean;
+use crate::text::quote;
 
-pub use crate::spec::raw::MAX_INSTANCES;
+pub use crate::spec::raw::{MAX_INSTANCES, MAX_SET_VALUES};
 
 pub fn check_fragment(frag: &RawFragment, file: usize, sink: &mut Sink<'_>) {
     let mut seen = BTreeSet::new();
     for (i, f) in frag.features.iter().enumerate() {
         if !seen.insert(f.name.as_str()) {
-            sink.error(
+            sink.report(
                 file,
-                "duplicate-feature",
+                &rule::DUPLICATE_FEATURE,
                 &format!("/features/{i}/name"),
                 format!("feature \"{}\" is defined twice in this fragment", f.name),
                 Some("remove or rename one of them".into()),
@@ -28,9 +32,9 @@ pub fn check_fragment(frag: &RawFragment, file: usize, sink: &mut Sink<'_>) {
         }
     }
     if frag.description.trim().is_empty() {
-        sink.error(
+        sink.report(
             file,
-            "description-empty",
+            &rule::DESCRIPTION_EMPTY,
             "/description",
             "the description is empty",
             Some("say in one line what this block of features is".into()),
@@ -42,18 +46,18 @@ pub fn check_env(r: &Resolved, sink: &mut Sink<'_>) {
     let spec = &r.spec;
     let file = r.file;
     if spec.description.trim().is_empty() {
-        sink.error(
+        sink.report(
             file,
-            "description-empty",
+            &rule::DESCRIPTION_EMPTY,
             "/description",
             "the description is empty",
             Some("say in one or two sentences what the task is and what the context changes".into()),
         );
     }
     if spec.max_episode_steps == Some(0) {
-        sink.error(
+        sink.report(
             file,
-            "episode-limit",
+            &rule::EPISODE_LIMIT,
             "/max_episode_steps",
             "an episode limit of 0 steps ends every episode at reset",
             Some("use the upstream limit, or null for none".into()),
@@ -73,9 +77,9 @@ pub fn check_env(r: &Resolved, sink: &mut Sink<'_>) {
                 } else {
                     format!("{}/aliases/{}", site.pointer, k - 1)
                 };
-                sink.error(
+                sink.report(
                     site.file,
-                    "duplicate-feature",
+                    &rule::DUPLICATE_FEATURE,
                     &ptr,
                     format!("\"{n}\" already names feature #{} (\"{}\") of {}", prev + 1, spec.features[prev].name, spec.id),
                     Some("every feature name and alias must be unique within an environment (included fragments count too)".into()),
@@ -92,28 +96,46 @@ pub fn check_env(r: &Resolved, sink: &mut Sink<'_>) {
         let base = format!("/distributions/{}", escape_token(name));
         check_set_name(name, file, &base, "distribution", sink);
         if dist.description.trim().is_empty() {
-            sink.error(
+            sink.report(
                 file,
-                "description-empty",
+                &rule::DESCRIPTION_EMPTY,
                 &format!("{base}/description"),
                 "the description is empty",
                 Some("say what the distribution models".into()),
             );
         }
         if dist.features.is_empty() {
-            sink.error(
+            sink.report(
                 file,
-                "distribution-empty",
+                &rule::DISTRIBUTION_EMPTY,
                 &format!("{base}/features"),
                 format!("distribution \"{name}\" varies no feature"),
                 Some("name at least one feature and its sampler".into()),
             );
         }
+        let mut varied: BTreeMap<&str, &str> = BTreeMap::new();
         for (fname, sampler) in &dist.features {
             let ptr = format!("{base}/features/{}", escape_token(fname));
             match spec.feature(fname) {
                 None => unknown_feature(spec.feature_names(), fname, file, &ptr, sink),
-                Some(f) => check_sampler(sampler, f, file, &ptr, sink),
+                Some(f) => {
+                    // Both a name and its alias: the two would read the same stream (freeze refuses).
+                    if let Some(first) = varied.insert(&f.name, fname) {
+                        sink.report(
+                            file,
+                            &rule::DUPLICATE_FEATURE,
+                            &ptr,
+                            format!(
+                                "{} and {} are the same feature {}",
+                                quote(first),
+                                quote(fname),
+                                quote(&f.name)
+                            ),
+                            Some("vary each feature once per distribution".into()),
+                        );
+                    }
+                    check_sampler(sampler, f, dist.at_bounds, file, &ptr, sink);
+                }
             }
         }
     }
@@ -126,9 +148,9 @@ pub fn check_set(resolved: &[Resolved], sink: &mut Sink<'_>) {
     let mut ids: BTreeMap<&str, &Resolved> = BTreeMap::new();
     for r in resolved {
         if let Some(prev) = ids.get(r.spec.id.as_str()) {
-            sink.error(
+            sink.report(
                 r.file,
-                "duplicate-id",
+                &rule::DUPLICATE_ID,
                 "/id",
                 format!("id \"{}\" is already used by {}", r.spec.id, sink.files[prev.file].name),
                 Some("ids are unique across the spec set: rename one of them".into()),
@@ -141,9 +163,9 @@ pub fn check_set(resolved: &[Resolved], sink: &mut Sink<'_>) {
     for r in resolved {
         for (k, a) in r.spec.aliases.iter().enumerate() {
             match names.get(a.as_str()) {
-                Some(prev) if !std::ptr::eq(*prev, r) => sink.error(
+                Some(prev) if !std::ptr::eq(*prev, r) => sink.report(
                     r.file,
-                    "duplicate-alias",
+                    &rule::DUPLICATE_ALIAS,
                     &format!("/aliases/{k}"),
                     format!("alias \"{a}\" already names {}", prev.spec.id),
                     Some("an alias must identify one environment".into()),
@@ -166,9 +188,9 @@ fn check_space(space: &Space, file: usize, ptr: &str, sink: &mut Sink<'_>) {
             for (k, (field, lim)) in lims.iter().enumerate() {
                 if let crate::spec::raw::BoxLimit::PerElement(v) = lim {
                     if v.len() as u64 != n {
-                        sink.error(
+                        sink.report(
                             file,
-                            "space-shape",
+                            &rule::SPACE_SHAPE,
                             &format!("{ptr}/{field}"),
                             format!("{field} has {} element(s) but the shape {shape:?} has {n}", v.len()),
                             Some("give one value per element, or a single number for all".into()),
@@ -185,9 +207,9 @@ fn check_space(space: &Space, file: usize, ptr: &str, sink: &mut Sink<'_>) {
                 if let (Some(l), Some(h)) = (get(low, i), get(high, i))
                     && l > h
                 {
-                    sink.error(
+                    sink.report(
                         file,
-                        "space-bounds",
+                        &rule::SPACE_BOUNDS,
                         &format!("{ptr}/low"),
                         format!("element {i}: low {l} is above high {h}"),
                         Some("swap them".into()),
@@ -197,18 +219,18 @@ fn check_space(space: &Space, file: usize, ptr: &str, sink: &mut Sink<'_>) {
             }
         }
         Space::Discrete { n } if *n == 0 => {
-            sink.error(
+            sink.report(
                 file,
-                "space-shape",
+                &rule::SPACE_SHAPE,
                 &format!("{ptr}/n"),
                 "Discrete(0) has no actions",
                 Some("n is the number of actions, at least 1".into()),
             );
         }
         Space::MultiDiscrete { nvec } if nvec.is_empty() || nvec.contains(&0) => {
-            sink.error(
+            sink.report(
                 file,
-                "space-shape",
+                &rule::SPACE_SHAPE,
                 &format!("{ptr}/nvec"),
                 "MultiDiscrete needs at least one dimension and no zero sizes",
                 None,
@@ -223,8 +245,40 @@ fn fmt_bounds(b: &[Option<f64>; 2]) -> String {
     format!("[{}, {}]", s(b[0], "-inf"), s(b[1], "inf"))
 }
 
+/// The largest integer magnitude carl-spec holds exactly: values are 64-bit floats at runtime.
+const MAX_EXACT_INT: f64 = 9_007_199_254_740_992.0;
+
+/// An integer feature's value or bound: no fractional part (`int-not-integral`) and within ±2^53
+/// (`int-out-of-range`). The number is quoted as written, so 2^63-1 is not shown rounded.
+fn check_int(x: f64, what: &str, type_name: &str, name: &str, file: usize, ptr: &str, sink: &mut Sink<'_>) {
+    let shown = sink.number_text(file, ptr, x);
+    if x.is_finite() && x.fract() != 0.0 {
+        sink.report(
+            file,
+            &rule::INT_NOT_INTEGRAL,
+            ptr,
+            format!(
+                "{what} {shown} of {type_name} feature {} is not an integer",
+                quote(name)
+            ),
+            Some("round it, or make the feature float".into()),
+        );
+    } else if !is_integral(x) {
+        sink.report(
+            file,
+            &rule::INT_OUT_OF_RANGE,
+            ptr,
+            format!(
+                "{what} {shown} of {type_name} feature {} is beyond ±2^53 = 9007199254740992, the largest integers carl-spec holds exactly (values are 64-bit floats at runtime)",
+                quote(name)
+            ),
+            Some("use an integer within ±9007199254740992, or make the feature float".into()),
+        );
+    }
+}
+
 fn is_integral(x: f64) -> bool {
-    x.is_finite() && x.fract() == 0.0 && x.abs() <= 9_007_199_254_740_992.0
+    x.is_finite() && x.fract() == 0.0 && x.abs() <= MAX_EXACT_INT
 }
 
 fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
@@ -232,9 +286,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
     let name = &f.name;
     if f.description.trim().is_empty() {
         let (file, p) = at("description");
-        sink.error(
+        sink.report(
             file,
-            "description-empty",
+            &rule::DESCRIPTION_EMPTY,
             &p,
             format!("feature \"{name}\" has an empty description"),
             Some("say in one line what the feature is".into()),
@@ -244,9 +298,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
     for (i, e) in f.affects.iter().enumerate() {
         if !seen.insert(*e) {
             let (file, p) = at("affects");
-            sink.error(
+            sink.report(
                 file,
-                "duplicate-effect",
+                &rule::DUPLICATE_EFFECT,
                 &format!("{p}/{i}"),
                 format!("\"{}\" is listed twice", e.as_str()),
                 Some("list each effect once".into()),
@@ -257,9 +311,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
     match (&f.default, &f.default_from) {
         (None, None) => {
             let (file, _) = at("default");
-            sink.error(
+            sink.report(
                 file,
-                "default-missing",
+                &rule::DEFAULT_MISSING,
                 &site.pointer,
                 format!("feature \"{name}\" has no default"),
                 Some("add \"default\", or \"default_from\" if the default is computed from other features".into()),
@@ -267,9 +321,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
         }
         (Some(_), Some(_)) => {
             let (file, p) = at("default_from");
-            sink.error(
+            sink.report(
                 file,
-                "default-conflict",
+                &rule::DEFAULT_CONFLICT,
                 &p,
                 format!("feature \"{name}\" has both a default and default_from"),
                 Some("keep one: a value, or how it is computed".into()),
@@ -283,9 +337,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
         && l > h
     {
         let (file, p) = at("bounds");
-        sink.error(
+        sink.report(
             file,
-            "bounds-order",
+            &rule::BOUNDS_ORDER,
             &p,
             format!("lower bound {l} is above upper bound {h}"),
             Some("bounds are [lower, upper]: swap them".into()),
@@ -297,9 +351,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
     let bounds_ordered = !matches!((lo, hi), (Some(l), Some(h)) if l > h);
     let check_in_bounds = |x: f64, sink: &mut Sink<'_>, what: &str, ptr: &str| {
         if bounds_ordered && !f.in_bounds(x) {
-            sink.error(
+            sink.report(
                 dfile,
-                "default-out-of-bounds",
+                &rule::DEFAULT_OUT_OF_BOUNDS,
                 ptr,
                 format!(
                     "{what} {x} of \"{name}\" is outside its bounds {}",
@@ -311,9 +365,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
     };
     if f.kind != FeatureType::Categorical && (f.choices.is_some() || f.choice_labels.is_some()) {
         let (file, p) = (site.file, format!("{}/choices", site.pointer));
-        sink.error(
+        sink.report(
             file,
-            "choices-not-applicable",
+            &rule::CHOICES_NOT_APPLICABLE,
             &p,
             format!("only categorical features have choices; \"{name}\" is {type_name}"),
             Some("remove choices, or make the feature categorical".into()),
@@ -322,30 +376,17 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
     // Integer kinds need integer bounds (for list_int they bound every element).
     if matches!(f.kind, FeatureType::Int | FeatureType::ListInt) {
         for (k, b) in [lo, hi].iter().enumerate() {
-            if let Some(b) = b
-                && !is_integral(*b)
-            {
-                sink.error(
-                    bounds_site.0,
-                    "int-not-integral",
-                    &format!("{}/{k}", bounds_site.1),
-                    format!("bound {b} of {type_name} feature \"{name}\" is not an integer"),
-                    Some("integer features have integer bounds: round it, or make the feature float".into()),
-                );
+            if let Some(b) = b {
+                let at = format!("{}/{k}", bounds_site.1);
+                check_int(*b, "bound", type_name, name, bounds_site.0, &at, sink);
             }
         }
     }
     match f.kind {
         FeatureType::Float | FeatureType::Int => match &f.default {
             Some(Value::Number(x)) => {
-                if f.kind == FeatureType::Int && !is_integral(*x) {
-                    sink.error(
-                        dfile,
-                        "int-not-integral",
-                        &dptr,
-                        format!("default {x} of int feature \"{name}\" is not an integer"),
-                        Some("use an integer default or make the feature float".into()),
-                    );
+                if f.kind == FeatureType::Int {
+                    check_int(*x, "default", type_name, name, dfile, &dptr, sink);
                 }
                 check_in_bounds(*x, sink, "default", &dptr);
             }
@@ -354,9 +395,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
         },
         FeatureType::Bool => {
             if has_bounds {
-                sink.error(
+                sink.report(
                     bounds_site.0,
-                    "bounds-not-applicable",
+                    &rule::BOUNDS_NOT_APPLICABLE,
                     &bounds_site.1,
                     format!("bool feature \"{name}\" cannot have bounds"),
                     Some("remove bounds".into()),
@@ -370,9 +411,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
         }
         FeatureType::Categorical => {
             if has_bounds {
-                sink.error(
+                sink.report(
                     bounds_site.0,
-                    "bounds-not-applicable",
+                    &rule::BOUNDS_NOT_APPLICABLE,
                     &bounds_site.1,
                     format!("categorical feature \"{name}\" cannot have bounds; its choices bound it"),
                     Some("remove bounds".into()),
@@ -380,16 +421,16 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
             }
             let cptr = format!("{}/choices", site.pointer);
             match &f.choices {
-                None => sink.error(
+                None => sink.report(
                     site.file,
-                    "categorical-choices",
+                    &rule::CATEGORICAL_CHOICES,
                     &site.pointer,
                     format!("categorical feature \"{name}\" has no choices"),
                     Some("add \"choices\": [...]".into()),
                 ),
-                Some(c) if c.is_empty() => sink.error(
+                Some(c) if c.is_empty() => sink.report(
                     site.file,
-                    "categorical-choices",
+                    &rule::CATEGORICAL_CHOICES,
                     &cptr,
                     format!("categorical feature \"{name}\" has an empty list of choices"),
                     Some("list the allowed values".into()),
@@ -397,9 +438,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
                 Some(c) => {
                     for (i, x) in c.iter().enumerate() {
                         if c[..i].contains(x) {
-                            sink.error(
+                            sink.report(
                                 site.file,
-                                "categorical-choices",
+                                &rule::CATEGORICAL_CHOICES,
                                 &format!("{cptr}/{i}"),
                                 format!("choice {} is listed twice", scalar_text(x)),
                                 Some("list each choice once".into()),
@@ -409,9 +450,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
                     if let Some(labels) = &f.choice_labels
                         && labels.len() != c.len()
                     {
-                        sink.error(
+                        sink.report(
                             site.file,
-                            "choice-labels",
+                            &rule::CHOICE_LABELS,
                             &format!("{}/choice_labels", site.pointer),
                             format!("{} labels for {} choices", labels.len(), c.len()),
                             Some("give exactly one label per choice, in the same order".into()),
@@ -420,9 +461,9 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
                     if let Some(d) = &f.default
                         && !c.iter().any(|x| scalar_eq_value(x, d))
                     {
-                        sink.error(
+                        sink.report(
                             dfile,
-                            "categorical-default",
+                            &rule::CATEGORICAL_DEFAULT,
                             &dptr,
                             format!("default {} of \"{name}\" is not one of its choices", value_text(d)),
                             Some(format!(
@@ -438,15 +479,7 @@ fn check_feature(f: &Feature, site: &FeatureSite, sink: &mut Sink<'_>) {
             Some(Value::List(items)) => {
                 for (i, x) in items.iter().enumerate() {
                     let p = format!("{dptr}/{i}");
-                    if !is_integral(*x) {
-                        sink.error(
-                            dfile,
-                            "int-not-integral",
-                            &p,
-                            format!("element {x} of \"{name}\" is not an integer"),
-                            Some("list_int elements are integers".into()),
-                        );
-                    }
+                    check_int(*x, "element", type_name, name, dfile, &p, sink);
                     check_in_bounds(*x, sink, "element", &p);
                 }
             }
@@ -484,9 +517,9 @@ fn type_mismatch(v: &Value, type_name: &str, name: &str, file: usize, ptr: &str,
             help = format!("write the number without quotes: {}", s.trim());
         }
     }
-    sink.error(
+    sink.report(
         file,
-        "type-mismatch",
+        &rule::TYPE_MISMATCH,
         ptr,
         format!(
             "{} is not a valid value for {type_name} feature \"{name}\"",
@@ -509,7 +542,7 @@ fn scalar_text(s: &Scalar) -> String {
     match s {
         Scalar::Bool(b) => b.to_string(),
         Scalar::Number(x) => x.to_string(),
-        Scalar::String(s) => format!("\"{s}\""),
+        Scalar::String(s) => quote(s),
     }
 }
 
@@ -517,7 +550,7 @@ pub fn value_text(v: &Value) -> String {
     match v {
         Value::Bool(b) => b.to_string(),
         Value::Number(x) => x.to_string(),
-        Value::String(s) => format!("\"{s}\""),
+        Value::String(s) => quote(s),
         Value::List(l) => format!("{l:?}"),
     }
 }
@@ -533,11 +566,11 @@ fn unknown_feature<'a>(
         Some(s) => format!("did you mean \"{s}\"?"),
         None => format!("features of this environment: {}", known.collect::<Vec<_>>().join(", ")),
     };
-    sink.error(
+    sink.report(
         file,
-        "unknown-feature",
+        &rule::UNKNOWN_FEATURE,
         ptr,
-        format!("no feature named \"{name}\""),
+        format!("no feature named {}", quote(name)),
         Some(help),
     );
 }
@@ -548,250 +581,83 @@ fn check_set_name(name: &str, file: usize, ptr: &str, what: &str, sink: &mut Sin
             .chars()
             .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_');
     if !ok {
-        sink.error(file, "invalid-name", ptr, format!("{what} name \"{name}\" is not snake_case"), Some("use lowercase letters, digits and underscores, starting with a letter (it becomes part of ENV/SET names and file names)".into()));
+        sink.report(file, &rule::INVALID_NAME, ptr, format!("{what} name {} is not snake_case", quote(name)), Some("use lowercase letters, digits and underscores, starting with a letter (it becomes part of ENV/SET names and file names)".into()));
     }
 }
 
-/// Parameter sanity and compatibility of a sampler with its feature.
-fn check_sampler(s: &Sampler, f: &Feature, file: usize, ptr: &str, sink: &mut Sink<'_>) {
-    let mut bad = |field: &str, msg: String, help: &str| {
-        sink.error(
-            file,
-            "distribution-params",
-            &format!("{ptr}/{field}"),
-            msg,
-            Some(help.to_string()),
-        );
+/// A sampler against its feature: exactly the check `sample` and `freeze` run
+/// ([`FeatureSampler::compile`]), reported at the parameter at fault.
+fn check_sampler(s: &Sampler, f: &Feature, at_bounds: AtBounds, file: usize, ptr: &str, sink: &mut Sink<'_>) {
+    let err = match FeatureSampler::compile(s, FeatureInfo::from_feature(f), at_bounds) {
+        Ok(_) => return,
+        Err(e) => e,
     };
-    let numeric = matches!(f.kind, FeatureType::Float | FeatureType::Int);
-    // The interval of values the sampler can produce, to compare with the bounds.
-    let support: Option<(f64, f64)> = match s {
-        Sampler::Constant { value } => {
-            if let Value::Number(x) = value {
-                Some((*x, *x))
-            } else {
-                None
-            }
-        }
-        Sampler::Normal { std, .. } => {
-            if !(*std > 0.0) {
-                bad(
-                    "std",
-                    format!("std must be positive, got {std}"),
-                    "a normal needs std > 0; use constant for a fixed value",
-                );
-            }
-            Some((f64::NEG_INFINITY, f64::INFINITY))
-        }
-        Sampler::RelativeNormal {
-            sigma_rel,
-            fallback_std,
-        } => {
-            if !(*sigma_rel > 0.0) {
-                bad(
-                    "sigma_rel",
-                    format!("sigma_rel must be positive, got {sigma_rel}"),
-                    "the paper uses 0.1, 0.25 or 0.5",
-                );
-            }
-            if !(*fallback_std > 0.0) {
-                bad(
-                    "fallback_std",
-                    format!("fallback_std must be positive, got {fallback_std}"),
-                    "it is the std used when the default is 0 (the paper's code uses 0.1)",
-                );
-            }
-            if f.default_f64().is_none() {
-                bad(
-                    "kind",
-                    format!("relative_normal needs a numeric default, and \"{}\" has none", f.name),
-                    "use normal with an explicit mean",
-                );
-            }
-            Some((f64::NEG_INFINITY, f64::INFINITY))
-        }
-        Sampler::TruncatedNormal { std, low, high, .. } => {
-            if !(*std > 0.0) {
-                bad(
-                    "std",
-                    format!("std must be positive, got {std}"),
-                    "a truncated normal needs std > 0",
-                );
-            }
-            if !(low < high) {
-                bad("low", format!("low {low} must be below high {high}"), "swap them");
-            }
-            Some((*low, *high))
-        }
-        Sampler::Uniform { low, high } => {
-            if !(low < high) {
-                bad(
-                    "low",
-                    format!("low {low} must be below high {high}"),
-                    "swap them, or use constant for a single value",
-                );
-            }
-            Some((*low, *high))
-        }
-        Sampler::LogUniform { low, high } => {
-            if !(*low > 0.0) {
-                bad(
-                    "low",
-                    format!("log_uniform needs low > 0, got {low}"),
-                    "use uniform for ranges that include 0 or negatives",
-                );
-            }
-            if !(low < high) {
-                bad("low", format!("low {low} must be below high {high}"), "swap them");
-            }
-            Some((*low, *high))
-        }
-        Sampler::IntUniform { low, high } => {
-            if low > high {
-                bad("low", format!("low {low} must not be above high {high}"), "swap them");
-            }
-            Some((*low as f64, *high as f64))
-        }
-        Sampler::Categorical { choices, weights } => {
-            let n = choices
-                .as_ref()
-                .map(Vec::len)
-                .or(f.choices.as_ref().map(Vec::len))
-                .unwrap_or(0);
-            if let Some(c) = choices {
-                if c.is_empty() {
-                    bad("choices", "no choices to pick from".into(), "list at least one choice");
-                }
-                if let Some(fc) = &f.choices {
-                    for (i, x) in c.iter().enumerate() {
-                        if !fc.contains(x) {
-                            bad(
-                                &format!("choices/{i}"),
-                                format!("{} is not a choice of \"{}\"", scalar_text(x), f.name),
-                                "pick from the feature's choices",
-                            );
-                        }
-                    }
-                }
-            } else if f.choices.is_none() {
-                bad(
-                    "kind",
-                    format!("\"{}\" has no choices; list them in the sampler", f.name),
-                    "add \"choices\"",
-                );
-            }
-            if let Some(w) = weights {
-                if w.len() != n {
-                    bad(
-                        "weights",
-                        format!("{} weights for {n} choices", w.len()),
-                        "give one weight per choice",
-                    );
-                }
-                if w.iter().any(|x| !(*x >= 0.0)) || !(w.iter().sum::<f64>() > 0.0) {
-                    bad(
-                        "weights",
-                        "weights must be ≥ 0 with a positive sum".into(),
-                        "weights are relative: e.g. [3, 1] picks the first choice 75 % of the time",
-                    );
-                }
-            }
-            None
-        }
-        Sampler::IntervalMixture { intervals, weights, .. } => {
-            if intervals.is_empty() {
-                bad("intervals", "no intervals".into(), "list [low, high] intervals");
-            }
-            for (i, [a, b]) in intervals.iter().enumerate() {
-                if !(a < b) {
-                    bad(
-                        &format!("intervals/{i}"),
-                        format!("interval [{a}, {b}] is empty or reversed"),
-                        "write [low, high] with low < high",
-                    );
-                }
-            }
-            if let Some(w) = weights
-                && (w.len() != intervals.len() || w.iter().any(|x| !(*x >= 0.0)) || !(w.iter().sum::<f64>() > 0.0))
-            {
-                bad(
-                    "weights",
-                    format!("need {} non-negative weights with a positive sum", intervals.len()),
-                    "one weight per interval",
-                );
-            }
-            let lo = intervals.iter().map(|i| i[0]).fold(f64::INFINITY, f64::min);
-            let hi = intervals.iter().map(|i| i[1]).fold(f64::NEG_INFINITY, f64::max);
-            (lo <= hi).then_some((lo, hi))
-        }
+    let SamplingError::InvalidSampler {
+        kind,
+        message,
+        field,
+        problem,
+        ..
+    } = err
+    else {
+        // The feature itself cannot be sampled (reversed bounds, or int bounds holding no integer):
+        // `bounds-order` / `int-not-integral` / `int-out-of-range` already refuse the feature.
+        return;
     };
-    // Kind compatibility.
-    let compatible = match s {
-        Sampler::Constant { .. } => true,
-        Sampler::Categorical { .. } => f.kind == FeatureType::Categorical,
-        Sampler::IntUniform { .. } => numeric,
-        // Continuous samplers would give non-integers for int features.
-        _ => numeric && f.kind != FeatureType::Int,
+    let (r, help) = match problem {
+        SamplerProblem::Params => (&rule::DISTRIBUTION_PARAMS, params_help(kind)),
+        SamplerProblem::Type => (
+            &rule::DISTRIBUTION_TYPE,
+            match f.kind {
+                FeatureType::Int => {
+                    "int features take int_uniform, categorical or constant (continuous samplers would produce non-integers)"
+                }
+                FeatureType::Categorical => {
+                    "categorical features take categorical or constant, with values among the feature's choices"
+                }
+                FeatureType::Bool => "bool features take categorical or constant",
+                FeatureType::ListInt => "list_int features take a constant list of integers",
+                FeatureType::Float => "use a sampler that produces numbers",
+            },
+        ),
+        SamplerProblem::Support => (
+            &rule::DISTRIBUTION_SUPPORT,
+            "every draw would be clipped or rejected: move the distribution inside the bounds",
+        ),
     };
-    if !compatible {
-        let help = match f.kind {
-            FeatureType::Int => {
-                "int features take int_uniform, categorical choices or constant (continuous samplers would produce non-integers)"
-            }
-            FeatureType::Categorical => "categorical features take categorical or constant",
-            _ => "use a sampler that produces this feature's type",
-        };
-        sink.error(
-            file,
-            "distribution-type",
-            &format!("{ptr}/kind"),
-            format!(
-                "this sampler cannot produce values for {} feature \"{}\"",
-                kind_name(f.kind),
-                f.name
-            ),
-            Some(help.into()),
-        );
-    }
-    if let Sampler::Constant { value } = s {
-        let ok = match (f.kind, value) {
-            (FeatureType::Float | FeatureType::Int, Value::Number(x)) => {
-                f.kind == FeatureType::Float || is_integral(*x)
-            }
-            (FeatureType::Bool, Value::Bool(_)) => true,
-            (FeatureType::Categorical, v) => f
-                .choices
-                .as_ref()
-                .is_some_and(|c| c.iter().any(|x| scalar_eq_value(x, v))),
-            (FeatureType::ListInt, Value::List(l)) => l.iter().all(|x| is_integral(*x)),
-            _ => false,
-        };
-        if !ok {
-            sink.error(
-                file,
-                "distribution-type",
-                &format!("{ptr}/value"),
-                format!("{} is not a valid value for \"{}\"", value_text(value), f.name),
-                None,
-            );
+    let at = if field.is_empty() {
+        ptr.to_string()
+    } else {
+        format!("{ptr}/{field}")
+    };
+    sink.report(
+        file,
+        r,
+        &at,
+        format!("{kind} sampler of {}: {message}", quote(&f.name)),
+        Some(help.into()),
+    );
+}
+
+fn params_help(kind: &str) -> &'static str {
+    match kind {
+        "normal" => {
+            "a normal needs a finite mean and a std > 0, with mean ± 40·std finite; use constant for a fixed value"
         }
-    }
-    if let Some((a, b)) = support {
-        let [lo, hi] = f.bounds;
-        let disjoint = lo.is_some_and(|l| b < l) || hi.is_some_and(|h| a > h);
-        if numeric && disjoint {
-            sink.error(
-                file,
-                "distribution-support",
-                ptr,
-                format!(
-                    "the sampler's support [{a}, {b}] lies entirely outside the bounds {} of \"{}\"",
-                    fmt_bounds(&f.bounds),
-                    f.name
-                ),
-                Some("every draw would be clipped or rejected: move the distribution inside the bounds".into()),
-            );
+        "relative_normal" => {
+            "sigma_rel and fallback_std must be > 0 (the paper uses 0.1, 0.25 or 0.5), and the feature needs a numeric default"
         }
+        "truncated_normal" => "a truncated normal needs a finite mean, std > 0 and finite low < high",
+        "uniform" => "write finite low < high whose width is finite; use constant for a single value",
+        "log_uniform" => "log_uniform needs 0 < low < high; use uniform for ranges that include 0 or negatives",
+        "int_uniform" => "write low ≤ high, both within ±2^53 (9007199254740992)",
+        "categorical" => {
+            "list at least one choice; weights are relative, finite and ≥ 0 with a positive sum, one per choice"
+        }
+        "interval_mixture" => {
+            "write [low, high] intervals with finite low < high; give weights (one per interval) or stratified, not both"
+        }
+        _ => "see the sampler's parameters in the README",
     }
 }
 
@@ -801,9 +667,9 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
     let base = format!("/instance_sets/{}", escape_token(name));
     check_set_name(name, file, &base, "instance set", sink);
     if set.description.trim().is_empty() {
-        sink.error(
+        sink.report(
             file,
-            "description-empty",
+            &rule::DESCRIPTION_EMPTY,
             &format!("{base}/description"),
             "the description is empty",
             Some("say what the set is for (train/test, which experiment)".into()),
@@ -812,7 +678,7 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
     let n_sources =
         usize::from(set.sampled.is_some()) + usize::from(set.explicit.is_some()) + usize::from(set.grid.is_some());
     if n_sources != 1 {
-        sink.error(file, "instance-set-source", &base, format!("instance set \"{name}\" must have exactly one of sampled, explicit, grid (has {n_sources})"), Some("sampled: draws from a named distribution; explicit: a list of named contexts; grid: a regular grid over one feature".into()));
+        sink.report(file, &rule::INSTANCE_SET_SOURCE, &base, format!("instance set \"{name}\" must have exactly one of sampled, explicit, grid (has {n_sources})"), Some("sampled: draws from a named distribution; explicit: a list of named contexts; grid: a regular grid over one feature".into()));
     }
     let mut any_out = false;
     // Reports a value outside its feature's bounds (unless allowed); true when it was outside.
@@ -823,7 +689,7 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
         }
         {
             if !set.allow_out_of_bounds {
-                sink.error(file, "instance-out-of-bounds", ptr, format!("{x} is outside the bounds {} of \"{}\"", fmt_bounds(&f.bounds), f.name), Some("fix the value, or set \"allow_out_of_bounds\": true on the set if this is a deliberate out-of-distribution test".into()));
+                sink.report(file, &rule::INSTANCE_OUT_OF_BOUNDS, ptr, format!("{x} is outside the bounds {} of \"{}\"", fmt_bounds(&f.bounds), f.name), Some("fix the value, or set \"allow_out_of_bounds\": true on the set if this is a deliberate out-of-distribution test".into()));
             }
         }
         true
@@ -839,30 +705,47 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
                 }
                 None => format!("distributions of {}: {}", spec.id, known.collect::<Vec<_>>().join(", ")),
             };
-            sink.error(
+            sink.report(
                 file,
-                "unknown-distribution",
+                &rule::UNKNOWN_DISTRIBUTION,
                 &format!("{p}/distribution"),
                 format!("no distribution named \"{}\"", s.distribution),
                 Some(help),
             );
         }
         if s.size == 0 || s.size > MAX_INSTANCES {
-            sink.error(
+            sink.report(
                 file,
-                "instance-set-size",
+                &rule::INSTANCE_SET_SIZE,
                 &format!("{p}/size"),
                 format!("size {} is not in 1..={MAX_INSTANCES}", s.size),
                 Some("an instance set has at least one and at most a million instances".into()),
+            );
+        }
+        let varied = spec
+            .distributions
+            .get(&s.distribution)
+            .map_or(0, |d| d.features.len() as u64);
+        if s.size <= MAX_INSTANCES && s.size.saturating_mul(varied) > MAX_SET_VALUES {
+            sink.report(
+                file,
+                &rule::INSTANCE_SET_SIZE,
+                &format!("{p}/size"),
+                format!(
+                    "{} instances × {varied} varied features = {} values, more than {MAX_SET_VALUES} per set",
+                    s.size,
+                    s.size.saturating_mul(varied)
+                ),
+                Some("sample fewer instances, or split the set (memory grows by about 1.5 KB per value)".into()),
             );
         }
     }
     if let Some(list) = &set.explicit {
         let p = format!("{base}/explicit");
         if list.is_empty() {
-            sink.error(
+            sink.report(
                 file,
-                "instance-set-size",
+                &rule::INSTANCE_SET_SIZE,
                 &p,
                 "the explicit list is empty",
                 Some("list at least one named context".into()),
@@ -872,9 +755,9 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
         for (i, inst) in list.iter().enumerate() {
             let ip = format!("{p}/{i}");
             if !names.insert(inst.name.as_str()) {
-                sink.error(
+                sink.report(
                     file,
-                    "duplicate-instance",
+                    &rule::DUPLICATE_INSTANCE,
                     &format!("{ip}/name"),
                     format!("instance name \"{}\" is used twice in this set", inst.name),
                     Some("instance names identify instances in results: make them unique".into()),
@@ -886,14 +769,8 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
                     None => unknown_feature(spec.feature_names(), fname, file, &fp, sink),
                     Some(f) => match (f.kind, v) {
                         (FeatureType::Float | FeatureType::Int, Value::Number(x)) => {
-                            if f.kind == FeatureType::Int && !is_integral(*x) {
-                                sink.error(
-                                    file,
-                                    "int-not-integral",
-                                    &fp,
-                                    format!("{x} is not an integer, and \"{}\" is an int feature", f.name),
-                                    None,
-                                );
+                            if f.kind == FeatureType::Int {
+                                check_int(*x, "value", "int", &f.name, file, &fp, sink);
                             }
                             any_out |= out_of_bounds(fname, *x, &fp, sink);
                         }
@@ -914,9 +791,9 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
         match spec.feature(&g.feature) {
             None => unknown_feature(spec.feature_names(), &g.feature, file, &format!("{p}/feature"), sink),
             Some(f) if !matches!(f.kind, FeatureType::Float | FeatureType::Int) => {
-                sink.error(
+                sink.report(
                     file,
-                    "distribution-type",
+                    &rule::DISTRIBUTION_TYPE,
                     &format!("{p}/feature"),
                     format!(
                         "a grid needs a numeric feature; \"{}\" is {}",
@@ -929,9 +806,9 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
             Some(_) => {}
         }
         if !(g.step > 0.0) || !(g.from <= g.to) {
-            sink.error(
+            sink.report(
                 file,
-                "grid-params",
+                &rule::GRID_PARAMS,
                 &p,
                 format!("grid from {} to {} step {} is empty or reversed", g.from, g.to, g.step),
                 Some("use from ≤ to and step > 0".into()),
@@ -939,9 +816,9 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
         } else {
             let count = ((g.to - g.from) / g.step).floor() + 1.0;
             if count > MAX_INSTANCES as f64 {
-                sink.error(
+                sink.report(
                     file,
-                    "instance-set-size",
+                    &rule::INSTANCE_SET_SIZE,
                     &p,
                     format!("the grid has {count} points, more than {MAX_INSTANCES}"),
                     Some("use a larger step".into()),
@@ -957,9 +834,9 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
         }
     }
     if set.allow_out_of_bounds && !any_out && (set.explicit.is_some() || set.grid.is_some()) {
-        sink.warning(
+        sink.report(
             file,
-            "needless-allow-out-of-bounds",
+            &rule::NEEDLESS_ALLOW_OUT_OF_BOUNDS,
             &format!("{base}/allow_out_of_bounds"),
             "allow_out_of_bounds is set but every value is inside the bounds",
             Some("remove it, so an accidental out-of-bounds value is caught".into()),

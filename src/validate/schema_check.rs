@@ -104,7 +104,7 @@ fn explain(e: &ValidationError<'_>, out: &mut Vec<SchemaProblem>) {
         ValidationErrorKind::Pattern { pattern } => (
             format!("{found} does not match the pattern {pattern}"),
             Some(
-                "ids and names are snake_case: lowercase letters, digits and underscores, starting with a letter"
+                "ids are snake_case (lowercase letters, digits, underscores, starting with a letter); feature names may also use capitals"
                     .into(),
             ),
         ),
@@ -230,15 +230,8 @@ pub fn describe(v: &serde_json::Value) -> String {
     match v {
         serde_json::Value::Null => "null".into(),
         serde_json::Value::Bool(b) => format!("boolean {b}"),
-        serde_json::Value::Number(n) => format!("number {n}"),
-        serde_json::Value::String(s) => {
-            let short: String = s.chars().take(40).collect();
-            if short.len() < s.len() {
-                format!("string \"{short}…\"")
-            } else {
-                format!("string \"{s}\"")
-            }
-        }
+        serde_json::Value::Number(n) => format!("number {}", crate::text::escape(&n.to_string())),
+        serde_json::Value::String(s) => format!("string {}", crate::text::quote(s)),
         serde_json::Value::Array(a) => format!("an array of {} item(s)", a.len()),
         serde_json::Value::Object(_) => "an object".into(),
     }

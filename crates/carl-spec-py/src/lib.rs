@@ -17,7 +17,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 use carl_spec::envs::contextual::{ContextInfo, ContextSource, ContextualEnv, ContextualError, ContextualOptions};
-use carl_spec::envs::registry::{Context, MakeError, MakeOptions, RUNTIMES, has_runtime, make_with};
+use carl_spec::envs::registry::{Context, MakeError, MakeOptions, has_runtime, ids, ids_text, make_with};
 use carl_spec::envs::vec_env::{AutoresetMode, VecActions, VecEnv as RustVecEnv, VecEnvError, VecOptions};
 use carl_spec::envs::{Action, DType, Env as _, EnvError, Features, Selection, Space, Visibility};
 use carl_spec::instances::Store;
@@ -48,7 +48,9 @@ fn value_error(e: impl std::fmt::Display) -> PyErr {
 
 fn make_error(py: Python<'_>, e: &MakeError) -> PyErr {
     match e {
-        MakeError::UnknownFeature { .. } | MakeError::NoRuntime(_) => unknown_name(py, e.to_string()),
+        MakeError::UnknownFeature { .. } | MakeError::NoRuntime { .. } | MakeError::UnknownOption { .. } => {
+            unknown_name(py, e.to_string())
+        }
         _ => value_error(e),
     }
 }
@@ -58,10 +60,14 @@ fn contextual_error(py: Python<'_>, e: &ContextualError) -> PyErr {
         ContextualError::UnknownDistribution { .. } | ContextualError::UnknownFeature { .. } => {
             unknown_name(py, e.to_string())
         }
-        ContextualError::Make {
-            source: MakeError::UnknownFeature { .. } | MakeError::NoRuntime(_),
-            ..
-        } => unknown_name(py, e.to_string()),
+        ContextualError::Make { source, .. }
+            if matches!(
+                **source,
+                MakeError::UnknownFeature { .. } | MakeError::NoRuntime { .. } | MakeError::UnknownOption { .. }
+            ) =>
+        {
+            unknown_name(py, e.to_string())
+        }
         ContextualError::Derive(DeriveError::UnknownDistribution { .. } | DeriveError::UnknownFeature { .. }) => {
             unknown_name(py, e.to_string())
         }
@@ -187,7 +193,10 @@ fn validate_json(paths: Vec<PathBuf>) -> PyResult<String> {
         let mut inputs = read_inputs(&paths).map_err(value_error)?;
         if inputs.is_empty() {
             let shown: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
-            return Err(value_error(format!("no *.json spec files found in {}", shown.join(", "))));
+            return Err(value_error(format!(
+                "no *.json spec files found in {}",
+                shown.join(", ")
+            )));
         }
         inputs.extend(bundled_inputs(true).into_iter().filter(|i| i.name.contains("/shared/")));
         inputs
@@ -274,11 +283,24 @@ struct SourceArgs {
 fn build_contextual(py: Python<'_>, specs: &SpecSet, env: &str, a: &SourceArgs) -> PyResult<ContextualEnv> {
     let spec = require(py, specs, env)?;
     if !has_runtime(&spec.id) {
-        return Err(unknown_name(py, MakeError::NoRuntime(spec.id.clone()).to_string()));
+        return Err(unknown_name(
+            py,
+            MakeError::NoRuntime {
+                env: spec.id.clone(),
+                available: ids_text(),
+            }
+            .to_string(),
+        ));
     }
-    let given = [a.context_json.is_some(), a.instances.is_some(), a.distribution.is_some()];
+    let given = [
+        a.context_json.is_some(),
+        a.instances.is_some(),
+        a.distribution.is_some(),
+    ];
     if given.iter().filter(|g| **g).count() > 1 {
-        return Err(value_error("give at most one of context=, instances= and distribution="));
+        return Err(value_error(
+            "give at most one of context=, instances= and distribution=",
+        ));
     }
     let source = if let Some(name) = &a.instances {
         let name = if name.contains('/') {
@@ -316,7 +338,16 @@ fn build_contextual(py: Python<'_>, specs: &SpecSet, env: &str, a: &SourceArgs) 
             _ => Visibility::Hidden,
         }
     };
-    ContextualEnv::new(spec, source, ContextualOptions { selection, visibility }).map_err(|e| contextual_error(py, &e))
+    ContextualEnv::new(
+        spec,
+        source,
+        ContextualOptions {
+            selection,
+            visibility,
+            ..ContextualOptions::default()
+        },
+    )
+    .map_err(|e| contextual_error(py, &e))
 }
 
 /// The observation as the space declares it: float32, float64 or uint8, in the space's shape.
@@ -414,14 +445,7 @@ impl Env {
         obs_context: Option<&Bound<'_, PyAny>>,
         specs_dir: Option<PathBuf>,
     ) -> PyResult<Self> {
-        let args = env_source_args(
-            context_json,
-            instances,
-            distribution,
-            selection,
-            instance,
-            obs_context,
-        )?;
+        let args = env_source_args(context_json, instances, distribution, selection, instance, obs_context)?;
         let inner = with_specs(specs_dir, |specs| build_contextual(py, specs, env, &args))?;
         let action = match inner.action_space() {
             Space::Discrete { .. } => Action::Discrete(0),
@@ -447,7 +471,11 @@ impl Env {
 
     /// `(observation, reward, terminated, truncated)`; the action is an int (discrete) or a
     /// float32 vector.
-    fn step<'py>(&mut self, py: Python<'py>, action: &Bound<'py, PyAny>) -> PyResult<(Bound<'py, PyAny>, f64, bool, bool)> {
+    fn step<'py>(
+        &mut self,
+        py: Python<'py>,
+        action: &Bound<'py, PyAny>,
+    ) -> PyResult<(Bound<'py, PyAny>, f64, bool, bool)> {
         match &mut self.action {
             Action::Discrete(a) => *a = action.extract::<i64>()?,
             Action::Continuous(v) => {
@@ -464,7 +492,10 @@ impl Env {
                 v.copy_from_slice(s);
             }
         }
-        let out = self.inner.step_into(&self.action, &mut self.obs).map_err(|e| env_error(&e))?;
+        let out = self
+            .inner
+            .step_into(&self.action, &mut self.obs)
+            .map_err(|e| env_error(&e))?;
         let obs = obs_array(py, &self.obs, &self.shape, self.dtype)?;
         Ok((obs, out.reward, out.terminated, out.truncated))
     }
@@ -594,14 +625,7 @@ impl VecEnv {
         if num_envs == 0 {
             return Err(value_error("num_envs must be at least 1"));
         }
-        let args = env_source_args(
-            context_json,
-            instances,
-            distribution,
-            selection,
-            instance,
-            obs_context,
-        )?;
+        let args = env_source_args(context_json, instances, distribution, selection, instance, obs_context)?;
         let plain = args.instances.is_none()
             && args.distribution.is_none()
             && args.obs_context.as_ref().is_none_or(Vec::is_empty)
@@ -682,11 +706,7 @@ impl VecEnv {
 
     /// `(observations, rewards, terminated, truncated)` as fresh NumPy arrays. Actions: int64
     /// `(num_envs,)` or float32 `(num_envs, action_dim)`, C-contiguous.
-    fn step<'py>(
-        &mut self,
-        py: Python<'py>,
-        actions: &Bound<'py, PyAny>,
-    ) -> PyResult<BatchStep<'py>> {
+    fn step<'py>(&mut self, py: Python<'py>, actions: &Bound<'py, PyAny>) -> PyResult<BatchStep<'py>> {
         let (n, id) = (self.inner.num_envs(), self.inner.id());
         let inner = &mut self.inner;
         if self.discrete {
@@ -776,7 +796,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sample_json, m)?)?;
     m.add_class::<Env>()?;
     m.add_class::<VecEnv>()?;
-    m.add("RUNTIMES", PyList::new(m.py(), RUNTIMES)?)?;
+    m.add("RUNTIMES", PyList::new(m.py(), ids().collect::<Vec<_>>())?)?;
     m.add("VERSION", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

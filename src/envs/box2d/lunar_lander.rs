@@ -48,6 +48,8 @@
 //! * **Continuous collision.** Box2D sub-steps dynamic-vs-static time of impact; we enable
 //!   rapier's CCD on the lander and legs, which serves the same purpose.
 
+mod render;
+
 use rapier2d::prelude::*;
 
 use crate::envs::api::{
@@ -850,6 +852,8 @@ impl LunarLander {
     }
 }
 
+impl crate::envs::runtime::Runtime for LunarLander {}
+
 impl Env for LunarLander {
     fn id(&self) -> &'static str {
         ID
@@ -932,8 +936,8 @@ impl Env for LunarLander {
         self.state_array().to_vec()
     }
 
-    fn render(&self) -> Option<crate::render::Frame> {
-        crate::render::lunar_lander::draw(self)
+    fn render(&self) -> Option<crate::pixels::Frame> {
+        render::draw(self)
     }
 
     fn set_state(&mut self, state: &[f64]) -> Result<(), EnvError> {

@@ -205,6 +205,8 @@ impl Default for Acrobot {
     }
 }
 
+impl crate::envs::runtime::Runtime for Acrobot {}
+
 impl Env for Acrobot {
     fn id(&self) -> &'static str {
         ID

@@ -62,6 +62,75 @@ impl CartPoleParams {
     }
 }
 
+/// What one step needs from the context, derived as Gymnasium derives it (`total_mass`,
+/// `polemass_length` recomputed from the masses and length: carl-bench 1.1.1 forgets to).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CartPoleConstants {
+    pub gravity: f64,
+    pub masspole: f64,
+    pub pole_length: f64,
+    pub force_mag: f64,
+    pub tau: f64,
+    pub total_mass: f64,
+    pub polemass_length: f64,
+}
+
+impl From<&CartPoleParams> for CartPoleConstants {
+    #[inline]
+    fn from(p: &CartPoleParams) -> Self {
+        CartPoleConstants {
+            gravity: p.gravity,
+            masspole: p.masspole,
+            pole_length: p.pole_length,
+            force_mag: p.force_magnifier,
+            tau: p.update_interval,
+            total_mass: p.total_mass(),
+            polemass_length: p.polemass_length(),
+        }
+    }
+}
+
+/// One step of CartPole's dynamics (Gymnasium's Euler integrator, operation by operation):
+/// the single definition both [`CartPole`] and `VecEnv`'s structure-of-arrays kernel call, so
+/// they are bit-identical by construction.
+#[inline(always)]
+pub fn dynamics(k: &CartPoleConstants, [x, x_dot, theta, theta_dot]: [f64; 4], action: i64) -> [f64; 4] {
+    let force = if action == 1 { k.force_mag } else { -k.force_mag };
+    let costheta = theta.cos();
+    let sintheta = theta.sin();
+    let temp = (force + k.polemass_length * (theta_dot * theta_dot) * sintheta) / k.total_mass;
+    let thetaacc = (k.gravity * sintheta - costheta * temp)
+        / (k.pole_length * (4.0 / 3.0 - k.masspole * (costheta * costheta) / k.total_mass));
+    let xacc = temp - k.polemass_length * thetaacc * costheta / k.total_mass;
+    let tau = k.tau;
+    [
+        x + tau * x_dot,
+        x_dot + tau * xacc,
+        theta + tau * theta_dot,
+        theta_dot + tau * thetaacc,
+    ]
+}
+
+/// Gymnasium's termination test. Written as its four comparisons on purpose: with a NaN state
+/// they are all false (not terminated), whereas `!range.contains(&x)` would report termination.
+#[inline(always)]
+#[allow(clippy::manual_range_contains)]
+pub fn is_terminal([x, _, theta, _]: [f64; 4]) -> bool {
+    x < -X_THRESHOLD || x > X_THRESHOLD || theta < -THETA_THRESHOLD_RADIANS || theta > THETA_THRESHOLD_RADIANS
+}
+
+/// The reset draws: every component `uniform(lower, upper)`, in order x, x_dot, theta, theta_dot.
+#[inline]
+pub fn initial_state(p: &CartPoleParams, rng: &mut EnvRng) -> [f64; 4] {
+    let (lo, hi) = (p.initial_state_lower, p.initial_state_upper);
+    [
+        uniform(rng, lo, hi),
+        uniform(rng, lo, hi),
+        uniform(rng, lo, hi),
+        uniform(rng, lo, hi),
+    ]
+}
+
 /// `12 * 2 * math.pi / 360`
 pub const THETA_THRESHOLD_RADIANS: f64 = 12.0 * 2.0 * std::f64::consts::PI / 360.0;
 pub const X_THRESHOLD: f64 = 2.4;
@@ -108,6 +177,8 @@ impl Default for CartPole {
     }
 }
 
+impl crate::envs::runtime::Runtime for CartPole {}
+
 impl Env for CartPole {
     fn id(&self) -> &'static str {
         ID
@@ -141,10 +212,7 @@ impl Env for CartPole {
         if let Some(seed) = seed {
             self.rng = EnvRng::from_seed(seed);
         }
-        let (lo, hi) = (self.params.initial_state_lower, self.params.initial_state_upper);
-        for s in self.state.iter_mut() {
-            *s = uniform(&mut self.rng, lo, hi);
-        }
+        self.state = initial_state(&self.params, &mut self.rng);
         self.ready = true;
         self.terminated_before = false;
         self.write_obs(obs);
@@ -158,29 +226,8 @@ impl Env for CartPole {
         if !self.ready {
             return Err(EnvError::NeedsReset { env: ID });
         }
-        let p = &self.params;
-        let total_mass = p.total_mass();
-        let polemass_length = p.polemass_length();
-        let [x, x_dot, theta, theta_dot] = self.state;
-        let force = if a == 1 { p.force_magnifier } else { -p.force_magnifier };
-        let costheta = theta.cos();
-        let sintheta = theta.sin();
-        let temp = (force + polemass_length * (theta_dot * theta_dot) * sintheta) / total_mass;
-        let thetaacc = (p.gravity * sintheta - costheta * temp)
-            / (p.pole_length * (4.0 / 3.0 - p.masspole * (costheta * costheta) / total_mass));
-        let xacc = temp - polemass_length * thetaacc * costheta / total_mass;
-        let tau = p.update_interval;
-        let x = x + tau * x_dot;
-        let x_dot = x_dot + tau * xacc;
-        let theta = theta + tau * theta_dot;
-        let theta_dot = theta_dot + tau * thetaacc;
-        self.state = [x, x_dot, theta, theta_dot];
-
-        // Written as Gymnasium's four comparisons on purpose: with a NaN state they are all
-        // false (not terminated), whereas `!range.contains(&x)` would report termination.
-        #[allow(clippy::manual_range_contains)]
-        let terminated =
-            x < -X_THRESHOLD || x > X_THRESHOLD || theta < -THETA_THRESHOLD_RADIANS || theta > THETA_THRESHOLD_RADIANS;
+        self.state = dynamics(&CartPoleConstants::from(&self.params), self.state, a);
+        let terminated = is_terminal(self.state);
         // Gymnasium: 1 per step including the terminating one, 0 for steps taken after that.
         let reward = if !terminated {
             1.0

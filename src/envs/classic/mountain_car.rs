@@ -109,6 +109,8 @@ impl Default for MountainCar {
     }
 }
 
+impl crate::envs::runtime::Runtime for MountainCar {}
+
 impl Env for MountainCar {
     fn id(&self) -> &'static str {
         ID

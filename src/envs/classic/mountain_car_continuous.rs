@@ -184,6 +184,8 @@ impl Default for MountainCarContinuous {
     }
 }
 
+impl crate::envs::runtime::Runtime for MountainCarContinuous {}
+
 impl Env for MountainCarContinuous {
     fn id(&self) -> &'static str {
         ID

@@ -113,6 +113,8 @@ impl Default for Pendulum {
     }
 }
 
+impl crate::envs::runtime::Runtime for Pendulum {}
+
 impl Env for Pendulum {
     fn id(&self) -> &'static str {
         ID

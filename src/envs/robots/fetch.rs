@@ -368,6 +368,12 @@ fn torso_frame(w: &RobotWorld) -> TorsoFrame {
     }
 }
 
+impl crate::envs::runtime::Runtime for Fetch {
+    fn goal_states(&self, states: &[Vec<f64>]) -> Result<Vec<Vec<f64>>, EnvError> {
+        Ok(self.states_near_target(states))
+    }
+}
+
 impl Env for Fetch {
     fn id(&self) -> &'static str {
         ENV
@@ -483,7 +489,7 @@ impl Env for Fetch {
         m
     }
 
-    fn render(&self) -> Option<crate::render::Frame> {
+    fn render(&self) -> Option<crate::pixels::Frame> {
         let w = self.world.as_ref()?;
         let t = Vector::new(self.target[0] as f32, self.target[1] as f32, self.target[2] as f32);
         let torso = w.link_pose(w.torso).translation;
@@ -499,7 +505,7 @@ impl Env for Fetch {
         Some(super::render::render_from(
             w,
             &cam,
-            &[(t, 0.4, crate::plot::scene::Color(220, 60, 40))],
+            &[(t, 0.4, crate::pixels::Color(220, 60, 40))],
         ))
     }
 }

@@ -592,6 +592,12 @@ impl Grasp {
     }
 }
 
+impl crate::envs::runtime::Runtime for Grasp {
+    fn goal_states(&self, states: &[Vec<f64>]) -> Result<Vec<Vec<f64>>, EnvError> {
+        Ok(self.states_near_target(states))
+    }
+}
+
 impl Env for Grasp {
     fn id(&self) -> &'static str {
         "grasp"
@@ -712,7 +718,7 @@ impl Env for Grasp {
         m
     }
 
-    fn render(&self) -> Option<crate::render::Frame> {
+    fn render(&self) -> Option<crate::pixels::Frame> {
         let p = self.phys.as_ref()?;
         let palm = self.palm_position();
         let o = self.object_position();
@@ -736,9 +742,9 @@ impl Env for Grasp {
                 (
                     target,
                     (self.params.target_radius as f32).max(0.1),
-                    crate::plot::scene::Color(220, 60, 40),
+                    crate::pixels::Color(220, 60, 40),
                 ),
-                (object, OBJECT_RADIUS as f32, crate::plot::scene::Color(230, 200, 60)),
+                (object, OBJECT_RADIUS as f32, crate::pixels::Color(230, 200, 60)),
             ],
         ))
     }

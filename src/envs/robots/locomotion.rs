@@ -403,6 +403,8 @@ impl Locomotion {
     }
 }
 
+impl crate::envs::runtime::Runtime for Locomotion {}
+
 impl Env for Locomotion {
     fn id(&self) -> &'static str {
         self.id
@@ -551,7 +553,7 @@ impl Env for Locomotion {
         m
     }
 
-    fn render(&self) -> Option<crate::render::Frame> {
+    fn render(&self) -> Option<crate::pixels::Frame> {
         self.world.as_ref().map(super::render::render_world)
     }
 }

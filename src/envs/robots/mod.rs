@@ -11,7 +11,7 @@
 //! * [`com`]: MuJoCo's centre-of-mass based body quantities (`cinert`, `cvel`, `cfrc_ext`).
 //! * [`fetch`]: Brax's fetch task (a dog runs to random targets).
 //! * [`grasp`]: Brax's claw hand grasping a ball.
-//! * [`render`]: software rendering of a world to a [`Frame`](crate::render::Frame).
+//! * [`render`]: software rendering of a world to a [`Frame`](crate::pixels::Frame).
 
 pub mod com;
 pub mod fetch;

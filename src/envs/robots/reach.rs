@@ -207,6 +207,12 @@ pub fn reach_reward(ee_before: [f64; 3], ee_after: [f64; 3], target: [f64; 3], r
     (MOVE_WEIGHT * along, dist < radius)
 }
 
+impl crate::envs::runtime::Runtime for Reach {
+    fn goal_states(&self, states: &[Vec<f64>]) -> Result<Vec<Vec<f64>>, EnvError> {
+        self.states_near_target(states)
+    }
+}
+
 impl Env for Reach {
     fn id(&self) -> &'static str {
         "ur5e"
@@ -322,13 +328,13 @@ impl Env for Reach {
         m
     }
 
-    fn render(&self) -> Option<crate::render::Frame> {
+    fn render(&self) -> Option<crate::pixels::Frame> {
         let w = self.world.as_ref()?;
         let t = Vector::new(self.target[0] as f32, self.target[1] as f32, self.target[2] as f32);
         let r = (self.params.target_radius as f32).max(0.03);
         Some(super::render::render_with(
             w,
-            &[(t, r, crate::plot::scene::Color(220, 60, 40))],
+            &[(t, r, crate::pixels::Color(220, 60, 40))],
         ))
     }
 }

@@ -4,9 +4,7 @@
 
 use rapier3d::prelude::*;
 
-use crate::plot::png::Canvas;
-use crate::plot::scene::Color;
-use crate::render::Frame;
+use crate::pixels::{Canvas, Color, Frame};
 
 use super::world::RobotWorld;
 
@@ -212,6 +210,36 @@ fn shade(c: Color, k: f32) -> Color {
     Color(f(c.0), f(c.1), f(c.2))
 }
 
+/// Viewing distance up to which the ground grid has 1 m cells (over 4 px apart at the target).
+const GRID_1M_UP_TO: f32 = 100.0;
+
+/// Grid spacing for a camera `distance` m from its target: 1 m up to [`GRID_1M_UP_TO`], then
+/// the next power of ten that keeps lines at least as far apart on screen. A far camera (a
+/// target 1 km away) would otherwise draw thousands of lines merging into the horizon.
+pub fn grid_step(distance: f32) -> f32 {
+    if distance.is_nan() || distance <= GRID_1M_UP_TO {
+        return 1.0;
+    }
+    let decades = (distance / GRID_1M_UP_TO).log10().ceil().min(30.0);
+    10f32.powi(decades as i32)
+}
+
+/// The ground grid's lines over `[x_lo, x_hi] × [y_lo, y_hi]` at z = 0: lines of constant x
+/// first, then of constant y, every [`grid_step`] metres.
+pub fn ground_grid(cam: &Camera, [x_lo, x_hi]: [f32; 2], [y_lo, y_hi]: [f32; 2]) -> Vec<(Vector, Vector)> {
+    let step = grid_step((cam.target - cam.eye).length());
+    let mut lines = Vec::new();
+    for i in ((x_lo / step).ceil() as i32)..=((x_hi / step).floor() as i32) {
+        let x = i as f32 * step;
+        lines.push((Vector::new(x, y_lo, 0.0), Vector::new(x, y_hi, 0.0)));
+    }
+    for j in ((y_lo / step).ceil() as i32)..=((y_hi / step).floor() as i32) {
+        let y = j as f32 * step;
+        lines.push((Vector::new(x_lo, y, 0.0), Vector::new(x_hi, y, 0.0)));
+    }
+    lines
+}
+
 /// A projected shape: mean depth, screen polygon, colour.
 type Silhouette = (f32, Vec<(f64, f64)>, Color);
 
@@ -238,24 +266,10 @@ pub fn render_from(world: &RobotWorld, cam: &Camera, extra: &[(Vector, f32, Colo
     if let Some(pts) = pts {
         fill(&mut canvas, &pts, GROUND_A);
     }
-    let line3 = |canvas: &mut Canvas, a: Vector, b: Vector| {
+    for (a, b) in ground_grid(cam, [x_lo, x_hi], [y_lo, y_hi]) {
         if let (Some(p), Some(q)) = (cam.project(a), cam.project(b)) {
-            stroke(canvas, (p.0, p.1), (q.0, q.1), 1.5, GROUND_B);
+            stroke(&mut canvas, (p.0, p.1), (q.0, q.1), 1.5, GROUND_B);
         }
-    };
-    for i in (x_lo.ceil() as i32)..=(x_hi.floor() as i32) {
-        line3(
-            &mut canvas,
-            Vector::new(i as f32, y_lo, 0.0),
-            Vector::new(i as f32, y_hi, 0.0),
-        );
-    }
-    for j in (y_lo.ceil() as i32)..=(y_hi.floor() as i32) {
-        line3(
-            &mut canvas,
-            Vector::new(x_lo, j as f32, 0.0),
-            Vector::new(x_hi, j as f32, 0.0),
-        );
     }
     // Shapes: (depth, polygon, colour), drawn far to near.
     let mut items: Vec<Silhouette> = Vec::new();
@@ -301,4 +315,48 @@ pub fn render_from(world: &RobotWorld, cam: &Camera, extra: &[(Vector, f32, Colo
 /// Render `world` (robot and ground only).
 pub fn render_world(world: &RobotWorld) -> Frame {
     render_with(world, &[])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn camera(distance: f32) -> Camera {
+        let target = Vector::new(0.0, 0.0, 0.8);
+        Camera {
+            eye: target + Vector::new(0.0, -distance, 0.0),
+            target,
+            focal: 420.0,
+        }
+    }
+
+    #[test]
+    fn near_cameras_keep_the_one_metre_grid() {
+        for d in [4.3, 10.0, 17.0, 100.0] {
+            assert_eq!(grid_step(d), 1.0);
+        }
+        let lines = ground_grid(&camera(4.3), [-14.0, 14.0], [-3.7, 20.3]);
+        assert_eq!(lines.len(), 29 + 24);
+        assert_eq!(lines[0].0, Vector::new(-14.0, -3.7, 0.0));
+        assert_eq!(lines[29].0, Vector::new(-14.0, -3.0, 0.0));
+    }
+
+    #[test]
+    fn far_cameras_draw_a_bounded_number_of_grid_lines() {
+        // Regression: `render fetch --context target_distance=1000` drew ~4,000 1 m lines
+        // (22 s); at 10,000 about 43,000. Lines stay over 4 px apart at the target.
+        assert_eq!(grid_step(101.0), 10.0);
+        assert_eq!(grid_step(1300.0), 100.0);
+        for d in [1300.0f32, 13_000.0, 1e7] {
+            let reach = 2.0 * d;
+            let lines = ground_grid(
+                &camera(d),
+                [-reach * 14.0 / 24.0, reach * 14.0 / 24.0],
+                [-d + 0.6, -d + reach],
+            );
+            assert!(lines.len() <= 500, "{d} m: {} lines", lines.len());
+            assert!(420.0 * grid_step(d) / d >= 4.0);
+        }
+        assert_eq!(grid_step(f32::INFINITY), 1e30);
+    }
 }

@@ -925,6 +925,8 @@ fn world_x(w: Option<&World>) -> f64 {
     w.map_or(0.0, |w| w.pw.bodies[w.bodies[0]].translation().x as f64)
 }
 
+impl crate::envs::runtime::Runtime for BipedalWalker {}
+
 impl Env for BipedalWalker {
     fn id(&self) -> &'static str {
         ID
@@ -1018,7 +1020,7 @@ impl Env for BipedalWalker {
         Ok(())
     }
 
-    fn render(&self) -> Option<crate::render::Frame> {
+    fn render(&self) -> Option<crate::pixels::Frame> {
         render::render(self)
     }
 }

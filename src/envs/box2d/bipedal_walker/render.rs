@@ -4,9 +4,7 @@
 //! Clouds are not drawn (they are decoration drawn from the same random stream in Gymnasium).
 
 use super::{BipedalWalker, HULL_POLY, rot, size};
-use crate::plot::png::Canvas;
-use crate::plot::scene::{Color, Stroke};
-use crate::render::Frame;
+use crate::pixels::{Canvas, Color, Frame, Stroke};
 
 pub const SKY: Color = Color(215, 215, 255);
 pub const GROUND: Color = Color(102, 153, 76);

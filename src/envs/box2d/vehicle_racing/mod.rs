@@ -1146,7 +1146,7 @@ impl VehicleRacing {
         let width = (n * 6.0 - 1.0) * unit;
         let (x0, y0) = (60.0 - width / 2.0, h - 2.5 * hh - 3.5 * unit);
         for (ci, ch) in text.chars().enumerate() {
-            for (col, row) in crate::plot::font::glyph(ch) {
+            for (col, row) in crate::pixels::font::glyph(ch) {
                 let x = x0 + (ci as f64 * 6.0 + f64::from(col)) * unit;
                 let y = y0 + f64::from(row) * unit;
                 quad(
@@ -1166,18 +1166,20 @@ impl VehicleRacing {
     }
 
     /// The 600×400 picture (Gymnasium's `rgb_array`).
-    pub fn render_frame(&self) -> Option<crate::render::Frame> {
+    pub fn render_frame(&self) -> Option<crate::pixels::Frame> {
         self.track.as_ref()?;
         let k = RENDER_SUPERSAMPLE;
         let mut canvas = Canvas::default();
         self.draw(&mut canvas, VIDEO_W * k, VIDEO_H * k);
-        Some(crate::render::Frame {
+        Some(crate::pixels::Frame {
             width: VIDEO_W as u32,
             height: VIDEO_H as u32,
             rgb: canvas.downsample_rgb8(k),
         })
     }
 }
+
+impl crate::envs::runtime::Runtime for VehicleRacing {}
 
 impl Env for VehicleRacing {
     fn id(&self) -> &'static str {
@@ -1264,7 +1266,7 @@ impl Env for VehicleRacing {
         self.load_state(&s)
     }
 
-    fn render(&self) -> Option<crate::render::Frame> {
+    fn render(&self) -> Option<crate::pixels::Frame> {
         self.render_frame()
     }
 }

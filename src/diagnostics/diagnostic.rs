@@ -1,9 +1,10 @@
-//! Diagnostics: structured data first (rule id, file, JSON pointer, line/column), text second.
+//! One diagnostic: structured data first (rule id, file, JSON pointer, line/column), text second.
 
 use std::fmt::Write as _;
 
 use serde::Serialize;
 
+use super::rules::Rule;
 use crate::json::{LineIndex, Node};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize)]
@@ -131,28 +132,42 @@ impl SourceFile {
         }
     }
 
+    /// A located diagnostic of `rule` (`keyword` names the failed keyword of the schema family).
     pub fn diagnostic(
         &self,
-        severity: Severity,
-        rule: &str,
+        rule: &Rule,
+        keyword: Option<&str>,
         pointer: &str,
         message: impl Into<String>,
         help: Option<String>,
     ) -> Diagnostic {
-        let on_key = rule.ends_with("-name") || rule == "unknown-feature" || rule == "duplicate-key";
-        let located = self.locate_pointer(pointer, on_key);
+        let located = self.locate_pointer(pointer, rule.on_key);
         Diagnostic {
-            severity,
-            rule: rule.to_string(),
-            message: message.into(),
-            help,
+            severity: rule.severity,
+            rule: rule.id_for(keyword),
+            message: clean(&message.into()),
+            help: help.as_deref().map(clean),
             file: self.name.clone(),
             pointer: pointer.to_string(),
             location: located.as_ref().map(|(l, _)| l.clone()),
             snippet: located.map(|(_, s)| s),
         }
     }
+
+    /// The source text of the value at `pointer` (e.g. a number exactly as written).
+    pub fn text_at(&self, pointer: &str) -> Option<&str> {
+        let (node, _) = self.root.as_ref()?.pointer_target(pointer)?;
+        self.text.get(node.span.clone())
+    }
 }
+
+/// Messages quote input (names, values): terminal escapes are neutralised and runaway text cut.
+fn clean(text: &str) -> String {
+    crate::text::clean(text, MAX_MESSAGE_CHARS)
+}
+
+/// Longest message kept; input quoted into messages is cut far earlier (`text::quote`).
+pub const MAX_MESSAGE_CHARS: usize = 1000;
 
 fn clip_line(line: &str, start: usize, width: usize) -> (String, usize) {
     let n = line.chars().count();
@@ -166,18 +181,12 @@ fn clip_line(line: &str, start: usize, width: usize) -> (String, usize) {
 
 impl Diagnostic {
     /// A diagnostic about a file as a whole (I/O, encoding) or with no source to point into.
-    pub fn file_level(
-        severity: Severity,
-        rule: &str,
-        file: &str,
-        message: impl Into<String>,
-        help: Option<String>,
-    ) -> Self {
+    pub fn file_level(rule: &Rule, file: &str, message: impl Into<String>, help: Option<String>) -> Self {
         Diagnostic {
-            severity,
-            rule: rule.to_string(),
-            message: message.into(),
-            help,
+            severity: rule.severity,
+            rule: rule.id.to_string(),
+            message: clean(&message.into()),
+            help: help.as_deref().map(clean),
             file: file.to_string(),
             pointer: String::new(),
             location: None,
@@ -206,7 +215,13 @@ impl Diagnostic {
             Some(loc) => {
                 let gutter = loc.line.to_string().len();
                 let pad = " ".repeat(gutter);
-                let _ = writeln!(out, "{pad}{blue}-->{reset} {}:{}:{}", self.file, loc.line, loc.column);
+                let _ = writeln!(
+                    out,
+                    "{pad}{blue}-->{reset} {}:{}:{}",
+                    crate::text::clean(&self.file, MAX_MESSAGE_CHARS),
+                    loc.line,
+                    loc.column
+                );
                 if let Some(s) = &self.snippet {
                     let _ = writeln!(out, "{pad} {blue}|{reset}");
                     let _ = writeln!(out, "{blue}{}{reset} {blue}|{reset} {}", loc.line, s.line_text);
@@ -222,7 +237,11 @@ impl Diagnostic {
                 }
             }
             None => {
-                let _ = writeln!(out, "  {blue}-->{reset} {}", self.file);
+                let _ = writeln!(
+                    out,
+                    "  {blue}-->{reset} {}",
+                    crate::text::clean(&self.file, MAX_MESSAGE_CHARS)
+                );
                 if let Some(h) = &self.help {
                     let _ = writeln!(out, "   {blue}={reset} {bold}help{reset}: {h}");
                 }

@@ -1,23 +1,28 @@
-//! Frames to files: one PNG, or an animated GIF of a rollout. Both encoders are pure Rust and
-//! pinned, so the same frames give the same bytes on every machine.
+//! Frames to file bytes: PNG (one frame) or an animated GIF. Both encoders are pure Rust and
+//! pinned exactly in `Cargo.toml`, so the same frames give the same bytes on every machine.
 
-use super::Frame;
+use super::frame::Frame;
 
-/// One frame as PNG bytes (8-bit RGB), with `Title` and `Software` text chunks.
-pub fn png_bytes(frame: &Frame, title: &str) -> Result<Vec<u8>, String> {
+/// One frame as PNG bytes (8-bit RGB) with the given `tEXt` chunks (keyword, text), in order.
+pub fn png_bytes(frame: &Frame, text: &[(&str, &str)]) -> Result<Vec<u8>, String> {
+    let expected = 3 * frame.width as usize * frame.height as usize;
+    if frame.rgb.len() != expected {
+        return Err(format!(
+            "a {}x{} frame needs {expected} bytes, not {}",
+            frame.width,
+            frame.height,
+            frame.rgb.len()
+        ));
+    }
+    let err = |e: png::EncodingError| format!("PNG encoding failed: {e}");
     let mut bytes = Vec::new();
     {
         let mut enc = png::Encoder::new(&mut bytes, frame.width, frame.height);
         enc.set_color(png::ColorType::Rgb);
         enc.set_depth(png::BitDepth::Eight);
-        let err = |e: png::EncodingError| format!("PNG encoding failed: {e}");
-        enc.add_text_chunk("Title".to_string(), title.to_string())
-            .map_err(err)?;
-        enc.add_text_chunk(
-            "Software".to_string(),
-            format!("carl-spec {}", env!("CARGO_PKG_VERSION")),
-        )
-        .map_err(err)?;
+        for (key, value) in text {
+            enc.add_text_chunk(key.to_string(), value.to_string()).map_err(err)?;
+        }
         let mut w = enc.write_header().map_err(err)?;
         w.write_image_data(&frame.rgb).map_err(err)?;
         w.finish().map_err(err)?;
@@ -26,7 +31,8 @@ pub fn png_bytes(frame: &Frame, title: &str) -> Result<Vec<u8>, String> {
 }
 
 /// Frames as an endlessly looping GIF, `delay_cs` hundredths of a second per frame. Colours
-/// are reduced to each frame's own 256-colour palette (NeuQuant, speed 30: the flat colours of these scenes need no more).
+/// are reduced to each frame's own 256-colour palette (NeuQuant, speed 30: the flat colours of
+/// these scenes need no more).
 pub fn gif_bytes(frames: &[Frame], delay_cs: u16) -> Result<Vec<u8>, String> {
     let Some(first) = frames.first() else {
         return Err("a GIF needs at least one frame".into());
@@ -75,15 +81,27 @@ mod tests {
     }
 
     #[test]
-    fn png_round_trips_pixels() {
+    fn png_round_trips_pixels_and_text() {
         let f = checker(16, 8);
-        let bytes = png_bytes(&f, "t").unwrap();
+        let bytes = png_bytes(&f, &[("Title", "t"), ("Software", "s")]).unwrap();
         let dec = png::Decoder::new(std::io::Cursor::new(bytes));
         let mut r = dec.read_info().unwrap();
+        let chunks: Vec<(String, String)> = r
+            .info()
+            .uncompressed_latin1_text
+            .iter()
+            .map(|c| (c.keyword.clone(), c.text.clone()))
+            .collect();
+        assert_eq!(chunks, [("Title".into(), "t".into()), ("Software".into(), "s".into())]);
         let mut buf = vec![0; r.output_buffer_size().unwrap()];
         let info = r.next_frame(&mut buf).unwrap();
         assert_eq!((info.width, info.height), (16, 8));
         assert_eq!(&buf[..info.buffer_size()], &f.rgb[..]);
+        let short = Frame {
+            rgb: vec![0; 5],
+            ..checker(2, 2)
+        };
+        assert!(png_bytes(&short, &[]).is_err());
     }
 
     #[test]

@@ -2,12 +2,12 @@
 //! purple lander and legs with dark outlines, the two yellow helipad flags, plus flames for the
 //! engines that fired in the last step (Gymnasium draws exhaust particles instead). One pixel
 //! per `1/SCALE` m, `VIEWPORT_W × VIEWPORT_H` pixels, y up in the world and down in the image.
+//!
+//! It lives beside the environment (and is reached only through `Env::render`) so the lander
+//! and its picture change together; it draws with the crate's lowest layer, `crate::pixels`.
 
-use super::Frame;
-use crate::envs::box2d::LunarLander;
-use crate::envs::box2d::lunar_lander::{CHUNKS, LANDER_POLY, MAIN_ENGINE_Y_LOCATION};
-use crate::plot::png::Canvas;
-use crate::plot::scene::{Color, Stroke};
+use super::{CHUNKS, LANDER_POLY, LunarLander, MAIN_ENGINE_Y_LOCATION};
+use crate::pixels::{Canvas, Color, Frame, Stroke};
 
 const SKY: Color = Color(0, 0, 0);
 const GROUND: Color = Color(255, 255, 255);
@@ -112,9 +112,9 @@ fn outlined(c: &mut Canvas, pts: &[(f64, f64)]) {
 
 #[cfg(test)]
 mod tests {
+    use super::super::LunarLanderParams;
     use super::*;
     use crate::envs::Env;
-    use crate::envs::box2d::LunarLanderParams;
 
     #[test]
     fn nothing_before_reset_then_the_viewport() {

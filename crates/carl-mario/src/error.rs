@@ -1,0 +1,69 @@
+//! Typed errors: every bad input (missing data, corrupt weights, impossible sizes, unknown tiles)
+//! ends up here with a message that says what to do, never as a panic.
+
+use std::path::PathBuf;
+
+#[derive(Debug, thiserror::Error)]
+pub enum MarioError {
+    #[error(
+        "Mario data directory not found: {reason}.\n\
+         Set CARL_SPEC_DATA to a folder laid out like shared/data/, i.e. with \
+         mario/levels/original/lvl-1.txt … and mario/toad_gan/index.json + <generator>/{{manifest.json,weights.safetensors}}.\n\
+         The levels and TOAD-GAN generators are CARL's (github.com/automl/CARL, carl/envs/mario/pcg_smb_env); \
+         convert the generators with gen_toad_gan_weights.py (numpy only) as described in the data README."
+    )]
+    DataDirMissing { reason: String },
+
+    #[error("cannot read {path}: {source}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+
+    #[error("{path}: invalid JSON: {source}")]
+    Json {
+        path: PathBuf,
+        #[source]
+        source: serde_json::Error,
+    },
+
+    #[error("{path}: corrupt generator weights: {reason}")]
+    CorruptWeights { path: PathBuf, reason: String },
+
+    #[error("{path}: invalid generator manifest: {reason}")]
+    BadManifest { path: PathBuf, reason: String },
+
+    #[error("level_index {index} out of range: the data directory has {available} generators (0..={last})", last = available.saturating_sub(1))]
+    UnknownGenerator { index: usize, available: usize },
+
+    #[error("level width {width} out of range: TOAD-GAN levels are {min}..={max} tiles wide")]
+    WidthOutOfRange { width: usize, min: usize, max: usize },
+
+    #[error(
+        "generator {generator} cannot make a level {width} tiles wide: CARL computes the initial noise width \
+         as {initial_noise_width} but scale 0 as {scale0_width} and crashes (tensor size mismatch). \
+         Nearest widths that work: {below:?} and {above:?} (or allow the scale-0 width explicitly)"
+    )]
+    WidthCrashesInCarl {
+        generator: String,
+        width: usize,
+        initial_noise_width: usize,
+        scale0_width: usize,
+        below: Option<usize>,
+        above: Option<usize>,
+    },
+
+    #[error("{origin}: line {line}, column {column}: unknown tile character {ch:?}")]
+    UnknownTile {
+        origin: String,
+        line: usize,
+        column: usize,
+        ch: char,
+    },
+
+    #[error("{origin}: {reason}")]
+    BadLevel { origin: String, reason: String },
+}
+
+pub type Result<T> = std::result::Result<T, MarioError>;
