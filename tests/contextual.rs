@@ -122,24 +122,42 @@ fn random_selection_is_reproducible_from_the_seed() {
 
 #[test]
 fn initial_state_seed_derivation_is_documented() {
-    // Fixed default context: the runtime is reset with the first draw of the env stream.
+    // Fixed context: a seeded reset seeds the runtime with the seed itself, an unseeded one
+    // continues the runtime's stream (Gymnasium's reset(seed=s) then reset()).
     let specs = specs();
     let cp = spec(&specs, "cartpole");
     let mut w = ContextualEnv::new(cp, ContextSource::Fixed(Context::new()), ContextualOptions::default()).unwrap();
-    let (obs, _) = w.reset_with_info(Some(5)).unwrap();
-    let mut rng = Pcg64::new(5, stream_id(ENV_STREAM));
     let mut raw = make(cp, &Context::new()).unwrap();
-    assert_eq!(obs, raw.reset(Some(rng.next_u64())).0);
+    let (obs, _) = w.reset_with_info(Some(5)).unwrap();
+    assert_eq!(obs, raw.reset(Some(5)).0);
     let (obs2, _) = w.reset_with_info(None).unwrap();
+    assert_eq!(obs2, raw.reset(None).0);
+
+    // A set: the seed itself first, then the env stream's draws (one per reset).
+    let mut s = pendulum_set(Selection::Static(0), Visibility::Hidden);
+    let mut raw = make(
+        spec(&specs, "pendulum"),
+        &s.context_info()
+            .context
+            .iter()
+            .map(|(k, v)| (k.clone(), Value::Number(*v)))
+            .collect(),
+    )
+    .unwrap();
+    let (obs, _) = s.reset_with_info(Some(5)).unwrap();
+    assert_eq!(obs, raw.reset(Some(5)).0);
+    let mut rng = Pcg64::new(5, stream_id(ENV_STREAM));
+    rng.next_u64();
+    let (obs2, _) = s.reset_with_info(None).unwrap();
     assert_eq!(obs2, raw.reset(Some(rng.next_u64())).0);
 }
 
 #[test]
 fn selection_mode_does_not_change_initial_state_seeds() {
-    // Same seed, different selection modes, same instance by construction (Static 0 vs round robin
-    // at the first reset): identical first observations.
+    // Same seed, different selection modes, same instance by construction (Static 3 vs round robin
+    // after reset(Some(3))): identical first observations.
     let mut rr = pendulum_set(Selection::RoundRobin, Visibility::Hidden);
-    let mut st = pendulum_set(Selection::Static(0), Visibility::Hidden);
+    let mut st = pendulum_set(Selection::Static(3), Visibility::Hidden);
     assert_eq!(
         rr.reset_with_info(Some(3)).unwrap(),
         st.reset_with_info(Some(3)).unwrap()
@@ -147,20 +165,26 @@ fn selection_mode_does_not_change_initial_state_seeds() {
 }
 
 #[test]
-fn round_robin_cycles_in_order_and_ignores_seeds() {
+fn round_robin_cycles_in_order_from_the_seed() {
     let specs = specs();
     let set = load(&specs, SET);
     let n = set.instances.len();
     let mut env = pendulum_set(Selection::RoundRobin, Visibility::Hidden);
     assert_eq!(env.num_instances(), n);
     for k in 0..(2 * n + 3) {
-        // Seeding every episode must not restart the cycle.
+        // Seeding episodes with their number keeps the cycle in order.
         let seed = if k % 3 == 0 { Some(k as u64) } else { None };
         let (_, info) = env.reset_with_info(seed).unwrap();
         assert_eq!(info.instance_id, Some(k % n));
         assert_eq!(info.episode, k as u64);
         assert_eq!(env.instance_index(), k % n);
     }
+    // A seed determines the instances that follow.
+    let ids: Vec<_> = [Some(7), None, None, Some(7), None]
+        .into_iter()
+        .map(|s| env.reset_with_info(s).unwrap().1.instance_id.unwrap())
+        .collect();
+    assert_eq!(ids, [7, 8, 9, 7, 8]);
 }
 
 #[test]

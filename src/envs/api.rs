@@ -128,6 +128,10 @@ pub enum EnvError {
     },
     #[error("{env}: step() called before reset() or set_state()")]
     NeedsReset { env: &'static str },
+    /// A batch with autoreset disabled was stepped while environment `index` had finished its
+    /// episode (reset it first, e.g. with a reset mask).
+    #[error("{env}: environment {index} of the batch has finished its episode; reset it (reset mask) before stepping")]
+    EpisodeOver { env: &'static str, index: usize },
     /// A context could not be produced or applied at reset (e.g. a per-reset distribution draw
     /// failed); raised by [`ContextualEnv`](crate::envs::contextual::ContextualEnv).
     #[error("{env}: {message}")]

@@ -29,12 +29,15 @@
 //! (`stream_id` is FNV-1a 64 of the UTF-8 name, [`crate::sampling::stream_id`].)
 //! `reset(Some(s))` re-creates all three streams from `s`; `reset(None)` continues them. Before the
 //! first explicit seed they are seeded with `s = 0` ([`DEFAULT_SEED`]), so an unseeded wrapper is
-//! still deterministic. At every reset, in this order:
+//! still deterministic (the Python package seeds the first reset from OS entropy instead). At every
+//! reset, in this order:
 //!
 //! 1. **Instance** (sets only):
-//!    * `RoundRobin`: the `k`-th reset since construction (0-based) uses instance `k mod n`.
-//!      Seeds do not restart the cycle, so seeding every episode (`reset(Some(episode))`) still
-//!      visits every instance.
+//!    * `RoundRobin`: `reset(Some(s))` uses instance `s mod n`, each following `reset(None)` the
+//!      next one (cyclically); before any seed the cycle starts at 0. So the seed determines the
+//!      instances that follow, seeding every episode with its number (`reset(Some(episode))`)
+//!      still visits every instance in order, and the environments of a batch (seeds `s + i`)
+//!      start on different instances.
 //!    * `Random`: index = `below(selection, n)` ([`crate::sampling::dist::below`]: Lemire's
 //!      unbiased multiply-shift with rejection, one `next_u64` per draw except on rare rejections).
 //!      So after `reset(Some(s))` the instance is the first such draw of the selection stream
@@ -44,7 +47,12 @@
 //!    [`sample_distribution`]`(spec, name, dist, 1, context_seed)`'s single row over the spec's
 //!    defaults. `context_seed` is reported in [`ContextInfo::context_seed`], so any episode's
 //!    context can be re-drawn on its own.
-//! 3. **Initial state**: the runtime is reset with `Some(env.next_u64())`.
+//! 3. **Initial state**: one draw `e = env.next_u64()` is taken at every reset. A seeded reset
+//!    `reset(Some(s))` resets the runtime with `Some(s)` itself, so the episode starts where the
+//!    runtime (and, for the classic five, Gymnasium's env) seeded with `s` starts. An unseeded reset
+//!    of a fixed context continues the runtime's own stream (`reset_into(None)`: exactly
+//!    Gymnasium's `reset()` after `reset(seed=s)`); for sets and distributions, whose runtime
+//!    changes between episodes, the runtime is reset with `Some(e)`.
 //!
 //! The draws of one stream never depend on another stream, so switching, e.g., from `RoundRobin`
 //! to `Random` leaves the initial-state seeds unchanged.
@@ -269,6 +277,8 @@ pub struct ContextualEnv {
     /// What the agent observes of the visible features this step (true value + noise).
     observed: Vec<f32>,
     resets: u64,
+    /// Round robin: the instance of the next unseeded reset.
+    round_robin_next: u64,
 }
 
 fn make_err(who: &str) -> impl FnOnce(MakeError) -> ContextualError + '_ {
@@ -583,6 +593,7 @@ impl ContextualEnv {
             noise_redraw: options.noise.redraw,
             env_options: options.env_options.clone(),
             resets: 0,
+            round_robin_next: 0,
         };
         env.seed_streams(DEFAULT_SEED);
         Ok(env)
@@ -788,7 +799,12 @@ impl Env for ContextualEnv {
         let episode = self.resets;
         let index = match &self.mode {
             Mode::Set { selection } => match *selection {
-                Selection::RoundRobin => (episode % self.slots.len() as u64) as usize,
+                Selection::RoundRobin => {
+                    let n = self.slots.len() as u64;
+                    let i = seed.map_or(self.round_robin_next, |s| s % n);
+                    self.round_robin_next = (i + 1) % n;
+                    i as usize
+                }
                 Selection::Random => below(&mut self.selection_rng, self.slots.len() as u64) as usize,
                 Selection::Static(i) => i,
             },
@@ -800,12 +816,19 @@ impl Env for ContextualEnv {
                 0
             }
         };
-        let env_seed = self.env_rng.next_u64();
+        // A draw is taken at every reset, so the env stream's position depends only on the
+        // number of resets since the seed, whatever the mode.
+        let drawn = self.env_rng.next_u64();
+        let runtime_seed = match (seed, &self.mode) {
+            (Some(s), _) => Some(s),
+            (None, Mode::Fixed) => None,
+            (None, _) => Some(drawn),
+        };
         self.resets += 1;
         self.current = index;
         let slot = &mut self.slots[index];
         slot.info.episode = episode;
-        slot.env.reset_into(Some(env_seed), &mut obs[..self.base_dim])?;
+        slot.env.reset_into(runtime_seed, &mut obs[..self.base_dim])?;
         self.draw_observed();
         self.write_context(obs);
         Ok(())

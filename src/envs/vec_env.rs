@@ -12,6 +12,18 @@
 //!   `terminated[i]` and `truncated[i]` describe the step that ended the old one, and the
 //!   last observation of the finished episode is available from [`VecEnv::final_obs`] until
 //!   the next `step` / `reset`. No step is wasted on a reset.
+//! * **Autoreset: next-step and disabled** ([`AutoresetMode`], chosen at construction with
+//!   [`VecEnv::from_envs_with`] / [`VecEnv::from_contextual`]), as Gymnasium 1.x defines them. With
+//!   `NextStep`, the step that ends an episode returns its last observation in `obs`; the next
+//!   `step` resets that environment instead of stepping it (its action is ignored) and reports the
+//!   first observation with reward 0 and both flags false. With `Disabled`, finished environments
+//!   are never reset by `step`: [`VecEnv::reset_masked`] resets the ones the caller chooses, and
+//!   stepping a finished one is an [`EnvError::EpisodeOver`]. Both modes use the array of
+//!   environments (the CartPole kernel is same-step only).
+//! * **Contexts per environment.** [`VecEnv::from_contextual`] batches
+//!   [`ContextualEnv`]s: every (auto)reset of environment `i` re-selects its context (next
+//!   instance of a set, fresh draw of a distribution) from that environment's own streams, and
+//!   [`VecEnv::instance_ids`] reports each environment's current instance.
 //! * **Time limit.** Every environment counts its steps since its last reset and reports
 //!   `truncated` once the spec's `max_episode_steps` is reached, like [`TimeLimit`](super::TimeLimit).
 //! * **Bad input** (wrong number of actions, an out-of-range discrete action, a discrete action
@@ -39,6 +51,7 @@ use std::sync::Mutex;
 use super::api::{Action, Env, EnvError, Space};
 use super::classic::cartpole::{self, CartPoleConstants};
 use super::classic::{CartPole, CartPoleParams};
+use super::contextual::{ContextInfo, ContextualEnv};
 use super::pool::Pool;
 use super::registry::{Context, MakeError, MakeOptions, SpecEnv, VectorKernel, lookup, make_with};
 use super::rng::EnvRng;
@@ -72,6 +85,18 @@ pub enum Kernel {
     Auto,
     /// Always the array of scalar environments (for comparisons).
     ArrayOfEnvs,
+}
+
+/// When a finished environment is reset (Gymnasium's `AutoresetMode`; see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum AutoresetMode {
+    /// Reset within the step that ended the episode ([`VecEnv::final_obs`] keeps the last obs).
+    #[default]
+    SameStep,
+    /// Reset at the following step, which ignores that environment's action.
+    NextStep,
+    /// Never reset by `step`; the caller resets with [`VecEnv::reset_masked`].
+    Disabled,
 }
 
 /// Construction options.
@@ -138,6 +163,22 @@ enum Envs {
     CartPole(CartPoleSoa),
     /// Scalar environments plus one reusable `Action` each (so continuous actions don't allocate).
     Array(Vec<AnyEnv>, Vec<Action>),
+    /// Contextual environments (each re-selects its context at every reset), with actions as above.
+    Contextual(Vec<ContextualEnv>, Vec<Action>),
+}
+
+/// What a batch needs from its environments beyond [`Env`].
+trait BatchEnv: Env {
+    /// The current instance's id in its set, or -1.
+    fn instance_id(&self) -> i64 {
+        -1
+    }
+}
+impl BatchEnv for AnyEnv {}
+impl BatchEnv for ContextualEnv {
+    fn instance_id(&self) -> i64 {
+        self.context_info().instance_id.map_or(-1, |i| i as i64)
+    }
 }
 
 /// N environments of one kind stepped as a batch; see the [module docs](self).
@@ -156,6 +197,10 @@ pub struct VecEnv {
     rewards: Vec<f64>,
     terminated: Vec<bool>,
     truncated: Vec<bool>,
+    /// Per environment: finished and not yet reset (next-step and disabled modes).
+    pending: Vec<bool>,
+    instance_ids: Vec<i64>,
+    mode: AutoresetMode,
     ready: bool,
     pool: Pool,
     /// Smallest block of environments a thread claims (see [`block_size`]).
@@ -171,6 +216,8 @@ struct Raw {
     terminated: *mut bool,
     truncated: *mut bool,
     elapsed: *mut u64,
+    pending: *mut bool,
+    instance_ids: *mut i64,
 }
 unsafe impl Sync for Raw {}
 
@@ -212,6 +259,20 @@ impl VecEnv {
     /// Batch existing environments (all of one kind, typically from `registry::make`). Their
     /// contexts and episode limit are kept; their random streams are replaced at [`VecEnv::reset`].
     pub fn from_envs(envs: Vec<SpecEnv>, opts: VecOptions) -> Result<VecEnv, VecEnvError> {
+        Self::from_envs_with(envs, opts, AutoresetMode::SameStep)
+    }
+
+    /// [`VecEnv::from_envs`] with an autoreset mode (modes other than same-step use the array of
+    /// environments).
+    pub fn from_envs_with(envs: Vec<SpecEnv>, opts: VecOptions, mode: AutoresetMode) -> Result<VecEnv, VecEnvError> {
+        let opts = if mode == AutoresetMode::SameStep {
+            opts
+        } else {
+            VecOptions {
+                kernel: Kernel::ArrayOfEnvs,
+                ..opts
+            }
+        };
         let Some(first) = envs.first() else {
             return Err(VecEnvError::Empty);
         };
@@ -225,7 +286,6 @@ impl VecEnv {
         let max_steps = first.max_episode_steps().unwrap_or(u64::MAX);
         let proto = first.inner().clone();
         let n = envs.len();
-        let obs_dim = proto.obs_dim();
         let reg = lookup(id);
         let min_block = reg.map_or(1, |r| r.cost.min_block());
         let action = match proto.action_space() {
@@ -258,7 +318,73 @@ impl VecEnv {
                 Envs::Array(inner, vec![a; n])
             }
         };
-        Ok(VecEnv {
+        Ok(Self::assemble(id, proto, envs, max_steps, opts, mode, min_block))
+    }
+
+    /// Batch contextual environments (all of one kind). Each keeps its own source, selection and
+    /// streams; its episode limit is its own (the wrapped runtimes count their steps).
+    pub fn from_contextual(
+        envs: Vec<ContextualEnv>,
+        opts: VecOptions,
+        mode: AutoresetMode,
+    ) -> Result<VecEnv, VecEnvError> {
+        let Some(first) = envs.first() else {
+            return Err(VecEnvError::Empty);
+        };
+        let id = first.id();
+        if let Some(other) = envs.iter().find(|e| e.id() != id) {
+            return Err(VecEnvError::Mixed {
+                first: id,
+                other: other.id(),
+            });
+        }
+        let proto = first.inner().inner().clone();
+        let min_block = lookup(id).map_or(1, |r| r.cost.min_block());
+        let n = envs.len();
+        let a = match first.action_space() {
+            Space::Discrete { .. } => Action::Discrete(0),
+            s @ Space::Box { .. } => Action::Continuous(vec![0.0; s.flat_dim()]),
+        };
+        let mut v = Self::assemble(
+            id,
+            proto,
+            Envs::Contextual(envs, vec![a; n]),
+            u64::MAX,
+            opts,
+            mode,
+            min_block,
+        );
+        if let Envs::Contextual(envs, _) = &v.envs {
+            v.obs_dim = envs[0].obs_dim();
+            for (slot, e) in v.instance_ids.iter_mut().zip(envs) {
+                *slot = e.instance_id();
+            }
+        }
+        v.obs = vec![0.0; n * v.obs_dim];
+        v.final_obs = vec![0.0; n * v.obs_dim];
+        Ok(v)
+    }
+
+    fn assemble(
+        id: &'static str,
+        proto: AnyEnv,
+        envs: Envs,
+        max_steps: u64,
+        opts: VecOptions,
+        mode: AutoresetMode,
+        min_block: usize,
+    ) -> VecEnv {
+        let n = match &envs {
+            Envs::CartPole(s) => s.k.len(),
+            Envs::Array(e, _) => e.len(),
+            Envs::Contextual(e, _) => e.len(),
+        };
+        let obs_dim = proto.obs_dim();
+        let action = match proto.action_space() {
+            Space::Discrete { n, .. } => ActionKind::Discrete(n),
+            s @ Space::Box { .. } => ActionKind::Continuous(s.flat_dim()),
+        };
+        VecEnv {
             id,
             n,
             obs_dim,
@@ -272,11 +398,38 @@ impl VecEnv {
             rewards: vec![0.0; n],
             terminated: vec![false; n],
             truncated: vec![false; n],
+            pending: vec![false; n],
+            instance_ids: vec![-1; n],
+            mode,
             ready: false,
             pool: Pool::new(opts.threads.clamp(1, n)),
             min_block,
             error: Mutex::new(None),
-        })
+        }
+    }
+
+    /// The autoreset mode chosen at construction.
+    pub fn autoreset_mode(&self) -> AutoresetMode {
+        self.mode
+    }
+
+    /// Each environment's current instance id in its set (-1: not from a set).
+    pub fn instance_ids(&self) -> &[i64] {
+        &self.instance_ids
+    }
+
+    /// Environment `i`'s current context (contextual batches only).
+    pub fn context_info(&self, i: usize) -> Option<&ContextInfo> {
+        match &self.envs {
+            Envs::Contextual(envs, _) => envs.get(i).map(ContextualEnv::context_info),
+            _ => None,
+        }
+    }
+
+    /// Per environment: finished and waiting for a reset (next-step: at the next step; disabled:
+    /// by [`VecEnv::reset_masked`]).
+    pub fn pending_resets(&self) -> &[bool] {
+        &self.pending
     }
 
     pub fn id(&self) -> &'static str {
@@ -302,7 +455,10 @@ impl VecEnv {
     }
     /// Single-environment observation space.
     pub fn observation_space(&self) -> Space {
-        self.proto.observation_space()
+        match &self.envs {
+            Envs::Contextual(envs, _) => envs[0].observation_space(),
+            _ => self.proto.observation_space(),
+        }
     }
     /// Single-environment action space.
     pub fn action_space(&self) -> Space {
@@ -323,10 +479,12 @@ impl VecEnv {
         &self.truncated
     }
     /// Last observation of the episode environment `i` finished in the latest `step`
-    /// (`None` if it did not finish, or `i` is out of range).
+    /// (`None` if it did not finish, or `i` is out of range; always `None` unless autoreset is
+    /// same-step: in the other modes `obs` itself holds it).
     pub fn final_obs(&self, i: usize) -> Option<&[f32]> {
         let done = *self.terminated.get(i)? || self.truncated[i];
-        done.then(|| &self.final_obs[i * self.obs_dim..(i + 1) * self.obs_dim])
+        (done && self.mode == AutoresetMode::SameStep)
+            .then(|| &self.final_obs[i * self.obs_dim..(i + 1) * self.obs_dim])
     }
     /// The flat final-observation buffer (`num_envs × obs_dim`); row `i` is meaningful only where
     /// `terminated[i] || truncated[i]` after the latest step.
@@ -346,17 +504,29 @@ impl VecEnv {
         Some(match &self.envs {
             Envs::CartPole(s) => vec![s.x[i], s.x_dot[i], s.theta[i], s.theta_dot[i]],
             Envs::Array(envs, _) => envs[i].state(),
+            Envs::Contextual(envs, _) => envs[i].state(),
         })
     }
 
     /// Reset every environment; environment `i` is seeded with `seed.wrapping_add(i)`.
     /// Returns the first observations.
     pub fn reset(&mut self, seed: u64) -> &[f32] {
+        self.reset_masked(Some(seed), None)
+    }
+
+    /// Reset the environments where `mask` is true (all of them for `None`): environment `i` is
+    /// seeded with `seed.wrapping_add(i)`, or continues its own stream for `seed = None`. The
+    /// others keep their state, observation and flags. Returns the observations.
+    pub fn reset_masked(&mut self, seed: Option<u64>, mask: Option<&[bool]>) -> &[f32] {
         let d = self.obs_dim;
+        let chosen = |i: usize| mask.is_none_or(|m| m.get(i).copied().unwrap_or(false));
+        let seed_of = |i: usize| seed.map(|s| s.wrapping_add(i as u64));
         match &mut self.envs {
             Envs::CartPole(s) => {
-                for i in 0..self.n {
-                    s.rng[i] = EnvRng::from_seed(seed.wrapping_add(i as u64));
+                for i in (0..self.n).filter(|&i| chosen(i)) {
+                    if let Some(seed) = seed_of(i) {
+                        s.rng[i] = EnvRng::from_seed(seed);
+                    }
                     let (x, xd, th, thd) = cartpole_reset(&s.k[i], &mut s.rng[i]);
                     (s.x[i], s.x_dot[i], s.theta[i], s.theta_dot[i]) = (x, xd, th, thd);
                     write4(&mut self.obs[i * 4..i * 4 + 4], x, xd, th, thd);
@@ -364,15 +534,29 @@ impl VecEnv {
             }
             Envs::Array(envs, _) => {
                 for (i, (e, o)) in envs.iter_mut().zip(self.obs.chunks_exact_mut(d)).enumerate() {
-                    // The buffer has the right length, so this cannot fail.
-                    let _ = e.reset_into(Some(seed.wrapping_add(i as u64)), o);
+                    if chosen(i) {
+                        // The buffer has the right length, so this cannot fail.
+                        let _ = e.reset_into(seed_of(i), o);
+                    }
+                }
+            }
+            Envs::Contextual(envs, _) => {
+                for (i, (e, o)) in envs.iter_mut().zip(self.obs.chunks_exact_mut(d)).enumerate() {
+                    if chosen(i) {
+                        // A failed distribution draw leaves zeros (see `ContextualEnv::info`).
+                        let _ = e.reset_into(seed_of(i), o);
+                        self.instance_ids[i] = e.instance_id();
+                    }
                 }
             }
         }
-        self.elapsed.fill(0);
-        self.rewards.fill(0.0);
-        self.terminated.fill(false);
-        self.truncated.fill(false);
+        for i in (0..self.n).filter(|&i| chosen(i)) {
+            self.elapsed[i] = 0;
+            self.rewards[i] = 0.0;
+            self.terminated[i] = false;
+            self.truncated[i] = false;
+            self.pending[i] = false;
+        }
         self.ready = true;
         &self.obs
     }
@@ -390,7 +574,10 @@ impl VecEnv {
             terminated: self.terminated.as_mut_ptr(),
             truncated: self.truncated.as_mut_ptr(),
             elapsed: self.elapsed.as_mut_ptr(),
+            pending: self.pending.as_mut_ptr(),
+            instance_ids: self.instance_ids.as_mut_ptr(),
         };
+        let mode = self.mode;
         let block = block_size(n, self.pool.threads(), self.min_block);
         let error = &self.error;
         match (&mut self.envs, actions) {
@@ -410,19 +597,27 @@ impl VecEnv {
                 self.pool.run(n, block, &job);
             }
             (Envs::Array(envs, acts), actions) => {
-                let envs_p = SyncPtr(envs.as_mut_ptr());
-                let acts_p = SyncPtr(acts.as_mut_ptr());
-                let job = |r: Range<usize>| {
-                    // SAFETY: as above.
-                    let (envs, acts) = unsafe { (rows(envs_p.get(), &r, 1), rows(acts_p.get(), &r, 1)) };
-                    if let Err(e) = unsafe { array_chunk(envs, acts, &raw, actions, r, d, max_steps) } {
-                        if let Ok(mut slot) = error.lock() {
-                            slot.get_or_insert(e);
-                        }
-                    }
+                let env = ChunkEnv {
+                    raw: &raw,
+                    actions,
+                    d,
+                    max_steps,
+                    mode,
                 };
-                self.pool.run(n, block, &job);
-                if let Some(e) = self.error.lock().ok().and_then(|mut s| s.take()) {
+                if let Err(e) = step_array(&mut self.pool, error, envs, acts, &env, n, block) {
+                    self.ready = false;
+                    return Err(e);
+                }
+            }
+            (Envs::Contextual(envs, acts), actions) => {
+                let env = ChunkEnv {
+                    raw: &raw,
+                    actions,
+                    d,
+                    max_steps,
+                    mode,
+                };
+                if let Err(e) = step_array(&mut self.pool, error, envs, acts, &env, n, block) {
                     self.ready = false;
                     return Err(e);
                 }
@@ -490,6 +685,11 @@ impl VecEnv {
         }
         if !self.ready {
             return Err(EnvError::NeedsReset { env });
+        }
+        if self.mode == AutoresetMode::Disabled
+            && let Some(index) = self.pending.iter().position(|&p| p)
+        {
+            return Err(EnvError::EpisodeOver { env, index });
         }
         Ok(())
     }
@@ -596,20 +796,55 @@ unsafe fn cartpole_chunk(s: &SoaRaw, o: &Raw, actions: &[i64], r: Range<usize>, 
     }
 }
 
+/// What every chunk of an array-of-environments step shares.
+struct ChunkEnv<'a, 'b> {
+    raw: &'a Raw,
+    actions: VecActions<'b>,
+    d: usize,
+    max_steps: u64,
+    mode: AutoresetMode,
+}
+
+/// Run [`array_chunk`] over the whole batch on the pool; the first error wins.
+fn step_array<E: BatchEnv>(
+    pool: &mut Pool,
+    error: &Mutex<Option<EnvError>>,
+    envs: &mut [E],
+    acts: &mut [Action],
+    c: &ChunkEnv<'_, '_>,
+    n: usize,
+    block: usize,
+) -> Result<(), EnvError> {
+    let envs_p = SyncPtr(envs.as_mut_ptr());
+    let acts_p = SyncPtr(acts.as_mut_ptr());
+    let job = |r: Range<usize>| {
+        // SAFETY: every buffer has `n` rows; the pool hands out disjoint ranges.
+        let (envs, acts) = unsafe { (rows(envs_p.get(), &r, 1), rows(acts_p.get(), &r, 1)) };
+        if let Err(e) = unsafe { array_chunk(envs, acts, c, r) }
+            && let Ok(mut slot) = error.lock()
+        {
+            slot.get_or_insert(e);
+        }
+    };
+    pool.run(n, block, &job);
+    match error.lock().ok().and_then(|mut s| s.take()) {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
 /// The array-of-environments step for environments `r`.
 ///
 /// # Safety
 /// As [`cartpole_chunk`]; `envs` and `acts` are the rows `r`.
-unsafe fn array_chunk(
-    envs: &mut [AnyEnv],
+unsafe fn array_chunk<E: BatchEnv>(
+    envs: &mut [E],
     acts: &mut [Action],
-    o: &Raw,
-    actions: VecActions<'_>,
+    c: &ChunkEnv<'_, '_>,
     r: Range<usize>,
-    d: usize,
-    max_steps: u64,
 ) -> Result<(), EnvError> {
-    let (obs, fin, rew, term, trunc, el) = unsafe {
+    let (o, d, actions, max_steps) = (c.raw, c.d, c.actions, c.max_steps);
+    let (obs, fin, rew, term, trunc, el, pending, ids) = unsafe {
         (
             rows(o.obs, &r, d),
             rows(o.final_obs, &r, d),
@@ -617,10 +852,21 @@ unsafe fn array_chunk(
             rows(o.terminated, &r, 1),
             rows(o.truncated, &r, 1),
             rows(o.elapsed, &r, 1),
+            rows(o.pending, &r, 1),
+            rows(o.instance_ids, &r, 1),
         )
     };
     for j in 0..envs.len() {
         let i = r.start + j;
+        let row = j * d..(j + 1) * d;
+        if pending[j] {
+            // Next-step autoreset: this step resets instead of stepping (check() rejected
+            // stepping a finished environment when autoreset is disabled).
+            envs[j].reset_into(None, &mut obs[row])?;
+            ids[j] = envs[j].instance_id();
+            (rew[j], term[j], trunc[j], el[j], pending[j]) = (0.0, false, false, 0, false);
+            continue;
+        }
         match (&mut acts[j], actions) {
             (Action::Discrete(slot), VecActions::Discrete(a)) => *slot = a[i],
             (Action::Continuous(slot), VecActions::Continuous(a)) => {
@@ -629,19 +875,23 @@ unsafe fn array_chunk(
             }
             _ => unreachable!("rejected by check()"),
         }
-        let row = j * d..(j + 1) * d;
         let out = envs[j].step_into(&acts[j], &mut obs[row.clone()])?;
         let e = el[j] + 1;
         let truncated = out.truncated || e >= max_steps;
         rew[j] = out.reward;
         term[j] = out.terminated;
         trunc[j] = truncated;
+        el[j] = e;
         if out.terminated || truncated {
-            fin[row.clone()].copy_from_slice(&obs[row.clone()]);
-            envs[j].reset_into(None, &mut obs[row])?;
-            el[j] = 0;
-        } else {
-            el[j] = e;
+            match c.mode {
+                AutoresetMode::SameStep => {
+                    fin[row.clone()].copy_from_slice(&obs[row.clone()]);
+                    envs[j].reset_into(None, &mut obs[row])?;
+                    ids[j] = envs[j].instance_id();
+                    el[j] = 0;
+                }
+                AutoresetMode::NextStep | AutoresetMode::Disabled => pending[j] = true,
+            }
         }
     }
     Ok(())

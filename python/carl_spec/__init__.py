@@ -1,0 +1,74 @@
+"""carl-spec for Python: CARL's contextual environments, specs and frozen instance sets.
+
+    import carl_spec as cs
+    env = cs.make("cartpole", context={"masscart": 2.5})
+    venv = cs.make_vec("lunar_lander", 64, instances="lunar_lander/landing_in_space_train")
+    gymnasium.make("carl_spec/cartpole-v0")
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import gymnasium
+
+from . import _core
+from ._errors import UnknownNameError
+from .env import CarlEnv
+from .specs import Diagnostic, InstanceSet, Spec, ValidationReport, instances, list_envs, sample, spec, validate
+from .vector import CarlVectorEnv
+
+__version__: str = _core.VERSION
+RUNTIMES: list[str] = list(_core.RUNTIMES)
+
+__all__ = [
+    "CarlEnv",
+    "CarlVectorEnv",
+    "Diagnostic",
+    "InstanceSet",
+    "RUNTIMES",
+    "Spec",
+    "UnknownNameError",
+    "ValidationReport",
+    "gym_id",
+    "instances",
+    "list_envs",
+    "make",
+    "make_vec",
+    "sample",
+    "spec",
+    "validate",
+]
+
+
+def make(env: str, **kwargs: Any) -> CarlEnv:
+    """One environment; see `CarlEnv` for the keyword arguments."""
+    return CarlEnv(env, **kwargs)
+
+
+def make_vec(env: str, num_envs: int, **kwargs: Any) -> CarlVectorEnv:
+    """`num_envs` environments stepped as one batch in Rust; see `CarlVectorEnv`."""
+    return CarlVectorEnv(env, num_envs, **kwargs)
+
+
+def gym_id(env: str) -> str:
+    """The Gymnasium id of a runtime, e.g. `carl_spec/cartpole-v0`."""
+    return f"carl_spec/{env}-v0"
+
+
+def _register() -> None:
+    # Gymnasium's registry is its own global; registering once per id at import is its convention.
+    for env_id in RUNTIMES:
+        name = gym_id(env_id)
+        if name not in gymnasium.registry:
+            gymnasium.register(
+                id=name,
+                entry_point="carl_spec.env:CarlEnv",
+                vector_entry_point="carl_spec.vector:CarlVectorEnv",
+                kwargs={"env": env_id},
+                # The runtime truncates at the spec's episode limit itself.
+                max_episode_steps=None,
+            )
+
+
+_register()

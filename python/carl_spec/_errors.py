@@ -1,0 +1,9 @@
+"""Exceptions raised by carl_spec (the native module raises these with the library's message)."""
+
+
+class UnknownNameError(KeyError, ValueError):
+    """An unknown environment, feature, distribution or instance set; the message names the valid
+    ones (and suggests the closest). Both a KeyError and a ValueError, so either `except` works."""
+
+    def __str__(self) -> str:  # KeyError would print the message in quotes
+        return str(self.args[0]) if self.args else ""

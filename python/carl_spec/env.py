@@ -1,0 +1,145 @@
+"""`carl_spec.make`: one contextual environment as a `gymnasium.Env` (the Rust `ContextualEnv`)."""
+
+from __future__ import annotations
+
+import json
+import os
+from typing import Any, SupportsFloat
+
+import gymnasium
+import numpy as np
+
+from . import _core
+from ._spaces import space_from_json
+
+
+def os_entropy_seed() -> int:
+    """A 64-bit seed from the OS (what an env never seeded uses, so parallel workers differ)."""
+    return int.from_bytes(os.urandom(8), "little")
+
+
+def _ctor_kwargs(
+    context: dict[str, Any] | None,
+    instances: str | None,
+    distribution: str | None,
+    selection: str,
+    instance: int | None,
+    obs_context: list[str] | bool | None,
+    specs_dir: str | os.PathLike[str] | None,
+) -> dict[str, Any]:
+    return {
+        "context_json": None if context is None else json.dumps(context),
+        "instances": instances,
+        "distribution": distribution,
+        "selection": selection,
+        "instance": instance,
+        "obs_context": list(obs_context) if isinstance(obs_context, (list, tuple)) else obs_context,
+        "specs_dir": None if specs_dir is None else os.fspath(specs_dir),
+    }
+
+
+def _fresh(info: dict[str, Any]) -> dict[str, Any]:
+    """A copy users may keep and modify (the context dict is the only nested object)."""
+    out = dict(info)
+    out["context"] = dict(info["context"])
+    return out
+
+
+class CarlEnv(gymnasium.Env[np.ndarray, Any]):
+    """A carl-spec environment under a context source.
+
+    Exactly one of `context` (a fixed context: feature -> value, missing features at their
+    defaults), `instances` (a frozen set `ENV/SET`, chosen per reset by `selection`:
+    "round_robin", "random" or "static" with `instance=i`) or `distribution` (a named
+    distribution of the spec, drawn afresh at every reset); none means the default context.
+    `obs_context` appends features to the observation (a list of names, or True for all).
+
+    Seeding: `reset(seed=s)` determines everything that follows (instance choice, draws, initial
+    states); the classic five start from the state Gymnasium's env starts from with seed `s`.
+    An env never seeded draws its first seed from the OS.
+    """
+
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 50}
+
+    def __init__(
+        self,
+        env: str,
+        *,
+        context: dict[str, Any] | None = None,
+        instances: str | None = None,
+        distribution: str | None = None,
+        selection: str = "round_robin",
+        instance: int | None = None,
+        obs_context: list[str] | bool | None = None,
+        render_mode: str | None = None,
+        specs_dir: str | os.PathLike[str] | None = None,
+    ) -> None:
+        self._ctor: dict[str, Any] = dict(
+            env=env,
+            context=context,
+            instances=instances,
+            distribution=distribution,
+            selection=selection,
+            instance=instance,
+            obs_context=obs_context,
+            render_mode=render_mode,
+            specs_dir=specs_dir,
+        )
+        kw = _ctor_kwargs(context, instances, distribution, selection, instance, obs_context, specs_dir)
+        self._core = _core.Env(env, **kw)
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(f"render_mode must be one of {self.metadata['render_modes']} or None, got {render_mode!r}")
+        if render_mode is not None and not self._core.has_renderer():
+            raise ValueError(f"{self._core.id} has no renderer; use render_mode=None")
+        self.render_mode = render_mode
+        self.env_id: str = self._core.id
+        self.observation_space = space_from_json(json.loads(self._core.observation_space_json()))
+        self.action_space = space_from_json(json.loads(self._core.action_space_json()))
+        self._discrete = isinstance(self.action_space, gymnasium.spaces.Discrete)
+        self._seeded = False
+        self._info: dict[str, Any] = {}
+
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[np.ndarray, dict[str, Any]]:
+        super().reset(seed=seed)
+        if seed is None and not self._seeded:
+            seed = os_entropy_seed()
+        if seed is not None:
+            self._seeded = True
+        obs, info = self._core.reset(seed)
+        if "context_seed" in info:
+            # A NumPy scalar, so Gymnasium's vector envs can batch it (it may exceed int64).
+            info["context_seed"] = np.uint64(info["context_seed"])
+        self._info = info
+        return obs, _fresh(info)
+
+    def step(self, action: Any) -> tuple[np.ndarray, SupportsFloat, bool, bool, dict[str, Any]]:
+        if not self._discrete:
+            action = np.asarray(action, dtype=np.float32).reshape(-1)
+        obs, reward, terminated, truncated = self._core.step(action)
+        return obs, reward, terminated, truncated, _fresh(self._info)
+
+    def render(self) -> np.ndarray | None:
+        if self.render_mode == "rgb_array":
+            return self._core.render()
+        return None
+
+    @property
+    def context(self) -> dict[str, float]:
+        """The current episode's context (every feature, canonical names)."""
+        return dict(self._info.get("context", self._core.info()["context"]))
+
+    @property
+    def state(self) -> list[float]:
+        """The runtime's internal float64 state."""
+        return self._core.state()
+
+    def set_state(self, state: list[float]) -> None:
+        self._core.set_state(list(state))
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        # Pickles as its constructor arguments (AsyncVectorEnv, SubprocVecEnv, Ray ship envs so).
+        return (_rebuild_env, (self._ctor,))
+
+
+def _rebuild_env(ctor: dict[str, Any]) -> CarlEnv:
+    return CarlEnv(**ctor)

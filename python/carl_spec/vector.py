@@ -1,0 +1,158 @@
+"""`carl_spec.make_vec`: a batch stepped in Rust as one `gymnasium.vector.VectorEnv`."""
+
+from __future__ import annotations
+
+import json
+import os
+from typing import Any
+
+import gymnasium
+import numpy as np
+from gymnasium.vector import AutoresetMode
+from gymnasium.vector.utils import batch_space
+
+from . import _core
+from ._spaces import space_from_json
+from .env import _ctor_kwargs, os_entropy_seed
+
+_MODES = {
+    "next_step": AutoresetMode.NEXT_STEP,
+    "same_step": AutoresetMode.SAME_STEP,
+    "disabled": AutoresetMode.DISABLED,
+}
+
+
+def _mode_name(mode: str | AutoresetMode) -> str:
+    if isinstance(mode, AutoresetMode):
+        return {v: k for k, v in _MODES.items()}[mode]
+    return str(mode)
+
+
+class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
+    """`num_envs` environments stepped by one call into Rust (GIL released, `threads` threads).
+
+    Each environment has its own context source state: with `instances` or `distribution`, every
+    (auto)reset of environment `i` re-selects its context from its own streams, and
+    `infos["instance_id"]` holds every environment's instance. `autoreset_mode` is Gymnasium's:
+    "next_step" (default), "same_step" (`final_obs` / `final_info` in the infos) or "disabled"
+    (reset with `options={"reset_mask": mask}`). `reset(seed=s)` seeds environment `i` with
+    `s + i`, as Gymnasium's vector envs do.
+    """
+
+    def __init__(
+        self,
+        env: str,
+        num_envs: int,
+        *,
+        context: dict[str, Any] | None = None,
+        instances: str | None = None,
+        distribution: str | None = None,
+        selection: str = "round_robin",
+        instance: int | None = None,
+        obs_context: list[str] | bool | None = None,
+        autoreset_mode: str | AutoresetMode = "next_step",
+        threads: int = 1,
+        specs_dir: str | os.PathLike[str] | None = None,
+        render_mode: str | None = None,
+    ) -> None:
+        if render_mode is not None:
+            raise ValueError("make_vec does not render; use carl_spec.make(..., render_mode='rgb_array')")
+        mode = _mode_name(autoreset_mode)
+        self._ctor: dict[str, Any] = dict(
+            env=env,
+            num_envs=num_envs,
+            context=context,
+            instances=instances,
+            distribution=distribution,
+            selection=selection,
+            instance=instance,
+            obs_context=obs_context,
+            autoreset_mode=mode,
+            threads=threads,
+            specs_dir=specs_dir,
+        )
+        kw = _ctor_kwargs(context, instances, distribution, selection, instance, obs_context, specs_dir)
+        self._core = _core.VecEnv(env, num_envs, autoreset_mode=mode, threads=threads, **kw)
+        self.num_envs = num_envs
+        self.render_mode = None
+        self.metadata = {"autoreset_mode": _MODES[mode], "render_modes": []}
+        self.single_observation_space = space_from_json(json.loads(self._core.observation_space_json()))
+        self.single_action_space = space_from_json(json.loads(self._core.action_space_json()))
+        self.observation_space = batch_space(self.single_observation_space, num_envs)
+        self.action_space = batch_space(self.single_action_space, num_envs)
+        self._discrete = isinstance(self.single_action_space, gymnasium.spaces.Discrete)
+        self._contextual = self._core.contextual
+        self._seeded = False
+        self._mode = _MODES[mode]
+        self._all = np.ones(num_envs, dtype=np.bool_)
+
+    def _context_infos(self, infos: dict[str, Any]) -> dict[str, Any]:
+        if self._contextual:
+            infos["instance_id"] = self._core.instance_ids()
+            infos["_instance_id"] = self._all
+        return infos
+
+    def reset(
+        self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        mask = None
+        if options is not None and "reset_mask" in options:
+            if self._mode != AutoresetMode.DISABLED:
+                raise ValueError("options['reset_mask'] is for autoreset_mode='disabled'")
+            mask = np.asarray(options["reset_mask"])
+            if mask.dtype != np.bool_ or mask.shape != (self.num_envs,) or not mask.any():
+                raise ValueError(f"options['reset_mask'] must be a bool array of shape ({self.num_envs},) with a True value")
+        if isinstance(seed, (list, tuple)):
+            if len(seed) != self.num_envs:
+                raise ValueError(f"seed list must have num_envs={self.num_envs} entries, got {len(seed)}")
+            base = np.zeros(self.num_envs, dtype=np.bool_) if mask is None else ~mask
+            obs = None
+            for i, s in enumerate(seed):
+                if not base[i]:
+                    one = np.zeros(self.num_envs, dtype=np.bool_)
+                    one[i] = True
+                    # The batch seeds env i with seed + i; pass s - i (mod 2^64).
+                    s_i = None if s is None else (int(s) - i) % 2**64
+                    if s is None and not self._seeded:
+                        s_i = (os_entropy_seed() - i) % 2**64
+                    obs = self._core.reset(s_i, one)
+            self._seeded = True
+            return self._core.reset(None, np.zeros(self.num_envs, dtype=np.bool_)) if obs is None else obs, self._context_infos({})
+        if seed is None and not self._seeded:
+            seed = os_entropy_seed()
+        if seed is not None:
+            self._seeded = True
+            seed = int(seed) % 2**64
+        obs = self._core.reset(seed, mask)
+        return obs, self._context_infos({})
+
+    def step(self, actions: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+        if self._discrete:
+            a = np.ascontiguousarray(actions, dtype=np.int64).reshape(self.num_envs)
+        else:
+            a = np.ascontiguousarray(actions, dtype=np.float32)
+        obs, rewards, terminated, truncated = self._core.step(a)
+        infos: dict[str, Any] = {}
+        if self._mode == AutoresetMode.SAME_STEP:
+            done = terminated | truncated
+            if done.any():
+                # Gymnasium's layout (what VectorEnv._add_info builds env by env): an object array
+                # of final observations (None elsewhere) and masks.
+                final = self._core.final_obs()
+                final_obs = np.full(self.num_envs, None, dtype=object)
+                for i in np.flatnonzero(done):
+                    final_obs[i] = final[i]
+                infos = {"final_obs": final_obs, "_final_obs": done, "final_info": {}, "_final_info": done}
+        return obs, rewards, terminated, truncated, self._context_infos(infos)
+
+    def context_info(self, i: int) -> dict[str, Any] | None:
+        """Environment `i`'s current context info (contexts from a set or distribution)."""
+        return self._core.context_info(i)
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (_rebuild_vec, (self._ctor,))
+
+
+def _rebuild_vec(ctor: dict[str, Any]) -> CarlVectorEnv:
+    ctor = dict(ctor)
+    return CarlVectorEnv(ctor.pop("env"), ctor.pop("num_envs"), **ctor)

@@ -1,0 +1,123 @@
+"""make_vec is a conforming gymnasium VectorEnv in all three autoreset modes: step for step equal
+to Gymnasium's own SyncVectorEnv over cs.make envs, plus the modes' defining behaviour."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from gymnasium.vector import AutoresetMode, SyncVectorEnv
+
+import carl_spec as cs
+
+MODES = {"next_step": AutoresetMode.NEXT_STEP, "same_step": AutoresetMode.SAME_STEP, "disabled": AutoresetMode.DISABLED}
+
+
+def _pair(env_id: str, n: int, mode: str, **kw: object) -> tuple[cs.CarlVectorEnv, SyncVectorEnv]:
+    ours = cs.make_vec(env_id, n, autoreset_mode=mode, **kw)
+    ref = SyncVectorEnv([lambda: cs.make(env_id, **kw) for _ in range(n)], autoreset_mode=MODES[mode])
+    return ours, ref
+
+
+@pytest.mark.parametrize("mode", list(MODES))
+@pytest.mark.parametrize(
+    "env_id,kw",
+    [
+        ("cartpole", {}),
+        ("pendulum", {"distribution": "q1_g_sigma_0_5"}),
+        ("pendulum", {"instances": "pendulum/q1_g_sigma_0_5", "selection": "random", "obs_context": True}),
+        ("lunar_lander", {"instances": "lunar_lander/landing_in_space_train", "obs_context": ["GRAVITY_Y"]}),
+    ],
+    ids=["cartpole", "pendulum-dist", "pendulum-set", "lunar-set"],
+)
+def test_equals_sync_vector_env(mode: str, env_id: str, kw: dict[str, object]) -> None:
+    n = 5
+    ours, ref = _pair(env_id, n, mode, **kw)
+    assert ours.metadata["autoreset_mode"] == MODES[mode]
+    assert ours.single_observation_space == ref.single_observation_space
+    a, _ = ours.reset(seed=21)
+    b, _ = ref.reset(seed=21)
+    np.testing.assert_array_equal(a, b)
+    ours.action_space.seed(1)
+    finished = 0
+    for t in range(400):
+        actions = ours.action_space.sample()
+        a, ra, ta, ua, ia = ours.step(actions)
+        b, rb, tb, ub, ib = ref.step(actions)
+        np.testing.assert_array_equal(a, b, err_msg=f"step {t}")
+        np.testing.assert_array_equal(ra, rb)
+        np.testing.assert_array_equal(ta, tb)
+        np.testing.assert_array_equal(ua, ub)
+        assert a.dtype == b.dtype and ra.dtype == np.float64 and ta.dtype == np.bool_
+        done = ta | ua
+        finished += int(done.sum())
+        if mode == "same_step" and done.any():
+            np.testing.assert_array_equal(ia["_final_obs"], ib["_final_obs"])
+            for i in np.flatnonzero(done):
+                np.testing.assert_array_equal(ia["final_obs"][i], ib["final_obs"][i])
+        if mode == "disabled" and done.any():
+            a, _ = ours.reset(options={"reset_mask": done})
+            b, _ = ref.reset(options={"reset_mask": done})
+            np.testing.assert_array_equal(a, b)
+    assert finished > 0
+
+
+def test_next_step_resets_on_the_following_step() -> None:
+    venv = cs.make_vec("cartpole", 2, autoreset_mode="next_step")
+    single = cs.make("cartpole")
+    venv.reset(seed=0)
+    single.reset(seed=0)
+    for _ in range(500):
+        obs, rew, term, trunc, _ = venv.step(np.array([1, 0]))
+        o, r, t, u, _ = single.step(1)
+        np.testing.assert_array_equal(obs[0], o)
+        if t or u:
+            break
+    assert term[0]
+    # The next step ignores env 0's action, returns the reset observation, reward 0, no flags.
+    obs, rew, term, trunc, _ = venv.step(np.array([1, 0]))
+    o, _ = single.reset()
+    np.testing.assert_array_equal(obs[0], o)
+    assert rew[0] == 0.0 and not term[0] and not trunc[0]
+
+
+def test_disabled_refuses_to_step_a_finished_env() -> None:
+    venv = cs.make_vec("cartpole", 2, autoreset_mode="disabled")
+    venv.reset(seed=0)
+    for _ in range(500):
+        _, _, term, trunc, _ = venv.step(np.array([1, 1]))
+        if (term | trunc).any():
+            break
+    with pytest.raises(RuntimeError, match="reset mask"):
+        venv.step(np.array([1, 1]))
+    venv.reset(options={"reset_mask": term | trunc})
+    venv.step(np.array([1, 1]))
+    with pytest.raises(ValueError, match="reset_mask"):
+        cs.make_vec("cartpole", 2).reset(options={"reset_mask": np.array([True, False])})
+
+
+def test_seed_list_and_threads_do_not_change_results() -> None:
+    a = cs.make_vec("lunar_lander", 4, threads=1)
+    b = cs.make_vec("lunar_lander", 4, threads=2)
+    oa, _ = a.reset(seed=[3, 4, 5, 6])
+    ob, _ = b.reset(seed=3)
+    np.testing.assert_array_equal(oa, ob)
+    a.action_space.seed(0)
+    for _ in range(50):
+        act = a.action_space.sample()
+        np.testing.assert_array_equal(a.step(act)[0], b.step(act)[0])
+
+
+def test_instance_ids_reported_and_reselected_at_autoreset() -> None:
+    name = "pendulum/" + sorted(cs.spec("pendulum").instance_sets)[0]
+    n_inst = len(cs.instances.load(name))
+    venv = cs.make_vec("pendulum", 3, instances=name, selection="random", autoreset_mode="same_step")
+    _, info = venv.reset(seed=0)
+    ids = [info["instance_id"].copy()]
+    assert info["instance_id"].dtype == np.int64 and ((0 <= ids[0]) & (ids[0] < n_inst)).all()
+    for _ in range(3 * 200):
+        _, _, _, trunc, info = venv.step(venv.action_space.sample())
+        if trunc.any():
+            ids.append(info["instance_id"].copy())
+    assert len({tuple(x) for x in ids}) > 1, "instances must be re-selected at autoreset"
+    ctx = venv.context_info(0)
+    assert ctx is not None and ctx["instance_id"] == info["instance_id"][0]

@@ -1,0 +1,144 @@
+//! `VecEnv`'s next-step and disabled autoreset modes and its contextual batches, against scalar
+//! environments stepped by hand with Gymnasium 1.x's rules.
+
+use carl_spec::envs::contextual::{ContextSource, ContextualEnv, ContextualOptions, Selection, Visibility};
+use carl_spec::envs::registry::{Context, SpecEnv, make};
+use carl_spec::envs::vec_env::{AutoresetMode, VecActions, VecEnv, VecOptions};
+use carl_spec::envs::{Action, Env, EnvError};
+use carl_spec::instances::Store;
+use carl_spec::spec::SpecSet;
+
+const N: usize = 3;
+
+fn cartpoles(specs: &SpecSet) -> Vec<SpecEnv> {
+    let spec = specs.get("cartpole").unwrap();
+    (0..N).map(|_| make(spec, &Context::new()).unwrap()).collect()
+}
+
+/// Next-step: the step after an episode ends resets that environment (its action ignored) and
+/// reports reward 0 and no flags; the ending step reports the episode's last observation.
+#[test]
+fn next_step_mode_follows_gymnasium() {
+    let specs = SpecSet::bundled().unwrap();
+    let mut scalar = cartpoles(&specs);
+    let mut venv = VecEnv::from_envs_with(cartpoles(&specs), VecOptions::default(), AutoresetMode::NextStep).unwrap();
+    assert!(!venv.is_soa());
+    venv.reset(7);
+    let mut pending = [false; N];
+    let mut obs = vec![0.0f32; 4];
+    for (i, e) in scalar.iter_mut().enumerate() {
+        e.reset_into(Some(7 + i as u64), &mut obs).unwrap();
+        assert_eq!(&venv.obs()[i * 4..i * 4 + 4], &obs[..]);
+    }
+    let mut finished = 0;
+    for t in 0..400 {
+        let actions: Vec<i64> = (0..N).map(|i| ((t + i) % 2) as i64).collect();
+        let step = venv.step(VecActions::Discrete(&actions)).unwrap();
+        let (o, r, te, tr) = (
+            step.obs.to_vec(),
+            step.rewards.to_vec(),
+            step.terminated.to_vec(),
+            step.truncated.to_vec(),
+        );
+        for i in 0..N {
+            if pending[i] {
+                scalar[i].reset_into(None, &mut obs).unwrap();
+                assert_eq!((r[i], te[i], tr[i]), (0.0, false, false));
+                pending[i] = false;
+            } else {
+                let out = scalar[i].step_into(&Action::Discrete(actions[i]), &mut obs).unwrap();
+                assert_eq!((r[i], te[i], tr[i]), (out.reward, out.terminated, out.truncated));
+                if out.terminated || out.truncated {
+                    pending[i] = true;
+                    finished += 1;
+                    assert!(venv.final_obs(i).is_none());
+                }
+            }
+            assert_eq!(&o[i * 4..i * 4 + 4], &obs[..], "env {i} step {t}");
+        }
+        assert_eq!(venv.pending_resets(), &pending[..]);
+    }
+    assert!(finished > N);
+}
+
+/// Disabled: nothing resets by itself, stepping a finished environment is refused before anything
+/// moves, and a masked reset resets only the chosen environments (seeded `seed + i`).
+#[test]
+fn disabled_mode_needs_masked_resets() {
+    let specs = SpecSet::bundled().unwrap();
+    let mut venv = VecEnv::from_envs_with(cartpoles(&specs), VecOptions::default(), AutoresetMode::Disabled).unwrap();
+    venv.reset(0);
+    let mut done_at = None;
+    for t in 0..500 {
+        let step = venv.step(VecActions::Discrete(&[1, 1, 1])).unwrap();
+        if step.terminated.iter().any(|&x| x) {
+            done_at = Some(t);
+            break;
+        }
+    }
+    assert!(done_at.is_some());
+    let before = venv.obs().to_vec();
+    let err = venv.step(VecActions::Discrete(&[1, 1, 1])).unwrap_err();
+    assert!(matches!(err, EnvError::EpisodeOver { index: 0, .. }), "{err}");
+    assert_eq!(venv.obs(), &before[..], "a refused step moves nothing");
+    let mask = [true, false, true];
+    venv.reset_masked(Some(100), Some(&mask));
+    let spec = specs.get("cartpole").unwrap();
+    let mut e = make(spec, &Context::new()).unwrap();
+    let mut obs = vec![0.0f32; 4];
+    e.reset_into(Some(102), &mut obs).unwrap();
+    assert_eq!(&venv.obs()[8..12], &obs[..]);
+    assert_eq!(&venv.obs()[4..8], &before[4..8]);
+    assert_eq!(venv.pending_resets(), &[false, false, false]);
+    venv.step(VecActions::Discrete(&[0, 0, 0])).unwrap();
+}
+
+/// A contextual batch equals its contextual environments stepped one by one (same-step), and
+/// re-selects each environment's instance at every automatic reset.
+#[test]
+fn contextual_batch_equals_scalar_contextual_envs() {
+    let specs = SpecSet::bundled().unwrap();
+    let spec = specs.get("pendulum").unwrap();
+    let set = Store::new(&specs).load("pendulum/q1_g_sigma_0_5").unwrap();
+    let opts = ContextualOptions {
+        selection: Selection::Random,
+        visibility: Visibility::Hidden,
+        ..ContextualOptions::default()
+    };
+    let proto = ContextualEnv::new(spec, ContextSource::Set(set), opts).unwrap();
+    let mut scalar = vec![proto.clone(); N];
+    let threads = VecOptions {
+        threads: 2,
+        ..VecOptions::default()
+    };
+    let mut venv = VecEnv::from_contextual(vec![proto; N], threads, AutoresetMode::SameStep).unwrap();
+    venv.reset(5);
+    let mut obs = vec![0.0f32; 3];
+    for (i, e) in scalar.iter_mut().enumerate() {
+        e.reset_into(Some(5 + i as u64), &mut obs).unwrap();
+        assert_eq!(&venv.obs()[i * 3..i * 3 + 3], &obs[..]);
+        assert_eq!(venv.instance_ids()[i], e.context_info().instance_id.unwrap() as i64);
+    }
+    let mut seen = std::collections::BTreeSet::new();
+    for t in 0..650 {
+        let a: Vec<f32> = (0..N).map(|i| ((t * 7 + i * 3) % 5) as f32 - 2.0).collect();
+        let step = venv.step(VecActions::Continuous(&a)).unwrap();
+        let (o, r, tr) = (step.obs.to_vec(), step.rewards.to_vec(), step.truncated.to_vec());
+        for (i, e) in scalar.iter_mut().enumerate() {
+            let out = e.step_into(&Action::Continuous(vec![a[i]]), &mut obs).unwrap();
+            assert_eq!((r[i], tr[i]), (out.reward, out.truncated));
+            if out.truncated {
+                assert_eq!(venv.final_obs(i).unwrap(), &obs[..]);
+                e.reset_into(None, &mut obs).unwrap();
+            }
+            assert_eq!(&o[i * 3..i * 3 + 3], &obs[..]);
+            assert_eq!(venv.instance_ids()[i], e.context_info().instance_id.unwrap() as i64);
+            seen.insert(venv.instance_ids()[i]);
+        }
+    }
+    assert!(seen.len() > N, "instances are re-selected at autoreset: {seen:?}");
+    assert_eq!(
+        venv.context_info(0).unwrap().instance_id,
+        scalar[0].context_info().instance_id
+    );
+}
