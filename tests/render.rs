@@ -161,7 +161,7 @@ fn clear_errors_for_bad_requests() {
             assert!(ids.contains(&"lunar_lander") && ids.contains(&"fetch"), "{err}");
             assert!(
                 !ids.iter()
-                    .any(|i| ["cartpole", "pendulum", "mario", "rna_design"].contains(i)),
+                    .any(|i| ["cartpole", "pendulum", "rna_design"].contains(i)),
                 "{err}"
             );
         }
