@@ -180,7 +180,10 @@ fn audit_exit_codes_and_formats() {
             // Only a computed default (Mario's `noise`, CARL's sampling; its effect on the level
             // is tested in tests/mario_env.rs) has no value to perturb around.
             // Likewise a string choice (RNA's `dataset`).
-            if f["skipped"].as_str().is_some_and(|s| s.contains("computed default") || s.contains("without numeric choices")) {
+            if f["skipped"]
+                .as_str()
+                .is_some_and(|s| s.contains("computed default") || s.contains("without numeric choices"))
+            {
                 continue;
             }
             if f.get("skipped").is_some() {
@@ -189,7 +192,10 @@ fn audit_exit_codes_and_formats() {
                 let spec = specs.get(id.as_str().unwrap()).unwrap();
                 let feature = spec.feature(f["name"].as_str().unwrap()).unwrap();
                 assert!(
-                    feature.affects.iter().all(|e| *e == carl_spec::spec::model::Effect::TaskGeneration),
+                    feature
+                        .affects
+                        .iter()
+                        .all(|e| *e == carl_spec::spec::model::Effect::TaskGeneration),
                     "{id}.{} skipped: {}",
                     f["name"],
                     f["skipped"]

@@ -233,3 +233,27 @@ fn variant_options_select_the_environment_variant() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("true or false"), "{}", stderr(&o));
 }
+
+#[test]
+fn the_data_directory_can_be_named_on_the_command_line() {
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data");
+    if !data.join("mario").is_dir() {
+        eprintln!("no ../shared/data/mario beside the checkout: skipped");
+        return;
+    }
+    let o = bin()
+        .env_remove("CARL_SPEC_DATA")
+        .arg("--data-dir")
+        .arg(&data)
+        .args(["rollout", "mario", "--steps", "1"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = bin()
+        .env_remove("CARL_SPEC_DATA")
+        .args(["--data-dir", "/no/such/dir", "rollout", "mario"])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("not a directory"), "{}", stderr(&o));
+}

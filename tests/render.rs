@@ -160,8 +160,7 @@ fn clear_errors_for_bad_requests() {
             let ids: Vec<&str> = list.trim().split(", ").collect();
             assert!(ids.contains(&"lunar_lander") && ids.contains(&"fetch"), "{err}");
             assert!(
-                !ids.iter()
-                    .any(|i| ["cartpole", "pendulum", "rna_design"].contains(i)),
+                !ids.iter().any(|i| ["cartpole", "pendulum", "rna_design"].contains(i)),
                 "{err}"
             );
         }

@@ -29,6 +29,10 @@ pub struct Cli {
     /// An extra directory of spec files, added to the bundled specs.
     #[arg(long, global = true, value_name = "DIR")]
     pub specs: Option<PathBuf>,
+    /// The data directory for user-supplied data (Mario levels and TOAD-GAN weights, Rfam-Learn
+    /// targets), laid out like `../shared/data/`; overrides the CARL_SPEC_DATA variable.
+    #[arg(long, global = true, value_name = "DIR")]
+    pub data_dir: Option<PathBuf>,
     #[command(subcommand)]
     pub command: Command,
 }
@@ -185,6 +189,15 @@ pub fn main() -> ExitCode {
             return ExitCode::from(if e.use_stderr() { exit::USAGE } else { exit::OK });
         }
     };
+    if let Some(dir) = &cli.data_dir {
+        if !dir.is_dir() {
+            eprintln!("error: --data-dir {}: not a directory", dir.display());
+            return ExitCode::from(exit::USAGE);
+        }
+        // SAFETY: set once at start-up, before any thread of this process exists; the runtimes
+        // read CARL_SPEC_DATA when they are built.
+        unsafe { std::env::set_var("CARL_SPEC_DATA", dir) };
+    }
     let result = match &cli.command {
         Command::Validate { paths, format } => validate_cmd::run(paths, *format),
         Command::List { format } => specs_cmd::list(&cli, *format),

@@ -591,8 +591,12 @@ pub fn diff(frozen: &FrozenSet, derived: &FrozenSet) -> Vec<String> {
                     out.push(format!(
                         "instance {}: {k} is {} in the file, {} derived",
                         a.label(),
-                        a.context.get(k).map_or("missing".into(), crate::spec::model::value_text),
-                        b.context.get(k).map_or("missing".into(), crate::spec::model::value_text),
+                        a.context
+                            .get(k)
+                            .map_or("missing".into(), crate::spec::model::value_text),
+                        b.context
+                            .get(k)
+                            .map_or("missing".into(), crate::spec::model::value_text),
                     ));
                 }
             }

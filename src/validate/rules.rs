@@ -10,11 +10,11 @@ use crate::diagnostics::rules as rule;
 use crate::json::escape_token;
 use crate::sampling::error::SamplerProblem;
 use crate::sampling::{FeatureInfo, FeatureSampler, SamplingError};
+use crate::spec::model::value_text;
 use crate::spec::model::{Feature, InstanceSet};
 use crate::spec::raw::{AtBounds, FeatureType, RawFragment, Sampler, Scalar, Space, Value};
 use crate::spec::resolve::{FeatureSite, Resolved};
 use crate::suggest::did_you_mean;
-use crate::spec::model::value_text;
 use crate::text::quote;
 
 pub use crate::spec::raw::{MAX_INSTANCES, MAX_SET_VALUES};
@@ -546,7 +546,6 @@ fn scalar_text(s: &Scalar) -> String {
         Scalar::String(s) => quote(s),
     }
 }
-
 
 fn unknown_feature<'a>(
     known: impl Iterator<Item = &'a str> + Clone,
