@@ -19,17 +19,9 @@ use crate::envs::api::{Action, Env, Space};
 use crate::envs::contextual::OBSERVED_PREFIX;
 use crate::envs::policy::{Policy, PolicyError};
 
-/// Longest piece of a user's input quoted back in a message.
-const QUOTE_MAX: usize = 80;
-
-/// `text` for a message: control characters escaped, cut to a short prefix with the full length.
-pub fn quote_input(text: &str) -> String {
-    let mut out: String = text.chars().take(QUOTE_MAX).flat_map(char::escape_debug).collect();
-    if text.chars().nth(QUOTE_MAX).is_some() {
-        out.push_str(&format!("… ({} bytes)", text.len()));
-    }
-    out
-}
+/// `text` for a message: control characters escaped, cut short with the full length
+/// (the crate's one quoting rule, [`crate::text::escape`]).
+pub use crate::text::escape as quote_input;
 
 // Lines are structs so their keys come out in the documented order.
 #[derive(Serialize)]
