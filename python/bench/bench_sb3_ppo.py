@@ -1,0 +1,77 @@
+#!/usr/bin/env python3
+"""Wall time of SB3 PPO on CartPole, 100k steps, rl-zoo's CartPole-v1 hyperparameters, 8 envs:
+carl-spec's CartPole through `CarlSB3VecEnv` (one Rust call per batch step) beside the same run on
+Gymnasium's CartPole-v1 through SB3's `make_vec_env` (DummyVecEnv + Monitor, what rl-zoo uses).
+
+    python python/bench/bench_sb3_ppo.py [--repeats 2] [--steps 100000]
+
+Needs the training venv (torch, stable-baselines3). Runs alternate (carl-spec, Gymnasium, ...) so
+machine load hits both alike; prints one JSON line per run and a summary line with medians.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import time
+from typing import Any
+
+import numpy as np
+import torch
+from stable_baselines3 import PPO
+from stable_baselines3.common.env_util import make_vec_env
+from stable_baselines3.common.evaluation import evaluate_policy
+from stable_baselines3.common.vec_env import VecEnv, VecMonitor
+
+from carl_spec.sb3 import CarlSB3VecEnv
+
+RL_ZOO_CARTPOLE: dict[str, Any] = dict(
+    n_steps=32,
+    batch_size=256,
+    gae_lambda=0.8,
+    gamma=0.98,
+    n_epochs=20,
+    ent_coef=0.0,
+    learning_rate=lambda p: p * 1e-3,
+    clip_range=lambda p: p * 0.2,
+)
+
+
+def make(which: str, n: int) -> VecEnv:
+    if which == "carl_spec":
+        return VecMonitor(CarlSB3VecEnv("cartpole", n))
+    return make_vec_env("CartPole-v1", n_envs=n)
+
+
+def run(which: str, seed: int, steps: int) -> dict[str, Any]:
+    venv = make(which, 8)
+    t0 = time.perf_counter()
+    model = PPO("MlpPolicy", venv, seed=seed, device="cpu", **RL_ZOO_CARTPOLE)
+    model.learn(steps)
+    wall = time.perf_counter() - t0
+    eval_env = make(which, 1)
+    eval_env.seed(10_000 + seed)
+    returns, _ = evaluate_policy(model, eval_env, n_eval_episodes=20, deterministic=True, return_episode_rewards=True)
+    return {"env": which, "seed": seed, "steps": steps, "wall_s": round(wall, 2), "greedy_mean_20": float(np.mean(returns))}
+
+
+def main() -> None:
+    p = argparse.ArgumentParser()
+    p.add_argument("--repeats", type=int, default=2)
+    p.add_argument("--steps", type=int, default=100_000)
+    args = p.parse_args()
+    torch.set_num_threads(1)
+    walls: dict[str, list[float]] = {"carl_spec": [], "gymnasium": []}
+    for r in range(args.repeats):
+        for which in ("carl_spec", "gymnasium"):
+            row = run(which, r, args.steps)
+            walls[which].append(row["wall_s"])
+            print(json.dumps(row), flush=True)
+    med = {k: statistics.median(v) for k, v in walls.items()}
+    print(json.dumps({"workload": f"SB3 PPO CartPole {args.steps} steps, 8 envs", "median_wall_s": med,
+                      "ratio_carl_spec_over_gymnasium": round(med["carl_spec"] / med["gymnasium"], 3)}))
+
+
+if __name__ == "__main__":
+    main()
