@@ -13,7 +13,7 @@ returned for a finished environment is the first of its next episode, the last o
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 import gymnasium
@@ -26,7 +26,7 @@ from .vector import CarlVectorEnv
 __all__ = ["CarlSB3VecEnv"]
 
 
-class CarlSB3VecEnv(VecEnv):
+class CarlSB3VecEnv(VecEnv):  # type: ignore[misc]  # VecEnv is Any where SB3 is not installed
     """`num_envs` carl-spec environments as an SB3 `VecEnv`.
 
     Takes the arguments of `carl_spec.make_vec` (without `autoreset_mode`, which is always
@@ -64,7 +64,7 @@ class CarlSB3VecEnv(VecEnv):
         seeds, options = self._seeds, self._options
         if all(s is None for s in seeds):
             seed: int | list[int | None] | None = None
-        elif all(s is not None for s in seeds) and all(s == seeds[0] + i for i, s in enumerate(seeds)):  # type: ignore[operator]
+        elif all(s is not None for s in seeds) and all(s == seeds[0] + i for i, s in enumerate(seeds)):
             seed = seeds[0]  # SB3's seed(s) layout is the batch's own: one call
         else:
             seed = list(seeds)
@@ -93,8 +93,8 @@ class CarlSB3VecEnv(VecEnv):
         for i, info in enumerate(infos):
             info["TimeLimit.truncated"] = bool(time_limit[i])
         if "final_obs" in vinfos:
-            for i in np.flatnonzero(dones):
-                infos[i]["terminal_observation"] = vinfos["final_obs"][i]
+            for j in np.flatnonzero(dones):
+                infos[j]["terminal_observation"] = vinfos["final_obs"][j]
         return obs, rewards.astype(np.float32), dones, infos
 
     def _split_infos(self, infos: dict[str, Any]) -> list[dict[str, Any]]:
@@ -134,8 +134,8 @@ class CarlSB3VecEnv(VecEnv):
         idx = list(self._get_indices(indices))
         if sorted(idx) != list(range(self.num_envs)):
             raise ValueError(f"set_attr({attr_name!r}): the environments of a carl-spec batch share attributes; pass indices=None")
-        if not hasattr(self.venv, attr_name):
-            raise AttributeError(f"carl-spec environments have no attribute {attr_name!r}")
+        if attr_name.startswith("_") or attr_name in ("num_envs", "observation_space", "action_space", "metadata"):
+            raise AttributeError(f"set_attr({attr_name!r}): not settable on a carl-spec batch")
         setattr(self.venv, attr_name, value)
 
     def env_method(self, method_name: str, *method_args: Any, indices: VecEnvIndices = None, **method_kwargs: Any) -> list[Any]:
@@ -147,7 +147,7 @@ class CarlSB3VecEnv(VecEnv):
         if method_name == "render":
             return [self._image(i) for i in idx]
         if method_name == "get_wrapper_attr":
-            return self.get_attr(*method_args, indices=idx, **method_kwargs)
+            return self.get_attr(method_args[0], idx)
         raise AttributeError(f"carl-spec environments have no method {method_name!r} (env_method supports context_info, render, get_wrapper_attr)")
 
     def env_is_wrapped(self, wrapper_class: type[gymnasium.Wrapper], indices: VecEnvIndices = None) -> list[bool]:
@@ -190,8 +190,8 @@ class CarlSB3VecEnv(VecEnv):
         r.set_state(state)
         return r.render()
 
-    def _get_indices(self, indices: VecEnvIndices) -> Iterable[int]:
-        idx = super()._get_indices(indices)
+    def _get_indices(self, indices: VecEnvIndices) -> list[int]:
+        idx = [int(i) for i in super()._get_indices(indices)]
         for i in idx:
             if not 0 <= int(i) < self.num_envs:
                 raise IndexError(f"environment index {i} out of range for {self.num_envs} environments")

@@ -111,6 +111,8 @@ def test_attributes_methods_and_errors() -> None:
     assert v.get_attr("note") == [1, 1, 1]
     with pytest.raises(ValueError, match="share attributes"):
         v.set_attr("note", 2, indices=[0])
+    with pytest.raises(AttributeError, match="not settable"):
+        v.set_attr("num_envs", 4)
     with pytest.raises(AttributeError, match="no attribute 'nope'"):
         v.get_attr("nope")
     with pytest.raises(AttributeError, match="no method 'nope'"):
@@ -124,20 +126,23 @@ def test_attributes_methods_and_errors() -> None:
 
 
 def test_render_tiles_each_env_from_its_state() -> None:
-    v = CarlSB3VecEnv("cartpole", 2, render_mode="rgb_array")
+    v = CarlSB3VecEnv("lunar_lander", 2, render_mode="rgb_array")
     v.seed(0)
     v.reset()
-    for _ in range(5):
-        v.step(np.array([0, 1]))
+    actions = [np.array([a, 3 - a]) for a in (0, 1, 2, 3) * 5]
+    for a in actions:
+        v.step(a)
     imgs = v.get_images()
-    single = cs.make("cartpole", render_mode="rgb_array")
+    single = cs.make("lunar_lander", render_mode="rgb_array")
     single.reset(seed=1)
-    for _ in range(5):
-        single.step(1)
+    for a in actions:
+        single.step(int(a[1]))
     np.testing.assert_array_equal(imgs[1], single.render())
     assert not np.array_equal(imgs[0], imgs[1])
     big = v.render()
     assert big is not None and big.shape[2] == 3
+    with pytest.raises(ValueError, match="no renderer"):
+        CarlSB3VecEnv("cartpole", 2, render_mode="rgb_array")
 
 
 def test_pickles_through_its_batch() -> None:
