@@ -2,9 +2,9 @@
 batched `CarlVectorEnv` (RLlib's `gym_env_vectorize_mode="vector_entry_point"`).
 
     from ray.rllib.algorithms.ppo import PPOConfig
-    from carl_spec.rllib import env_creator
+    import carl_spec.rllib
     config = (PPOConfig()
-        .environment(env_creator, env_config={"env": "lunar_lander",
+        .environment(carl_spec.rllib.register(), env_config={"env": "lunar_lander",
                                               "instances": "lunar_lander/landing_in_space_train",
                                               "selection": "random"})
         .env_runners(num_env_runners=2, num_envs_per_env_runner=8,
@@ -27,7 +27,7 @@ import numpy as np
 from .env import CarlEnv
 from .vector import CarlVectorEnv
 
-__all__ = ["RllibVectorEnv", "env_creator"]
+__all__ = ["RllibVectorEnv", "env_creator", "register"]
 
 # Keys RLlib's EnvContext adds to env_config that are not make_vec arguments.
 _RLLIB_KEYS = ("worker_index", "vector_index", "num_workers", "remote", "recreated_worker")
@@ -67,3 +67,13 @@ def env_creator(env_config: dict[str, Any]) -> CarlVectorEnv | CarlEnv:
     if mode not in ("next_step", gymnasium.vector.AutoresetMode.NEXT_STEP):
         raise ValueError(f"RLlib's env runners need autoreset_mode='next_step', got {mode!r}")
     return RllibVectorEnv(name, int(num_envs), autoreset_mode="next_step", **cfg)
+
+
+def register(name: str = "carl_spec") -> str:
+    """Registers `env_creator` with Ray Tune's env registry under `name` (after `ray.init()`,
+    in the driver: Ray ships the registry to every runner) and returns the name for
+    `config.environment(name, env_config=...)`."""
+    from ray.tune.registry import register_env
+
+    register_env(name, env_creator)
+    return name

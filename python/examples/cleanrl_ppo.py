@@ -156,15 +156,17 @@ def train(args: Args) -> Agent:
     return agent
 
 
-def evaluate(agent: Agent, env: str, episodes: int = 20, seed: int = 10_000, **env_kwargs: Any) -> list[float]:
-    """Greedy returns of the first episode of each of `episodes` environments of one batch."""
+def evaluate(agent: Agent, env: str, episodes: int = 20, seed: int = 10_000, greedy: bool = True, **env_kwargs: Any) -> list[float]:
+    """Returns of the first episode of each of `episodes` environments of one batch, with the
+    greedy (argmax) or the sampled policy."""
     envs = cs.make_vec(env, episodes, autoreset_mode="same_step", **env_kwargs)
     obs, _ = envs.reset(seed=seed)
     returns = np.zeros(episodes)
     alive = np.ones(episodes, dtype=bool)
     while alive.any():
         with torch.no_grad():
-            a = agent.greedy(torch.as_tensor(obs)).numpy()
+            x = torch.as_tensor(obs)
+            a = (agent.greedy(x) if greedy else agent.act(x)[0]).numpy()
         obs, r, term, trunc, _ = envs.step(a)
         returns += r * alive
         alive &= ~(term | trunc)
@@ -181,9 +183,9 @@ def main() -> None:
     torch.set_num_threads(1)
     t0 = time.perf_counter()
     agent = train(args)
-    returns = evaluate(agent, args.env)
-    print(f"{args.env} {args.autoreset_mode} seed {args.seed}: greedy mean {np.mean(returns):.1f} over {len(returns)} episodes "
-          f"({time.perf_counter() - t0:.1f}s)")
+    greedy, sampled = evaluate(agent, args.env), evaluate(agent, args.env, greedy=False)
+    print(f"{args.env} {args.autoreset_mode} seed {args.seed}: mean return over {len(greedy)} episodes greedy "
+          f"{np.mean(greedy):.1f}, sampled {np.mean(sampled):.1f} ({time.perf_counter() - t0:.1f}s)")
 
 
 if __name__ == "__main__":

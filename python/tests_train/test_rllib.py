@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 import carl_spec as cs
-from carl_spec.rllib import RllibVectorEnv, env_creator
+from carl_spec.rllib import RllibVectorEnv, env_creator, register
 
 LOOPBACK = "127.0.0.1"
 SET = "lunar_lander/landing_in_space_train"
@@ -41,26 +41,26 @@ def test_runner_seeds_give_disjoint_env_seeds() -> None:
     assert not any(np.array_equal(x, y) for x in oa for y in ob)
 
 
-def runner_report(runner: Any) -> dict[str, Any]:
-    import ray
-
-    env = runner.env.unwrapped
-    return {
-        "worker_index": runner.worker_index,
-        "node_ip": ray.util.get_node_ip_address(),
-        "type": type(env).__name__,
-        "num_envs": env.num_envs,
-        "contexts": [env.context_info(i)["context"] for i in range(env.num_envs)],
-        "instance_ids": env._core.instance_ids().tolist(),
-    }
-
-
 def test_rllib_ppo_iteration_on_loopback_ray(loopback_ray: Any) -> None:
     from ray.rllib.algorithms.ppo import PPOConfig
 
+    def runner_report(runner: Any) -> dict[str, Any]:
+        # Defined here so that cloudpickle ships it by value (runners cannot import this module).
+        import ray
+
+        env = runner.env.unwrapped
+        return {
+            "worker_index": runner.worker_index,
+            "node_ip": ray.util.get_node_ip_address(),
+            "type": type(env).__name__,
+            "num_envs": env.num_envs,
+            "contexts": [env.context_info(i)["context"] for i in range(env.num_envs)],
+            "instance_ids": env._core.instance_ids().tolist(),
+        }
+
     config = (
         PPOConfig()
-        .environment(env_creator, env_config=ENV_CONFIG)
+        .environment(register(), env_config=ENV_CONFIG)
         .env_runners(num_env_runners=2, num_envs_per_env_runner=4, gym_env_vectorize_mode="vector_entry_point")
         .training(train_batch_size_per_learner=1024, minibatch_size=256, num_epochs=2)
         .debugging(seed=0)

@@ -32,19 +32,33 @@ RL_ZOO_CARTPOLE: dict[str, Any] = dict(
 )
 
 
-def train_and_evaluate(seed: int) -> tuple[float, list[float]]:
-    venv = VecMonitor(CarlSB3VecEnv("cartpole", 8))
-    model = PPO("MlpPolicy", venv, seed=seed, device="cpu", **RL_ZOO_CARTPOLE)
-    model.learn(100_000)
+STOCHASTIC_BAR = 400
+
+
+def evaluate(model: PPO, seed: int, deterministic: bool) -> float:
+    """Mean return of 20 episodes on a fresh carl-spec CartPole seeded apart from training."""
     eval_env = VecMonitor(CarlSB3VecEnv("cartpole", 1))
     eval_env.seed(10_000 + seed)
-    returns, _ = evaluate_policy(model, eval_env, n_eval_episodes=20, deterministic=True, return_episode_rewards=True)
-    return float(np.mean(returns)), [float(r) for r in returns]
+    returns, _ = evaluate_policy(model, eval_env, n_eval_episodes=20, deterministic=deterministic, return_episode_rewards=True)
+    return float(np.mean(returns))
+
+
+def train_and_evaluate(seed: int) -> dict[str, float]:
+    venv = VecMonitor(CarlSB3VecEnv("cartpole", 8))
+    model = PPO("MlpPolicy", venv, seed=seed, device="cpu", **RL_ZOO_CARTPOLE)
+    out = {"untrained_stochastic": evaluate(model, seed, False), "untrained_greedy": evaluate(model, seed, True)}
+    model.learn(100_000)
+    out.update(greedy=evaluate(model, seed, True), stochastic=evaluate(model, seed, False))
+    return out
 
 
 @pytest.mark.parametrize("seed", [0, 1])
 def test_sb3_ppo_cartpole_reaches_475(seed: int) -> None:
     t0 = time.perf_counter()
-    mean, returns = train_and_evaluate(seed)
-    print(f"SB3 PPO cartpole seed {seed}: greedy mean {mean:.1f} ({time.perf_counter() - t0:.0f}s) {returns}")
-    assert mean >= 475, f"seed {seed}: greedy 20-episode mean {mean} < 475: {returns}"
+    r = train_and_evaluate(seed)
+    print(f"SB3 PPO cartpole seed {seed}: {r} ({time.perf_counter() - t0:.0f}s)")
+    # The greedy bar alone is weak on CartPole (an untrained greedy policy of seed 0 scores ~440):
+    # the sampled policy must also have gone from ~20 to near the 500 limit.
+    assert r["untrained_stochastic"] < 100, r
+    assert r["greedy"] >= 475, f"seed {seed}: greedy 20-episode mean {r['greedy']} < 475: {r}"
+    assert r["stochastic"] >= STOCHASTIC_BAR, f"seed {seed}: sampled-policy 20-episode mean {r['stochastic']} < {STOCHASTIC_BAR}: {r}"
