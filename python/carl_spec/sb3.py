@@ -18,7 +18,11 @@ from typing import Any
 
 import gymnasium
 import numpy as np
-from stable_baselines3.common.vec_env.base_vec_env import VecEnv, VecEnvIndices, VecEnvObs, VecEnvStepReturn
+
+try:
+    from stable_baselines3.common.vec_env.base_vec_env import VecEnv, VecEnvIndices, VecEnvObs, VecEnvStepReturn
+except ImportError as e:  # pragma: no cover - depends on the installed extras
+    raise ImportError("carl_spec.sb3 needs stable-baselines3: pip install 'carl-spec[sb3]'") from e
 
 from .env import CarlEnv
 from .vector import CarlVectorEnv
