@@ -6,7 +6,8 @@ Gymnasium's CartPole-v1 through SB3's `make_vec_env` (DummyVecEnv + Monitor, wha
     python python/bench/bench_sb3_ppo.py [--repeats 2] [--steps 100000]
 
 Needs the training venv (torch, stable-baselines3). Runs alternate (carl-spec, Gymnasium, ...) so
-machine load hits both alike; prints one JSON line per run and a summary line with medians.
+machine load hits both alike; prints one JSON line per run (wall and process CPU seconds: on a
+shared machine CPU time is the fairer of the two) and a summary line with medians.
 """
 
 from __future__ import annotations
@@ -46,14 +47,14 @@ def make(which: str, n: int) -> VecEnv:
 
 def run(which: str, seed: int, steps: int) -> dict[str, Any]:
     venv = make(which, 8)
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     model = PPO("MlpPolicy", venv, seed=seed, device="cpu", **RL_ZOO_CARTPOLE)
     model.learn(steps)
-    wall = time.perf_counter() - t0
+    wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     eval_env = make(which, 1)
     eval_env.seed(10_000 + seed)
     returns, _ = evaluate_policy(model, eval_env, n_eval_episodes=20, deterministic=True, return_episode_rewards=True)
-    return {"env": which, "seed": seed, "steps": steps, "wall_s": round(wall, 2), "greedy_mean_20": float(np.mean(returns))}
+    return {"env": which, "seed": seed, "steps": steps, "wall_s": round(wall, 2), "cpu_s": round(cpu, 2), "greedy_mean_20": float(np.mean(returns))}
 
 
 def main() -> None:
@@ -62,15 +63,18 @@ def main() -> None:
     p.add_argument("--steps", type=int, default=100_000)
     args = p.parse_args()
     torch.set_num_threads(1)
-    walls: dict[str, list[float]] = {"carl_spec": [], "gymnasium": []}
+    rows: dict[str, list[dict[str, Any]]] = {"carl_spec": [], "gymnasium": []}
     for r in range(args.repeats):
         for which in ("carl_spec", "gymnasium"):
             row = run(which, r, args.steps)
-            walls[which].append(row["wall_s"])
+            rows[which].append(row)
             print(json.dumps(row), flush=True)
-    med = {k: statistics.median(v) for k, v in walls.items()}
-    print(json.dumps({"workload": f"SB3 PPO CartPole {args.steps} steps, 8 envs", "median_wall_s": med,
-                      "ratio_carl_spec_over_gymnasium": round(med["carl_spec"] / med["gymnasium"], 3)}))
+    summary: dict[str, Any] = {"workload": f"SB3 PPO CartPole {args.steps} steps, 8 envs"}
+    for key in ("wall_s", "cpu_s"):
+        med = {k: statistics.median(x[key] for x in v) for k, v in rows.items()}
+        summary[f"median_{key}"] = med
+        summary[f"ratio_{key}_carl_spec_over_gymnasium"] = round(med["carl_spec"] / med["gymnasium"], 3)
+    print(json.dumps(summary))
 
 
 if __name__ == "__main__":
