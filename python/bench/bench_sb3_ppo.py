@@ -57,12 +57,34 @@ def run(which: str, seed: int, steps: int) -> dict[str, Any]:
     return {"env": which, "seed": seed, "steps": steps, "wall_s": round(wall, 2), "cpu_s": round(cpu, 2), "greedy_mean_20": float(np.mean(returns))}
 
 
+def step_only(steps: int) -> dict[str, Any]:
+    """The environment side alone: `steps` env steps of 8 envs with random actions through each
+    SB3 VecEnv (what PPO's rollout pays besides the policy), process CPU seconds."""
+    out: dict[str, Any] = {"workload": f"SB3 VecEnv step only, {steps} steps, 8 envs"}
+    rng = np.random.default_rng(0)
+    actions = rng.integers(0, 2, size=(64, 8))
+    for which in ("carl_spec", "gymnasium"):
+        venv = make(which, 8)
+        venv.seed(0)
+        venv.reset()
+        c0 = time.process_time()
+        for k in range(steps // 8):
+            venv.step(actions[k & 63])
+        out[f"{which}_cpu_s"] = round(time.process_time() - c0, 3)
+    out["ratio_carl_spec_over_gymnasium"] = round(out["carl_spec_cpu_s"] / out["gymnasium_cpu_s"], 3)
+    return out
+
+
 def main() -> None:
     p = argparse.ArgumentParser()
     p.add_argument("--repeats", type=int, default=2)
     p.add_argument("--steps", type=int, default=100_000)
+    p.add_argument("--step-only", action="store_true", help="only the VecEnv stepping, no training")
     args = p.parse_args()
     torch.set_num_threads(1)
+    print(json.dumps(step_only(args.steps)), flush=True)
+    if args.step_only:
+        return
     rows: dict[str, list[dict[str, Any]]] = {"carl_spec": [], "gymnasium": []}
     for r in range(args.repeats):
         for which in ("carl_spec", "gymnasium"):
