@@ -164,11 +164,12 @@ def test_vec_monitor_counts_episodes() -> None:
 
 @pytest.mark.parametrize("env", cs.RUNTIMES)
 def test_sb3_check_env(env: str) -> None:
-    if env == "mario":
-        pytest.skip("mario reads its levels from a user data directory (tests of the main tier cover it)")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         check_env(cs.make(env), warn=True)
-    # SB3's advice (e.g. "use a symmetric action space") is not a failure; anything else is.
-    bad = [str(w.message) for w in caught if "recommend" not in str(w.message).lower()]
+    # SB3 advises a [-1, 1] action space; these keep Gymnasium's (Pendulum's [-2, 2], CarRacing's
+    # gas/brake in [0, 1], Humanoid's [-0.4, 0.4]). Any other warning fails.
+    advice = "We recommend you to use a symmetric and normalized Box action space"
+    allowed = env in ("pendulum", "vehicle_racing", "humanoid")
+    bad = [str(w.message) for w in caught if not (allowed and str(w.message).startswith(advice))]
     assert not bad, bad
