@@ -104,7 +104,9 @@ class AuditReport:
                 lines.append(f"  {f.name}: skipped ({f.skipped})")
                 continue
             cells = [
-                f"{e.effect}={e.verdict}" for e in f.effects.values() if e.claimed or e.verdict != "ok"
+                f"{e.effect}={e.verdict}"
+                for e in f.effects.values()
+                if e.claimed or e.verdict not in ("ok", "not_applicable")
             ]
             lines.append(f"  {f.name}: " + (", ".join(cells) if cells else "claims nothing, changes nothing"))
         lines.extend(f"  ! {c}" for c in self.contradictions)

@@ -148,7 +148,7 @@ class ContextualWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
         dtype = base.dtype if np.issubdtype(base.dtype, np.floating) else np.float32
         low = np.concatenate([base.low.reshape(-1).astype(dtype), np.array(lows, dtype=dtype)])
         high = np.concatenate([base.high.reshape(-1).astype(dtype), np.array(highs, dtype=dtype)])
-        return spaces.Box(low=low, high=high, dtype=dtype)  # type: ignore[arg-type]
+        return spaces.Box(low=low, high=high, dtype=dtype)
 
     def _observe(self, obs: Any) -> Any:
         if not self._visible:

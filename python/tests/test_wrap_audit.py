@@ -150,7 +150,7 @@ def test_wrap_applies_contexts_and_refuses_bad_ones(tmp_path: Path) -> None:
     assert nxt[0] == pytest.approx(obs[0] + 1.5)
     with pytest.raises(ValueError, match="gain"):
         cs.wrap(ToyEnv, spec, context={"gain": 50.0})  # outside [0.1, 10]
-    with pytest.raises(cs.UnknownNameError, match="valid: gain, dead, bonus"):
+    with pytest.raises(cs.UnknownNameError, match=r"did you mean .gain.\?\); valid names: gain, dead, bonus"):
         cs.wrap(ToyEnv, spec, context={"gian": 2.0})
     with pytest.raises(ValueError, match="no attribute for feature"):
         cs.wrap(ToyEnv, spec, attributes={"gain": "nope"})
@@ -210,7 +210,8 @@ def rollout(env: gymnasium.Env[Any, Any], seeds: list[int | None], steps: int = 
         obs, info = env.reset(seed=s)
         out.append((np.asarray(obs, dtype=np.float64).round(5).tolist(), info.get("instance_id"), info["context"]))
         for t in range(steps):
-            obs, r, term, trunc, _ = env.step(t % 2)
+            discrete = isinstance(env.action_space, spaces.Discrete)
+            obs, r, term, trunc, _ = env.step(t % 2 if discrete else np.array([t % 3 - 1.0], dtype=np.float32))
             out.append(np.asarray(obs, dtype=np.float64).round(5).tolist())
             if term or trunc:
                 break

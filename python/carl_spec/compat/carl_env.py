@@ -243,7 +243,7 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
             return first
         low = np.min([s.low for s in spaces_ if isinstance(s, spaces.Box)], axis=0)
         high = np.max([s.high for s in spaces_ if isinstance(s, spaces.Box)], axis=0)
-        return spaces.Box(low=low, high=high, dtype=first.dtype)  # type: ignore[arg-type]
+        return spaces.Box(low=low, high=high, dtype=first.dtype)
 
     def get_observation_space(self, obs_context_feature_names: list[str] | None = None) -> spaces.Dict:
         """`Dict({"obs": base space, "context": Dict of Box(1,) per feature | Box(k,)})`."""
