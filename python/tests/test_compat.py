@@ -262,3 +262,15 @@ def test_fixture_is_current(tmp_path: Path) -> None:
     random_key = "random_selector_same_env_seed_sequences"  # global-RNG draws: only their inequality is a fact
     assert fresh["behaviour"].pop(random_key) and recorded["behaviour"].pop(random_key)
     assert fresh == recorded
+
+
+@pytest.mark.parametrize("name", sorted(CLASSES))
+def test_every_class_runs_with_its_default_context(name: str) -> None:
+    cls = CLASSES[name]
+    env = cls()
+    assert env.contexts == {0: cls.get_default_context()}
+    obs, info = env.reset(seed=0)
+    assert info == {"context_id": 0} and obs in env.observation_space
+    obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+    assert obs in env.observation_space and info == {"context_id": 0}
+    assert isinstance(reward, float) and isinstance(terminated, bool) and isinstance(truncated, bool)

@@ -90,6 +90,8 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
             f = spec.features[canon]
             lo, hi = f.get("bounds") or [None, None]
             default = f.get("default")
+            if f["type"] == "int" and isinstance(default, float) and default.is_integer():
+                default = int(default)
             cf: ContextFeature
             if f["type"] == "categorical" and f.get("choices"):
                 cf = CategoricalContextFeature(name, list(f["choices"]), default)
@@ -179,6 +181,8 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
         self._keys = list(contexts.keys())
         resolved = [dict(c) for c in self._chooser.instance_contexts()]
         self._contexts = {k: self._compat(c) for k, c in zip(self._keys, resolved)}
+        # What the agent observes: the numeric values (a string choice as its index).
+        self._numeric = [{self._to_compat[c]: float(v) for c, v in r.items()} for r in resolved]
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be one of {self.metadata['render_modes']} or None, got {render_mode!r}")
         self.render_mode = render_mode
@@ -209,8 +213,13 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
             if canon not in canonical:
                 continue  # no numeric value (e.g. RNA's list of target ids)
             v = canonical[canon]
-            whole = feats[canon]["type"] in ("int", "categorical") and float(v).is_integer()
-            out[name] = int(v) if whole else v
+            choices = feats[canon].get("choices") or []
+            if feats[canon]["type"] == "categorical" and float(v).is_integer() and 0 <= v < len(choices) and isinstance(choices[int(v)], str):
+                out[name] = choices[int(v)]  # a string choice (RNA's dataset) by its name
+            elif feats[canon]["type"] in ("int", "categorical") and float(v).is_integer():
+                out[name] = int(v)
+            else:
+                out[name] = v
         return out
 
     @staticmethod
@@ -287,7 +296,7 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
     # -- the Gymnasium API -----------------------------------------------------------------
 
     def _observe(self, obs: np.ndarray) -> dict[str, Any]:
-        ctx = self._contexts[self._keys[self._current]]
+        ctx = self._numeric[self._current]
         if self.obs_context_as_dict:
             context: Any = {n: np.array([ctx[n]], dtype=np.float32) for n in self.obs_context_features}
         else:
