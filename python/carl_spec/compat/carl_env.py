@@ -201,6 +201,7 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
         self._discrete = isinstance(self.action_space, spaces.Discrete)
         self.observation_space = self.get_observation_space(self.obs_context_features)
         self._current = 0
+        self._context_obs_cache: Any = None
         self._seeded = False
         self.context: Context | None = None
 
@@ -295,12 +296,17 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
 
     # -- the Gymnasium API -----------------------------------------------------------------
 
-    def _observe(self, obs: np.ndarray) -> dict[str, Any]:
-        ctx = self._numeric[self._current]
+    def _context_obs(self, i: int) -> Any:
+        """Instance `i`'s context as observed (float32), built once per episode (contexts never
+        change within one); every observation gets its own copy (users keep observations)."""
+        ctx = self._numeric[i]
         if self.obs_context_as_dict:
-            context: Any = {n: np.array([ctx[n]], dtype=np.float32) for n in self.obs_context_features}
-        else:
-            context = np.array([ctx[n] for n in self.obs_context_features], dtype=np.float32)
+            return {n: np.array([ctx[n]], dtype=np.float32) for n in self.obs_context_features}
+        return np.array([ctx[n] for n in self.obs_context_features], dtype=np.float32)
+
+    def _observe(self, obs: np.ndarray) -> dict[str, Any]:
+        c = self._context_obs_cache
+        context = {n: a.copy() for n, a in c.items()} if isinstance(c, dict) else c.copy()
         return {"obs": obs, "context": context}
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[dict[str, Any], dict[str, Any]]:
@@ -319,6 +325,7 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
             self.context_selector.context_id = i
             self.context_selector.n_calls += 1
         self._current = i
+        self._context_obs_cache = self._context_obs(i)
         self.context = dict(self._contexts[self._keys[i]])
         obs, _ = self._envs[i].reset(env_seed)
         return self._observe(obs), {"context_id": i}
