@@ -69,6 +69,8 @@ class ContextualWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
         _factory: EnvFactory | None = None,
     ) -> None:
         super().__init__(env)
+        if apply is not None and attributes is not None:
+            raise ValueError("give attributes= (feature -> attribute names) or apply=fn(env, context), not both")
         self._ctor: dict[str, Any] = dict(
             spec=spec, env_id=env_id, context=context, instances=instances, distribution=distribution,
             selection=selection, instance=instance, obs_context=obs_context, apply=apply, attributes=attributes,

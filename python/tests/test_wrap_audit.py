@@ -154,6 +154,8 @@ def test_wrap_applies_contexts_and_refuses_bad_ones(tmp_path: Path) -> None:
         cs.wrap(ToyEnv, spec, context={"gian": 2.0})
     with pytest.raises(ValueError, match="no attribute for feature"):
         cs.wrap(ToyEnv, spec, attributes={"gain": "nope"})
+    with pytest.raises(ValueError, match="not both"):
+        cs.wrap(ToyEnv, spec, attributes={"gain": "gain"}, apply=lambda env, ctx: None)
     with pytest.raises(ValueError, match="needs instance="):
         cs.wrap(ToyEnv, spec, selection="static")
 

@@ -66,7 +66,10 @@ fn load_set(py: Python<'_>, path: &PathBuf, env: Option<&str>) -> PyResult<(Spec
 
 fn load(py: Python<'_>, path: &PathBuf, env: Option<&str>) -> PyResult<EnvSpec> {
     let (specs, id) = load_set(py, path, env)?;
-    specs.get(&id).cloned().ok_or_else(|| value_error(format!("no environment \"{id}\"")))
+    specs
+        .get(&id)
+        .cloned()
+        .ok_or_else(|| value_error(format!("no environment \"{id}\"")))
 }
 
 /// The resolved spec of a user's file, as `carl_spec.spec` returns a bundled one.
@@ -131,8 +134,14 @@ struct Chosen {
 
 enum Mode {
     Fixed(Chosen),
-    Set { instances: Vec<Chosen>, selection: Selection },
-    Distribution { name: String, dist: Distribution },
+    Set {
+        instances: Vec<Chosen>,
+        selection: Selection,
+    },
+    Distribution {
+        name: String,
+        dist: Distribution,
+    },
 }
 
 /// Chooses each episode's context for a wrapped user environment, with the streams and rules of
@@ -204,7 +213,10 @@ impl ContextChooser {
                 })?
             }
         };
-        let spec = specs.get(&id).cloned().ok_or_else(|| value_error(format!("no environment \"{id}\"")))?;
+        let spec = specs
+            .get(&id)
+            .cloned()
+            .ok_or_else(|| value_error(format!("no environment \"{id}\"")))?;
         let given = [
             context_json.is_some(),
             contexts_json.is_some(),
@@ -212,11 +224,15 @@ impl ContextChooser {
             distribution.is_some(),
         ];
         if given.iter().filter(|g| **g).count() > 1 {
-            return Err(value_error("give at most one of context=, instances= and distribution="));
+            return Err(value_error(
+                "give at most one of context=, instances= and distribution=",
+            ));
         }
         let selection = parse_selection(selection, instance)?;
         if instances.is_none() && contexts_json.is_none() && !matches!(selection, Selection::RoundRobin) {
-            return Err(value_error("selection= applies to instances= (or a list of contexts) only"));
+            return Err(value_error(
+                "selection= applies to instances= (or a list of contexts) only",
+            ));
         }
         let resolve = |ctx: &Context, allow_out_of_bounds: bool| {
             carl_spec::envs::context::resolve_context(&spec, ctx, MakeOptions { allow_out_of_bounds })
@@ -262,10 +278,7 @@ impl ContextChooser {
                     _ => value_error(e),
                 }
             })?;
-            let allow = spec
-                .instance_sets
-                .get(&set.set)
-                .is_some_and(|d| d.allow_out_of_bounds);
+            let allow = spec.instance_sets.get(&set.set).is_some_and(|d| d.allow_out_of_bounds);
             check_static(set.instances.len(), &set.qualified_name())?;
             let instances = set
                 .instances
@@ -383,8 +396,9 @@ impl ContextChooser {
                 }
             }
             None => {
-                let defaults = carl_spec::envs::context::resolve_context(&self.spec, &Context::new(), MakeOptions::default())
-                    .map_err(|e| make_error(py, e))?;
+                let defaults =
+                    carl_spec::envs::context::resolve_context(&self.spec, &Context::new(), MakeOptions::default())
+                        .map_err(|e| make_error(py, e))?;
                 for (k, v) in defaults {
                     ctx.set_item(k, v)?;
                 }
@@ -403,7 +417,9 @@ impl ContextChooser {
         };
         let n = instances.len();
         if i >= n {
-            return Err(value_error(format!("context id {i} is out of range: the set has {n} contexts (0..{n})")));
+            return Err(value_error(format!(
+                "context id {i} is out of range: the set has {n} contexts (0..{n})"
+            )));
         }
         self.current = Some(instances[i].clone());
         self.round_robin_next = ((i + 1) % n) as u64;

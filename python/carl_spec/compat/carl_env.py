@@ -19,6 +19,7 @@ What deliberately differs (carl-bench's flaws are not reproduced):
 
 from __future__ import annotations
 
+import functools
 import inspect
 import json
 from typing import Any, SupportsFloat
@@ -31,7 +32,8 @@ from .. import _core
 from .._errors import UnknownNameError
 from .._spaces import space_from_json
 from ..env import os_entropy_seed
-from ..specs import spec as load_spec
+from ..specs import Spec
+from ..specs import spec as _load_spec
 from .context.context_space import (
     CategoricalContextFeature,
     ContextFeature,
@@ -44,6 +46,27 @@ from .context.selection import AbstractSelector, RoundRobinSelector
 Context = dict[str, Any]
 Contexts = dict[Any, Context]
 _BUILTIN = {"RoundRobinSelector": "round_robin", "RandomSelector": "random", "StaticSelector": "static"}
+
+
+@functools.cache
+def load_spec(env_id: str) -> Spec:
+    """The bundled spec (read once per process; specs are read-only data)."""
+    return _load_spec(env_id)
+
+
+@functools.cache
+def _name_maps(env_id: str, bench_names: tuple[str, ...]) -> tuple[dict[str, str], dict[str, str]]:
+    """Cached per class (see `CARLEnv._name_maps`); callers must not modify the dicts."""
+    spec = load_spec(env_id)
+    lookup = {}
+    for f in spec.features.values():
+        for n in [f["name"], *f.get("aliases", [])]:
+            lookup[n] = f["name"]
+    to_canon = {n: lookup[n] for n in bench_names}
+    for canon in spec.features:
+        if canon not in to_canon.values():
+            to_canon[canon] = canon
+    return to_canon, {c: n for n, c in to_canon.items()}
 
 
 def _bound(x: Any, inf: float) -> float:
@@ -67,18 +90,7 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
     def _name_maps(cls) -> tuple[dict[str, str], dict[str, str]]:
         """(compat name -> canonical, canonical -> compat name), compat names in carl-bench's
         order then carl-spec's own extra features."""
-        spec = load_spec(cls.env_id)
-        lookup = {}
-        for f in spec.features.values():
-            for n in [f["name"], *f.get("aliases", [])]:
-                lookup[n] = f["name"]
-        to_canon: dict[str, str] = {}
-        for n in cls.bench_names:
-            to_canon[n] = lookup[n]
-        for canon in spec.features:
-            if canon not in to_canon.values():
-                to_canon[canon] = canon
-        return to_canon, {c: n for n, c in to_canon.items()}
+        return _name_maps(cls.env_id, cls.bench_names)
 
     @classmethod
     def get_context_features(cls) -> dict[str, ContextFeature]:
