@@ -274,3 +274,19 @@ def test_every_class_runs_with_its_default_context(name: str) -> None:
     obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
     assert obs in env.observation_space and info == {"context_id": 0}
     assert isinstance(reward, float) and isinstance(terminated, bool) and isinstance(truncated, bool)
+
+
+def test_context_id_setter_switches_from_the_next_reset() -> None:
+    contexts = {"a": {"length": 0.6}, "b": {"length": 0.7}, "c": {"length": 0.8}}
+    rr = CARLCartPole(contexts=contexts)
+    rr.reset(seed=0)
+    rr.context_id = 2
+    assert rr.context_id == 2
+    assert rr.reset()[1]["context_id"] == 0  # round robin continues after 2, as carl-bench's
+    st = CARLCartPole(contexts=contexts, context_selector=selection.StaticSelector)
+    st.reset(seed=0)
+    st.context_id = 1
+    assert [st.reset()[1]["context_id"] for _ in range(3)] == [1, 1, 1]
+    assert st.context is not None and st.context["length"] == 0.7
+    with pytest.raises(ValueError, match="not in the context set"):
+        st.context_id = 5

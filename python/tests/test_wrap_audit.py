@@ -273,3 +273,10 @@ def test_wrapped_pendulum_distribution_draws_equal_cs_make(tmp_path: Path) -> No
         assert i1["context_seed"] == i2["context_seed"]
         assert i1["context"] == pytest.approx(i2["context"])
         assert mine.unwrapped.l == i1["context"]["l"]
+
+
+def test_wrap_obs_context_names_are_checked(tmp_path: Path) -> None:
+    with pytest.raises(cs.UnknownNameError, match="features: gain, dead, bonus"):
+        cs.wrap(ToyEnv, toy_spec(tmp_path), obs_context=["gian"])
+    env = cs.wrap(ToyEnv, toy_spec(tmp_path), obs_context=True)
+    assert env.observation_space.shape == (4,)
