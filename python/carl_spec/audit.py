@@ -369,11 +369,15 @@ def audit(
             continue
         accs = {e: _Acc() for e in EFFECTS}
         for x in fa.values:
-            p = _Prober(build({f["name"]: x}), get_state, set_state)
+            try:
+                p = _Prober(build({f["name"]: x}), get_state, set_state)
+                answers = p.state_responses(states, actions, seeds) if state_mode else p.trajectory_responses(seeds, steps)
+            except Exception as err:
+                raise RuntimeError(f"{doc['id']}: the env failed under {f['name']} = {x}: {type(err).__name__}: {err}") from err
             if state_mode:
-                _compare_state(reference, p.state_responses(states, actions, seeds), x, accs)
+                _compare_state(reference, answers, x, accs)
             else:
-                _compare_trajectories(reference, p.trajectory_responses(seeds, steps), x, accs)
+                _compare_trajectories(reference, answers, x, accs)
         for e in EFFECTS:
             applicable = e != "task_generation" and (state_mode or e != "observation")
             fa.effects[e] = res = _judge(e, e in fa.claimed, accs[e], applicable)
