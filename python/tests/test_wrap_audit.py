@@ -183,7 +183,7 @@ def test_wrap_obs_context_and_pickling(tmp_path: Path) -> None:
 # -- wrap over Gymnasium's own environments equals cs.make ----------------------------------------
 
 
-def user_copy(tmp: Path, env: str, new_id: str) -> Path:
+def user_copy(tmp: Path, env: str, new_id: str, *, freeze: bool = True) -> Path:
     """The bundled spec of `env` as a user's spec under another id (and its sets frozen there)."""
     doc = json.loads((ROOT / "specs" / f"{env}.json").read_text())
     doc["id"] = new_id
@@ -192,7 +192,7 @@ def user_copy(tmp: Path, env: str, new_id: str) -> Path:
     for f in doc["features"]:
         f.pop("aliases", None)
     path = write_spec(tmp, doc, f"{new_id}.json")
-    for name in doc.get("instance_sets", {}):
+    for name in doc.get("instance_sets", {}) if freeze else []:
         cli("--specs", str(tmp), "freeze", f"{new_id}/{name}")
     return path
 
@@ -280,3 +280,11 @@ def test_wrap_obs_context_names_are_checked(tmp_path: Path) -> None:
         cs.wrap(ToyEnv, toy_spec(tmp_path), obs_context=["gian"])
     env = cs.wrap(ToyEnv, toy_spec(tmp_path), obs_context=True)
     assert env.observation_space.shape == (4,)
+
+
+def test_wrap_names_the_freeze_command_for_an_unfrozen_set(tmp_path: Path) -> None:
+    spec = user_copy(tmp_path, "pendulum", "my_pendulum", freeze=False)
+    with pytest.raises(ValueError, match=f"carl-spec --specs {tmp_path} freeze my_pendulum/q1_g_sigma_0_5"):
+        cs.wrap(PendulumEnv, spec, instances="q1_g_sigma_0_5")
+    with pytest.raises(cs.UnknownNameError, match="sets of my_pendulum: q1_dt_sigma_0_1"):
+        cs.wrap(PendulumEnv, spec, instances="nope")

@@ -275,6 +275,19 @@ impl ContextChooser {
                 use carl_spec::instances::store::StoreError as S;
                 match e {
                     S::Unknown(_) | S::BadName(_) => unknown_name(py, e.to_string()),
+                    // A user's set is frozen beside the user's spec: name that directory.
+                    S::NotFrozen { .. } if path.is_some() => {
+                        let dir = path
+                            .as_deref()
+                            .map(|p| if p.is_dir() { p } else { p.parent().unwrap_or(p) })
+                            .map(|d| d.display().to_string())
+                            .filter(|d| !d.is_empty())
+                            .unwrap_or_else(|| ".".into());
+                        value_error(format!(
+                            "{qualified} is declared but not frozen; freeze it beside the spec with \
+                             `carl-spec --specs {dir} freeze {qualified}`"
+                        ))
+                    }
                     _ => value_error(e),
                 }
             })?;
