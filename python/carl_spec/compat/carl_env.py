@@ -41,6 +41,7 @@ from .context.context_space import (
     UniformFloatContextFeature,
     UniformIntegerContextFeature,
 )
+from .context import selection
 from .context.selection import AbstractSelector, RoundRobinSelector
 
 Context = dict[str, Any]
@@ -171,7 +172,7 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
             contexts = {0: {}}
         if not isinstance(contexts, dict) or not contexts:
             raise ValueError("contexts must be a non-empty dict {context_id: {feature: value}}")
-        to_canon, self._to_compat = self._name_maps()
+        self._to_compat = self._name_maps()[1]
         canonical_contexts = [{self._canonical(k): v for k, v in c.items()} for c in contexts.values()]
         self.context_selector = self._selector(contexts, context_selector, context_selector_kwargs)
         mode = self.context_selector.mode
@@ -241,8 +242,6 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
         selector: AbstractSelector | type[AbstractSelector] | None,
         kwargs: dict[str, Any] | None,
     ) -> AbstractSelector:
-        from .context import selection
-
         if selector is None:
             return RoundRobinSelector(contexts)
         if inspect.isclass(selector):
