@@ -5,8 +5,8 @@ Gymnasium's CartPole-v1 through SB3's `make_vec_env` (DummyVecEnv + Monitor, wha
 
     python python/bench/bench_sb3_ppo.py [--repeats 2] [--steps 100000]
 
-Needs the training venv (torch, stable-baselines3). Runs alternate (carl-spec, Gymnasium, ...) so
-machine load hits both alike; prints one JSON line per run (wall and process CPU seconds: on a
+Needs the training venv (torch, stable-baselines3). After a short warm-up of each, runs alternate
+(Gymnasium, carl-spec, carl-spec, Gymnasium, ...) so first-run costs and machine load hit both alike; prints one JSON line per run (wall and process CPU seconds: on a
 shared machine CPU time is the fairer of the two) and a summary line with medians.
 """
 
@@ -85,9 +85,13 @@ def main() -> None:
     print(json.dumps(step_only(args.steps)), flush=True)
     if args.step_only:
         return
+    # Warm up torch and SB3 once for each, then alternate which goes first, so neither pays the
+    # process's first-run costs.
+    for which in ("carl_spec", "gymnasium"):
+        run(which, 0, 4096)
     rows: dict[str, list[dict[str, Any]]] = {"carl_spec": [], "gymnasium": []}
     for r in range(args.repeats):
-        for which in ("carl_spec", "gymnasium"):
+        for which in ("gymnasium", "carl_spec")[:: 1 if r % 2 == 0 else -1]:
             row = run(which, r, args.steps)
             rows[which].append(row)
             print(json.dumps(row), flush=True)
