@@ -236,6 +236,11 @@ def ratio(a, b):
     return a / b
 
 
+def num(x):
+    """Three significant digits without exponents."""
+    return f"{x:.0f}" if abs(x) >= 100 else f"{x:.3g}"
+
+
 def markdown(table):
     lines = [
         "| robot | metric | MuJoCo (Gymnasium v5) | carl-spec (CARL context) | ratio | carl-spec (MuJoCo's values) | ratio |",
@@ -249,7 +254,7 @@ def markdown(table):
             for key in ("mujoco", "carl", "carl_matched"):
                 x = v.get(key)
                 sd = rows.get(metric + "_sd", {}).get(key)
-                cells.append("—" if x is None else (f"{x:.3g} ± {sd:.2g}" if sd is not None else f"{x:.3g}"))
+                cells.append("—" if x is None else (f"{num(x)} ± {num(sd)}" if sd is not None else num(x)))
             r1 = ratio(v.get("carl"), v.get("mujoco"))
             r2 = ratio(v.get("carl_matched"), v.get("mujoco"))
             f = lambda r: "—" if r is None else f"{r:.2f}"
