@@ -1036,20 +1036,27 @@ impl VecEnv {
         }
         let d = self.inner.obs_dim();
         let (flat, wide) = (self.inner.final_observations(), self.inner.final_observations_f64());
-        let mut objects: Vec<Py<PyAny>> = Vec::with_capacity(term.len());
-        for (i, (a, b)) in term.iter().zip(trunc).enumerate() {
-            objects.push(if *a | *b {
-                self.layout
-                    .value(
-                        py,
-                        &flat[i * d..(i + 1) * d],
-                        wide.map(|w| &w[i * d..(i + 1) * d]),
-                        None,
-                    )?
-                    .unbind()
-            } else {
-                py.None()
-            });
+        let ended: Vec<usize> = (0..term.len()).filter(|&i| term[i] | trunc[i]).collect();
+        let mut objects: Vec<Py<PyAny>> = (0..term.len()).map(|_| py.None()).collect();
+        if let ObsLayout::Array { .. } = &self.layout {
+            // One array of the finished rows, handed out as row views (NumPy's own iteration:
+            // the cheapest way to make one Python object per row).
+            let gather32: Vec<f32> = ended.iter().flat_map(|&i| &flat[i * d..(i + 1) * d]).copied().collect();
+            let gather64: Option<Vec<f64>> =
+                wide.map(|w| ended.iter().flat_map(|&i| &w[i * d..(i + 1) * d]).copied().collect());
+            let block = self
+                .layout
+                .value(py, &gather32, gather64.as_deref(), Some(ended.len()))?;
+            for (&i, row) in ended.iter().zip(block.try_iter()?) {
+                objects[i] = row?.unbind();
+            }
+        } else {
+            for &i in &ended {
+                objects[i] = self
+                    .layout
+                    .value(py, &flat[i * d..(i + 1) * d], wide.map(|w| &w[i * d..(i + 1) * d]), None)?
+                    .unbind();
+            }
         }
         let done = filled(py, &[term.len()], |o: &mut [bool]| {
             for (o, (a, b)) in o.iter_mut().zip(term.iter().zip(trunc)) {
