@@ -51,6 +51,15 @@ def interleaved(sides: dict[str, Callable[[], float]], rounds: int) -> dict[str,
             rates[name].append(sides[name]())
     out: dict[str, Any] = {k: round(statistics.median(v)) for k, v in rates.items()}
     out["runs"] = {k: [round(x) for x in v] for k, v in rates.items()}
+    # carl-spec over each anchor round by round (both timed back to back), then the median: robust
+    # to the machine's speed drifting between rounds.
+    ours = [k for k in names if k.startswith("carl_spec")]
+    out["paired_ratio_medians"] = {
+        f"{a}/{b}": round(statistics.median(x / y for x, y in zip(rates[a], rates[b])), 3)
+        for a in ours
+        for b in names
+        if b not in ours
+    }
     out["load_average"] = [round(load_before, 1), round(os.getloadavg()[0], 1)]
     return out
 
@@ -132,13 +141,30 @@ def rust_vec_rate(env_id: str, n: int, threads: int, seconds: float) -> float:
     return float(json.loads(out.strip().splitlines()[-1])["vec_steps_per_sec"])
 
 
+def bench_actions(space: Any, n: int) -> list[np.ndarray]:
+    """The very batches `carl-spec bench` cycles through (src/bench.rs `ActionTable`: NumPy's
+    `default_rng(0x5eed)`, uniform in the box, min(64, 65536 // n) batches), so both sides run the
+    same episodes: a physics step's cost depends on the state (contacts, resets)."""
+    rng = np.random.default_rng(0x5EED)
+    batches = max(1, min(64, 65536 // n))
+    if not hasattr(space, "low"):  # Discrete: raw 64-bit draws modulo n
+        raw = np.array([rng.bit_generator.random_raw() for _ in range(batches * n)], dtype=np.uint64)
+        draws = (space.start + (raw % np.uint64(space.n)).astype(np.int64)).reshape(batches, n)
+        return list(draws)
+    low, high = space.low.astype(np.float64), space.high.astype(np.float64)
+    dim = low.size
+    values = low.repeat(1)[np.arange(batches * n * dim) % dim]
+    span = (high - low)[np.arange(batches * n * dim) % dim]
+    flat = (values + span * rng.random(batches * n * dim)).astype(np.float32)
+    return [b.reshape(n, dim) for b in flat.reshape(batches, n * dim)]
+
+
 def vec_physics(env_id: str, envpool_id: str | None, n: int, threads: int, seconds: float, rounds: int) -> dict[str, Any]:
     import carl_spec as cs
 
     venv = cs.make_vec(env_id, n, autoreset_mode="same_step", threads=threads)
     venv.reset(seed=0)
-    venv.action_space.seed(0)
-    acts = [venv.action_space.sample() for _ in range(16)]
+    acts = bench_actions(venv.single_action_space, n)
     sides: dict[str, Callable[[], float]] = {
         "carl_spec": lambda: timed(cycle(acts, venv.step), n, seconds),
         "rust_VecEnv": lambda: rust_vec_rate(env_id, n, threads, seconds),
@@ -149,11 +175,20 @@ def vec_physics(env_id: str, envpool_id: str | None, n: int, threads: int, secon
         except ImportError:
             envpool = None
         if envpool is not None:
-            pool = envpool.make_gymnasium(envpool_id, num_envs=n, num_threads=threads, seed=0)
-            pool.reset()
-            pool.action_space.seed(0)
-            pacts = [np.stack([pool.action_space.sample() for _ in range(n)]) for _ in range(16)]
-            sides["envpool"] = lambda: timed(cycle(pacts, pool.step), n, seconds)
+
+            def envpool_rate() -> float:
+                # Built and closed within its own turn: envpool's worker threads must not compete
+                # with the other sides' turns in this process.
+                pool = envpool.make_gymnasium(envpool_id, num_envs=n, num_threads=threads, seed=0)
+                pool.reset()
+                pool.action_space.seed(0)
+                pacts = [np.stack([pool.action_space.sample() for _ in range(n)]) for _ in range(16)]
+                try:
+                    return timed(cycle(pacts, pool.step), n, seconds)
+                finally:
+                    pool.close()
+
+            sides["envpool"] = envpool_rate
     row = interleaved(sides, rounds)
     out = {"workload": f"make_vec('{env_id}', {n}), {threads} threads", **row}
     out["fraction_of_rust_VecEnv"] = round(row["carl_spec"] / row["rust_VecEnv"], 3)

@@ -360,7 +360,7 @@ impl<E: Env> Env for TimeLimit<E> {
 // ---------------------------------------------------------------------------------------
 // Helpers shared by the environments.
 
-pub(crate) fn check_obs_len(env: &'static str, obs: &[f32], expected: usize) -> Result<(), EnvError> {
+pub(crate) fn check_obs_len<T>(env: &'static str, obs: &[T], expected: usize) -> Result<(), EnvError> {
     if obs.len() == expected {
         Ok(())
     } else {

@@ -862,13 +862,7 @@ impl Env for ContextualEnv {
     /// The runtime's observation at float64 precision; the context part is what the float32
     /// observation carries, widened.
     fn observe_f64_into(&self, obs: &mut [f64]) -> Result<(), EnvError> {
-        if obs.len() != self.obs_dim() {
-            return Err(EnvError::ObsBufferLength {
-                env: self.id,
-                expected: self.obs_dim(),
-                got: obs.len(),
-            });
-        }
+        check_obs_len(self.id, obs, self.obs_dim())?;
         self.slots[self.current]
             .env
             .observe_f64_into(&mut obs[..self.base_dim])?;

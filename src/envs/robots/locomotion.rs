@@ -532,13 +532,7 @@ impl Env for Locomotion {
     }
 
     fn observe_f64_into(&self, obs: &mut [f64]) -> Result<(), EnvError> {
-        if obs.len() != self.obs_dim() {
-            return Err(EnvError::ObsBufferLength {
-                env: self.id,
-                expected: self.obs_dim(),
-                got: obs.len(),
-            });
-        }
+        check_obs_len(self.id, obs, self.obs_dim())?;
         self.write_obs_f64(obs);
         Ok(())
     }
