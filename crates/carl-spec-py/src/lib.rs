@@ -1056,7 +1056,12 @@ impl VecEnv {
             for &i in &ended {
                 objects[i] = self
                     .layout
-                    .value(py, &flat[i * d..(i + 1) * d], wide.map(|w| &w[i * d..(i + 1) * d]), None)?
+                    .value(
+                        py,
+                        &flat[i * d..(i + 1) * d],
+                        wide.map(|w| &w[i * d..(i + 1) * d]),
+                        None,
+                    )?
                     .unbind();
             }
         }
