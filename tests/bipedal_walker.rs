@@ -2,7 +2,7 @@
 //! instances and seeds, falling, lidar against flat ground and stumps, the scripted gait,
 //! context sensitivity, bad input and rendering.
 
-use carl_spec::envs::box2d::bipedal_walker::{Obstacle, START_JOINTS, STATE_DIM};
+use carl_spec::envs::box2d::bipedal_walker::{HIP_LIMITS, HIP_REFERENCE, Obstacle, START_JOINTS, STATE_DIM};
 use carl_spec::envs::box2d::{BipedalWalker, BipedalWalkerOptions, BipedalWalkerParams, WalkerHeuristic};
 use carl_spec::envs::registry::{Context, make};
 use carl_spec::envs::{Action, Env, EnvError};
@@ -61,7 +61,8 @@ fn observation_layout_and_normalisation_at_reset() {
     for leg in 0..2 {
         let o = 4 + 5 * leg;
         let (hull_b, upper, lower) = (b[0], b[1 + 2 * leg], b[2 + 2 * leg]);
-        let hip = upper.angle - hull_b.angle;
+        // Box2D's joint angle: relative angle minus the reference angle pybox2d recorded.
+        let hip = upper.angle - hull_b.angle - HIP_REFERENCE[leg];
         let knee = lower.angle - upper.angle;
         assert!((obs[o] as f64 - hip).abs() < 1e-5, "leg {leg}: {} vs {hip}", obs[o]);
         assert!((obs[o] as f64 - START_JOINTS[2 * leg]).abs() < 0.05, "{}", obs[o]);
@@ -366,7 +367,7 @@ fn context_changes_the_dynamics() {
     let base = run(BipedalWalkerParams::default());
     for p in [
         BipedalWalkerParams {
-            friction: 0.3,
+            friction: 0.05,
             ..Default::default()
         },
         BipedalWalkerParams {
@@ -414,9 +415,15 @@ fn state_round_trip_and_bad_input() {
     for (x, y) in o.iter().zip(c.observe()) {
         assert!((x - y).abs() < 1e-4);
     }
-    // Clones continue identically to each other.
+    // Clones continue like each other: the clone's world is rebuilt from joint angles measured
+    // from the hips' reference angles, which can move an f32 body angle by its last bit.
     let mut d = c.clone();
-    assert_eq!(c.step(&act([1.0; 4])).unwrap(), d.step(&act([1.0; 4])).unwrap());
+    let (sc, sd) = (c.step(&act([1.0; 4])).unwrap(), d.step(&act([1.0; 4])).unwrap());
+    assert_eq!((sc.terminated, sc.truncated), (sd.terminated, sd.truncated));
+    assert!((sc.reward - sd.reward).abs() < 1e-5, "{} vs {}", sc.reward, sd.reward);
+    for (x, y) in sc.obs.iter().zip(&sd.obs) {
+        assert!((x - y).abs() < 1e-5, "{:?} vs {:?}", sc.obs, sd.obs);
+    }
 
     assert!(matches!(
         env.step(&Action::Continuous(vec![0.0; 3])),
@@ -474,4 +481,25 @@ fn render_draws_sky_ground_and_hull() {
     let s = env.state();
     env.render();
     assert_eq!(s, env.state());
+}
+
+#[test]
+fn hip_limits_act_on_the_joint_angle_from_box2ds_reference_angle() {
+    // Hips driven into their upper limit: both joint angles (observations) stop at 1.1, and the
+    // upper legs stand at 1.1 + HIP_REFERENCE relative to the hull (1.05 and 1.15), as in
+    // Gymnasium where pybox2d records the legs' creation angles (∓0.05) as reference angles.
+    let mut env = walker(BipedalWalkerParams::default());
+    env.reset(Some(3));
+    let mut obs = Vec::new();
+    for _ in 0..40 {
+        obs = env.step(&act([1.0, 0.0, 1.0, 0.0])).unwrap().obs;
+    }
+    let b = env.body_states().unwrap();
+    for leg in 0..2 {
+        let joint = obs[4 + 5 * leg] as f64;
+        assert!((joint - HIP_LIMITS[1]).abs() < 0.03, "leg {leg}: joint angle {joint}");
+        let rel = b[1 + 2 * leg].angle - b[0].angle;
+        assert!((rel - joint - HIP_REFERENCE[leg]).abs() < 1e-5, "leg {leg}: {rel} vs {joint}");
+    }
+    assert!(HIP_REFERENCE[1] - HIP_REFERENCE[0] > 0.09);
 }
