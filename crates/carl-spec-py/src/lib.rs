@@ -26,6 +26,8 @@ use carl_spec::spec::SpecSet;
 use carl_spec::spec::load::{bundled_inputs, read_inputs};
 use carl_spec::validate;
 
+mod user_spec;
+
 // ---------------------------------------------------------------------------------------
 // Errors
 
@@ -88,7 +90,7 @@ fn env_error(e: &EnvError) -> PyErr {
 static BUNDLED: OnceLock<Result<SpecSet, String>> = OnceLock::new();
 
 /// The bundled specs (validated once per process, then shared read-only), or bundled + `dir`.
-fn with_specs<T>(specs_dir: Option<PathBuf>, f: impl FnOnce(&SpecSet) -> PyResult<T>) -> PyResult<T> {
+pub(crate) fn with_specs<T>(specs_dir: Option<PathBuf>, f: impl FnOnce(&SpecSet) -> PyResult<T>) -> PyResult<T> {
     match specs_dir {
         None => {
             let specs = BUNDLED.get_or_init(|| SpecSet::bundled().map_err(|e| e.to_string()));
@@ -796,6 +798,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sample_json, m)?)?;
     m.add_class::<Env>()?;
     m.add_class::<VecEnv>()?;
+    user_spec::register(m)?;
     m.add("RUNTIMES", PyList::new(m.py(), ids().collect::<Vec<_>>())?)?;
     m.add("VERSION", env!("CARGO_PKG_VERSION"))?;
     Ok(())
