@@ -404,7 +404,7 @@ fn push_off_lifts_the_hull_as_in_box2d() {
     s[14] = 1.0;
     s[15] = 1.0;
     env.set_state(&s).unwrap();
-    let a = [0.0486266054213047f32, 1.0, -0.20137318968772888, 0.19596163928508759];
+    let a = [0.0486266054213047f64, 1.0, -0.20137318968772888, 0.19596163928508759].map(|x| x as f32);
     env.step(&act(a)).unwrap();
     let h = env.state();
     // Box2D after the step: vx 2.249, vy +0.210, ω 1.214.
@@ -558,5 +558,4 @@ fn hip_limits_act_on_the_joint_angle_from_box2ds_reference_angle() {
         let rel = b[1 + 2 * leg].angle - b[0].angle;
         assert!((rel - joint - HIP_REFERENCE[leg]).abs() < 1e-5, "leg {leg}: {rel} vs {joint}");
     }
-    assert!(HIP_REFERENCE[1] - HIP_REFERENCE[0] > 0.09);
 }
