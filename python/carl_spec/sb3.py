@@ -177,7 +177,15 @@ class CarlSB3VecEnv(VecEnv):  # type: ignore[misc]  # VecEnv is Any where SB3 is
         r = self._renderers.get(key)
         if r is None:
             c = self.venv._ctor
-            r = CarlEnv(c["env"], context=ctx, obs_context=c["obs_context"], specs_dir=c["specs_dir"], render_mode="rgb_array")
+            r = CarlEnv(
+                c["env"],
+                context=ctx,
+                obs_context=c["obs_context"],
+                options=c.get("options"),
+                allow_out_of_bounds=c.get("allow_out_of_bounds", False),
+                specs_dir=c["specs_dir"],
+                render_mode="rgb_array",
+            )
             r.reset(seed=0)
             if len(self._renderers) > 64:
                 self._renderers.clear()
