@@ -55,7 +55,7 @@ use rapier2d::prelude::*;
 use crate::envs::api::{
     Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features,
 };
-use crate::sampling::{Pcg64, dist};
+use crate::envs::rng::{self, EnvRng};
 
 const ID: &str = "lunar_lander";
 
@@ -82,6 +82,12 @@ pub const REST_TOLERANCE_FACTOR: f32 = 10.0;
 pub const TIME_TO_SLEEP: f32 = 0.5;
 /// Two Box2D polygon skins (`2 * b2_polygonRadius`): closer than this counts as touching.
 pub const TOUCH_DISTANCE: f32 = 0.02;
+/// Box2D's polygon radius (`b2_polygonRadius`, 0.01 m) as rapier's contact skin on every
+/// collider: Box2D's solver holds polygons and edges this skin apart, so a lander standing on
+/// its legs is 2 cm higher than with bare shapes, 2 cm that a hard touchdown needs before the
+/// lander body touches (Neptune's crash rate from Box2D's own pre-touchdown states: 0.28 without
+/// the skin, 0.18 with it; Box2D 0.12).
+pub const CONTACT_SKIN: f32 = 0.01;
 /// Box2D's per-step motion caps (`b2_maxTranslation`, `b2_maxRotation`).
 pub const MAX_TRANSLATION: f32 = 2.0;
 pub const MAX_ROTATION: f32 = 0.5 * std::f32::consts::PI;
@@ -307,6 +313,7 @@ impl World {
                 Vector::new(x2 as f32, smooth_y[i + 1] as f32),
             )
             .friction(0.1)
+            .contact_skin(CONTACT_SKIN)
             .friction_combine_rule(CoefficientCombineRule::GeometricMean)
             .collision_groups(groups(GROUND_GROUP, 0xFFFF));
             pw.insert_collider(c, Some(ground));
@@ -331,6 +338,7 @@ impl World {
             dynamic(&bodies[0]),
             lander_shape
                 .density(5.0)
+                .contact_skin(CONTACT_SKIN)
                 .friction(0.1)
                 .restitution(0.0)
                 .friction_combine_rule(CoefficientCombineRule::GeometricMean)
@@ -343,6 +351,7 @@ impl World {
                 dynamic(&bodies[1 + k]),
                 ColliderBuilder::cuboid(size(p.leg_w / s), size(p.leg_h / s))
                     .density(1.0)
+                    .contact_skin(CONTACT_SKIN)
                     .friction(0.2)
                     .restitution(0.0)
                     .friction_combine_rule(CoefficientCombineRule::GeometricMean)
@@ -458,12 +467,15 @@ pub struct LunarLander {
     outcome: Outcome,
     /// Engine powers of the last step `(main, side direction, side)`, for rendering flames.
     last_engines: (f64, f64, f64),
-    rng: Pcg64,
+    /// NumPy's generator, seeded as Gymnasium's `np_random` (same terrain and pushes per seed).
+    rng: EnvRng,
 }
 
-/// Stream id of the lander's generator (FNV-1a of "lunar_lander").
-fn rng_for(seed: u64) -> Pcg64 {
-    Pcg64::new(seed, crate::sampling::stream_id(ID))
+/// Gymnasium's `np_random` after `reset(seed=seed)`: the terrain, the initial push and every
+/// step's engine dispersion are drawn in Gymnasium's order, so a seed gives Gymnasium's episode
+/// start exactly (`tests/lunar_lander.rs` checks the terrain against Box2D's).
+fn rng_for(seed: u64) -> EnvRng {
+    EnvRng::from_seed(seed)
 }
 
 impl Clone for LunarLander {
@@ -570,7 +582,7 @@ impl LunarLander {
     }
 
     fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        dist::uniform(&mut self.rng, lo, hi)
+        rng::uniform(&mut self.rng, lo, hi)
     }
 
     fn generate_terrain(&mut self) {
