@@ -392,6 +392,7 @@ fn replay_box2d_touchdowns(planet: &str) -> Vec<(u64, String, Outcome, f64, f64)
 
 #[test]
 fn box2d_touchdowns_end_as_in_box2d() {
+    let (mut replay_agree, mut replay_total, mut whole_agree, mut whole_total) = (0, 0, 0, 0);
     for planet in ["Jupiter", "Neptune", "Earth", "Mars", "Moon", "Pluto"] {
         let runs = replay_box2d_touchdowns(planet);
         let name = |o: Outcome| match o {
@@ -417,7 +418,32 @@ fn box2d_touchdowns_end_as_in_box2d() {
                 r.4
             );
         }
+        // The whole episode from the same seed (same terrain and push as Box2D's).
+        let fixture: serde_json::Value =
+            serde_json::from_str(include_str!("fixtures/lunar_lander_touchdowns_box2d.json")).unwrap();
+        let p = &fixture["planets"][planet];
+        let mut env = lander(p["gravity_y"].as_f64().unwrap());
+        let whole: Vec<(u64, String, Outcome)> = p["runs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| {
+                let seed = r["seed"].as_u64().unwrap();
+                let (_, outcome, _) = heuristic_episode(&mut env, seed);
+                (seed, r["outcome"].as_str().unwrap().to_string(), outcome)
+            })
+            .collect();
+        let differ: Vec<String> = whole
+            .iter()
+            .filter(|w| name(w.2) != w.1)
+            .map(|w| format!("{}:{}->{}", w.0, w.1, name(w.2)))
+            .collect();
+        eprintln!("{planet}: whole episodes, {} of {} differ: {}", differ.len(), whole.len(), differ.join(" "));
+        whole_agree += whole.len() - differ.len();
+        whole_total += whole.len();
         let agree = runs.iter().filter(|r| name(r.2) == r.1).count();
+        replay_agree += agree;
+        replay_total += runs.len();
         eprintln!(
             "{planet}: {} touchdowns, same outcome {agree}; landed {:.2} (box2d {:.2}) crashed {:.2} (box2d {:.2})",
             runs.len(),
@@ -426,5 +452,22 @@ fn box2d_touchdowns_end_as_in_box2d() {
             rate("crashed", true),
             rate("crashed", false)
         );
+        // Touchdown and leg dynamics: from Box2D's own states, Neptune's hard touchdowns crash
+        // as often as in Box2D (0.10 here, 0.12 there; 0.28 before the contact skin).
+        if planet == "Neptune" {
+            assert!(
+                (rate("crashed", true) - rate("crashed", false)).abs() <= 0.10,
+                "Neptune replays: crashed {} vs Box2D {}",
+                rate("crashed", true),
+                rate("crashed", false)
+            );
+        }
     }
+    // Measured: 245 of 270 replays and 270 of 300 whole episodes end as in Box2D.
+    let (replay, whole) = (
+        replay_agree as f64 / replay_total as f64,
+        whole_agree as f64 / whole_total as f64,
+    );
+    eprintln!("same outcome as Box2D: replays {replay:.3}, whole episodes {whole:.3}");
+    assert!(replay >= 0.85 && whole >= 0.85, "replays {replay}, whole episodes {whole}");
 }
