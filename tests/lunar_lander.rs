@@ -316,7 +316,10 @@ fn heuristic_lands_where_gymnasium_lands_and_crashes_where_it_crashes() {
         );
         eprintln!("{body}: landed {landed} (Gymnasium {gym_landed}), crashed {crashed} (Gymnasium {gym_crashed})");
         if body == "Neptune" {
-            assert!(landed >= 0.6 && crashed <= 0.25, "{body}: landed {landed}, crashed {crashed}");
+            assert!(
+                landed >= 0.6 && crashed <= 0.25,
+                "{body}: landed {landed}, crashed {crashed}"
+            );
             continue;
         }
         assert!(
@@ -361,7 +364,10 @@ fn replay_box2d_touchdowns(planet: &str) -> Vec<(u64, String, Outcome, f64, f64)
         // Same seed, same terrain as Gymnasium's (NumPy's generator, Gymnasium's draw order).
         for (ours, box2d) in env.terrain().iter().zip(&state[..11]) {
             // The fixture keeps 9 significant digits.
-            assert!((ours - box2d).abs() < 1e-7, "{planet} seed {seed}: terrain {ours} vs {box2d}");
+            assert!(
+                (ours - box2d).abs() < 1e-7,
+                "{planet} seed {seed}: terrain {ours} vs {box2d}"
+            );
         }
         env.set_state(&state).unwrap();
         let mut obs = env.observe();
@@ -438,7 +444,12 @@ fn box2d_touchdowns_end_as_in_box2d() {
             .filter(|w| name(w.2) != w.1)
             .map(|w| format!("{}:{}->{}", w.0, w.1, name(w.2)))
             .collect();
-        eprintln!("{planet}: whole episodes, {} of {} differ: {}", differ.len(), whole.len(), differ.join(" "));
+        eprintln!(
+            "{planet}: whole episodes, {} of {} differ: {}",
+            differ.len(),
+            whole.len(),
+            differ.join(" ")
+        );
         whole_agree += whole.len() - differ.len();
         whole_total += whole.len();
         let agree = runs.iter().filter(|r| name(r.2) == r.1).count();
@@ -469,5 +480,8 @@ fn box2d_touchdowns_end_as_in_box2d() {
         whole_agree as f64 / whole_total as f64,
     );
     eprintln!("same outcome as Box2D: replays {replay:.3}, whole episodes {whole:.3}");
-    assert!(replay >= 0.85 && whole >= 0.85, "replays {replay}, whole episodes {whole}");
+    assert!(
+        replay >= 0.85 && whole >= 0.85,
+        "replays {replay}, whole episodes {whole}"
+    );
 }
