@@ -27,9 +27,20 @@
 //!
 //! Where this is not Box2D (documented deviations):
 //! * **Solver.** rapier's TGS-soft solver with [`BipedalWalkerOptions::solver_iterations`]
-//!   substeps replaces Box2D's sequential impulses with 6·30 velocity and 2·30 position
-//!   iterations. Joints are soft constraints: they stretch slightly under load where Box2D's
-//!   position iterations hold them rigid.
+//!   substeps (16) replaces Box2D's sequential impulses with 6·30 velocity and 2·30 position
+//!   iterations. Measured by replaying Gymnasium's states one step at a time (scripted gait, seed
+//!   0): at the first push-off Box2D lifts the hull (vy −0.27 → +0.21 m/s); 4 substeps left the
+//!   joint chain unconverged under the 22:1 hull/lower-leg mass ratio and the hull sank (−0.12),
+//!   8 gave +0.16, 16 give +0.209. More substeps change nothing measurable.
+//! * **Limits.** Box2D 2.3 enforces a joint limit only if the joint is at or past it when the
+//!   step starts (no speculative limit) and its position correction leaves [`ANGULAR_SLOP`] (2°)
+//!   of overshoot; we switch rapier's limits on and off per step the same way
+//!   (`World::box2d_limits`). Gymnasium's hips driven up rest at 1.134 / 1.128, knees at −0.066.
+//! * **Foot landings.** Box2D's continuous collision (TOI) stops a lower leg inside the step in
+//!   which it reaches the ground; rapier's contact acts from the next step (its speculative margin
+//!   is 0.02 m). Box2D also rests its polygons 0.015 m off the ground (0.01 m skins minus 0.005 m
+//!   slop). Not reproduced: with these, Gymnasium's scripted gait still falls or stalls here before
+//!   40 m (README table).
 //! * **Motors.** Box2D's velocity motor is reproduced by rapier's velocity motor (force-based,
 //!   stiffness 0, very high damping) with `max_force = MOTORS_TORQUE·clip(|a|,0,1)`: it reaches
 //!   the target speed unless the torque saturates, like Box2D's.
@@ -86,8 +97,20 @@ const ID: &str = "bipedal_walker";
 
 /// Hull outline in pixels (Gymnasium's `HULL_POLY`).
 pub const HULL_POLY: [(f64, f64); 5] = [(-30.0, 9.0), (6.0, 9.0), (34.0, 1.0), (34.0, -8.0), (-30.0, -8.0)];
-/// Hip joint limits (rad).
+/// Hip joint limits (rad), on the joint angle (measured from [`HIP_REFERENCE`]).
 pub const HIP_LIMITS: [f64; 2] = [-0.8, 1.1];
+/// Reference angles of the two hips (rad): Gymnasium creates the upper legs at `i·0.05` rad
+/// (`i = −1, +1`) and pybox2d's `revoluteJointDef` sets `referenceAngle = angleB − angleA` at
+/// creation, so a hip's joint angle (observation, limits, [`START_JOINTS`]) is the upper leg's
+/// angle relative to the hull minus `i·0.05`: leg 0 really stands 0.05 rad further back and leg 1
+/// 0.05 rad further forward than their joint angles say (measured with Gymnasium 1.4). The knees'
+/// reference angles are 0.
+pub const HIP_REFERENCE: [f64; 2] = [-0.05, 0.05];
+/// Box2D's `b2_angularSlop` (2°): how far past a limit its position correction leaves a joint.
+pub const ANGULAR_SLOP: f64 = 2.0 / 180.0 * std::f64::consts::PI;
+/// A joint's limit while Box2D would not enforce it (|angle| never reaches 3 rad within the
+/// limits above; rapier's angular limits stay within ±π).
+const INACTIVE_LIMIT: f64 = 3.0;
 /// Knee joint limits (rad).
 pub const KNEE_LIMITS: [f64; 2] = [-1.6, -0.1];
 /// Number of lidar rays.
@@ -218,7 +241,7 @@ impl Default for BipedalWalkerOptions {
     fn default() -> Self {
         BipedalWalkerOptions {
             hardcore: false,
-            solver_iterations: 4,
+            solver_iterations: 16,
             pgs_iterations: 2,
             render_lidar: true,
         }
@@ -293,7 +316,8 @@ impl Pose {
             let a_off = rot(h.angle, (0.0, p.leg_down));
             let hip = (h.x + a_off.0, h.y + a_off.1);
             let v_hip = point_vel(&h, com, hip);
-            let au = h.angle + qh;
+            // (qh + reference) first: a state read from a world rebuilds the same f32 angles.
+            let au = h.angle + HIP_REFERENCE[leg] + qh;
             let wu = h.w + wh;
             let d = rot(au, (0.0, -half));
             let cu = (hip.0 + d.0, hip.1 + d.1);
@@ -368,6 +392,64 @@ impl GroundShapes {
     }
 }
 
+/// One terrain piece in contact with a lower leg (see [`ContactListener`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct TouchedPiece {
+    collider: ColliderHandle,
+    subshape: u32,
+    /// World x of a touching point (orders the events of one step).
+    x: f32,
+}
+
+/// Gymnasium's `ContactDetector` for one lower leg: the flag is set when contact with a terrain
+/// piece begins and cleared when contact with *a* piece ends, even if the leg still touches
+/// another. Gymnasium's terrain is one Box2D body per surface segment, so a foot sliding or
+/// rocking across a segment boundary clears its flag while it stands on the ground; the
+/// scripted gait reads the flag to decide when a swinging leg has landed.
+///
+/// Box2D reports a step's events newest contact first; a leg moving along the course meets
+/// pieces further right later, so the event that decides the flag is the one at the smallest x.
+///
+/// After `set_state` the pieces touched are not known (they are not part of the state): the
+/// first step takes the contacts it finds as the baseline and keeps the loaded flag.
+#[derive(Debug, Clone, Default)]
+struct ContactListener {
+    touching: Vec<TouchedPiece>,
+    /// The next update only records `touching`.
+    unknown: bool,
+}
+
+impl ContactListener {
+    fn baseline() -> ContactListener {
+        ContactListener {
+            touching: Vec::new(),
+            unknown: true,
+        }
+    }
+
+    /// Update `flag` with this step's begin/end events, `now` being the pieces touched now.
+    fn update(&mut self, now: Vec<TouchedPiece>, flag: &mut bool) {
+        if std::mem::take(&mut self.unknown) {
+            self.touching = now;
+            return;
+        }
+        let same = |a: &TouchedPiece, b: &TouchedPiece| a.collider == b.collider && a.subshape == b.subshape;
+        let begins = now
+            .iter()
+            .filter(|p| !self.touching.iter().any(|q| same(p, q)))
+            .map(|p| (p.x, true));
+        let ends = self
+            .touching
+            .iter()
+            .filter(|q| !now.iter().any(|p| same(p, q)))
+            .map(|q| (q.x, false));
+        if let Some((_, begin)) = begins.chain(ends).min_by(|a, b| a.0.total_cmp(&b.0)) {
+            *flag = begin;
+        }
+        self.touching = now;
+    }
+}
+
 struct World {
     pw: PhysicsWorld,
     /// Hull, upper 0, lower 0, upper 1, lower 1 (Gymnasium's `hull` and `legs` order).
@@ -406,7 +488,6 @@ impl World {
         ip.num_solver_iterations = opts.solver_iterations.max(1);
         ip.num_internal_pgs_iterations = opts.pgs_iterations.max(1);
         ip.max_ccd_substeps = 1;
-
         let friction = p.friction.max(0.0) as f32;
         let ground_col = |c: ColliderBuilder| {
             c.friction(friction)
@@ -465,10 +546,16 @@ impl World {
                     .motor_max_force(0.0)
                     .contacts_enabled(false)
             };
+            // rapier's limits are on the relative angle; Box2D's on the angle from the reference.
+            let r = HIP_REFERENCE[leg];
             let hip = pw.insert_impulse_joint(
                 hull,
                 upper,
-                joint(v2(0.0, p.leg_down), Vector::new(0.0, lh / 2.0), HIP_LIMITS),
+                joint(
+                    v2(0.0, p.leg_down),
+                    Vector::new(0.0, lh / 2.0),
+                    [HIP_LIMITS[0] + r, HIP_LIMITS[1] + r],
+                ),
             );
             let knee = pw.insert_impulse_joint(
                 upper,
@@ -498,6 +585,35 @@ impl World {
         })
     }
 
+    /// The terrain pieces (surface segments and obstacles: one Box2D body each in Gymnasium)
+    /// that collider `c` touches, with the x of a touching point on each.
+    fn touched_pieces(&self, c: ColliderHandle) -> Vec<TouchedPiece> {
+        let mut out: Vec<TouchedPiece> = Vec::new();
+        for pair in self.pw.narrow_phase.contact_pairs_with(c) {
+            let other_is_1 = pair.collider2 == c;
+            let other = if other_is_1 { pair.collider1 } else { pair.collider2 };
+            for m in pair.manifolds() {
+                let Some(pt) = m.points.iter().find(|pt| pt.dist < TOUCH_DISTANCE) else {
+                    continue;
+                };
+                // Terrain colliders sit at the world origin: their local points are world points.
+                let (sub, x) = if other_is_1 {
+                    (m.subshape1, pt.local_p1.x)
+                } else {
+                    (m.subshape2, pt.local_p2.x)
+                };
+                if !out.iter().any(|p| p.collider == other && p.subshape == sub) {
+                    out.push(TouchedPiece {
+                        collider: other,
+                        subshape: sub,
+                        x,
+                    });
+                }
+            }
+        }
+        out
+    }
+
     fn angle(&self, k: usize) -> f64 {
         self.pw.bodies[self.bodies[k]].rotation().angle() as f64
     }
@@ -505,13 +621,45 @@ impl World {
         self.pw.bodies[self.bodies[k]].angvel() as f64
     }
 
-    /// Joint angles and speeds (Box2D's `angle = angleB − angleA`, `speed = ωB − ωA`).
+    /// Box2D's joint limits for the coming step: a limit acts only if the joint is already at or
+    /// beyond it when the step starts (Box2D 2.3 decides the limit state in
+    /// `InitVelocityConstraints`; there is no speculative limit), and its position correction
+    /// leaves [`ANGULAR_SLOP`] of overshoot. A knee swinging at 6 rad/s therefore runs up to one
+    /// step past its limit and is then held about 2° beyond it, as in Gymnasium. rapier's limits
+    /// are on the angle between the bodies, Box2D's on the angle from the reference angle.
+    fn box2d_limits(&mut self) {
+        let (q, _) = self.joints();
+        for (j, &qj) in q.iter().enumerate() {
+            let (lim, reference) = if j % 2 == 0 {
+                (HIP_LIMITS, HIP_REFERENCE[j / 2])
+            } else {
+                (KNEE_LIMITS, 0.0)
+            };
+            let slop = ANGULAR_SLOP;
+            let [lo, hi] = if qj <= lim[0] {
+                [lim[0] - slop, INACTIVE_LIMIT]
+            } else if qj >= lim[1] {
+                [-INACTIVE_LIMIT, lim[1] + slop]
+            } else {
+                [-INACTIVE_LIMIT, INACTIVE_LIMIT]
+            };
+            if let Some(joint) = self.pw.impulse_joints.get_mut(self.joints[j], false) {
+                joint
+                    .data
+                    .set_limits(JointAxis::AngX, [(lo + reference) as f32, (hi + reference) as f32]);
+            }
+        }
+    }
+
+    /// Joint angles and speeds (Box2D's `angle = angleB − angleA − referenceAngle`,
+    /// `speed = ωB − ωA`).
     fn joints(&self) -> ([f64; 4], [f64; 4]) {
         let pairs = [(0, 1), (1, 2), (0, 3), (3, 4)];
+        let reference = [HIP_REFERENCE[0], 0.0, HIP_REFERENCE[1], 0.0];
         let mut q = [0.0; 4];
         let mut dq = [0.0; 4];
         for (j, (a, b)) in pairs.into_iter().enumerate() {
-            q[j] = wrap_pi(self.angle(b) - self.angle(a));
+            q[j] = wrap_pi(self.angle(b) - self.angle(a) - reference[j]);
             dq[j] = self.angvel(b) - self.angvel(a);
         }
         (q, dq)
@@ -530,6 +678,8 @@ pub struct BipedalWalker {
     /// Unwrapped hull angle (Box2D keeps angles continuous).
     hull_angle: f64,
     ground_contact: [bool; 2],
+    /// Box2D's contact events behind `ground_contact`.
+    listeners: [ContactListener; 2],
     game_over: bool,
     prev_shaping: Option<f64>,
     /// Force applied at reset, acting during the first step only (Box2D clears forces).
@@ -542,8 +692,10 @@ fn rng_for(seed: u64) -> Pcg64 {
 }
 
 impl Clone for BipedalWalker {
-    /// The clone gets a world rebuilt from the full [`Env::state`]: bodies, terrain and episode
-    /// bookkeeping are equal, rapier's solver caches (warm-start impulses) start empty.
+    /// The clone gets a world rebuilt from the full [`Env::state`]: bodies (to the last f32 bit
+    /// of an angle, which the hips' reference angles can move), terrain and episode bookkeeping
+    /// are equal; rapier's solver caches (warm-start impulses) start empty and the contact
+    /// listeners take the first step's contacts as their baseline.
     fn clone(&self) -> Self {
         let mut c = BipedalWalker::with_options(self.params, self.opts);
         c.rng = self.rng.clone();
@@ -576,6 +728,7 @@ impl BipedalWalker {
             ground: None,
             hull_angle: 0.0,
             ground_contact: [false; 2],
+            listeners: Default::default(),
             game_over: false,
             prev_shaping: None,
             pending_force: false,
@@ -763,6 +916,8 @@ impl BipedalWalker {
         };
         self.place(&pose);
         self.ground_contact = [s[14] != 0.0, s[15] != 0.0];
+        // The contacts the next step finds at the loaded pose are its baseline, not events.
+        self.listeners = [ContactListener::baseline(), ContactListener::baseline()];
         self.game_over = s[16] != 0.0;
         self.prev_shaping = (s[17] != 0.0).then_some(s[18]);
         self.pending_force = false;
@@ -852,6 +1007,7 @@ impl BipedalWalker {
             }
         }
 
+        world.box2d_limits();
         world.pw.step();
         let dt = world.pw.integration_parameters.dt;
         if self.pending_force {
@@ -878,7 +1034,10 @@ impl BipedalWalker {
         if world.touching(world.hull_col) {
             self.game_over = true;
         }
-        self.ground_contact = [world.touching(world.lower_cols[0]), world.touching(world.lower_cols[1])];
+        for leg in 0..2 {
+            let now = world.touched_pieces(world.lower_cols[leg]);
+            self.listeners[leg].update(now, &mut self.ground_contact[leg]);
+        }
 
         *obs = self.state_f64();
         let x = world_x(self.world.as_ref());
@@ -974,6 +1133,7 @@ impl Env for BipedalWalker {
         let pose = self.start_pose(ground);
         self.place(&pose);
         self.ground_contact = [false; 2];
+        self.listeners = Default::default();
         self.game_over = false;
         self.prev_shaping = None;
         let ir = self.params.initial_random;
@@ -1022,5 +1182,58 @@ impl Env for BipedalWalker {
 
     fn render(&self) -> Option<crate::pixels::Frame> {
         render::render(self)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn piece(index: u32, subshape: u32, x: f32) -> TouchedPiece {
+        TouchedPiece {
+            collider: ColliderHandle::from_raw_parts(index, 0),
+            subshape,
+            x,
+        }
+    }
+
+    #[test]
+    fn contact_listener_follows_box2d_begin_and_end_events() {
+        let mut l = ContactListener::default();
+        let mut flag = false;
+        // Landing on segment 3: begin.
+        l.update(vec![piece(0, 3, 1.5)], &mut flag);
+        assert!(flag);
+        // Still on segment 3: no event, the flag stays.
+        l.update(vec![piece(0, 3, 1.52)], &mut flag);
+        assert!(flag);
+        // Sliding onto segment 4 while leaving segment 3 in the same step: segment 4 begins,
+        // segment 3 ends; the end (smaller x, reported last) clears the flag on the ground.
+        l.update(vec![piece(0, 4, 1.9)], &mut flag);
+        assert!(!flag);
+        // Touching segment 5 as well: begin.
+        l.update(vec![piece(0, 4, 1.95), piece(0, 5, 2.3)], &mut flag);
+        assert!(flag);
+        // Leaving segment 4 while 5 still touches: cleared (Gymnasium's ContactDetector).
+        l.update(vec![piece(0, 5, 2.3)], &mut flag);
+        assert!(!flag);
+        // An obstacle (another collider) at the same subshape index is another piece.
+        l.update(vec![piece(0, 5, 2.3), piece(7, 5, 2.4)], &mut flag);
+        assert!(flag);
+        // Lifting off everything: cleared.
+        l.update(Vec::new(), &mut flag);
+        assert!(!flag);
+    }
+
+    #[test]
+    fn contact_listener_after_set_state_keeps_the_loaded_flag() {
+        for loaded in [false, true] {
+            let mut l = ContactListener::baseline();
+            let mut flag = loaded;
+            l.update(vec![piece(0, 3, 1.5)], &mut flag);
+            assert_eq!(flag, loaded, "the first contacts are the baseline, not events");
+            l.update(Vec::new(), &mut flag);
+            assert!(!flag, "ending a baseline contact is an event");
+        }
     }
 }
