@@ -878,23 +878,50 @@ impl Multibody {
         }
     }
 
-    /// `out += Jᵀ·mid·J` on the rows and columns `segments` (nalgebra's `quadform`, column by
-    /// column, restricted to the columns where `J` may be nonzero).
+    /// `out[r, col] += J[:, r] · w` for the rows `r` in `segments`: nalgebra's `gemv_tr` step
+    /// of `quadform`/`gemm_tr` (`1·dot + 1·out`, the dot summed from 0 in row order).
+    #[inline]
+    fn add_column_dots(out_col: &mut [Real], js: &[Real], w: &[Real; SPATIAL_DIM], segments: &[(usize, usize)]) {
+        for &(r0, rn) in segments {
+            for row in r0..r0 + rn {
+                let a = &js[SPATIAL_DIM * row..SPATIAL_DIM * (row + 1)];
+                let mut dot: Real = 0.0;
+                for k in 0..SPATIAL_DIM {
+                    dot += a[k] * w[k];
+                }
+                out_col[row] = dot + out_col[row];
+            }
+        }
+    }
+
+    /// `out += Jᵀ·mid·J` on the rows and columns `segments`, for a rigid-body `mid` (diagonal
+    /// mass block, angular block, zero coupling: `concat_rb_mass_matrix`). Operation by
+    /// operation nalgebra's `quadform` (`work = mid·J[:, col]` by `gemv`, then `gemv_tr`),
+    /// without the products with `mid`'s zero entries, which add exact zeros there.
     fn sparse_quadform(
         out: &mut DMatrix<Real>,
         mid: &SMatrix<Real, SPATIAL_DIM, SPATIAL_DIM>,
         j: &Jacobian<Real>,
         segments: &[(usize, usize)],
     ) {
-        let mut work = SVector::<Real, SPATIAL_DIM>::zeros();
-        for &(c, n) in segments {
-            for col in c..c + n {
-                work.gemv(1.0, mid, &j.column(col), 0.0);
-                for &(r, m) in segments {
-                    out.column_mut(col)
-                        .rows_mut(r, m)
-                        .gemv_tr(1.0, &j.columns(r, m), &work, 1.0);
+        let n = out.nrows();
+        let js = j.as_slice();
+        let os = out.as_mut_slice();
+        for &(c, cn) in segments {
+            for col in c..c + cn {
+                let x = &js[SPATIAL_DIM * col..SPATIAL_DIM * (col + 1)];
+                let mut w = [0.0; SPATIAL_DIM];
+                for r in 0..DIM {
+                    w[r] = mid[(r, r)] * x[r];
                 }
+                for r in DIM..SPATIAL_DIM {
+                    let mut acc = mid[(r, DIM)] * x[DIM];
+                    for k in DIM + 1..SPATIAL_DIM {
+                        acc = mid[(r, k)] * x[k] + acc;
+                    }
+                    w[r] = acc;
+                }
+                Self::add_column_dots(&mut os[n * col..n * (col + 1)], js, &w, segments);
             }
         }
     }
@@ -1079,14 +1106,14 @@ impl Multibody {
             }
 
             // acc_augmented_mass += rb_jᵀ · i_coriolis_dt (nalgebra's `gemm_tr`, column by column).
+            let nrows = self.acc_augmented_mass.nrows();
+            let acc = self.acc_augmented_mass.as_mut_slice();
+            let icd = self.i_coriolis_dt.as_slice();
             for &(c, n) in segments {
                 for col in c..c + n {
-                    for &(r, m) in segments {
-                        self.acc_augmented_mass
-                            .column_mut(col)
-                            .rows_mut(r, m)
-                            .gemv_tr(1.0, &rb_j.columns(r, m), &self.i_coriolis_dt.column(col), 1.0);
-                    }
+                    let mut w = [0.0; SPATIAL_DIM];
+                    w.copy_from_slice(&icd[SPATIAL_DIM * col..SPATIAL_DIM * (col + 1)]);
+                    Self::add_column_dots(&mut acc[nrows * col..nrows * (col + 1)], rb_j.as_slice(), &w, segments);
                 }
             }
         }
