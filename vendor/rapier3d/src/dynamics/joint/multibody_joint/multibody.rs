@@ -606,21 +606,33 @@ impl Multibody {
                 rb.forces.force - rb_mass * acc.linvel,
                 rb.forces.torque - gyroscopic - rb_inertia * acc.angvel,
             );
-            self.accelerations.gemv_tr(
-                1.0,
-                &self.body_jacobians[i],
-                external_forces.as_vector(),
-                1.0,
-            );
+            // carl-spec patch: `gemv_tr` on the link's own and ancestors' DoF rows only (the
+            // other Jacobian columns are zero); the same operations on those rows.
+            let full = [(0, self.ndofs)];
+            let segments: &[(usize, usize)] = if self.tree_segments.len() == self.links.len() {
+                &self.tree_segments[i]
+            } else {
+                &full
+            };
+            for &(r, m) in segments {
+                self.accelerations.rows_mut(r, m).gemv_tr(
+                    1.0,
+                    &self.body_jacobians[i].columns(r, m),
+                    external_forces.as_vector(),
+                    1.0,
+                );
+            }
 
             if check_implicit_coriolis_divergence {
                 let applied_forces = Force::new(rb.forces.force, rb.forces.torque);
-                pos_forces.gemv_tr(
-                    1.0,
-                    &self.body_jacobians[i],
-                    applied_forces.as_vector(),
-                    1.0,
-                );
+                for &(r, m) in segments {
+                    pos_forces.rows_mut(r, m).gemv_tr(
+                        1.0,
+                        &self.body_jacobians[i].columns(r, m),
+                        applied_forces.as_vector(),
+                        1.0,
+                    );
+                }
             }
         }
 
