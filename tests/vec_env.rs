@@ -333,3 +333,107 @@ fn bad_input_is_an_error_and_moves_nothing() {
         Err(VecEnvError::Make(_))
     ));
 }
+
+/// The CartPole kernel in next-step and disabled modes equals the array of environments (the
+/// reference semantics) bit for bit, resets included.
+#[test]
+fn cartpole_kernel_runs_every_autoreset_mode_like_the_array_of_envs() {
+    use carl_spec::envs::vec_env::AutoresetMode;
+    let spec = cartpole();
+    for mode in [
+        AutoresetMode::NextStep,
+        AutoresetMode::Disabled,
+        AutoresetMode::SameStep,
+    ] {
+        let contexts: Vec<Context> = (0..40).map(|i| context(&spec, i)).collect();
+        let build = |kernel| {
+            let envs = contexts.iter().map(|c| make(&spec, c).unwrap()).collect();
+            VecEnv::from_envs_with(envs, VecOptions { threads: 2, kernel }, mode).unwrap()
+        };
+        let (mut soa, mut array) = (build(Kernel::Auto), build(Kernel::ArrayOfEnvs));
+        assert!(soa.is_soa() && !array.is_soa());
+        assert_eq!(bits(soa.reset(7)), bits(array.reset(7)));
+        let mut rng = EnvRng::from_seed(3);
+        let mut ends = 0;
+        for t in 0..400 {
+            let a: Vec<i64> = (0..40).map(|_| (rng.next_u64() % 2) as i64).collect();
+            let s = soa.step(VecActions::Discrete(&a)).unwrap();
+            let (obs, rew, term, trunc) = (
+                s.obs.to_vec(),
+                s.rewards.to_vec(),
+                s.terminated.to_vec(),
+                s.truncated.to_vec(),
+            );
+            let r = array.step(VecActions::Discrete(&a)).unwrap();
+            assert_eq!(bits(&obs), bits(r.obs), "{mode:?} step {t}: obs");
+            assert_eq!(rew, r.rewards, "{mode:?} step {t}: rewards");
+            assert_eq!(
+                (&term[..], &trunc[..]),
+                (r.terminated, r.truncated),
+                "{mode:?} step {t}: flags"
+            );
+            assert_eq!(
+                soa.pending_resets(),
+                array.pending_resets(),
+                "{mode:?} step {t}: pending"
+            );
+            let done: Vec<bool> = term.iter().zip(&trunc).map(|(a, b)| *a || *b).collect();
+            ends += done.iter().filter(|d| **d).count();
+            if mode == AutoresetMode::Disabled && done.iter().any(|d| *d) {
+                let (x, y) = (
+                    soa.reset_masked(None, Some(&done)).to_vec(),
+                    array.reset_masked(None, Some(&done)),
+                );
+                assert_eq!(bits(&x), bits(y), "{mode:?} step {t}: masked reset");
+            }
+        }
+        assert!(ends > 20, "{mode:?}: the rollout must cover resets ({ends})");
+    }
+}
+
+/// Float64 spaces (the robots) carry float64 values through the batch, and the float32 buffer
+/// is their rounding. (Humanoid: its centre-of-mass terms are computed in float64; positions and
+/// velocities come from rapier's float32 world.)
+#[test]
+fn float64_observations_reach_the_batch_unrounded() {
+    use carl_spec::envs::DType;
+    use carl_spec::envs::vec_env::AutoresetMode;
+    let specs = SpecSet::bundled().unwrap();
+    let spec = specs.get("humanoid").unwrap();
+    assert!(matches!(
+        make(spec, &Context::new()).unwrap().observation_space(),
+        Space::Box {
+            dtype: DType::Float64,
+            ..
+        }
+    ));
+    let envs = (0..3).map(|_| make(spec, &Context::new()).unwrap()).collect();
+    let mut v = VecEnv::from_envs_with(envs, VecOptions::default(), AutoresetMode::SameStep).unwrap();
+    let mut scalar = make(spec, &Context::new()).unwrap();
+    v.reset(11);
+    scalar.reset(Some(11));
+    let d = v.obs_dim();
+    let mut wide = vec![0.0f64; d];
+    let adim = v.action_space().flat_dim();
+    let mut rng = EnvRng::from_seed(5);
+    let mut unrounded = 0;
+    for t in 0..5 {
+        let a: Vec<f32> = (0..3 * adim).map(|_| (rng.next_f64() * 0.8 - 0.4) as f32).collect();
+        v.step(VecActions::Continuous(&a)).unwrap();
+        let mut o32 = vec![0.0f32; d];
+        scalar
+            .step_into(&Action::Continuous(a[..adim].to_vec()), &mut o32)
+            .unwrap();
+        scalar.observe_f64_into(&mut wide).unwrap();
+        let row = &v.obs_f64().unwrap()[..d];
+        assert_eq!(row, &wide[..], "step {t}: float64 row of env 0");
+        assert_eq!(bits(&v.obs()[..d]), bits(&o32), "step {t}: float32 row of env 0");
+        for (w, n) in row.iter().zip(&v.obs()[..d]) {
+            assert_eq!(*w as f32, *n, "step {t}: float32 is the rounding of float64");
+            unrounded += usize::from(f64::from(*n) != *w);
+        }
+    }
+    assert!(unrounded > 0, "some components must need more than float32 precision");
+    let cartpole = VecEnv::new(&cartpole(), &[Context::new()], VecOptions::default()).unwrap();
+    assert!(cartpole.obs_f64().is_none(), "float32 spaces keep one buffer");
+}

@@ -1,125 +1,240 @@
 #!/usr/bin/env python3
-"""Steps per second through the Python API, each beside its anchor in the same run.
+"""Steps per second through the Python API, each workload beside its anchor in the same run.
 
-    python python/bench/bench_python_api.py [--seconds S]
+    python python/bench/bench_python_api.py [--seconds S] [--rounds R] [--only NAME ...]
 
-Prints one JSON line per workload. Anchors: Gymnasium's NumPy CartPoleVectorEnv and Gymnasium's
-CartPole through gymnasium.make. (envpool is not installed here; the Rust VecEnv anchor is
-`carl-spec bench ENV`.)
+Every workload runs `R` rounds; in each round the anchor and carl-spec are timed for ~S seconds
+each, one after the other (the order alternates between rounds), so both see the same machine
+load. Printed: one JSON line per workload with the median rate of each side, their ratio and the
+load average before and after. Anchors: Gymnasium 1.x's NumPy `CartPoleVectorEnv`, Gymnasium's
+CartPole through `gymnasium.make`, envpool (if importable) and the Rust `VecEnv` itself
+(`carl-spec bench`, the binary in target/release or $CARL_SPEC_BIN). Names: import, vec_cartpole,
+make_cartpole, lunar_lander, bipedal_walker, half_cheetah, ant.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
+import statistics
 import subprocess
 import sys
 import time
+from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
 
+ROOT = Path(__file__).resolve().parents[2]
 
-def rate(step: Callable[[], None], steps_per_call: int, seconds: float) -> float:
-    """Best of 3 runs of ~`seconds` each, in environment steps per second."""
-    best = 0.0
+
+def timed(step: Callable[[], None], steps_per_call: int, seconds: float) -> float:
+    """Environment steps per second of `step` called for ~`seconds`."""
     for _ in range(3):
-        n, t0 = 0, time.perf_counter()
-        while (t := time.perf_counter() - t0) < seconds:
-            for _ in range(50):
-                step()
-            n += 50
-        best = max(best, n * steps_per_call / t)
-    return best
+        step()
+    n, t0 = 0, time.perf_counter()
+    while (t := time.perf_counter() - t0) < seconds:
+        for _ in range(10):
+            step()
+        n += 10
+    return n * steps_per_call / t
 
 
-def vec_cartpole(seconds: float) -> dict[str, Any]:
+def interleaved(sides: dict[str, Callable[[], float]], rounds: int) -> dict[str, Any]:
+    """Each side's median over `rounds` rounds (alternating order), plus the load average."""
+    load_before = os.getloadavg()[0]
+    rates: dict[str, list[float]] = {k: [] for k in sides}
+    names = list(sides)
+    for r in range(rounds):
+        for name in names if r % 2 == 0 else names[::-1]:
+            rates[name].append(sides[name]())
+    out: dict[str, Any] = {k: round(statistics.median(v)) for k, v in rates.items()}
+    out["runs"] = {k: [round(x) for x in v] for k, v in rates.items()}
+    # carl-spec over each anchor round by round (both timed back to back), then the median: robust
+    # to the machine's speed drifting between rounds.
+    ours = [k for k in names if k.startswith("carl_spec")]
+    out["paired_ratio_medians"] = {
+        f"{a}/{b}": round(statistics.median(x / y for x, y in zip(rates[a], rates[b])), 3)
+        for a in ours
+        for b in names
+        if b not in ours
+    }
+    out["load_average"] = [round(load_before, 1), round(os.getloadavg()[0], 1)]
+    return out
+
+
+def cycle(actions: list[Any], fn: Callable[[Any], Any]) -> Callable[[], None]:
+    i = [0]
+
+    def step() -> None:
+        i[0] = (i[0] + 1) % len(actions)
+        fn(actions[i[0]])
+
+    return step
+
+
+def vec_cartpole(seconds: float, rounds: int) -> dict[str, Any]:
     import carl_spec as cs
     from gymnasium.envs.classic_control.cartpole import CartPoleVectorEnv
 
     n = 1024
-    ours = cs.make_vec("cartpole", n, autoreset_mode="same_step", threads=1)
-    ours.reset(seed=0)
-    ref = CartPoleVectorEnv(num_envs=n)
-    ref.reset(seed=0)
     rng = np.random.default_rng(0)
     acts = [rng.integers(0, 2, size=n) for _ in range(64)]
-    i = [0]
+    ref = CartPoleVectorEnv(num_envs=n)
+    ref.reset(seed=0)
+    same = cs.make_vec("cartpole", n, autoreset_mode="same_step", threads=1)
+    same.reset(seed=0)
+    nxt = cs.make_vec("cartpole", n, autoreset_mode="next_step", threads=1)
+    nxt.reset(seed=0)
+    row = interleaved(
+        {
+            "gymnasium_CartPoleVectorEnv": lambda: timed(cycle(acts, ref.step), n, seconds),
+            "carl_spec_next_step": lambda: timed(cycle(acts, nxt.step), n, seconds),
+            "carl_spec_same_step": lambda: timed(cycle(acts, same.step), n, seconds),
+        },
+        rounds,
+    )
+    g = row["gymnasium_CartPoleVectorEnv"]
+    return {
+        "workload": "make_vec('cartpole', 1024), 1 thread",
+        **row,
+        "ratio_next_step": round(row["carl_spec_next_step"] / g, 2),
+        "ratio_same_step": round(row["carl_spec_same_step"] / g, 2),
+    }
 
-    def step_ours() -> None:
-        i[0] = (i[0] + 1) & 63
-        ours.step(acts[i[0]])
 
-    def step_ref() -> None:
-        i[0] = (i[0] + 1) & 63
-        ref.step(acts[i[0]])
-
-    ours_next = cs.make_vec("cartpole", n, autoreset_mode="next_step", threads=1)
-    ours_next.reset(seed=0)
-
-    def step_next() -> None:
-        i[0] = (i[0] + 1) & 63
-        ours_next.step(acts[i[0]])
-
-    a, b, c = rate(step_ours, n, seconds), rate(step_ref, n, seconds), rate(step_next, n, seconds)
-    return {"workload": "make_vec cartpole x1024, 1 thread", "carl_spec_same_step": a, "carl_spec_next_step": c,
-            "gymnasium_CartPoleVectorEnv": b, "ratio_same_step": a / b}
-
-
-def single_cartpole(seconds: float) -> dict[str, Any]:
+def make_cartpole(seconds: float, rounds: int) -> dict[str, Any]:
     import gymnasium
+
     import carl_spec  # noqa: F401  (registers carl_spec/*)
 
-    out: dict[str, Any] = {"workload": "gymnasium.make cartpole, 1 env"}
-    for name, gid in [("carl_spec", "carl_spec/cartpole-v0"), ("gymnasium", "CartPole-v1")]:
-        env = gymnasium.make(gid)
+    def side(gym_id: str) -> Callable[[], float]:
+        env = gymnasium.make(gym_id)
         env.reset(seed=0)
-        state = {"done": False}
+        rng = np.random.default_rng(0)
+        acts = [int(a) for a in rng.integers(0, 2, size=256)]
 
-        def step() -> None:
-            _, _, t, u, _ = env.step(1 if np.random.random() < 0.5 else 0)
-            if t or u:
+        def act(a: int) -> None:
+            _, _, term, trunc, _ = env.step(a)
+            if term or trunc:
                 env.reset()
 
-        out[name] = rate(step, 1, seconds)
-    out["ratio"] = out["carl_spec"] / out["gymnasium"]
-    return out
+        return lambda: timed(cycle(acts, act), 1, seconds)
+
+    row = interleaved({"gymnasium_CartPole-v1": side("CartPole-v1"), "carl_spec": side("carl_spec/cartpole-v0")}, rounds)
+    return {
+        "workload": "gymnasium.make cartpole, 1 env",
+        **row,
+        "ratio": round(row["carl_spec"] / row["gymnasium_CartPole-v1"], 2),
+    }
 
 
-def vec_physics(env_id: str, n: int, threads: int, seconds: float) -> dict[str, Any]:
+def rust_vec_rate(env_id: str, n: int, threads: int, seconds: float) -> float:
+    binary = os.environ.get("CARL_SPEC_BIN", str(ROOT / "target" / "release" / "carl-spec"))
+    out = subprocess.run(
+        [binary, "bench", env_id, "--num-envs", str(n), "--threads", str(threads), "--steps", str(max(n * 20, int(4000 * seconds)))],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    return float(json.loads(out.strip().splitlines()[-1])["vec_steps_per_sec"])
+
+
+def bench_actions(space: Any, n: int) -> list[np.ndarray]:
+    """The very batches `carl-spec bench` cycles through (src/bench.rs `ActionTable`: NumPy's
+    `default_rng(0x5eed)`, uniform in the box, min(64, 65536 // n) batches), so both sides run the
+    same episodes: a physics step's cost depends on the state (contacts, resets)."""
+    rng = np.random.default_rng(0x5EED)
+    batches = max(1, min(64, 65536 // n))
+    if not hasattr(space, "low"):  # Discrete: raw 64-bit draws modulo n
+        raw = np.array([rng.bit_generator.random_raw() for _ in range(batches * n)], dtype=np.uint64)
+        draws = (space.start + (raw % np.uint64(space.n)).astype(np.int64)).reshape(batches, n)
+        return list(draws)
+    low, high = space.low.astype(np.float64), space.high.astype(np.float64)
+    dim = low.size
+    values = low.repeat(1)[np.arange(batches * n * dim) % dim]
+    span = (high - low)[np.arange(batches * n * dim) % dim]
+    flat = (values + span * rng.random(batches * n * dim)).astype(np.float32)
+    return [b.reshape(n, dim) for b in flat.reshape(batches, n * dim)]
+
+
+def vec_physics(env_id: str, envpool_id: str | None, n: int, threads: int, seconds: float, rounds: int) -> dict[str, Any]:
     import carl_spec as cs
 
     venv = cs.make_vec(env_id, n, autoreset_mode="same_step", threads=threads)
     venv.reset(seed=0)
-    venv.action_space.seed(0)
-    acts = [venv.action_space.sample() for _ in range(16)]
-    i = [0]
+    acts = bench_actions(venv.single_action_space, n)
+    sides: dict[str, Callable[[], float]] = {
+        "carl_spec": lambda: timed(cycle(acts, venv.step), n, seconds),
+        "rust_VecEnv": lambda: rust_vec_rate(env_id, n, threads, seconds),
+    }
+    if envpool_id is not None:
+        try:
+            import envpool
+        except ImportError:
+            envpool = None
+        if envpool is not None:
 
-    def step() -> None:
-        i[0] = (i[0] + 1) & 15
-        venv.step(acts[i[0]])
+            def envpool_rate() -> float:
+                # Built and closed within its own turn: envpool's worker threads must not compete
+                # with the other sides' turns in this process.
+                pool = envpool.make_gymnasium(envpool_id, num_envs=n, num_threads=threads, seed=0)
+                pool.reset()
+                pool.action_space.seed(0)
+                pacts = [np.stack([pool.action_space.sample() for _ in range(n)]) for _ in range(16)]
+                try:
+                    return timed(cycle(pacts, pool.step), n, seconds)
+                finally:
+                    pool.close()
 
-    return {"workload": f"make_vec {env_id} x{n}, {threads} threads", "carl_spec": rate(step, n, seconds)}
+            sides["envpool"] = envpool_rate
+    row = interleaved(sides, rounds)
+    out = {"workload": f"make_vec('{env_id}', {n}), {threads} threads", **row}
+    out["fraction_of_rust_VecEnv"] = round(row["carl_spec"] / row["rust_VecEnv"], 3)
+    if "envpool" in row:
+        out["ratio_to_envpool"] = round(row["carl_spec"] / row["envpool"], 2)
+    return out
 
 
-def import_and_make() -> dict[str, Any]:
-    code = "import time; t=time.perf_counter(); import carl_spec as cs; cs.make('cartpole'); print(time.perf_counter()-t)"
-    times = [float(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout) for _ in range(5)]
-    return {"workload": "import carl_spec; cs.make('cartpole')", "seconds_median": sorted(times)[2], "seconds_all": times}
+def import_and_make(rounds: int) -> dict[str, Any]:
+    code = (
+        "import time; t0 = time.perf_counter(); import numpy, gymnasium; t1 = time.perf_counter(); "
+        "import carl_spec as cs; cs.make('cartpole'); t2 = time.perf_counter(); print(t2 - t0, t2 - t1)"
+    )
+    total, own = [], []
+    for _ in range(max(rounds, 5)):
+        a, b = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
+        total.append(float(a))
+        own.append(float(b))
+    return {
+        "workload": "import carl_spec; cs.make('cartpole') (fresh process)",
+        "seconds_median": round(statistics.median(total), 3),
+        "beyond_numpy_and_gymnasium_median": round(statistics.median(own), 3),
+        "seconds_all": [round(x, 3) for x in total],
+        "load_average": round(os.getloadavg()[0], 1),
+    }
 
 
 def main() -> None:
-    p = argparse.ArgumentParser()
-    p.add_argument("--seconds", type=float, default=1.0)
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--seconds", type=float, default=1.0, help="time per side per round")
+    p.add_argument("--rounds", type=int, default=5)
+    p.add_argument("--only", nargs="*", default=None)
     args = p.parse_args()
-    for row in [
-        import_and_make(),
-        vec_cartpole(args.seconds),
-        single_cartpole(args.seconds),
-        vec_physics("lunar_lander", 64, 2, args.seconds),
-        vec_physics("bipedal_walker", 64, 2, args.seconds),
-    ]:
-        print(json.dumps(row), flush=True)
+    s, r = args.seconds, args.rounds
+    work: dict[str, Callable[[], dict[str, Any]]] = {
+        "import": lambda: import_and_make(r),
+        "vec_cartpole": lambda: vec_cartpole(s, r),
+        "make_cartpole": lambda: make_cartpole(s, r),
+        "lunar_lander": lambda: vec_physics("lunar_lander", "LunarLander-v3", 64, 2, s, r),
+        "bipedal_walker": lambda: vec_physics("bipedal_walker", "BipedalWalker-v3", 64, 2, s, r),
+        "half_cheetah": lambda: vec_physics("half_cheetah", "HalfCheetah-v5", 16, 2, s, r),
+        "ant": lambda: vec_physics("ant", "Ant-v5", 16, 2, s, r),
+    }
+    for name, run in work.items():
+        if args.only is None or name in args.only:
+            print(json.dumps(run()), flush=True)
 
 
 if __name__ == "__main__":

@@ -17,18 +17,23 @@ from ._errors import UnknownNameError
 from .env import CarlEnv
 from .specs import Diagnostic, InstanceSet, Spec, ValidationReport, instances, list_envs, sample, spec, validate
 from .vector import CarlVectorEnv
+from .wrap import ContextualWrapper, wrap
+from .audit import AuditReport, audit
 
 __version__: str = _core.VERSION
 RUNTIMES: list[str] = list(_core.RUNTIMES)
 
 __all__ = [
+    "AuditReport",
     "CarlEnv",
     "CarlVectorEnv",
+    "ContextualWrapper",
     "Diagnostic",
     "InstanceSet",
     "RUNTIMES",
     "Spec",
     "UnknownNameError",
+    "audit",
     "ValidationReport",
     "gym_id",
     "instances",
@@ -38,6 +43,7 @@ __all__ = [
     "sample",
     "spec",
     "validate",
+    "wrap",
 ]
 
 

@@ -14,7 +14,9 @@ def _bounds(values: list[float | None], fill: float, dtype: Any) -> np.ndarray:
 
 def space_from_json(d: dict[str, Any]) -> spaces.Space[Any]:
     """`{"type": "box", "shape", "dtype", "low", "high"}` (None = infinite) or
-    `{"type": "discrete", "n", "start"}`."""
+    `{"type": "discrete", "n", "start"}` or `{"type": "dict", "spaces": {name: space}}`."""
+    if d["type"] == "dict":
+        return spaces.Dict({k: space_from_json(v) for k, v in d["spaces"].items()})
     if d["type"] == "discrete":
         return spaces.Discrete(int(d["n"]), start=int(d["start"]))
     dtype = np.dtype(d["dtype"])

@@ -10,6 +10,7 @@ import gymnasium
 import numpy as np
 
 from . import _core
+from ._args import NoiseStd, core_kwargs
 from ._spaces import space_from_json
 
 
@@ -18,30 +19,12 @@ def os_entropy_seed() -> int:
     return int.from_bytes(os.urandom(8), "little")
 
 
-def _ctor_kwargs(
-    context: dict[str, Any] | None,
-    instances: str | None,
-    distribution: str | None,
-    selection: str,
-    instance: int | None,
-    obs_context: list[str] | bool | None,
-    specs_dir: str | os.PathLike[str] | None,
-) -> dict[str, Any]:
-    return {
-        "context_json": None if context is None else json.dumps(context),
-        "instances": instances,
-        "distribution": distribution,
-        "selection": selection,
-        "instance": instance,
-        "obs_context": list(obs_context) if isinstance(obs_context, (list, tuple)) else obs_context,
-        "specs_dir": None if specs_dir is None else os.fspath(specs_dir),
-    }
-
-
 def _fresh(info: dict[str, Any]) -> dict[str, Any]:
-    """A copy users may keep and modify (the context dict is the only nested object)."""
+    """A copy users may keep and modify (the nested objects are dicts of floats)."""
     out = dict(info)
     out["context"] = dict(info["context"])
+    if "observed_context" in info:
+        out["observed_context"] = dict(info["observed_context"])
     return out
 
 
@@ -52,7 +35,15 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
     defaults), `instances` (a frozen set `ENV/SET`, chosen per reset by `selection`:
     "round_robin", "random" or "static" with `instance=i`) or `distribution` (a named
     distribution of the spec, drawn afresh at every reset); none means the default context.
-    `obs_context` appends features to the observation (a list of names, or True for all).
+    `obs_context` appends features to the observation (a list of names, or True for all); for
+    pixel observations (uint8) the observation becomes `{"obs": pixels, "context": float32}`.
+    `context_noise` shows the agent visible features with Gaussian noise, `{name: std}` with std a
+    number (the feature's unit) or a percentage of |default| ("10%"), drawn anew every episode
+    (`context_noise_redraw="episode"`) or every step ("step"); the dynamics keep the true value and
+    `info["observed_context"]` holds what the agent saw. `options` selects the runtime's variant
+    (`{"continuous": True}` for LunarLanderContinuous, `{"hardcore": True}`, ...; unknown names are
+    refused with the valid ones). A fixed context outside the spec's bounds is refused (naming the
+    feature and its bounds) unless `allow_out_of_bounds=True`.
 
     Seeding: `reset(seed=s)` determines everything that follows (instance choice, draws, initial
     states); the classic five start from the state Gymnasium's env starts from with seed `s`.
@@ -73,20 +64,26 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
         obs_context: list[str] | bool | None = None,
         render_mode: str | None = None,
         specs_dir: str | os.PathLike[str] | None = None,
+        context_noise: dict[str, NoiseStd] | None = None,
+        context_noise_redraw: str = "episode",
+        options: dict[str, Any] | None = None,
+        allow_out_of_bounds: bool = False,
     ) -> None:
-        self._ctor: dict[str, Any] = dict(
-            env=env,
+        source: dict[str, Any] = dict(
             context=context,
             instances=instances,
             distribution=distribution,
             selection=selection,
             instance=instance,
             obs_context=obs_context,
-            render_mode=render_mode,
+            context_noise=context_noise,
+            context_noise_redraw=context_noise_redraw,
+            options=options,
+            allow_out_of_bounds=allow_out_of_bounds,
             specs_dir=specs_dir,
         )
-        kw = _ctor_kwargs(context, instances, distribution, selection, instance, obs_context, specs_dir)
-        self._core = _core.Env(env, **kw)
+        self._ctor: dict[str, Any] = dict(env=env, render_mode=render_mode, **source)
+        self._core = _core.Env(env, **core_kwargs(**source))
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be one of {self.metadata['render_modes']} or None, got {render_mode!r}")
         if render_mode is not None and not self._core.has_renderer():
@@ -98,6 +95,7 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
         self._discrete = isinstance(self.action_space, gymnasium.spaces.Discrete)
         self._seeded = False
         self._info: dict[str, Any] = {}
+        self._noise_per_step = self._core.noise_redraw() == "step"
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[np.ndarray, dict[str, Any]]:
         super().reset(seed=seed)
@@ -116,6 +114,8 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
         if not self._discrete:
             action = np.asarray(action, dtype=np.float32).reshape(-1)
         obs, reward, terminated, truncated = self._core.step(action)
+        if self._noise_per_step:
+            self._info["observed_context"] = self._core.observed_context()
         return obs, reward, terminated, truncated, _fresh(self._info)
 
     def render(self) -> np.ndarray | None:

@@ -12,8 +12,9 @@ from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
 from . import _core
+from ._args import NoiseStd, core_kwargs
 from ._spaces import space_from_json
-from .env import _ctor_kwargs, os_entropy_seed
+from .env import os_entropy_seed
 
 _MODES = {
     "next_step": AutoresetMode.NEXT_STEP,
@@ -36,7 +37,8 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
     `infos["instance_id"]` holds every environment's instance. `autoreset_mode` is Gymnasium's:
     "next_step" (default), "same_step" (`final_obs` / `final_info` in the infos) or "disabled"
     (reset with `options={"reset_mask": mask}`). `reset(seed=s)` seeds environment `i` with
-    `s + i`, as Gymnasium's vector envs do.
+    `s + i`, as Gymnasium's vector envs do. `context_noise`, `context_noise_redraw`, `options` and
+    `allow_out_of_bounds` are `carl_spec.make`'s (see `CarlEnv`).
     """
 
     def __init__(
@@ -54,25 +56,29 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
         threads: int = 1,
         specs_dir: str | os.PathLike[str] | None = None,
         render_mode: str | None = None,
+        context_noise: dict[str, NoiseStd] | None = None,
+        context_noise_redraw: str = "episode",
+        options: dict[str, Any] | None = None,
+        allow_out_of_bounds: bool = False,
     ) -> None:
         if render_mode is not None:
             raise ValueError("make_vec does not render; use carl_spec.make(..., render_mode='rgb_array')")
         mode = _mode_name(autoreset_mode)
-        self._ctor: dict[str, Any] = dict(
-            env=env,
-            num_envs=num_envs,
+        source: dict[str, Any] = dict(
             context=context,
             instances=instances,
             distribution=distribution,
             selection=selection,
             instance=instance,
             obs_context=obs_context,
-            autoreset_mode=mode,
-            threads=threads,
+            context_noise=context_noise,
+            context_noise_redraw=context_noise_redraw,
+            options=options,
+            allow_out_of_bounds=allow_out_of_bounds,
             specs_dir=specs_dir,
         )
-        kw = _ctor_kwargs(context, instances, distribution, selection, instance, obs_context, specs_dir)
-        self._core = _core.VecEnv(env, num_envs, autoreset_mode=mode, threads=threads, **kw)
+        self._ctor: dict[str, Any] = dict(env=env, num_envs=num_envs, autoreset_mode=mode, threads=threads, **source)
+        self._core = _core.VecEnv(env, num_envs, autoreset_mode=mode, threads=threads, **core_kwargs(**source))
         self.num_envs = num_envs
         self.render_mode = None
         self.metadata = {"autoreset_mode": _MODES[mode], "render_modes": []}
@@ -84,6 +90,7 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
         self._contextual = self._core.contextual
         self._seeded = False
         self._mode = _MODES[mode]
+        self._same_step = self._mode == AutoresetMode.SAME_STEP
         self._all = np.ones(num_envs, dtype=np.bool_)
 
     def _context_infos(self, infos: dict[str, Any]) -> dict[str, Any]:
@@ -133,17 +140,17 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
             a = np.ascontiguousarray(actions, dtype=np.float32)
         obs, rewards, terminated, truncated = self._core.step(a)
         infos: dict[str, Any] = {}
-        if self._mode == AutoresetMode.SAME_STEP:
-            done = terminated | truncated
-            if done.any():
-                # Gymnasium's layout (what VectorEnv._add_info builds env by env): an object array
-                # of final observations (None elsewhere) and masks.
-                final = self._core.final_obs()
-                final_obs = np.full(self.num_envs, None, dtype=object)
-                for i in np.flatnonzero(done):
-                    final_obs[i] = final[i]
+        if self._same_step:
+            # Gymnasium's layout (what VectorEnv._add_info builds env by env), built in Rust: an
+            # object array of final observations (None elsewhere) and the mask.
+            final = self._core.final_obs_info()
+            if final is not None:
+                final_obs, done = final
                 infos = {"final_obs": final_obs, "_final_obs": done, "final_info": {}, "_final_info": done}
-        return obs, rewards, terminated, truncated, self._context_infos(infos)
+        if self._contextual:
+            infos["instance_id"] = self._core.instance_ids()
+            infos["_instance_id"] = self._all
+        return obs, rewards, terminated, truncated, infos
 
     def context_info(self, i: int) -> dict[str, Any] | None:
         """Environment `i`'s current context info (contexts from a set or distribution)."""

@@ -43,11 +43,8 @@ def test_check_env_default_context(env_id: str) -> None:
 @pytest.mark.parametrize("env_id", RUNTIMES)
 def test_check_env_frozen_set_with_visible_context(env_id: str) -> None:
     """A frozen set where the spec has one, else a named distribution, else the default context;
-    always with every feature visible in the observation."""
-    if env_id == "mario":
-        # Its pixel observation is uint8 and its context features (noise seed, level width) are
-        # unbounded: appending them to a uint8 Box cannot be declared. A known gap of the package.
-        pytest.skip("mario: visible context on uint8 pixels with unbounded features")
+    always with every feature visible in the observation (pixel observations become
+    `{"obs": pixels, "context": features}`)."""
     iset = _a_set(env_id)
     dists = sorted(cs.spec(env_id).distributions)
     if iset is not None:
@@ -57,13 +54,21 @@ def test_check_env_frozen_set_with_visible_context(env_id: str) -> None:
     else:
         env = cs.make(env_id, obs_context=True)
     base = cs.make(env_id).observation_space
-    assert env.observation_space.shape[0] > base.shape[0]
+    space = env.observation_space
+    if isinstance(space, gymnasium.spaces.Dict):
+        assert base.dtype == np.uint8 and space["obs"] == base and space["context"].shape[0] > 0
+    else:
+        assert space.shape[0] > base.shape[0]
     checked(env)
 
 
-# LunarLander's space bounds the angle to ±2π as Gymnasium's does, but neither wraps the angle:
-# a lander spinning under random actions leaves the space (a known deviation, reported).
-SPINS = pytest.mark.xfail(strict=True, reason="LunarLander's angle is not wrapped into ±2π (as in Gymnasium)")
+# LunarLander's space bounds the angle to ±2π as Gymnasium 1.4's does, and neither wraps it. Yet
+# Gymnasium's lander stays inside (0 of 20,000 random-action steps from seed 0) while ours rolls on
+# the ground spinning in some episodes (19 of 185) instead of ending them on body contact: a
+# deviation of the runtime (src/envs/box2d/lunar_lander.rs), reported; strict, so a fix shows.
+SPINS = pytest.mark.xfail(
+    strict=True, reason="LunarLander rolls on the ground spinning past ±2π where Gymnasium's episode ends"
+)
 
 
 @pytest.mark.parametrize("env_id", [pytest.param(e, marks=SPINS) if e == "lunar_lander" else e for e in RUNTIMES])

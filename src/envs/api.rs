@@ -168,6 +168,18 @@ pub trait Env {
     /// Write the observation of the current state into `obs`.
     fn observe_into(&self, obs: &mut [f32]) -> Result<(), EnvError>;
 
+    /// The observation of the current state at float64 precision, for runtimes whose space
+    /// declares `float64` (the buffers of `reset_into` / `step_into` are float32). The default
+    /// widens [`Env::observe_into`] (exact for float32 spaces); float64 runtimes override it.
+    fn observe_f64_into(&self, obs: &mut [f64]) -> Result<(), EnvError> {
+        let mut narrow = vec![0.0f32; obs.len()];
+        self.observe_into(&mut narrow)?;
+        for (w, n) in obs.iter_mut().zip(&narrow) {
+            *w = f64::from(*n);
+        }
+        Ok(())
+    }
+
     /// The internal (float64) state, e.g. CartPole `[x, x_dot, theta, theta_dot]`.
     fn state(&self) -> Vec<f64>;
 
@@ -240,6 +252,9 @@ impl<E: Env + ?Sized> Env for Box<E> {
     }
     fn observe_into(&self, obs: &mut [f32]) -> Result<(), EnvError> {
         (**self).observe_into(obs)
+    }
+    fn observe_f64_into(&self, obs: &mut [f64]) -> Result<(), EnvError> {
+        (**self).observe_f64_into(obs)
     }
     fn state(&self) -> Vec<f64> {
         (**self).state()
@@ -325,6 +340,9 @@ impl<E: Env> Env for TimeLimit<E> {
     fn observe_into(&self, obs: &mut [f32]) -> Result<(), EnvError> {
         self.env.observe_into(obs)
     }
+    fn observe_f64_into(&self, obs: &mut [f64]) -> Result<(), EnvError> {
+        self.env.observe_f64_into(obs)
+    }
     fn state(&self) -> Vec<f64> {
         self.env.state()
     }
@@ -342,7 +360,7 @@ impl<E: Env> Env for TimeLimit<E> {
 // ---------------------------------------------------------------------------------------
 // Helpers shared by the environments.
 
-pub(crate) fn check_obs_len(env: &'static str, obs: &[f32], expected: usize) -> Result<(), EnvError> {
+pub(crate) fn check_obs_len<T>(env: &'static str, obs: &[T], expected: usize) -> Result<(), EnvError> {
     if obs.len() == expected {
         Ok(())
     } else {

@@ -620,6 +620,11 @@ impl ContextualEnv {
         }
     }
 
+    /// Whether some visible feature is observed with noise (and when the noise is redrawn).
+    pub fn noise(&self) -> Option<NoiseRedraw> {
+        self.noise_std.iter().any(|s| *s > 0.0).then_some(self.noise_redraw)
+    }
+
     /// What the agent observes of the visible features now (equal to the true values without noise).
     pub fn observed_context(&self) -> &[f32] {
         &self.observed
@@ -851,6 +856,19 @@ impl Env for ContextualEnv {
         check_obs_len(self.id, obs, self.obs_dim())?;
         self.slots[self.current].env.observe_into(&mut obs[..self.base_dim])?;
         self.write_context(obs);
+        Ok(())
+    }
+
+    /// The runtime's observation at float64 precision; the context part is what the float32
+    /// observation carries, widened.
+    fn observe_f64_into(&self, obs: &mut [f64]) -> Result<(), EnvError> {
+        check_obs_len(self.id, obs, self.obs_dim())?;
+        self.slots[self.current]
+            .env
+            .observe_f64_into(&mut obs[..self.base_dim])?;
+        for (o, x) in obs[self.base_dim..].iter_mut().zip(&self.observed) {
+            *o = f64::from(*x);
+        }
         Ok(())
     }
 

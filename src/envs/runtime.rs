@@ -104,6 +104,9 @@ impl Env for AnyEnv {
     fn observe_into(&self, obs: &mut [f32]) -> Result<(), EnvError> {
         self.0.observe_into(obs)
     }
+    fn observe_f64_into(&self, obs: &mut [f64]) -> Result<(), EnvError> {
+        self.0.observe_f64_into(obs)
+    }
     fn state(&self) -> Vec<f64> {
         self.0.state()
     }

@@ -18,8 +18,8 @@
 //!   `step` resets that environment instead of stepping it (its action is ignored) and reports the
 //!   first observation with reward 0 and both flags false. With `Disabled`, finished environments
 //!   are never reset by `step`: [`VecEnv::reset_masked`] resets the ones the caller chooses, and
-//!   stepping a finished one is an [`EnvError::EpisodeOver`]. Both modes use the array of
-//!   environments (the CartPole kernel is same-step only).
+//!   stepping a finished one is an [`EnvError::EpisodeOver`]. The CartPole kernel runs all
+//!   three modes.
 //! * **Contexts per environment.** [`VecEnv::from_contextual`] batches
 //!   [`ContextualEnv`]s: every (auto)reset of environment `i` re-selects its context (next
 //!   instance of a set, fresh draw of a distribution) from that environment's own streams, and
@@ -48,7 +48,7 @@
 use std::ops::Range;
 use std::sync::Mutex;
 
-use super::api::{Action, Env, EnvError, Space};
+use super::api::{Action, DType, Env, EnvError, Space};
 use super::classic::cartpole::{self, CartPoleConstants};
 use super::classic::{CartPole, CartPoleParams};
 use super::contextual::{ContextInfo, ContextualEnv};
@@ -194,6 +194,9 @@ pub struct VecEnv {
     elapsed: Vec<u64>,
     obs: Vec<f32>,
     final_obs: Vec<f32>,
+    /// Float64 observations (`num_envs × obs_dim`) for spaces that declare float64, else empty.
+    obs64: Vec<f64>,
+    final_obs64: Vec<f64>,
     rewards: Vec<f64>,
     terminated: Vec<bool>,
     truncated: Vec<bool>,
@@ -212,6 +215,10 @@ pub struct VecEnv {
 struct Raw {
     obs: *mut f32,
     final_obs: *mut f32,
+    /// Row width of `obs64` / `final_obs64`: `obs_dim`, or 0 when they are empty.
+    d64: usize,
+    obs64: *mut f64,
+    final_obs64: *mut f64,
     rewards: *mut f64,
     terminated: *mut bool,
     truncated: *mut bool,
@@ -262,17 +269,8 @@ impl VecEnv {
         Self::from_envs_with(envs, opts, AutoresetMode::SameStep)
     }
 
-    /// [`VecEnv::from_envs`] with an autoreset mode (modes other than same-step use the array of
-    /// environments).
+    /// [`VecEnv::from_envs`] with an autoreset mode.
     pub fn from_envs_with(envs: Vec<SpecEnv>, opts: VecOptions, mode: AutoresetMode) -> Result<VecEnv, VecEnvError> {
-        let opts = if mode == AutoresetMode::SameStep {
-            opts
-        } else {
-            VecOptions {
-                kernel: Kernel::ArrayOfEnvs,
-                ..opts
-            }
-        };
         let Some(first) = envs.first() else {
             return Err(VecEnvError::Empty);
         };
@@ -318,7 +316,9 @@ impl VecEnv {
                 Envs::Array(inner, vec![a; n])
             }
         };
-        Ok(Self::assemble(id, proto, envs, max_steps, opts, mode, min_block))
+        let mut v = Self::assemble(id, proto, envs, max_steps, opts, mode, min_block);
+        v.alloc_f64();
+        Ok(v)
     }
 
     /// Batch contextual environments (all of one kind). Each keeps its own source, selection and
@@ -362,6 +362,7 @@ impl VecEnv {
         }
         v.obs = vec![0.0; n * v.obs_dim];
         v.final_obs = vec![0.0; n * v.obs_dim];
+        v.alloc_f64();
         Ok(v)
     }
 
@@ -395,6 +396,8 @@ impl VecEnv {
             elapsed: vec![0; n],
             obs: vec![0.0; n * obs_dim],
             final_obs: vec![0.0; n * obs_dim],
+            obs64: Vec::new(),
+            final_obs64: Vec::new(),
             rewards: vec![0.0; n],
             terminated: vec![false; n],
             truncated: vec![false; n],
@@ -406,6 +409,32 @@ impl VecEnv {
             min_block,
             error: Mutex::new(None),
         }
+    }
+
+    /// Float64 buffers when the observation space declares float64 (the float32 ones are
+    /// kept too: they are what [`VecStep::obs`] and [`VecEnv::obs`] return).
+    fn alloc_f64(&mut self) {
+        let wide = matches!(
+            self.observation_space(),
+            Space::Box {
+                dtype: DType::Float64,
+                ..
+            }
+        );
+        let len = if wide { self.n * self.obs_dim } else { 0 };
+        self.obs64 = vec![0.0; len];
+        self.final_obs64 = vec![0.0; len];
+    }
+
+    /// Current observations at float64 precision, `num_envs × obs_dim`, when the observation
+    /// space declares float64 (`None` otherwise: [`VecEnv::obs`] is exact then).
+    pub fn obs_f64(&self) -> Option<&[f64]> {
+        (!self.obs64.is_empty()).then_some(&self.obs64[..])
+    }
+
+    /// [`VecEnv::final_observations`] at float64 precision (float64 spaces only).
+    pub fn final_observations_f64(&self) -> Option<&[f64]> {
+        (!self.final_obs64.is_empty()).then_some(&self.final_obs64[..])
     }
 
     /// The autoreset mode chosen at construction.
@@ -537,6 +566,9 @@ impl VecEnv {
                     if chosen(i) {
                         // The buffer has the right length, so this cannot fail.
                         let _ = e.reset_into(seed_of(i), o);
+                        if !self.obs64.is_empty() {
+                            let _ = e.observe_f64_into(&mut self.obs64[i * d..(i + 1) * d]);
+                        }
                     }
                 }
             }
@@ -545,6 +577,9 @@ impl VecEnv {
                     if chosen(i) {
                         // A failed distribution draw leaves zeros (see `ContextualEnv::info`).
                         let _ = e.reset_into(seed_of(i), o);
+                        if !self.obs64.is_empty() {
+                            let _ = e.observe_f64_into(&mut self.obs64[i * d..(i + 1) * d]);
+                        }
                         self.instance_ids[i] = e.instance_id();
                     }
                 }
@@ -570,6 +605,9 @@ impl VecEnv {
         let raw = Raw {
             obs: self.obs.as_mut_ptr(),
             final_obs: self.final_obs.as_mut_ptr(),
+            d64: if self.obs64.is_empty() { 0 } else { d },
+            obs64: self.obs64.as_mut_ptr(),
+            final_obs64: self.final_obs64.as_mut_ptr(),
             rewards: self.rewards.as_mut_ptr(),
             terminated: self.terminated.as_mut_ptr(),
             truncated: self.truncated.as_mut_ptr(),
@@ -592,7 +630,7 @@ impl VecEnv {
                 };
                 let job = |r: Range<usize>| {
                     // SAFETY: every buffer has `n` rows; the pool hands out disjoint ranges.
-                    unsafe { cartpole_chunk(&soa, &raw, &a[r.clone()], r, max_steps) }
+                    unsafe { cartpole_chunk(&soa, &raw, &a[r.clone()], r, max_steps, mode) }
                 };
                 self.pool.run(n, block, &job);
             }
@@ -733,7 +771,8 @@ fn cartpole_reset(k: &CartPoleK, rng: &mut EnvRng) -> (f64, f64, f64, f64) {
 /// # Safety
 /// All pointers in `s` and `o` must cover `r.end` rows, and no other thread may touch rows in `r`.
 #[inline(never)]
-unsafe fn cartpole_chunk(s: &SoaRaw, o: &Raw, actions: &[i64], r: Range<usize>, max_steps: u64) {
+unsafe fn cartpole_chunk(s: &SoaRaw, o: &Raw, actions: &[i64], r: Range<usize>, max_steps: u64, mode: AutoresetMode) {
+    let pending = unsafe { &mut rows(o.pending, &r, 1)[..actions.len()] };
     let (xs, xds, ths, thds, ks, rngs, obs, fin, rew, term, trunc, el) = unsafe {
         (
             rows(s.x, &r, 1),
@@ -770,19 +809,33 @@ unsafe fn cartpole_chunk(s: &SoaRaw, o: &Raw, actions: &[i64], r: Range<usize>, 
     );
     for j in 0..len {
         let p = &ks[j];
+        let row = j * 4..j * 4 + 4;
+        if pending[j] {
+            // Next-step autoreset: this step resets instead of stepping (check() rejected
+            // stepping a finished environment when autoreset is disabled).
+            let (x, x_dot, theta, theta_dot) = cartpole_reset(p, &mut rngs[j]);
+            (xs[j], xds[j], ths[j], thds[j]) = (x, x_dot, theta, theta_dot);
+            write4(&mut obs[row], x, x_dot, theta, theta_dot);
+            (rew[j], term[j], trunc[j], el[j], pending[j]) = (0.0, false, false, 0, false);
+            continue;
+        }
         // The scalar environment's step function itself.
         let next = cartpole::dynamics(&p.step, [xs[j], xds[j], ths[j], thds[j]], actions[j]);
         let terminated = cartpole::is_terminal(next);
         let [x, x_dot, theta, theta_dot] = next;
         let e = el[j] + 1;
         let truncated = e >= max_steps;
-        // With same-step autoreset no env is ever stepped after termination, so the scalar
-        // env's "0 reward after termination" case cannot occur: the reward is always 1.
+        // No env is ever stepped after termination (it is reset first, or refused when autoreset
+        // is disabled), so the scalar env's "0 reward after termination" case cannot occur.
         rew[j] = 1.0;
         term[j] = terminated;
         trunc[j] = truncated;
-        let row = j * 4..j * 4 + 4;
-        if terminated || truncated {
+        if (terminated || truncated) && mode != AutoresetMode::SameStep {
+            (xs[j], xds[j], ths[j], thds[j]) = (x, x_dot, theta, theta_dot);
+            el[j] = e;
+            pending[j] = true;
+            write4(&mut obs[row], x, x_dot, theta, theta_dot);
+        } else if terminated || truncated {
             write4(&mut fin[row.clone()], x, x_dot, theta, theta_dot);
             let (x, x_dot, theta, theta_dot) = cartpole_reset(p, &mut rngs[j]);
             (xs[j], xds[j], ths[j], thds[j]) = (x, x_dot, theta, theta_dot);
@@ -844,6 +897,8 @@ unsafe fn array_chunk<E: BatchEnv>(
     r: Range<usize>,
 ) -> Result<(), EnvError> {
     let (o, d, actions, max_steps) = (c.raw, c.d, c.actions, c.max_steps);
+    let d64 = o.d64;
+    let (obs64, fin64) = unsafe { (rows(o.obs64, &r, d64), rows(o.final_obs64, &r, d64)) };
     let (obs, fin, rew, term, trunc, el, pending, ids) = unsafe {
         (
             rows(o.obs, &r, d),
@@ -859,10 +914,14 @@ unsafe fn array_chunk<E: BatchEnv>(
     for j in 0..envs.len() {
         let i = r.start + j;
         let row = j * d..(j + 1) * d;
+        let row64 = j * d64..(j + 1) * d64;
         if pending[j] {
             // Next-step autoreset: this step resets instead of stepping (check() rejected
             // stepping a finished environment when autoreset is disabled).
             envs[j].reset_into(None, &mut obs[row])?;
+            if d64 > 0 {
+                envs[j].observe_f64_into(&mut obs64[row64])?;
+            }
             ids[j] = envs[j].instance_id();
             (rew[j], term[j], trunc[j], el[j], pending[j]) = (0.0, false, false, 0, false);
             continue;
@@ -876,6 +935,9 @@ unsafe fn array_chunk<E: BatchEnv>(
             _ => unreachable!("rejected by check()"),
         }
         let out = envs[j].step_into(&acts[j], &mut obs[row.clone()])?;
+        if d64 > 0 {
+            envs[j].observe_f64_into(&mut obs64[row64.clone()])?;
+        }
         let e = el[j] + 1;
         let truncated = out.truncated || e >= max_steps;
         rew[j] = out.reward;
@@ -887,6 +949,10 @@ unsafe fn array_chunk<E: BatchEnv>(
                 AutoresetMode::SameStep => {
                     fin[row.clone()].copy_from_slice(&obs[row.clone()]);
                     envs[j].reset_into(None, &mut obs[row])?;
+                    if d64 > 0 {
+                        fin64[row64.clone()].copy_from_slice(&obs64[row64.clone()]);
+                        envs[j].observe_f64_into(&mut obs64[row64])?;
+                    }
                     ids[j] = envs[j].instance_id();
                     el[j] = 0;
                 }

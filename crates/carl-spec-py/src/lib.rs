@@ -11,13 +11,18 @@
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
-use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods};
+use numpy::ndarray::IxDyn;
+use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use carl_spec::envs::contextual::{ContextInfo, ContextSource, ContextualEnv, ContextualError, ContextualOptions};
-use carl_spec::envs::registry::{Context, MakeError, MakeOptions, has_runtime, ids, ids_text, make_with};
+use carl_spec::envs::contextual::{
+    ContextInfo, ContextNoise, ContextSource, ContextualEnv, ContextualError, ContextualOptions, NoiseRedraw, NoiseStd,
+};
+use carl_spec::envs::registry::{
+    Context, EnvOptions, MakeError, MakeOptions, has_runtime, ids, ids_text, make_env, make_with,
+};
 use carl_spec::envs::vec_env::{AutoresetMode, VecActions, VecEnv as RustVecEnv, VecEnvError, VecOptions};
 use carl_spec::envs::{Action, DType, Env as _, EnvError, Features, Selection, Space, Visibility};
 use carl_spec::instances::Store;
@@ -25,6 +30,8 @@ use carl_spec::instances::derive::{DeriveError, sample_adhoc};
 use carl_spec::spec::SpecSet;
 use carl_spec::spec::load::{bundled_inputs, read_inputs};
 use carl_spec::validate;
+
+mod user_spec;
 
 // ---------------------------------------------------------------------------------------
 // Errors
@@ -42,8 +49,12 @@ fn unknown_name(py: Python<'_>, message: String) -> PyErr {
     }
 }
 
+/// The library's message, with the CLI's flag named as the Python keyword.
 fn value_error(e: impl std::fmt::Display) -> PyErr {
-    PyValueError::new_err(e.to_string())
+    PyValueError::new_err(
+        e.to_string()
+            .replace("use --allow-out-of-bounds", "pass allow_out_of_bounds=True"),
+    )
 }
 
 fn make_error(py: Python<'_>, e: &MakeError) -> PyErr {
@@ -88,7 +99,7 @@ fn env_error(e: &EnvError) -> PyErr {
 static BUNDLED: OnceLock<Result<SpecSet, String>> = OnceLock::new();
 
 /// The bundled specs (validated once per process, then shared read-only), or bundled + `dir`.
-fn with_specs<T>(specs_dir: Option<PathBuf>, f: impl FnOnce(&SpecSet) -> PyResult<T>) -> PyResult<T> {
+pub(crate) fn with_specs<T>(specs_dir: Option<PathBuf>, f: impl FnOnce(&SpecSet) -> PyResult<T>) -> PyResult<T> {
     match specs_dir {
         None => {
             let specs = BUNDLED.get_or_init(|| SpecSet::bundled().map_err(|e| e.to_string()));
@@ -268,7 +279,7 @@ fn sample_json(
 // ---------------------------------------------------------------------------------------
 // Environments
 
-/// Where contexts come from, as the Python constructors pass it.
+/// Everything `make` / `make_vec` pass about contexts, as the Python constructors hand it over.
 #[derive(Clone)]
 struct SourceArgs {
     context_json: Option<String>,
@@ -278,6 +289,39 @@ struct SourceArgs {
     instance: Option<usize>,
     obs_context: Option<Vec<String>>,
     obs_context_all: bool,
+    /// Variant options (`{"continuous": true}`), as a JSON object.
+    options_json: Option<String>,
+    noise: ContextNoise,
+    allow_out_of_bounds: bool,
+}
+
+impl SourceArgs {
+    fn context(&self) -> PyResult<Context> {
+        match &self.context_json {
+            Some(text) => serde_json::from_str(text).map_err(|e| value_error(format!("context: {e}"))),
+            None => Ok(Context::new()),
+        }
+    }
+
+    fn env_options(&self) -> PyResult<EnvOptions> {
+        match &self.options_json {
+            Some(text) => serde_json::from_str(text).map_err(|e| {
+                value_error(format!(
+                    "options: {e} (values are true/false, numbers or lists of numbers)"
+                ))
+            }),
+            None => Ok(EnvOptions::new()),
+        }
+    }
+
+    /// A fixed context without visible features: the plain batch (no contextual wrapper).
+    fn is_plain(&self) -> bool {
+        self.instances.is_none()
+            && self.distribution.is_none()
+            && self.obs_context.as_ref().is_none_or(Vec::is_empty)
+            && !self.obs_context_all
+            && self.noise.is_empty()
+    }
 }
 
 fn build_contextual(py: Python<'_>, specs: &SpecSet, env: &str, a: &SourceArgs) -> PyResult<ContextualEnv> {
@@ -302,6 +346,12 @@ fn build_contextual(py: Python<'_>, specs: &SpecSet, env: &str, a: &SourceArgs) 
             "give at most one of context=, instances= and distribution=",
         ));
     }
+    if a.allow_out_of_bounds && (a.instances.is_some() || a.distribution.is_some()) {
+        return Err(value_error(
+            "allow_out_of_bounds=True applies to a fixed context= (an instance set declares its own \
+             out-of-bounds policy; distribution draws are always inside the bounds)",
+        ));
+    }
     let source = if let Some(name) = &a.instances {
         let name = if name.contains('/') {
             name.clone()
@@ -312,11 +362,7 @@ fn build_contextual(py: Python<'_>, specs: &SpecSet, env: &str, a: &SourceArgs) 
     } else if let Some(name) = &a.distribution {
         ContextSource::Distribution { name: name.clone() }
     } else {
-        let ctx: Context = match &a.context_json {
-            Some(text) => serde_json::from_str(text).map_err(|e| value_error(format!("context: {e}")))?,
-            None => Context::new(),
-        };
-        ContextSource::Fixed(ctx)
+        ContextSource::Fixed(a.context()?)
     };
     let selection = match (a.selection.as_str(), a.instance) {
         ("round_robin", None) => Selection::RoundRobin,
@@ -338,37 +384,149 @@ fn build_contextual(py: Python<'_>, specs: &SpecSet, env: &str, a: &SourceArgs) 
             _ => Visibility::Hidden,
         }
     };
+    if !a.noise.is_empty() && visibility == Visibility::Hidden {
+        return Err(value_error(
+            "context_noise applies to observed context features: name them in obs_context= (or obs_context=True)",
+        ));
+    }
     ContextualEnv::new(
         spec,
         source,
         ContextualOptions {
             selection,
             visibility,
-            ..ContextualOptions::default()
+            noise: a.noise.clone(),
+            env_options: a.env_options()?,
+            allow_out_of_bounds: a.allow_out_of_bounds,
         },
     )
     .map_err(|e| contextual_error(py, &e))
 }
 
-/// The observation as the space declares it: float32, float64 or uint8, in the space's shape.
-fn obs_array<'py>(py: Python<'py>, obs: &[f32], shape: &[usize], dtype: DType) -> PyResult<Bound<'py, PyAny>> {
-    Ok(match dtype {
-        DType::Float32 => PyArray1::from_slice(py, obs).reshape(shape.to_vec())?.into_any(),
-        DType::Float64 => PyArray1::from_iter(py, obs.iter().map(|&x| f64::from(x)))
-            .reshape(shape.to_vec())?
-            .into_any(),
-        // Pixel values are whole numbers 0..=255 held in f32.
-        DType::UInt8 => PyArray1::from_iter(py, obs.iter().map(|&x| x as u8))
-            .reshape(shape.to_vec())?
-            .into_any(),
-    })
+/// How the runtime's flat float32 buffer becomes what Python sees.
+#[derive(Clone, Debug)]
+enum ObsLayout {
+    /// One array of the space's shape and dtype.
+    Array { shape: Vec<usize>, dtype: DType },
+    /// Pixels with the context appended: `{"obs": uint8 array of `shape`, "context": float32 (k,)}`
+    /// (numbers cannot be appended to a uint8 picture without losing them).
+    Split { shape: Vec<usize>, base: usize, k: usize },
 }
 
-fn obs_layout(space: &Space) -> (Vec<usize>, DType) {
-    match space {
-        Space::Box { shape, dtype, .. } => (shape.clone(), *dtype),
-        Space::Discrete { .. } => (vec![], DType::Float32),
+impl ObsLayout {
+    /// The layout of an environment whose base (runtime) observation space is `base` and whose
+    /// observation has `visible` context features appended.
+    fn new(base: &Space, full: &Space, visible: usize) -> Self {
+        match (base, full) {
+            (
+                Space::Box {
+                    shape,
+                    dtype: DType::UInt8,
+                    ..
+                },
+                _,
+            ) if visible > 0 => ObsLayout::Split {
+                base: shape.iter().product(),
+                shape: shape.clone(),
+                k: visible,
+            },
+            (_, Space::Box { shape, dtype, .. }) => ObsLayout::Array {
+                shape: shape.clone(),
+                dtype: *dtype,
+            },
+            (_, Space::Discrete { .. }) => ObsLayout::Array {
+                shape: vec![],
+                dtype: DType::Float32,
+            },
+        }
     }
+
+    fn wide(&self) -> bool {
+        matches!(
+            self,
+            ObsLayout::Array {
+                dtype: DType::Float64,
+                ..
+            }
+        )
+    }
+
+    /// `{"type": "dict", ...}` for split observations, else the space itself.
+    fn space_json(&self, full: &Space) -> serde_json::Value {
+        match (self, full) {
+            (ObsLayout::Split { shape, base, .. }, Space::Box { low, high, .. }) => serde_json::json!({
+                "type": "dict",
+                "spaces": {
+                    "obs": space_json(&Space::Box {
+                        low: low[..*base].to_vec(), high: high[..*base].to_vec(),
+                        shape: shape.clone(), dtype: DType::UInt8,
+                    }),
+                    "context": space_json(&Space::Box {
+                        low: low[*base..].to_vec(), high: high[*base..].to_vec(),
+                        shape: vec![low.len() - base], dtype: DType::Float32,
+                    }),
+                },
+            }),
+            _ => space_json(full),
+        }
+    }
+
+    /// `n` observations (`batch = Some(n)`: with a leading batch axis) from the float32 rows,
+    /// or from the float64 rows for float64 spaces.
+    fn value<'py>(
+        &self,
+        py: Python<'py>,
+        flat: &[f32],
+        wide: Option<&[f64]>,
+        batch: Option<usize>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let dims = |shape: &[usize]| -> Vec<usize> { batch.into_iter().chain(shape.iter().copied()).collect() };
+        Ok(match self {
+            ObsLayout::Array { shape, dtype } => match (dtype, wide) {
+                (DType::Float32, _) => filled(py, &dims(shape), |out: &mut [f32]| out.copy_from_slice(flat)),
+                (DType::Float64, Some(w)) => filled(py, &dims(shape), |out: &mut [f64]| out.copy_from_slice(w)),
+                (DType::Float64, None) => filled(py, &dims(shape), |out: &mut [f64]| {
+                    for (o, x) in out.iter_mut().zip(flat) {
+                        *o = f64::from(*x);
+                    }
+                }),
+                // Pixel values are whole numbers 0..=255 held in f32.
+                (DType::UInt8, _) => filled(py, &dims(shape), |out: &mut [u8]| {
+                    for (o, x) in out.iter_mut().zip(flat) {
+                        *o = *x as u8;
+                    }
+                }),
+            },
+            ObsLayout::Split { shape, base, k } => {
+                let row = base + k;
+                let pixels = filled(py, &dims(shape), |out: &mut [u8]| {
+                    for (o, r) in out.chunks_exact_mut(*base).zip(flat.chunks_exact(row)) {
+                        for (p, x) in o.iter_mut().zip(&r[..*base]) {
+                            *p = *x as u8;
+                        }
+                    }
+                });
+                let context = filled(py, &dims(&[*k]), |out: &mut [f32]| {
+                    for (o, r) in out.chunks_exact_mut(*k).zip(flat.chunks_exact(row)) {
+                        o.copy_from_slice(&r[*base..]);
+                    }
+                });
+                let d = PyDict::new(py);
+                d.set_item("obs", pixels)?;
+                d.set_item("context", context)?;
+                d.into_any()
+            }
+        })
+    }
+}
+
+/// A fresh C-contiguous array of `dims`, written by `fill` (one allocation, no reshape).
+fn filled<'py, T: numpy::Element>(py: Python<'py>, dims: &[usize], fill: impl FnOnce(&mut [T])) -> Bound<'py, PyAny> {
+    // SAFETY: `fill` writes every element before Python can see the array (all callers copy
+    // exactly `dims.product()` values), and a fresh array is contiguous.
+    let arr = unsafe { PyArrayDyn::<T>::new(py, IxDyn(dims), false) };
+    fill(unsafe { arr.as_slice_mut() }.expect("a fresh array is contiguous"));
+    arr.into_any()
 }
 
 fn info_dict<'py>(py: Python<'py>, ci: &ContextInfo) -> PyResult<Bound<'py, PyDict>> {
@@ -392,6 +550,16 @@ fn info_dict<'py>(py: Python<'py>, ci: &ContextInfo) -> PyResult<Bound<'py, PyDi
     Ok(d)
 }
 
+/// `{feature: observed value}` of the visible features (what the agent sees, noise included).
+fn observed_dict<'py>(py: Python<'py>, env: &ContextualEnv) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    for (k, v) in env.visible_features().iter().zip(env.observed_context()) {
+        d.set_item(k, f64::from(*v))?;
+    }
+    Ok(d)
+}
+
+#[allow(clippy::too_many_arguments)]
 fn env_source_args(
     context_json: Option<String>,
     instances: Option<String>,
@@ -399,6 +567,10 @@ fn env_source_args(
     selection: &str,
     instance: Option<usize>,
     obs_context: Option<&Bound<'_, PyAny>>,
+    options_json: Option<String>,
+    noise: Option<Vec<(String, String, f64)>>,
+    noise_redraw: &str,
+    allow_out_of_bounds: bool,
 ) -> PyResult<SourceArgs> {
     let (obs_context, obs_context_all) = match obs_context {
         None => (None, false),
@@ -408,6 +580,28 @@ fn env_source_args(
             Err(_) => (Some(v.extract::<Vec<String>>()?), false),
         },
     };
+    let redraw = match noise_redraw {
+        "episode" => NoiseRedraw::Episode,
+        "step" => NoiseRedraw::Step,
+        other => {
+            return Err(value_error(format!(
+                "context_noise_redraw must be \"episode\" or \"step\", got \"{other}\""
+            )));
+        }
+    };
+    let mut features = Vec::new();
+    for (name, kind, std) in noise.unwrap_or_default() {
+        let std = match kind.as_str() {
+            "absolute" => NoiseStd::Absolute(std),
+            "relative" => NoiseStd::Relative(std),
+            other => {
+                return Err(value_error(format!(
+                    "context_noise[{name:?}]: kind must be \"absolute\" or \"relative\", got \"{other}\""
+                )));
+            }
+        };
+        features.push((name, std));
+    }
     Ok(SourceArgs {
         context_json,
         instances,
@@ -416,6 +610,9 @@ fn env_source_args(
         instance,
         obs_context,
         obs_context_all,
+        options_json,
+        noise: ContextNoise { features, redraw },
+        allow_out_of_bounds,
     })
 }
 
@@ -425,14 +622,29 @@ struct Env {
     inner: ContextualEnv,
     action: Action,
     obs: Vec<f32>,
-    shape: Vec<usize>,
-    dtype: DType,
+    /// The float64 observation (float64 spaces only, else empty).
+    obs64: Vec<f64>,
+    layout: ObsLayout,
+}
+
+impl Env {
+    fn observation<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let wide = if self.obs64.is_empty() {
+            None
+        } else {
+            self.inner
+                .observe_f64_into(&mut self.obs64)
+                .map_err(|e| env_error(&e))?;
+            Some(&self.obs64[..])
+        };
+        self.layout.value(py, &self.obs, wide, None)
+    }
 }
 
 #[pymethods]
 impl Env {
     #[new]
-    #[pyo3(signature = (env, *, context_json=None, instances=None, distribution=None, selection="round_robin", instance=None, obs_context=None, specs_dir=None))]
+    #[pyo3(signature = (env, *, context_json=None, instances=None, distribution=None, selection="round_robin", instance=None, obs_context=None, options_json=None, noise=None, noise_redraw="episode", allow_out_of_bounds=false, specs_dir=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -443,21 +655,44 @@ impl Env {
         selection: &str,
         instance: Option<usize>,
         obs_context: Option<&Bound<'_, PyAny>>,
+        options_json: Option<String>,
+        noise: Option<Vec<(String, String, f64)>>,
+        noise_redraw: &str,
+        allow_out_of_bounds: bool,
         specs_dir: Option<PathBuf>,
     ) -> PyResult<Self> {
-        let args = env_source_args(context_json, instances, distribution, selection, instance, obs_context)?;
+        let args = env_source_args(
+            context_json,
+            instances,
+            distribution,
+            selection,
+            instance,
+            obs_context,
+            options_json,
+            noise,
+            noise_redraw,
+            allow_out_of_bounds,
+        )?;
         let inner = with_specs(specs_dir, |specs| build_contextual(py, specs, env, &args))?;
         let action = match inner.action_space() {
             Space::Discrete { .. } => Action::Discrete(0),
             s @ Space::Box { .. } => Action::Continuous(vec![0.0; s.flat_dim()]),
         };
-        let (shape, dtype) = obs_layout(&inner.observation_space());
+        let layout = ObsLayout::new(
+            &inner.inner().observation_space(),
+            &inner.observation_space(),
+            inner.visible_features().len(),
+        );
         Ok(Env {
             obs: vec![0.0; inner.obs_dim()],
+            obs64: if layout.wide() {
+                vec![0.0; inner.obs_dim()]
+            } else {
+                Vec::new()
+            },
             inner,
             action,
-            shape,
-            dtype,
+            layout,
         })
     }
 
@@ -465,8 +700,12 @@ impl Env {
     #[pyo3(signature = (seed=None))]
     fn reset<'py>(&mut self, py: Python<'py>, seed: Option<u64>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
         self.inner.reset_into(seed, &mut self.obs).map_err(|e| env_error(&e))?;
-        let obs = obs_array(py, &self.obs, &self.shape, self.dtype)?;
-        Ok((obs, info_dict(py, self.inner.context_info())?))
+        let obs = self.observation(py)?;
+        let info = info_dict(py, self.inner.context_info())?;
+        if self.inner.noise().is_some() {
+            info.set_item("observed_context", observed_dict(py, &self.inner)?)?;
+        }
+        Ok((obs, info))
     }
 
     /// `(observation, reward, terminated, truncated)`; the action is an int (discrete) or a
@@ -496,13 +735,26 @@ impl Env {
             .inner
             .step_into(&self.action, &mut self.obs)
             .map_err(|e| env_error(&e))?;
-        let obs = obs_array(py, &self.obs, &self.shape, self.dtype)?;
+        let obs = self.observation(py)?;
         Ok((obs, out.reward, out.terminated, out.truncated))
     }
 
     /// The current episode's context info (as `reset` returns it).
     fn info<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         info_dict(py, self.inner.context_info())
+    }
+
+    /// What the agent observes of the visible features now (noise included).
+    fn observed_context<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        observed_dict(py, &self.inner)
+    }
+
+    /// When noise on the observed context is redrawn: "episode", "step", or None (no noise).
+    fn noise_redraw(&self) -> Option<&'static str> {
+        self.inner.noise().map(|r| match r {
+            NoiseRedraw::Episode => "episode",
+            NoiseRedraw::Step => "step",
+        })
     }
 
     /// An RGB picture `(height, width, 3)` uint8 of the current state, or None.
@@ -526,7 +778,7 @@ impl Env {
 
     /// JSON description of the observation space.
     fn observation_space_json(&self) -> String {
-        space_json(&self.inner.observation_space()).to_string()
+        self.layout.space_json(&self.inner.observation_space()).to_string()
     }
 
     fn action_space_json(&self) -> String {
@@ -577,9 +829,9 @@ fn autoreset_mode(name: &str) -> PyResult<AutoresetMode> {
 /// `(observations, rewards, terminated, truncated)` of one batch step.
 type BatchStep<'py> = (
     Bound<'py, PyAny>,
-    Bound<'py, PyArray1<f64>>,
-    Bound<'py, PyArray1<bool>>,
-    Bound<'py, PyArray1<bool>>,
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
+    Bound<'py, PyAny>,
 );
 
 /// A batch of environments stepped by one call (`carl_spec.make_vec` wraps it in a
@@ -587,25 +839,27 @@ type BatchStep<'py> = (
 #[pyclass(module = "carl_spec._core")]
 struct VecEnv {
     inner: RustVecEnv,
-    shape: Vec<usize>,
-    dtype: DType,
+    layout: ObsLayout,
+    obs_space: Space,
     discrete: bool,
     action_dim: usize,
     contextual: bool,
+    /// The actions of the step in progress, copied out of NumPy before the GIL is released.
+    discrete_actions: Vec<i64>,
+    continuous_actions: Vec<f32>,
 }
 
 impl VecEnv {
-    fn batch_obs<'py>(&self, py: Python<'py>, flat: &[f32]) -> PyResult<Bound<'py, PyAny>> {
-        let mut shape = vec![self.inner.num_envs()];
-        shape.extend(&self.shape);
-        obs_array(py, flat, &shape, self.dtype)
+    fn batch_obs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        self.layout
+            .value(py, self.inner.obs(), self.inner.obs_f64(), Some(self.inner.num_envs()))
     }
 }
 
 #[pymethods]
 impl VecEnv {
     #[new]
-    #[pyo3(signature = (env, num_envs, *, context_json=None, instances=None, distribution=None, selection="round_robin", instance=None, obs_context=None, autoreset_mode="next_step", threads=1, specs_dir=None))]
+    #[pyo3(signature = (env, num_envs, *, context_json=None, instances=None, distribution=None, selection="round_robin", instance=None, obs_context=None, options_json=None, noise=None, noise_redraw="episode", allow_out_of_bounds=false, autoreset_mode="next_step", threads=1, specs_dir=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -617,6 +871,10 @@ impl VecEnv {
         selection: &str,
         instance: Option<usize>,
         obs_context: Option<&Bound<'_, PyAny>>,
+        options_json: Option<String>,
+        noise: Option<Vec<(String, String, f64)>>,
+        noise_redraw: &str,
+        allow_out_of_bounds: bool,
         autoreset_mode: &str,
         threads: usize,
         specs_dir: Option<PathBuf>,
@@ -625,11 +883,19 @@ impl VecEnv {
         if num_envs == 0 {
             return Err(value_error("num_envs must be at least 1"));
         }
-        let args = env_source_args(context_json, instances, distribution, selection, instance, obs_context)?;
-        let plain = args.instances.is_none()
-            && args.distribution.is_none()
-            && args.obs_context.as_ref().is_none_or(Vec::is_empty)
-            && !args.obs_context_all;
+        let args = env_source_args(
+            context_json,
+            instances,
+            distribution,
+            selection,
+            instance,
+            obs_context,
+            options_json,
+            noise,
+            noise_redraw,
+            allow_out_of_bounds,
+        )?;
+        let plain = args.is_plain();
         let opts = VecOptions {
             threads,
             ..VecOptions::default()
@@ -638,36 +904,44 @@ impl VecEnv {
             VecEnvError::Make(m) => make_error(py, &m),
             other => value_error(other),
         };
-        let inner = with_specs(specs_dir, |specs| {
-            // Validate everything (names, selection) through the contextual path first.
+        let (inner, layout) = with_specs(specs_dir, |specs| {
+            // Validate everything (names, selection, options, bounds) through the contextual
+            // path first.
             let proto = build_contextual(py, specs, env, &args)?;
-            if plain {
+            let layout = ObsLayout::new(
+                &proto.inner().observation_space(),
+                &proto.observation_space(),
+                proto.visible_features().len(),
+            );
+            let inner = if plain {
                 // One fixed context without visible features: the plain batch (CartPole's
-                // structure-of-arrays kernel in same-step mode).
+                // structure-of-arrays kernel).
                 let spec = require(py, specs, env)?;
-                let ctx: Context = match &args.context_json {
-                    Some(text) => serde_json::from_str(text).map_err(|e| value_error(format!("context: {e}")))?,
-                    None => Context::new(),
+                let ctx = args.context()?;
+                let make = MakeOptions {
+                    allow_out_of_bounds: args.allow_out_of_bounds,
                 };
+                let env_options = args.env_options()?;
                 let envs = (0..num_envs)
-                    .map(|_| make_with(spec, &ctx, MakeOptions::default()))
+                    .map(|_| make_env(spec, &ctx, make, &env_options))
                     .collect::<Result<Vec<_>, _>>()
                     .map_err(|e| make_error(py, &e))?;
-                RustVecEnv::from_envs_with(envs, opts, mode).map_err(vec_err)
+                RustVecEnv::from_envs_with(envs, opts, mode).map_err(vec_err)?
             } else {
-                let envs = vec![proto; num_envs];
-                RustVecEnv::from_contextual(envs, opts, mode).map_err(vec_err)
-            }
+                RustVecEnv::from_contextual(vec![proto; num_envs], opts, mode).map_err(vec_err)?
+            };
+            Ok((inner, layout))
         })?;
-        let (shape, dtype) = obs_layout(&inner.observation_space());
         let (discrete, action_dim) = match inner.action_space() {
             Space::Discrete { .. } => (true, 1),
             s @ Space::Box { .. } => (false, s.flat_dim()),
         };
         Ok(VecEnv {
+            obs_space: inner.observation_space(),
+            discrete_actions: vec![0; if discrete { num_envs } else { 0 }],
+            continuous_actions: vec![0.0; if discrete { 0 } else { num_envs * action_dim }],
             inner,
-            shape,
-            dtype,
+            layout,
             discrete,
             action_dim,
             contextual: !plain,
@@ -701,18 +975,22 @@ impl VecEnv {
         py.detach(|| {
             inner.reset_masked(seed, mask_slice);
         });
-        self.batch_obs(py, self.inner.obs())
+        self.batch_obs(py)
     }
 
     /// `(observations, rewards, terminated, truncated)` as fresh NumPy arrays. Actions: int64
     /// `(num_envs,)` or float32 `(num_envs, action_dim)`, C-contiguous.
     fn step<'py>(&mut self, py: Python<'py>, actions: &Bound<'py, PyAny>) -> PyResult<BatchStep<'py>> {
         let (n, id) = (self.inner.num_envs(), self.inner.id());
-        let inner = &mut self.inner;
         if self.discrete {
             let a: PyReadonlyArray1<'_, i64> = actions.extract()?;
             let a = a.as_slice().map_err(value_error)?;
-            py.detach(|| inner.step(VecActions::Discrete(a)).map(|_| ()))
+            if a.len() != n {
+                return Err(value_error(format!("{id}: expected {n} actions, got {}", a.len())));
+            }
+            self.discrete_actions.copy_from_slice(a);
+            let (inner, acts) = (&mut self.inner, &self.discrete_actions);
+            py.detach(|| inner.step(VecActions::Discrete(acts)).map(|_| ()))
                 .map_err(|e| env_error(&e))?;
         } else {
             let a: numpy::PyReadonlyArrayDyn<'_, f32> = actions.extract()?;
@@ -725,22 +1003,74 @@ impl VecEnv {
                     a.shape()
                 )));
             }
-            let a = a.as_slice().map_err(value_error)?;
-            py.detach(|| inner.step(VecActions::Continuous(a)).map(|_| ()))
+            self.continuous_actions
+                .copy_from_slice(a.as_slice().map_err(value_error)?);
+            let (inner, acts) = (&mut self.inner, &self.continuous_actions);
+            py.detach(|| inner.step(VecActions::Continuous(acts)).map(|_| ()))
                 .map_err(|e| env_error(&e))?;
         }
         Ok((
-            self.batch_obs(py, self.inner.obs())?,
-            PyArray1::from_slice(py, self.inner.rewards()),
-            PyArray1::from_slice(py, self.inner.terminated()),
-            PyArray1::from_slice(py, self.inner.truncated()),
+            self.batch_obs(py)?,
+            filled(py, &[n], |o: &mut [f64]| o.copy_from_slice(self.inner.rewards())),
+            filled(py, &[n], |o: &mut [bool]| o.copy_from_slice(self.inner.terminated())),
+            filled(py, &[n], |o: &mut [bool]| o.copy_from_slice(self.inner.truncated())),
         ))
     }
 
     /// Last observations of the episodes that ended in the latest step (same-step mode; rows of
     /// other environments are meaningless).
     fn final_obs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        self.batch_obs(py, self.inner.final_observations())
+        self.layout.value(
+            py,
+            self.inner.final_observations(),
+            self.inner.final_observations_f64(),
+            Some(self.inner.num_envs()),
+        )
+    }
+
+    /// Same-step mode, after a step where some episode ended: `(final_obs, done)` laid out as
+    /// Gymnasium's vector envs do (an object array holding each finished environment's last
+    /// observation and None elsewhere, and the bool mask); None when no episode ended.
+    fn final_obs_info<'py>(&self, py: Python<'py>) -> PyResult<Option<(Bound<'py, PyAny>, Bound<'py, PyAny>)>> {
+        let (term, trunc) = (self.inner.terminated(), self.inner.truncated());
+        if !term.iter().zip(trunc).any(|(a, b)| *a | *b) {
+            return Ok(None);
+        }
+        let d = self.inner.obs_dim();
+        let (flat, wide) = (self.inner.final_observations(), self.inner.final_observations_f64());
+        let ended: Vec<usize> = (0..term.len()).filter(|&i| term[i] | trunc[i]).collect();
+        let mut objects: Vec<Py<PyAny>> = (0..term.len()).map(|_| py.None()).collect();
+        if let ObsLayout::Array { .. } = &self.layout {
+            // One array of the finished rows, handed out as row views (NumPy's own iteration:
+            // the cheapest way to make one Python object per row).
+            let gather32: Vec<f32> = ended.iter().flat_map(|&i| &flat[i * d..(i + 1) * d]).copied().collect();
+            let gather64: Option<Vec<f64>> =
+                wide.map(|w| ended.iter().flat_map(|&i| &w[i * d..(i + 1) * d]).copied().collect());
+            let block = self
+                .layout
+                .value(py, &gather32, gather64.as_deref(), Some(ended.len()))?;
+            for (&i, row) in ended.iter().zip(block.try_iter()?) {
+                objects[i] = row?.unbind();
+            }
+        } else {
+            for &i in &ended {
+                objects[i] = self
+                    .layout
+                    .value(
+                        py,
+                        &flat[i * d..(i + 1) * d],
+                        wide.map(|w| &w[i * d..(i + 1) * d]),
+                        None,
+                    )?
+                    .unbind();
+            }
+        }
+        let done = filled(py, &[term.len()], |o: &mut [bool]| {
+            for (o, (a, b)) in o.iter_mut().zip(term.iter().zip(trunc)) {
+                *o = *a | *b;
+            }
+        });
+        Ok(Some((PyArray1::from_vec(py, objects).into_any(), done)))
     }
 
     /// Each environment's instance id in its set (-1: not from a set).
@@ -758,7 +1088,7 @@ impl VecEnv {
     }
 
     fn observation_space_json(&self) -> String {
-        space_json(&self.inner.observation_space()).to_string()
+        self.layout.space_json(&self.obs_space).to_string()
     }
 
     fn action_space_json(&self) -> String {
@@ -796,6 +1126,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sample_json, m)?)?;
     m.add_class::<Env>()?;
     m.add_class::<VecEnv>()?;
+    user_spec::register(m)?;
     m.add("RUNTIMES", PyList::new(m.py(), ids().collect::<Vec<_>>())?)?;
     m.add("VERSION", env!("CARGO_PKG_VERSION"))?;
     Ok(())

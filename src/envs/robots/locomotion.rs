@@ -351,10 +351,20 @@ impl Locomotion {
     }
 
     fn write_obs(&self, obs: &mut [f32]) {
+        self.for_each_obs(|k, v| obs[k] = v as f32);
+    }
+
+    /// The observation as computed (float64, as the space declares).
+    fn write_obs_f64(&self, obs: &mut [f64]) {
+        self.for_each_obs(|k, v| obs[k] = v);
+    }
+
+    /// Calls `put(k, value)` for every observation component `k` in order.
+    fn for_each_obs(&self, mut put: impl FnMut(usize, f64)) {
         let s = self.state_vec();
         let mut k = 0;
         for v in &s[self.task.obs_skip_qpos..self.nq + self.nv] {
-            obs[k] = *v as f32;
+            put(k, *v);
             k += 1;
         }
         if self.task.include_com_terms {
@@ -366,7 +376,7 @@ impl Locomotion {
                 w.com_velocity(&self.model.bodies, c, &mut com_terms[10 * nb..]);
             }
             for v in com_terms.iter().chain(&self.act) {
-                obs[k] = *v as f32;
+                put(k, *v);
                 k += 1;
             }
         }
@@ -376,7 +386,7 @@ impl Locomotion {
                 ContactCost::ClipCost(..) => None,
             };
             for f in self.body_cfrc() {
-                obs[k] = clip.map_or(f, |(lo, hi)| crate::envs::api::np_clip(f, lo, hi)) as f32;
+                put(k, clip.map_or(f, |(lo, hi)| crate::envs::api::np_clip(f, lo, hi)));
                 k += 1;
             }
         }
@@ -518,6 +528,12 @@ impl Env for Locomotion {
     fn observe_into(&self, obs: &mut [f32]) -> Result<(), EnvError> {
         check_obs_len(self.id, obs, self.obs_dim())?;
         self.write_obs(obs);
+        Ok(())
+    }
+
+    fn observe_f64_into(&self, obs: &mut [f64]) -> Result<(), EnvError> {
+        check_obs_len(self.id, obs, self.obs_dim())?;
+        self.write_obs_f64(obs);
         Ok(())
     }
 

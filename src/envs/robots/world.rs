@@ -161,6 +161,9 @@ impl RobotWorld {
         let ip = &mut pw.integration_parameters;
         ip.dt = side.timestep as f32;
         ip.num_solver_iterations = side.solver_iterations;
+        if let Some(w) = side.warmstart_coefficient {
+            ip.warmstart_coefficient = w as f32;
+        }
 
         let flags = if side.self_collisions {
             UrdfMultibodyOptions::empty()

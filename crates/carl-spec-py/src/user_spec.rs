@@ -1,0 +1,481 @@
+//! Users' own spec files for `carl_spec.wrap` and `carl_spec.audit` (environments carl-spec does
+//! not ship): loading them through the same validator, choosing a context per reset with exactly
+//! the selection and seeding rules of the library's `ContextualEnv`, and the audit's probe values.
+//!
+//! The environment itself is the user's Python object, so no runtime is built here: a
+//! [`ContextChooser`] only answers "which context does this reset use, and with which seed does the
+//! user's env reset".
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use carl_spec::audit::probes::{perturbed_values, unauditable_reason};
+use carl_spec::envs::Selection;
+use carl_spec::envs::contextual::{CONTEXT_STREAM, ENV_STREAM, SELECTION_STREAM};
+use carl_spec::envs::registry::{Context, MakeError, MakeOptions};
+use carl_spec::envs::rng::DEFAULT_SEED;
+use carl_spec::instances::Store;
+use carl_spec::instances::derive::{DeriveError, sample_distribution};
+use carl_spec::sampling::{Pcg64, dist::below, stream_id};
+use carl_spec::spec::SpecSet;
+use carl_spec::spec::load::{bundled_inputs, read_inputs};
+use carl_spec::spec::model::{Distribution, EnvSpec};
+
+fn value_error(e: impl std::fmt::Display) -> PyErr {
+    PyValueError::new_err(e.to_string())
+}
+
+fn unknown_name(py: Python<'_>, message: String) -> PyErr {
+    match py
+        .import("carl_spec._errors")
+        .and_then(|m| m.getattr("UnknownNameError"))
+        .and_then(|cls| cls.call1((message.clone(),)))
+    {
+        Ok(exc) => PyErr::from_value(exc),
+        Err(_) => value_error(message),
+    }
+}
+
+/// The user's spec file(s) (a file or a directory), validated like `carl-spec validate PATH`
+/// (bundled shared fragments may be included), and the one environment they describe (`env`
+/// chooses when there are several).
+fn load_set(py: Python<'_>, path: &PathBuf, env: Option<&str>) -> PyResult<(SpecSet, String)> {
+    let mut inputs = read_inputs(std::slice::from_ref(path)).map_err(value_error)?;
+    if inputs.is_empty() {
+        return Err(value_error(format!("no *.json spec files found in {}", path.display())));
+    }
+    inputs.extend(bundled_inputs(true).into_iter().filter(|i| i.name.contains("/shared/")));
+    let specs = SpecSet::from_inputs(&inputs).map_err(value_error)?;
+    let envs = specs.envs();
+    let id = match env {
+        Some(name) => specs.require(name).map_err(|m| unknown_name(py, m))?.id.clone(),
+        None if envs.len() == 1 => envs[0].id.clone(),
+        None => Err(value_error(format!(
+            "{} describes {} environments ({}); choose one with env_id=",
+            path.display(),
+            envs.len(),
+            envs.iter().map(|e| e.id.as_str()).collect::<Vec<_>>().join(", ")
+        )))?,
+    };
+    Ok((specs, id))
+}
+
+fn load(py: Python<'_>, path: &PathBuf, env: Option<&str>) -> PyResult<EnvSpec> {
+    let (specs, id) = load_set(py, path, env)?;
+    specs
+        .get(&id)
+        .cloned()
+        .ok_or_else(|| value_error(format!("no environment \"{id}\"")))
+}
+
+/// The resolved spec of a user's file, as `carl_spec.spec` returns a bundled one.
+#[pyfunction]
+#[pyo3(signature = (path, env=None))]
+pub fn user_spec_json(py: Python<'_>, path: PathBuf, env: Option<&str>) -> PyResult<String> {
+    let spec = load(py, &path, env)?;
+    serde_json::to_string(&spec).map_err(value_error)
+}
+
+/// Per feature: the values the sensitivity audit perturbs it to (the Rust audit's rule), or why
+/// it cannot be perturbed. `[{"name", "values", "skipped"}]`.
+#[pyfunction]
+#[pyo3(signature = (path, env=None))]
+pub fn audit_values_json(py: Python<'_>, path: PathBuf, env: Option<&str>) -> PyResult<String> {
+    let spec = load(py, &path, env)?;
+    let rows: Vec<_> = spec
+        .features
+        .iter()
+        .map(|f| {
+            let values = perturbed_values(f);
+            let skipped = unauditable_reason(f).or_else(|| {
+                values
+                    .is_empty()
+                    .then(|| "no value inside the bounds differs from the default".to_string())
+            });
+            serde_json::json!({"name": f.name, "values": values, "skipped": skipped})
+        })
+        .collect();
+    serde_json::to_string(&rows).map_err(value_error)
+}
+
+fn make_error(py: Python<'_>, e: MakeError) -> PyErr {
+    match e {
+        MakeError::UnknownFeature { .. } => unknown_name(py, e.to_string()),
+        other => value_error(other),
+    }
+}
+
+/// `selection=` and `instance=` as the Python constructors take them.
+pub fn parse_selection(selection: &str, instance: Option<usize>) -> PyResult<Selection> {
+    match (selection, instance) {
+        ("round_robin", None) => Ok(Selection::RoundRobin),
+        ("random", None) => Ok(Selection::Random),
+        ("static", Some(i)) => Ok(Selection::Static(i)),
+        ("static", None) => Err(value_error("selection=\"static\" needs instance=<index>")),
+        (_, Some(_)) => Err(value_error("instance= goes with selection=\"static\"")),
+        (other, None) => Err(value_error(format!(
+            "selection must be \"round_robin\", \"random\" or \"static\", got \"{other}\""
+        ))),
+    }
+}
+
+/// One resolved context (every feature, canonical names, spec order) and its set labels.
+#[derive(Clone)]
+struct Chosen {
+    context: Vec<(String, f64)>,
+    instance_id: Option<usize>,
+    instance_name: Option<String>,
+    context_seed: Option<u64>,
+}
+
+enum Mode {
+    Fixed(Chosen),
+    Set {
+        instances: Vec<Chosen>,
+        selection: Selection,
+    },
+    Distribution {
+        name: String,
+        dist: Distribution,
+    },
+}
+
+/// Chooses each episode's context for a wrapped user environment, with the streams and rules of
+/// `carl_spec::envs::contextual` (see its module docs): `reset(seed)` re-creates the selection,
+/// context and env streams from the seed; round robin starts at `seed mod n`; random takes
+/// `below(selection stream, n)`; a distribution draws with `context_seed = context.next_u64()`;
+/// one env-stream draw per reset is the user env's reset seed when the context can change.
+#[pyclass(module = "carl_spec._core")]
+pub struct ContextChooser {
+    spec: EnvSpec,
+    mode: Mode,
+    selection_rng: Pcg64,
+    context_rng: Pcg64,
+    env_rng: Pcg64,
+    round_robin_next: u64,
+    current: Option<Chosen>,
+}
+
+impl ContextChooser {
+    fn seed_streams(&mut self, seed: u64) {
+        self.selection_rng = Pcg64::new(seed, stream_id(SELECTION_STREAM));
+        self.context_rng = Pcg64::new(seed, stream_id(CONTEXT_STREAM));
+        self.env_rng = Pcg64::new(seed, stream_id(ENV_STREAM));
+    }
+
+    fn draw(&self, py: Python<'_>, name: &str, dist: &Distribution, context_seed: u64) -> PyResult<Chosen> {
+        let (names, rows) = sample_distribution(&self.spec, name, dist, 1, context_seed).map_err(value_error)?;
+        let mut ctx = self.spec.default_context();
+        if let Some(row) = rows.into_iter().next() {
+            ctx.extend(names.into_iter().zip(row));
+        }
+        let context = carl_spec::envs::context::resolve_context(&self.spec, &ctx, MakeOptions::default())
+            .map_err(|e| make_error(py, e))?;
+        Ok(Chosen {
+            context,
+            instance_id: None,
+            instance_name: None,
+            context_seed: Some(context_seed),
+        })
+    }
+}
+
+#[pymethods]
+impl ContextChooser {
+    /// `path`: the user's spec file or directory (`env` picks one of its environments); None: the
+    /// bundled spec of `env`. `contexts_json`: an inline list of contexts used like a set (ids are
+    /// positions), for `carl_spec.compat`.
+    #[new]
+    #[pyo3(signature = (path, *, env=None, context_json=None, contexts_json=None, instances=None, distribution=None, selection="round_robin", instance=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        path: Option<PathBuf>,
+        env: Option<&str>,
+        context_json: Option<String>,
+        contexts_json: Option<String>,
+        instances: Option<String>,
+        distribution: Option<String>,
+        selection: &str,
+        instance: Option<usize>,
+    ) -> PyResult<Self> {
+        let (specs, id) = match &path {
+            Some(path) => load_set(py, path, env)?,
+            None => {
+                let name = env.ok_or_else(|| value_error("ContextChooser needs a spec path or a bundled env id"))?;
+                crate::with_specs(None, |specs| {
+                    let spec = specs.require(name).map_err(|m| unknown_name(py, m))?;
+                    Ok((specs.clone(), spec.id.clone()))
+                })?
+            }
+        };
+        let spec = specs
+            .get(&id)
+            .cloned()
+            .ok_or_else(|| value_error(format!("no environment \"{id}\"")))?;
+        let given = [
+            context_json.is_some(),
+            contexts_json.is_some(),
+            instances.is_some(),
+            distribution.is_some(),
+        ];
+        if given.iter().filter(|g| **g).count() > 1 {
+            return Err(value_error(
+                "give at most one of context=, instances= and distribution=",
+            ));
+        }
+        let selection = parse_selection(selection, instance)?;
+        if instances.is_none() && contexts_json.is_none() && !matches!(selection, Selection::RoundRobin) {
+            return Err(value_error(
+                "selection= applies to instances= (or a list of contexts) only",
+            ));
+        }
+        let resolve = |ctx: &Context, allow_out_of_bounds: bool| {
+            carl_spec::envs::context::resolve_context(&spec, ctx, MakeOptions { allow_out_of_bounds })
+                .map_err(|e| make_error(py, e))
+        };
+        let check_static = |n: usize, what: &str| match selection {
+            Selection::Static(i) if i >= n => Err(value_error(format!(
+                "instance={i} is out of range: {what} has {n} instances (0..{n})"
+            ))),
+            _ => Ok(()),
+        };
+        let mode = if let Some(text) = contexts_json {
+            let list: Vec<Context> = serde_json::from_str(&text).map_err(|e| value_error(format!("contexts: {e}")))?;
+            if list.is_empty() {
+                return Err(value_error("contexts must hold at least one context"));
+            }
+            check_static(list.len(), "contexts")?;
+            let instances = list
+                .iter()
+                .enumerate()
+                .map(|(i, ctx)| {
+                    Ok(Chosen {
+                        context: resolve(ctx, false)?,
+                        instance_id: Some(i),
+                        instance_name: None,
+                        context_seed: None,
+                    })
+                })
+                .collect::<PyResult<Vec<_>>>()?;
+            Mode::Set { instances, selection }
+        } else if let Some(set_name) = instances {
+            let qualified = if set_name.contains('/') {
+                set_name
+            } else {
+                format!("{}/{set_name}", spec.id)
+            };
+            // The user's frozen files live in `<spec dir>/instances/<id>/<set>.json`.
+            let store = Store::new(&specs);
+            let set = store.load(&qualified).map_err(|e| {
+                use carl_spec::instances::store::StoreError as S;
+                match e {
+                    S::Unknown(_) | S::BadName(_) => unknown_name(py, e.to_string()),
+                    // A user's set is frozen beside the user's spec: name that directory.
+                    S::NotFrozen { .. } if path.is_some() => {
+                        let dir = path
+                            .as_deref()
+                            .map(|p| if p.is_dir() { p } else { p.parent().unwrap_or(p) })
+                            .map(|d| d.display().to_string())
+                            .filter(|d| !d.is_empty())
+                            .unwrap_or_else(|| ".".into());
+                        value_error(format!(
+                            "{qualified} is declared but not frozen; freeze it beside the spec with \
+                             `carl-spec --specs {dir} freeze {qualified}`"
+                        ))
+                    }
+                    _ => value_error(e),
+                }
+            })?;
+            let allow = spec.instance_sets.get(&set.set).is_some_and(|d| d.allow_out_of_bounds);
+            check_static(set.instances.len(), &set.qualified_name())?;
+            let instances = set
+                .instances
+                .iter()
+                .map(|i| {
+                    let ctx: Context = i.context.clone().into_iter().collect::<BTreeMap<_, _>>();
+                    Ok(Chosen {
+                        context: resolve(&ctx, allow)?,
+                        instance_id: Some(i.id),
+                        instance_name: i.name.clone(),
+                        context_seed: None,
+                    })
+                })
+                .collect::<PyResult<Vec<_>>>()?;
+            Mode::Set { instances, selection }
+        } else if let Some(name) = distribution {
+            let dist = spec.distributions.get(&name).cloned().ok_or_else(|| {
+                let known: Vec<&str> = spec.distributions.keys().map(String::as_str).collect();
+                unknown_name(
+                    py,
+                    DeriveError::UnknownDistribution {
+                        env: spec.id.clone(),
+                        name: name.clone(),
+                        hint: if known.is_empty() {
+                            format!("; {} declares no distributions", spec.id)
+                        } else {
+                            format!("; known: {}", known.join(", "))
+                        },
+                    }
+                    .to_string(),
+                )
+            })?;
+            Mode::Distribution { name, dist }
+        } else {
+            let ctx: Context = match &context_json {
+                Some(text) => serde_json::from_str(text).map_err(|e| value_error(format!("context: {e}")))?,
+                None => Context::new(),
+            };
+            Mode::Fixed(Chosen {
+                context: resolve(&ctx, false)?,
+                instance_id: None,
+                instance_name: None,
+                context_seed: None,
+            })
+        };
+        let mut chooser = ContextChooser {
+            spec,
+            mode,
+            selection_rng: Pcg64::new(DEFAULT_SEED, 0),
+            context_rng: Pcg64::new(DEFAULT_SEED, 0),
+            env_rng: Pcg64::new(DEFAULT_SEED, 0),
+            round_robin_next: 0,
+            current: None,
+        };
+        chooser.seed_streams(DEFAULT_SEED);
+        Ok(chooser)
+    }
+
+    /// Choose the next episode's context. Returns `(info, env_seed)`: the info dict (`context`,
+    /// and `instance_id`/`instance_name` for sets, `context_seed` for distributions) and the seed
+    /// the user's env resets with (None: continue its own stream).
+    #[pyo3(signature = (seed=None))]
+    fn reset<'py>(&mut self, py: Python<'py>, seed: Option<u64>) -> PyResult<(Bound<'py, PyDict>, Option<u64>)> {
+        if let Some(s) = seed {
+            self.seed_streams(s);
+        }
+        let (chosen, changes) = match &self.mode {
+            Mode::Fixed(c) => (c.clone(), false),
+            Mode::Set { instances, selection } => {
+                let n = instances.len() as u64;
+                let i = match *selection {
+                    Selection::RoundRobin => {
+                        let i = seed.map_or(self.round_robin_next, |s| s % n);
+                        self.round_robin_next = (i + 1) % n;
+                        i as usize
+                    }
+                    Selection::Random => below(&mut self.selection_rng, n) as usize,
+                    Selection::Static(i) => i,
+                };
+                (instances[i].clone(), true)
+            }
+            Mode::Distribution { name, dist } => {
+                let context_seed = self.context_rng.next_u64();
+                (self.draw(py, name, dist, context_seed)?, true)
+            }
+        };
+        let drawn = self.env_rng.next_u64();
+        let env_seed = match (seed, changes) {
+            (Some(s), _) => Some(s),
+            (None, false) => None,
+            (None, true) => Some(drawn),
+        };
+        self.current = Some(chosen);
+        Ok((self.info(py)?, env_seed))
+    }
+
+    /// The current episode's info (the default context before the first reset).
+    fn info<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        let ctx = PyDict::new(py);
+        match &self.current {
+            Some(c) => {
+                for (k, v) in &c.context {
+                    ctx.set_item(k, v)?;
+                }
+                d.set_item("context", ctx)?;
+                if let Some(id) = c.instance_id {
+                    d.set_item("instance_id", id)?;
+                }
+                if let Some(name) = &c.instance_name {
+                    d.set_item("instance_name", name)?;
+                }
+                if let Some(s) = c.context_seed {
+                    d.set_item("context_seed", s)?;
+                }
+            }
+            None => {
+                let defaults =
+                    carl_spec::envs::context::resolve_context(&self.spec, &Context::new(), MakeOptions::default())
+                        .map_err(|e| make_error(py, e))?;
+                for (k, v) in defaults {
+                    ctx.set_item(k, v)?;
+                }
+                d.set_item("context", ctx)?;
+            }
+        }
+        Ok(d)
+    }
+
+    /// Switch to instance `i` now (carl-bench's `context_id` setter): the current info becomes
+    /// instance `i`'s; round robin continues with `i + 1` at the next unseeded reset, static
+    /// selection stays on `i`. The switch takes effect in the user's env at the next reset.
+    fn set_instance(&mut self, i: usize) -> PyResult<()> {
+        let Mode::Set { instances, selection } = &mut self.mode else {
+            return Err(value_error("context_id can be set only for a set of contexts"));
+        };
+        let n = instances.len();
+        if i >= n {
+            return Err(value_error(format!(
+                "context id {i} is out of range: the set has {n} contexts (0..{n})"
+            )));
+        }
+        self.current = Some(instances[i].clone());
+        self.round_robin_next = ((i + 1) % n) as u64;
+        if let Selection::Static(s) = selection {
+            *s = i;
+        }
+        Ok(())
+    }
+
+    /// Every instance's resolved context, canonical names, spec order: a set's or a context
+    /// list's instances, a fixed context, or nothing for a distribution (drawn per reset).
+    fn instance_contexts<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        let dict = |c: &[(String, f64)]| -> PyResult<Bound<'py, PyDict>> {
+            let d = PyDict::new(py);
+            for (k, v) in c {
+                d.set_item(k, v)?;
+            }
+            Ok(d)
+        };
+        match &self.mode {
+            Mode::Set { instances, .. } => instances.iter().map(|c| dict(&c.context)).collect(),
+            Mode::Fixed(c) => Ok(vec![dict(&c.context)?]),
+            Mode::Distribution { .. } => Ok(Vec::new()),
+        }
+    }
+
+    #[getter]
+    fn env_id(&self) -> String {
+        self.spec.id.clone()
+    }
+
+    #[getter]
+    fn num_instances(&self) -> usize {
+        match &self.mode {
+            Mode::Set { instances, .. } => instances.len(),
+            _ => 1,
+        }
+    }
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(user_spec_json, m)?)?;
+    m.add_function(wrap_pyfunction!(audit_values_json, m)?)?;
+    m.add_class::<ContextChooser>()?;
+    Ok(())
+}

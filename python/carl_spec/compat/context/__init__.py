@@ -1,0 +1,1 @@
+"""carl-bench's `carl.context` namespace (selectors), for `carl_spec.compat`."""

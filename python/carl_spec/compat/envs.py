@@ -1,0 +1,144 @@
+"""carl-bench 1.1.1's environment classes (`carl.envs`) over carl-spec's runtimes.
+
+Each class names its carl-spec runtime, carl-bench's names of the features carl-spec has (in
+carl-bench's order; carl-spec's spec lists them as aliases where they differ), and the carl-bench
+features carl-spec does not have, with the reason a user gets when passing one.
+"""
+
+from __future__ import annotations
+
+from .carl_env import CARLEnv
+
+_START = "carl-spec starts {env} exactly as Gymnasium does (same initial state for the same seed), so it has no {what} features"
+_ROBOT = (
+    "carl-spec's {env} (rapier3d runtime after Brax 2021) has no such feature; its physics features are "
+    "gravity, friction, ang_damping (angular_damping), mass_torso (torso_mass), joint_stiffness, "
+    "joint_angular_damping, actuator_strength and the body masses"
+)
+
+
+def _robot_only(env: str) -> dict[str, str]:
+    why = _ROBOT.format(env=env)
+    return {n: why for n in ("elasticity", "viscosity", "target_distance", "target_direction", "target_radius")}
+
+
+class CARLCartPole(CARLEnv):
+    env_id = "cartpole"
+    bench_names = ("gravity", "masscart", "masspole", "length", "force_mag", "tau")
+    bench_only = {
+        n: _START.format(env="CartPole", what="initial-state range") + " (Gymnasium draws every component from U(-0.05, 0.05); carl-bench's default was U(-0.1, 0.1))"
+        for n in ("initial_state_lower", "initial_state_upper")
+    }
+
+
+class CARLPendulum(CARLEnv):
+    env_id = "pendulum"
+    bench_names = ("dt", "g", "m", "l")
+    bench_only = {
+        "gravity": "it is dead in carl-bench 1.1.1 (Gymnasium's Pendulum reads g, so changing gravity never changed the dynamics); use g",
+        "initial_angle_max": _START.format(env="Pendulum", what="initial-state range"),
+        "initial_velocity_max": _START.format(env="Pendulum", what="initial-state range"),
+    }
+
+
+class CARLAcrobot(CARLEnv):
+    env_id = "acrobot"
+    bench_names = (
+        "LINK_LENGTH_1", "LINK_LENGTH_2", "LINK_MASS_1", "LINK_MASS_2", "LINK_COM_POS_1",
+        "LINK_COM_POS_2", "LINK_MOI", "MAX_VEL_1", "MAX_VEL_2",
+    )
+    bench_only = {
+        "torque_noise_max": "carl-spec's Acrobot is Gymnasium's Acrobot-v1, whose torque noise is 0; it is not a context feature",
+        **{
+            n: _START.format(env="Acrobot", what="initial-state range")
+            for n in ("INITIAL_ANGLE_LOWER", "INITIAL_ANGLE_UPPER", "INITIAL_VELOCITY_LOWER", "INITIAL_VELOCITY_UPPER")
+        },
+    }
+
+
+class CARLMountainCar(CARLEnv):
+    env_id = "mountain_car"
+    bench_names = ("min_position", "max_position", "max_speed", "goal_position", "goal_velocity", "force", "gravity")
+    bench_only = {
+        n: "carl-spec's mountain_car draws the start from a normal distribution (CARL's paper): use start_position, "
+        "start_position_std, start_velocity and start_velocity_std"
+        for n in ("min_position_start", "max_position_start", "min_velocity_start", "max_velocity_start")
+    }
+
+
+class CARLMountainCarContinuous(CARLEnv):
+    env_id = "mountain_car_continuous"
+    bench_names = (
+        "min_position", "max_position", "max_speed", "goal_position", "goal_velocity", "power",
+        "min_position_start", "max_position_start", "min_velocity_start", "max_velocity_start",
+    )
+
+
+class CARLLunarLander(CARLEnv):
+    env_id = "lunar_lander"
+    bench_names = (
+        "FPS", "SCALE", "MAIN_ENGINE_POWER", "SIDE_ENGINE_POWER", "INITIAL_RANDOM", "GRAVITY_X", "GRAVITY_Y",
+        "LEG_AWAY", "LEG_DOWN", "LEG_W", "LEG_H", "LEG_SPRING_TORQUE", "SIDE_ENGINE_HEIGHT", "SIDE_ENGINE_AWAY",
+        "VIEWPORT_W", "VIEWPORT_H",
+    )
+
+
+class CARLBipedalWalker(CARLEnv):
+    env_id = "bipedal_walker"
+    bench_names = (
+        "FPS", "SCALE", "GRAVITY_X", "GRAVITY_Y", "FRICTION", "TERRAIN_STEP", "TERRAIN_LENGTH", "TERRAIN_HEIGHT",
+        "TERRAIN_GRASS", "TERRAIN_STARTPAD", "MOTORS_TORQUE", "SPEED_HIP", "SPEED_KNEE", "LIDAR_RANGE", "LEG_DOWN",
+        "LEG_W", "LEG_H", "INITIAL_RANDOM", "VIEWPORT_W", "VIEWPORT_H",
+    )
+
+
+class CARLVehicleRacing(CARLEnv):
+    env_id = "vehicle_racing"
+    bench_names = ("VEHICLE_ID",)
+
+
+class CARLBraxAnt(CARLEnv):
+    env_id = "ant"
+    bench_names = ("gravity", "friction", "ang_damping", "mass_torso")
+    bench_only = _robot_only("ant")
+
+
+class CARLBraxHalfcheetah(CARLEnv):
+    env_id = "half_cheetah"
+    bench_names = (
+        "gravity", "friction", "ang_damping", "mass_torso", "mass_bthigh", "mass_bshin", "mass_bfoot",
+        "mass_fthigh", "mass_fshin", "mass_ffoot",
+    )
+    bench_only = _robot_only("half_cheetah")
+
+
+class CARLBraxHumanoid(CARLEnv):
+    env_id = "humanoid"
+    bench_names = (
+        "gravity", "friction", "ang_damping", "mass_torso", "mass_lwaist", "mass_pelvis", "mass_right_thigh",
+        "mass_right_shin", "mass_left_thigh", "mass_left_shin", "mass_right_upper_arm", "mass_right_lower_arm",
+        "mass_left_upper_arm", "mass_left_lower_arm",
+    )
+    bench_only = _robot_only("humanoid")
+
+
+class CARLMarioEnv(CARLEnv):
+    env_id = "mario"
+    bench_names = ("level_width", "level_index", "noise_seed", "mario_state", "mario_inertia")
+
+
+class CARLRnaDesignEnv(CARLEnv):
+    env_id = "rna_design"
+    bench_names = ("mutation_threshold", "reward_exponent", "state_radius", "dataset", "target_structure_ids")
+
+
+CLASSES: dict[str, type[CARLEnv]] = {
+    c.__name__: c
+    for c in (
+        CARLCartPole, CARLPendulum, CARLAcrobot, CARLMountainCar, CARLMountainCarContinuous, CARLLunarLander,
+        CARLBipedalWalker, CARLVehicleRacing, CARLBraxAnt, CARLBraxHalfcheetah, CARLBraxHumanoid, CARLMarioEnv,
+        CARLRnaDesignEnv,
+    )
+}
+
+__all__ = [*CLASSES, "CARLEnv", "CLASSES"]

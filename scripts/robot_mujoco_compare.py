@@ -1,0 +1,314 @@
+#!/usr/bin/env python3
+"""Compare carl-spec's Ant, HalfCheetah and Humanoid with Gymnasium's MuJoCo v5 versions.
+
+Both sides are driven the same way and measured from their observations (the v5 layout is the
+same on both): each metric below runs on Gymnasium 1.4 (`gymnasium.make("Ant-v5")`, MuJoCo) and on
+`carl-spec rollout <robot> --actions -` (JSON Lines), with seeded resets.
+
+Metrics (per robot):
+* rest_height: root height (`qpos[2]`, HalfCheetah 0.7 + `qpos[1]`) after `REST_STEPS` steps
+  of zero action (Humanoid: after the initial drop, before it collapses), mean over seeds;
+* fall_time: seconds of zero action until the episode terminates (Humanoid; Ant and
+  HalfCheetah do not fall, reported as the time limit);
+* step_response: change of one joint's angle 0.1 s and 0.25 s after a full-scale constant
+  control on its motor, minus the same seed's zero-action run (so passive motion cancels);
+* gait_velocity: mean forward velocity (`qvel[0]`) under a fixed open-loop sinusoidal gait
+  (`GAITS`), until termination or 1000 steps;
+* random_length / random_return: episode length and return under uniform random actions,
+  mean and standard deviation over `--episodes` seeds (default 20).
+
+carl-spec runs twice: with its default context (CARL's Brax parameters: masses, actuator
+strength, joint damping and friction differ from MuJoCo's XML) and with a context set to
+MuJoCo's values where a context feature exists (`MUJOCO_CONTEXT`): the first column shows what a
+user of the benchmark gets, the second how much of the difference is the parameters.
+
+Usage (from the repository root, with Gymnasium 1.4 and mujoco installed):
+    python3 scripts/robot_mujoco_compare.py --carl-spec target/release/carl-spec \\
+        --json robot_mujoco_compare.json --markdown robot_mujoco_compare.md
+`--carl-only` skips Gymnasium (prints carl-spec's side only, e.g. to refresh the test pins).
+"""
+import argparse
+import json
+import math
+import statistics
+import subprocess
+import sys
+
+ROBOTS = {
+    # gym id, action dim, ctrl max, qpos index of the height, obs index offset of qpos
+    # (obs = qpos[skip:] ++ qvel ...), nq, physics dt of one env step
+    "ant": dict(gym="Ant-v5", na=8, ctrl=1.0, z=2, skip=2, nq=15, dt=0.05, base_z=0.0),
+    "half_cheetah": dict(gym="HalfCheetah-v5", na=6, ctrl=1.0, z=1, skip=1, nq=9, dt=0.05, base_z=0.7),
+    "humanoid": dict(gym="Humanoid-v5", na=17, ctrl=0.4, z=2, skip=2, nq=24, dt=0.015, base_z=0.0),
+}
+REST_STEPS = {"ant": 100, "half_cheetah": 100, "humanoid": 10}
+SEEDS_SHORT = [0, 1, 2, 3, 4]
+# (actuator index, qpos index of its joint, name) of the joints whose torque-step response is measured.
+STEP_JOINTS = {
+    "ant": [(2, 7, "hip_1"), (3, 8, "ankle_1")],
+    "half_cheetah": [(0, 3, "bthigh"), (3, 6, "fthigh")],
+    "humanoid": [(5, 12, "right_hip_y"), (6, 13, "right_knee")],
+}
+# Env steps after which the step response is read (about 0.1 s and 0.25 s).
+STEP_TIMES = {"ant": [2, 5], "half_cheetah": [2, 5], "humanoid": [7, 17]}
+
+# MuJoCo's XML values expressed as carl-spec context features (where a feature exists).
+MUJOCO_CONTEXT = {
+    # ant.xml: density 5 -> torso sphere + 4 hip connectors 0.484 kg (the legs' 0.039/0.068 kg have
+    # no feature), gear 150, joint damping 1, friction 1.
+    "ant": {"torso_mass": 0.4840, "actuator_strength": 150, "joint_angular_damping": 1, "friction": 1.0},
+    # half_cheetah.xml: torso 6.2502 kg (settotalmass 14), damping 6/4.5/3/4.5/3/1.5 (mean 3.75),
+    # friction 0.4.
+    "half_cheetah": {"torso_mass": 6.2502, "joint_angular_damping": 3.75, "friction": 0.4},
+    # humanoid.xml: damping 5 (knees, arms 1), friction 1.
+    "humanoid": {"joint_angular_damping": 5, "friction": 1.0},
+}
+
+
+def gait(robot, t):
+    """Open-loop sinusoidal controls at time t (s): a fixed trot/bound, full-scale amplitude."""
+    w = 2 * math.pi * 2.0  # 2 Hz
+    if robot == "ant":
+        # actuator order hip_4, ankle_4, hip_1, ankle_1, hip_2, ankle_2, hip_3, ankle_3;
+        # diagonal pairs (1, 3) and (2, 4) in anti-phase, ankles a quarter period behind.
+        phase = {4: 0.0, 1: math.pi, 2: 0.0, 3: math.pi}
+        out = []
+        for leg in (4, 1, 2, 3):
+            out.append(math.sin(w * t + phase[leg]))
+            out.append(math.sin(w * t + phase[leg] - math.pi / 2))
+        return out
+    if robot == "half_cheetah":
+        # bthigh, bshin, bfoot, fthigh, fshin, ffoot: back and front legs in anti-phase.
+        return [math.sin(w * t + p) for p in (0.0, -0.5, -1.0, math.pi, math.pi - 0.5, math.pi - 1.0)]
+    # humanoid: hips y and knees alternate (right 5, 6 / left 9, 10), rest zero.
+    a = [0.0] * 17
+    a[5] = 0.4 * math.sin(w * t)
+    a[6] = 0.4 * math.sin(w * t - math.pi / 2)
+    a[9] = 0.4 * math.sin(w * t + math.pi)
+    a[10] = 0.4 * math.sin(w * t + math.pi / 2)
+    return a
+
+
+def root_height(robot, obs):
+    r = ROBOTS[robot]
+    return r["base_z"] + obs[r["z"] - r["skip"]]
+
+
+def forward_velocity(robot, obs):
+    r = ROBOTS[robot]
+    return obs[r["nq"] - r["skip"]]
+
+
+# ---------------------------------------------------------------- drivers
+
+
+class CarlSide:
+    """Runs carl-spec episodes through `carl-spec rollout` (JSON Lines on stdout)."""
+
+    def __init__(self, exe, robot, context):
+        self.exe, self.robot, self.context = exe, robot, context
+
+    def _cmd(self, seed):
+        cmd = [self.exe, "rollout", self.robot, "--seed", str(seed), "--allow-out-of-bounds"]
+        for k, v in sorted(self.context.items()):
+            cmd += ["--context", f"{k}={v}"]
+        return cmd
+
+    @staticmethod
+    def _parse(text):
+        obs, rewards, done = [], [], False
+        for line in text.splitlines():
+            d = json.loads(line)
+            if "reset" in d:
+                obs.append(d["reset"]["obs"])
+                continue
+            obs.append(d["obs"])
+            rewards.append(d["reward"])
+            done = d["terminated"] or d["truncated"]
+        return obs, rewards, done
+
+    def run(self, seed, actions):
+        """Observations (reset first) and rewards of one episode under the action list."""
+        cmd = self._cmd(seed) + ["--actions", "-", "--steps", str(len(actions))]
+        stdin = "".join(json.dumps(a) + "\n" for a in actions)
+        p = subprocess.run(cmd, input=stdin, capture_output=True, text=True)
+        if p.returncode != 0:
+            sys.exit(f"carl-spec failed: {' '.join(cmd)}\n{p.stderr}")
+        return self._parse(p.stdout)[:2]
+
+    def random_episode(self, seed):
+        cmd = self._cmd(seed) + ["--policy", "random"]
+        p = subprocess.run(cmd, capture_output=True, text=True)
+        if p.returncode != 0:
+            sys.exit(f"carl-spec failed: {' '.join(cmd)}\n{p.stderr}")
+        _, rewards, _ = self._parse(p.stdout)
+        return len(rewards), sum(rewards)
+
+
+class GymSide:
+    """Runs Gymnasium MuJoCo v5 episodes (1000-step time limit as registered)."""
+
+    def __init__(self, robot):
+        import gymnasium as gym
+
+        self.env = gym.make(ROBOTS[robot]["gym"])
+
+    def run(self, seed, actions):
+        import numpy as np
+
+        obs, _ = self.env.reset(seed=seed)
+        out, rewards = [obs.tolist()], []
+        for a in actions:
+            obs, r, term, trunc, _ = self.env.step(np.asarray(a, dtype=np.float64))
+            out.append(obs.tolist())
+            rewards.append(float(r))
+            if term or trunc:
+                break
+        return out, rewards
+
+    def random_episode(self, seed):
+        self.env.action_space.seed(seed)
+        self.env.reset(seed=seed)
+        n, ret = 0, 0.0
+        while True:
+            _, r, term, trunc, _ = self.env.step(self.env.action_space.sample())
+            n += 1
+            ret += float(r)
+            if term or trunc:
+                return n, ret
+
+
+# ---------------------------------------------------------------- metrics
+
+
+def measure(side, robot, episodes):
+    r = ROBOTS[robot]
+    na, dt = r["na"], r["dt"]
+    zero = [0.0] * na
+    res = {}
+
+    heights = []
+    for s in SEEDS_SHORT:
+        obs, _ = side.run(s, [zero] * REST_STEPS[robot])
+        heights.append(root_height(robot, obs[-1]))
+    res["rest_height"] = statistics.mean(heights)
+
+    falls = []
+    for s in SEEDS_SHORT:
+        _, rewards = side.run(s, [zero] * 1000)
+        falls.append(len(rewards) * dt)
+    res["fall_time"] = statistics.mean(falls)
+
+    horizon = max(STEP_TIMES[robot])
+    base = {s: side.run(s, [zero] * horizon)[0] for s in SEEDS_SHORT[:3]}
+    for act, qi, name in STEP_JOINTS[robot]:
+        u = [0.0] * na
+        u[act] = r["ctrl"]
+        oi = qi - r["skip"]
+        for n in STEP_TIMES[robot]:
+            d = []
+            for s in SEEDS_SHORT[:3]:
+                obs, _ = side.run(s, [u] * horizon)
+                d.append(obs[n][oi] - base[s][n][oi])
+            res[f"step_{name}_{n * dt:.3g}s"] = statistics.mean(d)
+
+    vel = []
+    for s in SEEDS_SHORT[:3]:
+        obs, _ = side.run(s, [gait(robot, k * dt) for k in range(1000)])
+        vel.append(statistics.mean(forward_velocity(robot, o) for o in obs[1:]))
+    res["gait_velocity"] = statistics.mean(vel)
+
+    lens, rets = [], []
+    for s in range(episodes):
+        n, ret = side.random_episode(s)
+        lens.append(n)
+        rets.append(ret)
+    res["random_length"] = statistics.mean(lens)
+    res["random_length_sd"] = statistics.pstdev(lens)
+    res["random_return"] = statistics.mean(rets)
+    res["random_return_sd"] = statistics.pstdev(rets)
+    return res
+
+
+def ratio(a, b):
+    if b == 0 or a is None or b is None:
+        return None
+    return a / b
+
+
+def num(x):
+    """Three significant digits without exponents."""
+    return f"{x:.0f}" if abs(x) >= 100 else f"{x:.3g}"
+
+
+def markdown(table):
+    lines = [
+        "| robot | metric | MuJoCo (Gymnasium v5) | carl-spec (CARL context) | ratio | carl-spec (MuJoCo's values) | ratio |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for robot, rows in table.items():
+        for metric, v in rows.items():
+            if metric.endswith("_sd"):
+                continue
+            cells = []
+            for key in ("mujoco", "carl", "carl_matched"):
+                x = v.get(key)
+                sd = rows.get(metric + "_sd", {}).get(key)
+                cells.append("—" if x is None else (f"{num(x)} ± {num(sd)}" if sd is not None else num(x)))
+            r1 = ratio(v.get("carl"), v.get("mujoco"))
+            r2 = ratio(v.get("carl_matched"), v.get("mujoco"))
+            f = lambda r: "—" if r is None else f"{r:.2f}"
+            lines.append(f"| {robot} | {metric} | {cells[0]} | {cells[1]} | {f(r1)} | {cells[2]} | {f(r2)} |")
+    return "\n".join(lines) + "\n"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--carl-spec", default="target/release/carl-spec")
+    ap.add_argument("--robots", default="ant,half_cheetah,humanoid")
+    ap.add_argument("--episodes", type=int, default=20)
+    ap.add_argument("--json")
+    ap.add_argument("--markdown")
+    ap.add_argument("--carl-only", action="store_true", help="skip Gymnasium (carl-spec's side only)")
+    args = ap.parse_args()
+    if args.episodes < 1:
+        sys.exit("--episodes must be at least 1")
+    robots = [r.strip() for r in args.robots.split(",") if r.strip()]
+    for robot in robots:
+        if robot not in ROBOTS:
+            sys.exit(f"unknown robot {robot!r}; choose from {', '.join(ROBOTS)}")
+    meta = {"generator": "scripts/robot_mujoco_compare.py", "episodes": args.episodes}
+    if not args.carl_only:
+        import gymnasium
+        import mujoco
+
+        meta["gymnasium"] = gymnasium.__version__
+        meta["mujoco"] = mujoco.__version__
+    table = {}
+    for robot in robots:
+        sides = {
+            "carl": CarlSide(args.carl_spec, robot, {}),
+            "carl_matched": CarlSide(args.carl_spec, robot, MUJOCO_CONTEXT[robot]),
+        }
+        if not args.carl_only:
+            sides["mujoco"] = GymSide(robot)
+        rows = {}
+        for key, side in sides.items():
+            print(f"{robot}: {key} ...", file=sys.stderr, flush=True)
+            for metric, value in measure(side, robot, args.episodes).items():
+                rows.setdefault(metric, {})[key] = value
+        table[robot] = rows
+    out = {"meta": meta, "mujoco_context": {r: MUJOCO_CONTEXT[r] for r in robots}, "table": table}
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(out, f, indent=1, sort_keys=True)
+            f.write("\n")
+    md = markdown(table)
+    if args.markdown:
+        with open(args.markdown, "w") as f:
+            f.write(md)
+    print(md)
+
+
+if __name__ == "__main__":
+    main()
