@@ -295,9 +295,10 @@ fn registry_builds_lunar_lander_from_spec_and_instance_sets() {
 /// The issue's bar: "a controller that lands reliably in Gymnasium at Earth and Mars gravity
 /// should land reliably here, and fail where it fails there". Gymnasium's own numbers come from
 /// `scripts/lunar_lander_heuristic_check.py` (tests/fixtures/lunar_lander_heuristic_gymnasium.json,
-/// 50 seeds per body). Terrains differ (other generator), so we compare rates over 50 seeds:
-/// within 0.15 of Gymnasium's landing and crash rates on every body but Neptune, where our legs
-/// yield more than Box2D's (documented in the module docs: lands ≥ 40 %, Gymnasium 80 %).
+/// 50 seeds per body). Seeds give Gymnasium's own terrains and initial pushes (NumPy's generator),
+/// so only the physics differs: landing and crash rates within 0.10 of Gymnasium's on every body
+/// but Neptune, where our legs still yield more than Box2D's under the hardest touchdowns
+/// (documented in the module docs: landed ≥ 0.60, crashed ≤ 0.25; Gymnasium 0.80 and 0.12).
 #[test]
 fn heuristic_lands_where_gymnasium_lands_and_crashes_where_it_crashes() {
     let fixture: serde_json::Value =
@@ -315,15 +316,18 @@ fn heuristic_lands_where_gymnasium_lands_and_crashes_where_it_crashes() {
         );
         eprintln!("{body}: landed {landed} (Gymnasium {gym_landed}), crashed {crashed} (Gymnasium {gym_crashed})");
         if body == "Neptune" {
-            assert!(landed >= 0.4, "{body}: landed {landed}");
+            assert!(
+                landed >= 0.6 && crashed <= 0.25,
+                "{body}: landed {landed}, crashed {crashed}"
+            );
             continue;
         }
         assert!(
-            (landed - gym_landed).abs() <= 0.15,
+            (landed - gym_landed).abs() <= 0.10,
             "{body}: landed {landed} vs Gymnasium {gym_landed}"
         );
         assert!(
-            (crashed - gym_crashed).abs() <= 0.15,
+            (crashed - gym_crashed).abs() <= 0.10,
             "{body}: crashed {crashed} vs Gymnasium {gym_crashed}"
         );
     }
@@ -338,4 +342,146 @@ fn heuristic_lands_where_gymnasium_lands_and_crashes_where_it_crashes() {
     }
     let mut env = lander(-23.143693999999996);
     assert!((0..n).all(|s| heuristic_episode(&mut env, s).1 == Outcome::Crashed));
+}
+
+/// Box2D's own touchdowns replayed here: `scripts/lunar_lander_touchdown_box2d.py` records, for
+/// each planet and seed, Gymnasium's full state 10 steps before the first leg contact (its
+/// terrain, lander and legs) and the episode's outcome in Box2D. Loaded into our lander, the
+/// same heuristic finishes the episode; the flight before touchdown and the terrain generator are
+/// taken out of the comparison, so this measures contact and leg dynamics alone.
+fn replay_box2d_touchdowns(planet: &str) -> Vec<(u64, String, Outcome, f64, f64)> {
+    let fixture: serde_json::Value =
+        serde_json::from_str(include_str!("fixtures/lunar_lander_touchdowns_box2d.json")).unwrap();
+    let p = &fixture["planets"][planet];
+    let g = p["gravity_y"].as_f64().unwrap();
+    let mut out = vec![];
+    for run in p["runs"].as_array().unwrap() {
+        let Some(state) = run.get("state") else { continue };
+        let state: Vec<f64> = state.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+        let seed = run["seed"].as_u64().unwrap();
+        let mut env = lander(g);
+        env.reset(Some(seed));
+        // Same seed, same terrain as Gymnasium's (NumPy's generator, Gymnasium's draw order).
+        for (ours, box2d) in env.terrain().iter().zip(&state[..11]) {
+            // The fixture keeps 9 significant digits.
+            assert!(
+                (ours - box2d).abs() < 1e-7,
+                "{planet} seed {seed}: terrain {ours} vs {box2d}"
+            );
+        }
+        env.set_state(&state).unwrap();
+        let mut obs = env.observe();
+        let mut max_deflection: f64 = 0.0;
+        let mut touched = false;
+        for _ in run["state_step"].as_u64().unwrap()..1000 {
+            let st = env.step(&Action::Discrete(heuristic(&obs))).unwrap();
+            obs = st.obs;
+            touched |= env.leg_contacts().iter().any(|c| *c);
+            if touched {
+                let [l, a, b] = env.body_poses().unwrap();
+                max_deflection = max_deflection.max(a.2 - l.2 - 0.4).max(-(b.2 - l.2) - 0.4);
+            }
+            if st.terminated {
+                break;
+            }
+        }
+        out.push((
+            seed,
+            run["outcome"].as_str().unwrap().to_string(),
+            env.outcome(),
+            max_deflection,
+            run["max_leg_deflection"].as_f64().unwrap(),
+        ));
+    }
+    out
+}
+
+#[test]
+fn box2d_touchdowns_end_as_in_box2d() {
+    let (mut replay_agree, mut replay_total, mut whole_agree, mut whole_total) = (0, 0, 0, 0);
+    for planet in ["Jupiter", "Neptune", "Earth", "Mars", "Moon", "Pluto"] {
+        let runs = replay_box2d_touchdowns(planet);
+        let name = |o: Outcome| match o {
+            Outcome::Landed => "landed",
+            Outcome::Crashed => "crashed",
+            Outcome::OutOfView => "out_of_view",
+            Outcome::Running => "timeout",
+        };
+        let n = runs.len() as f64;
+        let rate = |k: &str, ours: bool| {
+            runs.iter()
+                .filter(|r| if ours { name(r.2) == k } else { r.1 == k })
+                .count() as f64
+                / n
+        };
+        for r in &runs {
+            eprintln!(
+                "{planet} seed {:2}: box2d {:12} here {:12} deflection here {:.3} box2d {:.3}",
+                r.0,
+                r.1,
+                name(r.2),
+                r.3,
+                r.4
+            );
+        }
+        // The whole episode from the same seed (same terrain and push as Box2D's).
+        let fixture: serde_json::Value =
+            serde_json::from_str(include_str!("fixtures/lunar_lander_touchdowns_box2d.json")).unwrap();
+        let p = &fixture["planets"][planet];
+        let mut env = lander(p["gravity_y"].as_f64().unwrap());
+        let whole: Vec<(u64, String, Outcome)> = p["runs"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| {
+                let seed = r["seed"].as_u64().unwrap();
+                let (_, outcome, _) = heuristic_episode(&mut env, seed);
+                (seed, r["outcome"].as_str().unwrap().to_string(), outcome)
+            })
+            .collect();
+        let differ: Vec<String> = whole
+            .iter()
+            .filter(|w| name(w.2) != w.1)
+            .map(|w| format!("{}:{}->{}", w.0, w.1, name(w.2)))
+            .collect();
+        eprintln!(
+            "{planet}: whole episodes, {} of {} differ: {}",
+            differ.len(),
+            whole.len(),
+            differ.join(" ")
+        );
+        whole_agree += whole.len() - differ.len();
+        whole_total += whole.len();
+        let agree = runs.iter().filter(|r| name(r.2) == r.1).count();
+        replay_agree += agree;
+        replay_total += runs.len();
+        eprintln!(
+            "{planet}: {} touchdowns, same outcome {agree}; landed {:.2} (box2d {:.2}) crashed {:.2} (box2d {:.2})",
+            runs.len(),
+            rate("landed", true),
+            rate("landed", false),
+            rate("crashed", true),
+            rate("crashed", false)
+        );
+        // Touchdown and leg dynamics: from Box2D's own states, Neptune's hard touchdowns crash
+        // as often as in Box2D (0.10 here, 0.12 there; 0.28 before the contact skin).
+        if planet == "Neptune" {
+            assert!(
+                (rate("crashed", true) - rate("crashed", false)).abs() <= 0.10,
+                "Neptune replays: crashed {} vs Box2D {}",
+                rate("crashed", true),
+                rate("crashed", false)
+            );
+        }
+    }
+    // Measured: 245 of 270 replays and 270 of 300 whole episodes end as in Box2D.
+    let (replay, whole) = (
+        replay_agree as f64 / replay_total as f64,
+        whole_agree as f64 / whole_total as f64,
+    );
+    eprintln!("same outcome as Box2D: replays {replay:.3}, whole episodes {whole:.3}");
+    assert!(
+        replay >= 0.85 && whole >= 0.85,
+        "replays {replay}, whole episodes {whole}"
+    );
 }

@@ -15,8 +15,8 @@
 //!   `-crash_penalty`).
 //! * **Statistics.** Mean return and population standard deviation (ddof 0, NumPy's default).
 //!
-//! Known gap (see `envs::box2d::lunar_lander`): the rapier lander rarely comes to rest, so touchdowns
-//! that Gymnasium rewards with +100 mostly end as time-outs here.
+//! Physics (see `envs::box2d::lunar_lander`): rapier2d, not Box2D; the heuristic's landing and
+//! crash rates are within 0.10 of Gymnasium's on every body but Neptune (README table).
 
 use serde::Serialize;
 use serde_json::json;
