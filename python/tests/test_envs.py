@@ -71,7 +71,17 @@ SPINS = pytest.mark.xfail(
 )
 
 
-@pytest.mark.parametrize("env_id", [pytest.param(e, marks=SPINS) if e == "lunar_lander" else e for e in RUNTIMES])
+# BipedalWalker's hull can flip past ±π in the air without touching the ground (2 of 68 random-action
+# episodes from seed 0, 8 of 30,000 steps; Gymnasium 1.4's Box2D walker: 0 of 51 episodes, largest
+# |angle| 2.53), where Box2D's walker ends the episode on hull contact first. Seen since the walker's
+# 16 solver substeps and Box2D limit rule; strict, so a fix shows.
+FLIPS = pytest.mark.xfail(
+    strict=True, reason="BipedalWalker's hull flips past ±π in the air in rare random-action episodes"
+)
+KNOWN = {"lunar_lander": SPINS, "bipedal_walker": FLIPS}
+
+
+@pytest.mark.parametrize("env_id", [pytest.param(e, marks=KNOWN[e]) if e in KNOWN else e for e in RUNTIMES])
 def test_observations_stay_in_space_and_dtypes_as_declared(env_id: str) -> None:
     env = cs.make(env_id)
     space = env.observation_space
