@@ -2,7 +2,9 @@
 //! instances and seeds, falling, lidar against flat ground and stumps, the scripted gait,
 //! context sensitivity, bad input and rendering.
 
-use carl_spec::envs::box2d::bipedal_walker::{ANGULAR_SLOP, HIP_LIMITS, HIP_REFERENCE, Obstacle, START_JOINTS, STATE_DIM};
+use carl_spec::envs::box2d::bipedal_walker::{
+    ANGULAR_SLOP, HIP_LIMITS, HIP_REFERENCE, Obstacle, START_JOINTS, STATE_DIM,
+};
 use carl_spec::envs::box2d::{BipedalWalker, BipedalWalkerOptions, BipedalWalkerParams, WalkerHeuristic};
 use carl_spec::envs::registry::{Context, make};
 use carl_spec::envs::{Action, Env, EnvError};
@@ -372,7 +374,11 @@ fn scripted_gait_row_is_pinned() {
     assert_eq!((positive, past_40, lengths), PINNED_GAIT_ROW, "{rows:?}");
     // Every episode leaves the start: the gait takes at least one stride.
     for (seed, r) in rows.iter().enumerate() {
-        assert!(r.2 > BipedalWalkerParams::default().init_x() + 0.5, "seed {seed}: x {}", r.2);
+        assert!(
+            r.2 > BipedalWalkerParams::default().init_x() + 0.5,
+            "seed {seed}: x {}",
+            r.2
+        );
     }
 }
 
@@ -395,9 +401,26 @@ fn push_off_lifts_the_hull_as_in_box2d() {
     // Box2D's hull (origin x, y, angle, vx, vy, ω), joint angles from the reference angles and
     // speeds, both lower legs touching. Box2D rests its polygons 0.015 m apart from the ground
     // (two 0.01 m skins minus 0.005 m slop); rapier's touch, so the walker is loaded 0.015 lower.
-    let hull = [5.576474666595459, 5.485766887664795 - 0.015, 0.05302462726831436, 1.9589295387268066, -0.2699141204357147, 0.825517475605011];
-    let q = [-0.1143953949213028, -0.8405235409736633, 0.7254852652549744, -1.1512845754623413];
-    let dq = [-2.6789698600769043, 1.7487534284591675, -1.0069942474365234, -1.6326321363449097];
+    let hull = [
+        5.576474666595459,
+        5.485766887664795 - 0.015,
+        0.05302462726831436,
+        1.9589295387268066,
+        -0.2699141204357147,
+        0.825517475605011,
+    ];
+    let q = [
+        -0.1143953949213028,
+        -0.8405235409736633,
+        0.7254852652549744,
+        -1.1512845754623413,
+    ];
+    let dq = [
+        -2.6789698600769043,
+        1.7487534284591675,
+        -1.0069942474365234,
+        -1.6326321363449097,
+    ];
     s[..6].copy_from_slice(&hull);
     s[6..10].copy_from_slice(&q);
     s[10..14].copy_from_slice(&dq);
@@ -408,7 +431,11 @@ fn push_off_lifts_the_hull_as_in_box2d() {
     env.step(&act(a)).unwrap();
     let h = env.state();
     // Box2D after the step: vx 2.249, vy +0.210, ω 1.214.
-    for (name, got, want) in [("vx", h[3], 2.249178171157837), ("vy", h[4], 0.21010462939739227), ("w", h[5], 1.214494228363037)] {
+    for (name, got, want) in [
+        ("vx", h[3], 2.249178171157837),
+        ("vy", h[4], 0.21010462939739227),
+        ("w", h[5], 1.214494228363037),
+    ] {
         assert!((got - want).abs() < 0.03, "{name}: {got} here, {want} in Box2D");
     }
 }
@@ -556,6 +583,9 @@ fn hip_limits_act_on_the_joint_angle_from_box2ds_reference_angle() {
             "leg {leg}: joint angle {joint}"
         );
         let rel = b[1 + 2 * leg].angle - b[0].angle;
-        assert!((rel - joint - HIP_REFERENCE[leg]).abs() < 1e-5, "leg {leg}: {rel} vs {joint}");
+        assert!(
+            (rel - joint - HIP_REFERENCE[leg]).abs() < 1e-5,
+            "leg {leg}: {rel} vs {joint}"
+        );
     }
 }

@@ -157,15 +157,23 @@ fn measure(r: &Robot) -> Metrics {
             .collect::<Vec<_>>(),
     );
     let horizon = r.step_times[1];
-    let base: Vec<Vec<Vec<f32>>> = seeds[..3].iter().map(|&s| run(r, s, &vec![zero.clone(); horizon]).0).collect();
+    let base: Vec<Vec<Vec<f32>>> = seeds[..3]
+        .iter()
+        .map(|&s| run(r, s, &vec![zero.clone(); horizon]).0)
+        .collect();
     let mut step = [[0.0; 2]; 2];
     for (j, &(act, qi)) in r.step_joints.iter().enumerate() {
         let mut u = zero.clone();
         u[act] = r.ctrl as f32;
         let oi = qi - r.skip;
-        let runs: Vec<Vec<Vec<f32>>> = seeds[..3].iter().map(|&s| run(r, s, &vec![u.clone(); horizon]).0).collect();
+        let runs: Vec<Vec<Vec<f32>>> = seeds[..3]
+            .iter()
+            .map(|&s| run(r, s, &vec![u.clone(); horizon]).0)
+            .collect();
         for (t, &n) in r.step_times.iter().enumerate() {
-            let d: Vec<f64> = (0..3).map(|k| f64::from(runs[k][n][oi]) - f64::from(base[k][n][oi])).collect();
+            let d: Vec<f64> = (0..3)
+                .map(|k| f64::from(runs[k][n][oi]) - f64::from(base[k][n][oi]))
+                .collect();
             step[j][t] = mean(&d);
         }
     }
@@ -229,47 +237,74 @@ fn check(r: &Robot, p: &Pins) {
             close(&format!("step response {j} at {t}"), m.step[j][t], p.step[j][t], 0.02);
         }
     }
-    close("gait velocity", m.gait_velocity, p.gait_velocity, 0.05 + 0.2 * p.gait_velocity.abs());
-    close("random length", m.random_length.0, p.random_length, 0.2 * p.random_length);
-    close("random return", m.random_return.0, p.random_return, 0.2 * p.random_return.abs());
+    close(
+        "gait velocity",
+        m.gait_velocity,
+        p.gait_velocity,
+        0.05 + 0.2 * p.gait_velocity.abs(),
+    );
+    close(
+        "random length",
+        m.random_length.0,
+        p.random_length,
+        0.2 * p.random_length,
+    );
+    close(
+        "random return",
+        m.random_return.0,
+        p.random_return,
+        0.2 * p.random_return.abs(),
+    );
     // The spread is reported in the table; it must be a spread of real episodes.
-    assert!(m.random_length.1.is_finite() && m.random_return.1 > 0.0, "{id}: no spread");
+    assert!(
+        m.random_length.1.is_finite() && m.random_return.1 > 0.0,
+        "{id}: no spread"
+    );
 }
 
 #[test]
 fn ant_side_of_the_mujoco_table() {
-    check(&ANT, &Pins {
-        rest_height: PIN_ANT[0],
-        fall_time: PIN_ANT[1],
-        step: [[PIN_ANT[2], PIN_ANT[3]], [PIN_ANT[4], PIN_ANT[5]]],
-        gait_velocity: PIN_ANT[6],
-        random_length: PIN_ANT[7],
-        random_return: PIN_ANT[8],
-    });
+    check(
+        &ANT,
+        &Pins {
+            rest_height: PIN_ANT[0],
+            fall_time: PIN_ANT[1],
+            step: [[PIN_ANT[2], PIN_ANT[3]], [PIN_ANT[4], PIN_ANT[5]]],
+            gait_velocity: PIN_ANT[6],
+            random_length: PIN_ANT[7],
+            random_return: PIN_ANT[8],
+        },
+    );
 }
 
 #[test]
 fn half_cheetah_side_of_the_mujoco_table() {
-    check(&HALF_CHEETAH, &Pins {
-        rest_height: PIN_CHEETAH[0],
-        fall_time: PIN_CHEETAH[1],
-        step: [[PIN_CHEETAH[2], PIN_CHEETAH[3]], [PIN_CHEETAH[4], PIN_CHEETAH[5]]],
-        gait_velocity: PIN_CHEETAH[6],
-        random_length: PIN_CHEETAH[7],
-        random_return: PIN_CHEETAH[8],
-    });
+    check(
+        &HALF_CHEETAH,
+        &Pins {
+            rest_height: PIN_CHEETAH[0],
+            fall_time: PIN_CHEETAH[1],
+            step: [[PIN_CHEETAH[2], PIN_CHEETAH[3]], [PIN_CHEETAH[4], PIN_CHEETAH[5]]],
+            gait_velocity: PIN_CHEETAH[6],
+            random_length: PIN_CHEETAH[7],
+            random_return: PIN_CHEETAH[8],
+        },
+    );
 }
 
 #[test]
 fn humanoid_side_of_the_mujoco_table() {
-    check(&HUMANOID, &Pins {
-        rest_height: PIN_HUMANOID[0],
-        fall_time: PIN_HUMANOID[1],
-        step: [[PIN_HUMANOID[2], PIN_HUMANOID[3]], [PIN_HUMANOID[4], PIN_HUMANOID[5]]],
-        gait_velocity: PIN_HUMANOID[6],
-        random_length: PIN_HUMANOID[7],
-        random_return: PIN_HUMANOID[8],
-    });
+    check(
+        &HUMANOID,
+        &Pins {
+            rest_height: PIN_HUMANOID[0],
+            fall_time: PIN_HUMANOID[1],
+            step: [[PIN_HUMANOID[2], PIN_HUMANOID[3]], [PIN_HUMANOID[4], PIN_HUMANOID[5]]],
+            gait_velocity: PIN_HUMANOID[6],
+            random_length: PIN_HUMANOID[7],
+            random_return: PIN_HUMANOID[8],
+        },
+    );
 }
 
 // rest height, fall time, step responses (joint 1 at both times, joint 2 at both times), gait
