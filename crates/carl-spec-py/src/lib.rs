@@ -530,21 +530,38 @@ fn filled<'py, T: numpy::Element>(py: Python<'py>, dims: &[usize], fill: impl Fn
 }
 
 fn info_dict<'py>(py: Python<'py>, ci: &ContextInfo) -> PyResult<Bound<'py, PyDict>> {
+    context_info_dict(
+        py,
+        &ci.context,
+        ci.instance_id,
+        ci.instance_name.as_deref(),
+        ci.context_seed,
+    )
+}
+
+/// The info dict of an episode's context, shared by `Env`, `VecEnv` and users' `ContextChooser`.
+/// Only what the seed determines (check_env compares infos across equal seeds), so no episode
+/// counter.
+pub(crate) fn context_info_dict<'py>(
+    py: Python<'py>,
+    context: &[(String, f64)],
+    instance_id: Option<usize>,
+    instance_name: Option<&str>,
+    context_seed: Option<u64>,
+) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     let ctx = PyDict::new(py);
-    for (k, v) in &ci.context {
+    for (k, v) in context {
         ctx.set_item(k, v)?;
     }
-    // Only what the seed determines (check_env compares infos across equal seeds), so no
-    // episode counter.
     d.set_item("context", ctx)?;
-    if let Some(id) = ci.instance_id {
+    if let Some(id) = instance_id {
         d.set_item("instance_id", id)?;
     }
-    if let Some(name) = &ci.instance_name {
+    if let Some(name) = instance_name {
         d.set_item("instance_name", name)?;
     }
-    if let Some(seed) = ci.context_seed {
+    if let Some(seed) = context_seed {
         d.set_item("context_seed", seed)?;
     }
     Ok(d)

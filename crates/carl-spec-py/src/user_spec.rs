@@ -390,35 +390,21 @@ impl ContextChooser {
 
     /// The current episode's info (the default context before the first reset).
     fn info<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        let ctx = PyDict::new(py);
         match &self.current {
-            Some(c) => {
-                for (k, v) in &c.context {
-                    ctx.set_item(k, v)?;
-                }
-                d.set_item("context", ctx)?;
-                if let Some(id) = c.instance_id {
-                    d.set_item("instance_id", id)?;
-                }
-                if let Some(name) = &c.instance_name {
-                    d.set_item("instance_name", name)?;
-                }
-                if let Some(s) = c.context_seed {
-                    d.set_item("context_seed", s)?;
-                }
-            }
+            Some(c) => crate::context_info_dict(
+                py,
+                &c.context,
+                c.instance_id,
+                c.instance_name.as_deref(),
+                c.context_seed,
+            ),
             None => {
                 let defaults =
                     carl_spec::envs::context::resolve_context(&self.spec, &Context::new(), MakeOptions::default())
                         .map_err(|e| make_error(py, e))?;
-                for (k, v) in defaults {
-                    ctx.set_item(k, v)?;
-                }
-                d.set_item("context", ctx)?;
+                crate::context_info_dict(py, &defaults, None, None, None)
             }
         }
-        Ok(d)
     }
 
     /// Switch to instance `i` now (carl-bench's `context_id` setter): the current info becomes
