@@ -17,7 +17,13 @@ fn make(options: &[(&str, Value)], context: Context) -> Result<carl_spec::envs::
 
 fn ids(option: Value) -> Vec<u32> {
     let env = make(&[("target_structure_ids", option)], Context::new()).unwrap();
-    env.inner().downcast_ref::<RnaDesign>().unwrap().targets().iter().map(|t| t.id).collect()
+    env.inner()
+        .downcast_ref::<RnaDesign>()
+        .unwrap()
+        .targets()
+        .iter()
+        .map(|t| t.id)
+        .collect()
 }
 
 #[test]
@@ -46,7 +52,10 @@ fn episodes_design_only_the_chosen_targets_and_report_them() {
         let o = rna.last_outcome().unwrap();
         assert_eq!(o.target_id, rna.target().id);
         assert_eq!(o.target_structure, rna.target().structure);
-        assert_eq!((o.design.len(), o.folded.len()), (o.target_structure.len(), o.target_structure.len()));
+        assert_eq!(
+            (o.design.len(), o.folded.len()),
+            (o.target_structure.len(), o.target_structure.len())
+        );
         seen.insert(o.target_id);
     }
     assert_eq!(seen.into_iter().collect::<Vec<_>>(), [1, 5]);
@@ -54,9 +63,16 @@ fn episodes_design_only_the_chosen_targets_and_report_them() {
 
 #[test]
 fn bad_target_ids_are_refused_with_the_reason() {
-    let err = |v: Value| make(&[("target_structure_ids", v)], Context::new()).unwrap_err().to_string();
+    let err = |v: Value| {
+        make(&[("target_structure_ids", v)], Context::new())
+            .unwrap_err()
+            .to_string()
+    };
     let unknown = err(Value::List(vec![1.0, 101.0]));
-    assert!(unknown.contains("target_structure_ids") && unknown.contains("no target with id 101 (ids are 1..=100)"), "{unknown}");
+    assert!(
+        unknown.contains("target_structure_ids") && unknown.contains("no target with id 101 (ids are 1..=100)"),
+        "{unknown}"
+    );
     for bad in [
         Value::List(vec![]),
         Value::List(vec![1.5]),

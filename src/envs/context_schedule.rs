@@ -168,7 +168,12 @@ impl ContextSchedule {
 }
 
 /// The context of one draw of distribution `name`: the sampled features over the spec's defaults.
-pub fn drawn_context(spec: &EnvSpec, name: &str, dist: &Distribution, context_seed: u64) -> Result<Context, DeriveError> {
+pub fn drawn_context(
+    spec: &EnvSpec,
+    name: &str,
+    dist: &Distribution,
+    context_seed: u64,
+) -> Result<Context, DeriveError> {
     let (names, rows) = sample_distribution(spec, name, dist, 1, context_seed)?;
     let mut ctx = spec.default_context();
     if let Some(row) = rows.into_iter().next() {
@@ -293,7 +298,12 @@ mod tests {
             .collect();
         assert_eq!(
             picks,
-            [Pick::Instance(2), Pick::Instance(0), Pick::Instance(1), Pick::Instance(2)]
+            [
+                Pick::Instance(2),
+                Pick::Instance(0),
+                Pick::Instance(1),
+                Pick::Instance(2)
+            ]
         );
         s.continue_after(0);
         assert_eq!(s.next(None).pick, Pick::Instance(1));

@@ -83,10 +83,10 @@
 //! environments).
 
 use super::api::{Action, Env, EnvError, Info, Space, Step, StepOutcome, check_obs_len};
+use super::context_schedule::{ContextSchedule, ObservationNoise, Pick, ScheduleKind, drawn_context};
 use super::registry::{Context, EnvOptions, MakeError, MakeOptions, SpecEnv, make_env, resolve_context};
 use super::rng::DEFAULT_SEED;
 use crate::instances::FrozenSet;
-use super::context_schedule::{ContextSchedule, ObservationNoise, Pick, ScheduleKind, drawn_context};
 use crate::instances::derive::{DeriveError, sample_distribution};
 use crate::spec::model::{Distribution, EnvSpec, FeatureType, Value};
 use crate::suggest::did_you_mean;

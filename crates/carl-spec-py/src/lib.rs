@@ -23,8 +23,8 @@ use carl_spec::envs::contextual::{
 use carl_spec::envs::registry::{
     Context, EnvOptions, MakeError, MakeOptions, has_runtime, ids, ids_text, make_env, make_with,
 };
-use carl_spec::envs::vec_env::{AutoresetMode, VecActions, VecEnv as RustVecEnv, VecEnvError, VecOptions};
 use carl_spec::envs::rna_design::RnaDesign;
+use carl_spec::envs::vec_env::{AutoresetMode, VecActions, VecEnv as RustVecEnv, VecEnvError, VecOptions};
 use carl_spec::envs::{Action, AnyEnv, DType, Env as _, EnvError, Features, Space, Visibility};
 use carl_spec::instances::Store;
 use carl_spec::instances::derive::{DeriveError, sample_adhoc};
@@ -943,7 +943,13 @@ fn set_column<'py, T: numpy::Element + Copy + Default>(
 
 /// A nested info dict (`{feature: value}` per env) in Gymnasium's vector layout: one masked
 /// column per feature under `key`, and `_key`, the mask of the envs that have the dict.
-fn set_nested(d: &Bound<'_, PyDict>, key: &str, n: usize, names: &[String], rows: &[(usize, Vec<f64>)]) -> PyResult<()> {
+fn set_nested(
+    d: &Bound<'_, PyDict>,
+    key: &str,
+    n: usize,
+    names: &[String],
+    rows: &[(usize, Vec<f64>)],
+) -> PyResult<()> {
     let inner = PyDict::new(d.py());
     for (j, name) in names.iter().enumerate() {
         set_column(&inner, name, n, rows.iter().map(|(i, v)| (*i, v[j])))?;
@@ -1242,7 +1248,13 @@ impl VecEnv {
         let n = self.inner.num_envs();
         let all: Vec<usize> = (0..n).collect();
         let d = PyDict::new(py);
-        set_nested(&d, "observed_context", n, &self.visible, &self.observed_rows(self.inner.obs(), &all))?;
+        set_nested(
+            &d,
+            "observed_context",
+            n,
+            &self.visible,
+            &self.observed_rows(self.inner.obs(), &all),
+        )?;
         Ok(Some(d))
     }
 

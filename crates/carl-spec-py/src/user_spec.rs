@@ -16,9 +16,7 @@ use pyo3::types::PyDict;
 
 use carl_spec::audit::probes::{perturbed_values, unauditable_reason};
 use carl_spec::envs::Selection;
-use carl_spec::envs::context_schedule::{
-    ContextSchedule, ObservationNoise, Pick, ScheduleKind, drawn_context,
-};
+use carl_spec::envs::context_schedule::{ContextSchedule, ObservationNoise, Pick, ScheduleKind, drawn_context};
 use carl_spec::envs::contextual::NoiseRedraw;
 use carl_spec::envs::registry::{Context, MakeError, MakeOptions};
 use carl_spec::instances::Store;

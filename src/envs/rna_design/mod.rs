@@ -405,7 +405,10 @@ mod tests {
         assert_eq!(steps, 11);
         let outcome = e.last_outcome().unwrap();
         assert_eq!(outcome.design, "GGGGGGGGGGGCCCCC");
-        assert_eq!((outcome.target_id, outcome.target_structure.as_str()), (1, "(((((......)))))"));
+        assert_eq!(
+            (outcome.target_id, outcome.target_structure.as_str()),
+            (1, "(((((......)))))")
+        );
         assert!(matches!(e.step(&Action::Discrete(0)), Err(EnvError::NeedsReset { .. })));
     }
 
