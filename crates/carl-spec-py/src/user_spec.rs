@@ -405,7 +405,8 @@ impl ContextChooser {
                 self.draw(py, name, dist, context_seed)?
             }
             (Mode::Fixed(c), _) => c.clone(),
-            _ => unreachable!("the schedule's kind follows the mode"),
+            // The schedule's kind is built from the mode, so they always agree.
+            _ => return Err(value_error("internal error: the context schedule disagrees with the source")),
         };
         let truth = self.truth(&chosen.context);
         self.noise.observe(&truth, &mut self.observed);
