@@ -8,6 +8,7 @@
 //! (a `KeyError` and a `ValueError`), other bad input `ValueError`, misuse of an episode
 //! (stepping before reset) `RuntimeError`.
 
+use std::borrow::Cow;
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
@@ -910,16 +911,13 @@ impl VecEnv {
             .value(py, self.inner.obs(), self.inner.obs_f64(), Some(self.inner.num_envs()))
     }
 
-    /// The visible features' observed values of `rows` (env index, observation row): the tail
-    /// of the row, as `cs.make`'s `info["observed_context"]` (float32 widened).
-    fn observed_rows(&self, obs: &[f32], envs: &[usize]) -> Vec<(usize, Vec<f64>)> {
-        let d = self.inner.obs_dim();
-        envs.iter()
-            .map(|&i| {
-                let tail = &obs[i * d + self.base_dim..(i + 1) * d];
-                (i, tail.iter().map(|x| f64::from(*x)).collect())
-            })
-            .collect()
+    /// `observed_context` of the envs `rows` in the vector layout: the visible features' values
+    /// are the tail of each observation row, as `cs.make`'s `info["observed_context"]`
+    /// (float32 widened).
+    fn set_observed(&self, d: &Bound<'_, PyDict>, obs: &[f32], rows: &[usize]) -> PyResult<()> {
+        let (w, base) = (self.inner.obs_dim(), self.base_dim);
+        let value = |i: usize, j: usize| f64::from(obs[i * w + base + j]);
+        set_nested(d, "observed_context", self.inner.num_envs(), &self.visible, rows, value)
     }
 }
 
@@ -943,21 +941,23 @@ fn set_column<'py, T: numpy::Element + Copy + Default>(
 
 /// A nested info dict (`{feature: value}` per env) in Gymnasium's vector layout: one masked
 /// column per feature under `key`, and `_key`, the mask of the envs that have the dict.
+/// `value(i, j)`: env `i`'s value of `names[j]`, for the envs `rows`.
 fn set_nested(
     d: &Bound<'_, PyDict>,
     key: &str,
     n: usize,
     names: &[String],
-    rows: &[(usize, Vec<f64>)],
+    rows: &[usize],
+    value: impl Fn(usize, usize) -> f64,
 ) -> PyResult<()> {
     let inner = PyDict::new(d.py());
     for (j, name) in names.iter().enumerate() {
-        set_column(&inner, name, n, rows.iter().map(|(i, v)| (*i, v[j])))?;
+        set_column(&inner, name, n, rows.iter().map(|&i| (i, value(i, j))))?;
     }
     d.set_item(key, inner)?;
     let mut mask = vec![false; n];
-    for (i, _) in rows {
-        mask[*i] = true;
+    for &i in rows {
+        mask[i] = true;
     }
     d.set_item(format!("_{key}"), PyArray1::from_vec(d.py(), mask))
 }
@@ -1194,24 +1194,28 @@ impl VecEnv {
         if ended.is_empty() {
             return Ok(None);
         }
-        let infos: Vec<(usize, ContextInfo)> = ended
+        // Plain batches: every episode has the one fixed context (borrowed, not copied).
+        let infos: Vec<(usize, Cow<'_, ContextInfo>)> = ended
             .iter()
             .filter_map(|&i| {
                 let info = if self.contextual {
-                    self.inner.final_context_info(i)
+                    self.inner.final_context_info(i).map(Cow::Owned)
                 } else {
-                    Some(self.fixed_info.clone())
+                    Some(Cow::Borrowed(&self.fixed_info))
                 };
                 info.map(|ci| (i, ci))
             })
             .collect();
         let d = PyDict::new(py);
+        // Every episode's context lists every feature, in spec order.
         let names: Vec<String> = self.fixed_info.context.iter().map(|(k, _)| k.clone()).collect();
-        let rows: Vec<(usize, Vec<f64>)> = infos
-            .iter()
-            .map(|(i, ci)| (*i, ci.context.iter().map(|(_, v)| *v).collect()))
-            .collect();
-        set_nested(&d, "context", n, &names, &rows)?;
+        let mut at = vec![0; n];
+        for (k, (i, _)) in infos.iter().enumerate() {
+            at[*i] = k;
+        }
+        let rows: Vec<usize> = infos.iter().map(|(i, _)| *i).collect();
+        let value = |i: usize, j: usize| infos[at[i]].1.context.get(j).map_or(0.0, |(_, v)| *v);
+        set_nested(&d, "context", n, &names, &rows, value)?;
         if infos.iter().any(|(_, ci)| ci.instance_id.is_some()) {
             let ids = infos.iter().filter_map(|(i, ci)| Some((*i, ci.instance_id? as i64)));
             set_column(&d, "instance_id", n, ids)?;
@@ -1233,8 +1237,7 @@ impl VecEnv {
             set_column(&d, "context_seed", n, seeds)?;
         }
         if self.noisy {
-            let rows = self.observed_rows(self.inner.final_observations(), &ended);
-            set_nested(&d, "observed_context", n, &self.visible, &rows)?;
+            self.set_observed(&d, self.inner.final_observations(), &ended)?;
         }
         Ok(Some(d))
     }
@@ -1245,16 +1248,9 @@ impl VecEnv {
         if !self.noisy {
             return Ok(None);
         }
-        let n = self.inner.num_envs();
-        let all: Vec<usize> = (0..n).collect();
+        let all: Vec<usize> = (0..self.inner.num_envs()).collect();
         let d = PyDict::new(py);
-        set_nested(
-            &d,
-            "observed_context",
-            n,
-            &self.visible,
-            &self.observed_rows(self.inner.obs(), &all),
-        )?;
+        self.set_observed(&d, self.inner.obs(), &all)?;
         Ok(Some(d))
     }
 

@@ -406,7 +406,11 @@ impl ContextChooser {
             }
             (Mode::Fixed(c), _) => c.clone(),
             // The schedule's kind is built from the mode, so they always agree.
-            _ => return Err(value_error("internal error: the context schedule disagrees with the source")),
+            _ => {
+                return Err(value_error(
+                    "internal error: the context schedule disagrees with the source",
+                ));
+            }
         };
         let truth = self.truth(&chosen.context);
         self.noise.observe(&truth, &mut self.observed);
