@@ -98,8 +98,10 @@ class ContextualWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
         self._noise_per_step = self._chooser.noise_redraw() == "step"
         self._apply = apply
         self._attributes = self._check_attributes(attributes or {}) if apply is None else {}
+        # A Gaussian measurement can land anywhere: noisy features are unbounded (as in cs.make).
+        noisy = {self._canonical(n) for n in context_noise or {}}
         if self._visible:
-            self.observation_space = self._observation_space_with_context()
+            self.observation_space = self._observation_space_with_context(noisy)
         self._seeded = False
         self._info: dict[str, Any] = self._chooser.info()
 
@@ -146,13 +148,13 @@ class ContextualWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
             f"{self._spec['id']} has no context feature \"{name}\"; features: {', '.join(self._features)}"
         )
 
-    def _observation_space_with_context(self) -> spaces.Box:
+    def _observation_space_with_context(self, noisy: set[str]) -> spaces.Box:
         base = self.env.observation_space
         if not isinstance(base, spaces.Box):
             raise ValueError(f"obs_context needs a Box observation space, got {base}")
         lows, highs = [], []
         for n in self._visible:
-            lo, hi = self._features[n].get("bounds") or [None, None]
+            lo, hi = [None, None] if n in noisy else self._features[n].get("bounds") or [None, None]
             lows.append(-np.inf if lo is None else lo)
             highs.append(np.inf if hi is None else hi)
         dtype = base.dtype if np.issubdtype(base.dtype, np.floating) else np.float32

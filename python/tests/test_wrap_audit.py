@@ -298,7 +298,9 @@ def test_wrap_context_noise_equals_cs_make(tmp_path: Path, redraw: str) -> None:
     kw: dict[str, Any] = dict(obs_context=["g", "m"], context_noise={"g": "10%", "m": 0.2}, context_noise_redraw=redraw)
     mine = cs.wrap(PendulumEnv, spec, instances="q1_g_sigma_0_5", selection="random", **kw)
     ref = cs.make("pendulum", instances="pendulum/q1_g_sigma_0_5", selection="random", **kw)
-    assert mine.observation_space.high[-1] == np.inf
+    assert mine.observation_space.low[-2] == -np.inf and mine.observation_space.high[-2] == np.inf
+    np.testing.assert_array_equal(mine.observation_space.low, ref.observation_space.low)
+    np.testing.assert_array_equal(mine.observation_space.high, ref.observation_space.high)
     seen = []
     for seed in [3, None, 8, None]:
         (o1, i1), (o2, i2) = mine.reset(seed=seed), ref.reset(seed=seed)
