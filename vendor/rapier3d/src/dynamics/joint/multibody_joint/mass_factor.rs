@@ -25,7 +25,7 @@ use na::{DMatrix, Dim, Dyn, LU, Matrix, StorageMut};
 use na::constraint::{SameNumberOfRows, ShapeConstraint};
 
 /// `parent[k]` when DoF `k` has no ancestor DoF.
-pub(crate) const NO_PARENT: usize = usize::MAX;
+pub const NO_PARENT: usize = usize::MAX;
 
 /// A pivot smaller than this fraction of its original diagonal entry sends the matrix to the
 /// dense LU (near-singular or not positive: partial pivoting is then the safer choice).
@@ -72,8 +72,9 @@ impl MassMatrixFactor {
     /// Factorizes the top-left `n × n` block of `a` (the DoFs' parents in `parent`, each
     /// `< k` or [`NO_PARENT`]), reusing this factor's storage: tree-sparse when every pivot
     /// qualifies, dense LU otherwise. `symmetric`: `a` is symmetric (then only its lower
-    /// triangle is read, and `U = Lᵀ`).
-    pub(crate) fn factorize(
+    /// triangle is read, and `U = Lᵀ`). Public for carl-spec's tests (`tests/rapier_patch.rs`).
+    #[doc(hidden)]
+    pub fn factorize(
         &mut self,
         a: &DMatrix<Real>,
         n: usize,
@@ -251,78 +252,5 @@ impl TreeFactor {
                 col[r] = *v;
             }
         }
-    }
-}
-
-#[cfg(test)]
-mod test {
-    use super::*;
-
-    /// A random matrix with the branch-induced pattern of `parent`: symmetric positive definite
-    /// (`sym`) or that plus a small nonsymmetric part.
-    fn tree_matrix(parent: &[usize], seed: u64, sym: bool) -> DMatrix<Real> {
-        let n = parent.len();
-        let mut s = seed;
-        let mut rnd = || {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            ((s >> 33) as f64 / (1u64 << 31) as f64 - 0.5) as Real
-        };
-        // A = Σ over DoFs k of vₖ·vₖᵀ, vₖ supported on k's ancestors and k: a tree-patterned SPD.
-        let mut a = DMatrix::<Real>::zeros(n, n);
-        for k in 0..n {
-            let mut path = vec![k];
-            let mut i = parent[k];
-            while i != NO_PARENT {
-                path.push(i);
-                i = parent[i];
-            }
-            let v: Vec<Real> = path.iter().map(|_| rnd()).collect();
-            for (p, &r) in path.iter().enumerate() {
-                for (q, &c) in path.iter().enumerate() {
-                    a[(r, c)] += v[p] * v[q];
-                    if !sym {
-                        a[(r, c)] += 0.05 * rnd() * (p != q) as u8 as Real;
-                    }
-                }
-            }
-            a[(k, k)] += 0.5;
-        }
-        a
-    }
-
-    #[test]
-    fn tree_factor_solves_like_dense_lu() {
-        // Two branches off a 3-DoF chain, and a single DoF.
-        let trees: [&[usize]; 3] = [
-            &[NO_PARENT, 0, 1, 2, 3, 2, 5, 6],
-            &[NO_PARENT, 0, 0, 1, 2, 2],
-            &[NO_PARENT],
-        ];
-        for (t, parent) in trees.iter().enumerate() {
-            for sym in [true, false] {
-                let a = tree_matrix(parent, 7 + t as u64, sym);
-                let n = parent.len();
-                let mut factor = MassMatrixFactor::default();
-                factor.factorize(&a, n, Some(parent), sym);
-                assert!(factor.is_tree_sparse());
-                let b = DMatrix::<Real>::from_fn(n, 2, |r, c| (r as Real + 1.0) * (c as Real - 0.5));
-                let mut x = b.clone();
-                assert!(factor.solve_mut(&mut x));
-                let residual = (&a * &x - &b).amax();
-                assert!(residual < 1.0e-4, "tree {t} sym {sym}: residual {residual}");
-            }
-        }
-    }
-
-    #[test]
-    fn non_positive_pivot_falls_back_to_dense_lu() {
-        let parent = [NO_PARENT, 0];
-        let a = DMatrix::<Real>::from_row_slice(2, 2, &[0.0, 1.0, 1.0, 0.0]);
-        let mut factor = MassMatrixFactor::default();
-        factor.factorize(&a, 2, Some(&parent), true);
-        assert!(!factor.is_tree_sparse());
-        let mut x = na::DVector::<Real>::from_column_slice(&[2.0, 3.0]);
-        assert!(factor.solve_mut(&mut x));
-        assert_eq!(x.as_slice(), &[3.0, 2.0]);
     }
 }

@@ -1,7 +1,7 @@
 //! MultibodyJoints using the reduced-coordinates formalism or using constraints.
 
 #[cfg(feature = "alloc")]
-pub use self::mass_factor::{MassMatrixFactor, TreeFactor};
+pub use self::mass_factor::{MassMatrixFactor, NO_PARENT, TreeFactor};
 #[cfg(feature = "alloc")]
 pub use self::multibody::{Multibody, MultibodyDofCoupling};
 #[cfg(feature = "alloc")]
