@@ -836,6 +836,14 @@ impl BipedalWalker {
     pub fn terrain(&self) -> Option<&Terrain> {
         self.terrain.as_ref()
     }
+    /// Replace the current course by `terrain` (e.g. Gymnasium's recorded course, to replay its
+    /// states: `examples/bipedal_walker_replay.rs`). The walker keeps its place until the next
+    /// [`Env::set_state`], which keeps this course if the state carries `terrain.spec` (as
+    /// [`Env::state`] reports it from now on). A state vector records only a generator spec, so
+    /// a course set here is not rebuilt from a state alone.
+    pub fn set_course(&mut self, terrain: Terrain) {
+        self.set_terrain(terrain);
+    }
     /// Whether the hull has touched the ground this episode.
     pub fn game_over(&self) -> bool {
         self.game_over
