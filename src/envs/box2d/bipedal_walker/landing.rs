@@ -202,3 +202,83 @@ pub fn land(t: &Terrain, s: &Sweep, alpha: f64, v: (f64, f64), w: f64, mu: f64, 
     pose.a += w * rest;
     Landed { pose, v, w }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::envs::box2d::bipedal_walker::terrain::TerrainSpec;
+
+    /// Flat ground at y = 1 from x = 0 to 9.
+    fn flat() -> Terrain {
+        let spec = TerrainSpec {
+            seed: 0,
+            step: 1.0,
+            length: 10,
+            height: 1.0,
+            grass: 10,
+            startpad: 20,
+            scale: 30.0,
+            hardcore: false,
+        };
+        Terrain {
+            spec,
+            x: (0..10).map(f64::from).collect(),
+            y: vec![1.0; 10],
+            quads: Vec::new(),
+            kinds: Vec::new(),
+        }
+    }
+
+    fn falling(from_gap: f64, drop: f64) -> Sweep {
+        falling_box((0.1, 0.5), from_gap, drop)
+    }
+
+    fn falling_box(half: (f64, f64), from_gap: f64, drop: f64) -> Sweep {
+        let start = BoxPose {
+            c: (4.0, 1.0 + half.1 + from_gap),
+            a: 0.0,
+        };
+        let end = BoxPose {
+            c: (4.0, start.c.1 - drop),
+            a: 0.0,
+        };
+        Sweep { start, end, half }
+    }
+
+    #[test]
+    fn time_of_impact_is_where_the_sweep_reaches_box2ds_target() {
+        let t = flat();
+        // Gap 0.05 → −0.03 linearly: the target 0.00625 is reached at (0.05 − 0.00625) / 0.08.
+        let alpha = time_of_impact(&t, &falling(0.05, 0.08)).expect("reaches the ground");
+        assert!((alpha - 0.546875).abs() < 1e-6, "{alpha}");
+        // Stopping short of the target, or touching from the start: no TOI event.
+        assert_eq!(time_of_impact(&t, &falling(0.05, 0.04)), None);
+        assert_eq!(time_of_impact(&t, &falling(0.004, 0.01)), None);
+    }
+
+    #[test]
+    fn a_flat_landing_stops_the_leg_and_rests_it_at_box2ds_gap() {
+        let t = flat();
+        let s = falling(0.05, 0.08);
+        let alpha = time_of_impact(&t, &s).expect("reaches the ground");
+        // Falling at 4 m/s, sliding at 0.5 m/s: friction (0.7 of the normal impulse) holds the
+        // foot and both corners push, so it stops dead.
+        let out = land(&t, &s, alpha, (0.5, -4.0), 0.0, 0.7, 0.02);
+        assert!(
+            out.v.0.abs() < 1e-6 && out.v.1.abs() < 1e-6 && out.w.abs() < 1e-6,
+            "{out:?}"
+        );
+        assert!((out.pose.c.1 - (1.5 + TOI_REST_GAP)).abs() < 1e-9, "{out:?}");
+        // Faster, the friction at the sole tips the tall foot over its front corner.
+        let out = land(&t, &s, alpha, (1.0, -4.0), 0.0, 0.7, 0.02);
+        assert!(out.w < -0.1, "{out:?}");
+        // A flat plank sliding faster than friction can stop keeps what is left.
+        let s = falling_box((0.5, 0.05), 0.05, 0.08);
+        let alpha = time_of_impact(&t, &s).expect("reaches the ground");
+        let out = land(&t, &s, alpha, (5.0, -4.0), 0.0, 0.7, 0.02);
+        assert!(
+            out.v.1.abs() < 1e-6 && (out.v.0 - (5.0 - 0.7 * 4.0)).abs() < 1e-6,
+            "{out:?}"
+        );
+    }
+}
