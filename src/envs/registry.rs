@@ -265,15 +265,23 @@ pub static REGISTRY: &[Registration] = &[
             let p = params::<BipedalWalkerParams>("bipedal_walker", v, BipedalWalkerParams::set)?;
             let opts = BipedalWalkerOptions {
                 hardcore: o.flag("hardcore"),
+                box2d_contacts: o.flag("box2d_contacts"),
                 ..BipedalWalkerOptions::default()
             };
             Ok(AnyEnv::new(BipedalWalker::with_options(p, opts)))
         },
-        options: &[OptionSpec {
-            name: "hardcore",
-            help: "BipedalWalkerHardcore: stumps, stairs and pits between grass stretches",
-            kind: OptionKind::Bool { default: false },
-        }],
+        options: &[
+            OptionSpec {
+                name: "hardcore",
+                help: "BipedalWalkerHardcore: stumps, stairs and pits between grass stretches",
+                kind: OptionKind::Bool { default: false },
+            },
+            OptionSpec {
+                name: "box2d_contacts",
+                help: "Box2D's contact model: 0.015 m skins and continuous collision at foot landings",
+                kind: OptionKind::Bool { default: false },
+            },
+        ],
         heuristic: Some(|_| Box::new(WalkerPolicy(WalkerHeuristic::default()))),
         renders: true,
         cost: StepCost::Heavy,
