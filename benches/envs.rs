@@ -236,10 +236,22 @@ mod multibody {
         let model = RobotModel::load(id).expect("robot model");
         let params = default_params(id).expect("params");
         let n = model.joint_names.len();
-        let at_rest = Configuration { root: vec![], joints: vec![0.0; n], vel: vec![0.0; n] };
+        let at_rest = Configuration {
+            root: vec![],
+            joints: vec![0.0; n],
+            vel: vec![0.0; n],
+        };
         let probe = RobotWorld::build(&model, &params, &at_rest);
-        let root = if probe.root_dofs() == 6 { vec![0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0] } else { vec![] };
-        let q = Configuration { root, joints: vec![0.1; n], vel: vec![0.5; probe.root_dofs() + n] };
+        let root = if probe.root_dofs() == 6 {
+            vec![0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0]
+        } else {
+            vec![]
+        };
+        let q = Configuration {
+            root,
+            joints: vec![0.1; n],
+            vel: vec![0.5; probe.root_dofs() + n],
+        };
         let mut w = RobotWorld::build(&model, &params, &q);
         let ctrl = vec![0.3f32; model.num_actuators()];
         for _ in 0..5 {

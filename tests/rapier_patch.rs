@@ -105,7 +105,10 @@ fn sparse_mass_matrix_equals_dense_reference_on_every_robot() {
             let implicit_dense = acc_dense - m_dense;
             let implicit_sparse = acc_sparse - m_sparse;
             let implicit = rel_diff(implicit_dense.as_slice(), implicit_sparse.as_slice());
-            assert!(implicit <= 1e-4, "{id} trial {trial}: implicit terms differ by {implicit:e}");
+            assert!(
+                implicit <= 1e-4,
+                "{id} trial {trial}: implicit terms differ by {implicit:e}"
+            );
             worst_implicit = worst_implicit.max(implicit);
             // The patch sums some products in another order (3×3 blocks, one pass for the
             // accelerated matrix, a mirrored symmetric mass matrix): f32 rounding, no more.
@@ -124,7 +127,11 @@ fn sparse_mass_matrix_equals_dense_reference_on_every_robot() {
 /// Relative error of `x` against the f64 solution `exact`.
 fn rel_err(x: &[f32], exact: &[f64]) -> f64 {
     let scale = exact.iter().map(|v| v.abs()).fold(0.0, f64::max).max(1e-30);
-    x.iter().zip(exact).map(|(a, b)| (f64::from(*a) - b).abs()).fold(0.0, f64::max) / scale
+    x.iter()
+        .zip(exact)
+        .map(|(a, b)| (f64::from(*a) - b).abs())
+        .fold(0.0, f64::max)
+        / scale
 }
 
 /// The patch's tree-sparse factorizations of both augmented mass matrices (the one the joint,
@@ -161,7 +168,10 @@ fn tree_sparse_factorization_solves_like_dense_lu_on_every_robot() {
             let (m, acc) = mb.augmented_mass_matrices();
             let factors = [(m, mb.inv_augmented_mass()), (acc, mb.acc_inv_augmented_mass())];
             for (which, (a, factor)) in factors.into_iter().enumerate() {
-                assert!(factor.is_tree_sparse(), "{id} trial {trial}: matrix {which} fell back to LU");
+                assert!(
+                    factor.is_tree_sparse(),
+                    "{id} trial {trial}: matrix {which} fell back to LU"
+                );
                 let b = DMatrix::<f32>::from_fn(n, 3, |_, _| uniform(&mut rng, 1.0) as f32);
                 let mut x_tree = b.clone();
                 assert!(factor.solve_mut(&mut x_tree));

@@ -230,7 +230,9 @@ fn check(r: &Robot, p: &Pins) {
     let misses = std::cell::RefCell::new(Vec::new());
     let close = |what: &str, got: f64, want: f64, tol: f64| {
         if (got - want).abs() > tol {
-            misses.borrow_mut().push(format!("{id} {what}: {got} (pinned {want} ± {tol})"));
+            misses
+                .borrow_mut()
+                .push(format!("{id} {what}: {got} (pinned {want} ± {tol})"));
         }
     };
     close("rest height", m.rest_height, p.rest_height, 0.01);
@@ -246,7 +248,11 @@ fn check(r: &Robot, p: &Pins) {
     // 40 seeds its spread is 0.3–0.55 m/s, so this 3-seed mean wanders within about ±0.6 of
     // the pin (measured: −0.27 to +0.37, +0.37 pinned) while its 40-seed mean stays at
     // 0.12–0.21. The other robots' gaits are smooth and keep the tight tolerance.
-    let gait_tol = if id == "ant" { 0.6 } else { 0.05 + 0.2 * p.gait_velocity.abs() };
+    let gait_tol = if id == "ant" {
+        0.6
+    } else {
+        0.05 + 0.2 * p.gait_velocity.abs()
+    };
     close("gait velocity", m.gait_velocity, p.gait_velocity, gait_tol);
     close(
         "random length",

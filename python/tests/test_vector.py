@@ -89,6 +89,12 @@ def test_equals_sync_vector_env(mode: str, env_id: str, kw: dict[str, object]) -
             # context), laid out as SyncVectorEnv lays out cs.make's.
             np.testing.assert_array_equal(ia["_final_info"], ib["_final_info"])
             assert_infos_equal(ia["final_info"], ib["final_info"], f"step {t} final_info")
+            # The features' masks are one shared array, so it is read-only: writing through one
+            # feature's mask must not silently change another's.
+            ctx = ia["final_info"]["context"]
+            mask = ctx["_" + next(k for k in ctx if not k.startswith("_"))]
+            with pytest.raises(ValueError, match="read-only"):
+                mask[0] = not mask[0]
         elif mode == "same_step":
             assert "final_info" not in ia and "final_info" not in ib
         if mode == "disabled" and done.any():

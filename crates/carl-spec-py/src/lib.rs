@@ -16,7 +16,7 @@ use numpy::ndarray::IxDyn;
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{IntoPyDict, PyDict, PyList};
 
 use carl_spec::envs::contextual::{
     ContextInfo, ContextNoise, ContextSource, ContextualEnv, ContextualError, ContextualOptions, NoiseRedraw, NoiseStd,
@@ -950,16 +950,27 @@ fn set_nested(
     rows: &[usize],
     value: impl Fn(usize, usize) -> f64,
 ) -> PyResult<()> {
-    let inner = PyDict::new(d.py());
-    for (j, name) in names.iter().enumerate() {
-        set_column(&inner, name, n, rows.iter().map(|&i| (i, value(i, j))))?;
-    }
-    d.set_item(key, inner)?;
+    let py = d.py();
     let mut mask = vec![false; n];
     for &i in rows {
         mask[i] = true;
     }
-    d.set_item(format!("_{key}"), PyArray1::from_vec(d.py(), mask))
+    // Every feature has the same mask: one read-only array serves them all (a same-step batch
+    // builds this at every step where an episode ends, ~20 features; a mask per feature cost
+    // as much again). Read-only, so no reader can change one feature's mask through another's.
+    let shared = PyArray1::from_slice(py, &mask);
+    shared.call_method("setflags", (), Some(&[("write", false)].into_py_dict(py)?))?;
+    let inner = PyDict::new(py);
+    for (j, name) in names.iter().enumerate() {
+        let mut col = vec![0.0f64; n];
+        for &i in rows {
+            col[i] = value(i, j);
+        }
+        inner.set_item(name, PyArray1::from_vec(py, col))?;
+        inner.set_item(format!("_{name}"), &shared)?;
+    }
+    d.set_item(key, inner)?;
+    d.set_item(format!("_{key}"), PyArray1::from_vec(py, mask))
 }
 
 #[pymethods]
