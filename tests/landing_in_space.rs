@@ -4,7 +4,7 @@
 use std::io::{BufRead, BufReader, Write};
 use std::process::{Command, Stdio};
 
-use carl_spec::experiments::landing_in_space::{Config, Heuristic, Results, evaluate, reset_seed};
+use carl_spec::experiments::landing_in_space::{Config, Heuristic, Results, Unobserved, evaluate, reset_seed};
 use carl_spec::spec::SpecSet;
 
 fn bin() -> Command {
@@ -27,7 +27,7 @@ fn heuristic(episodes: usize, seed: u64) -> Results {
         seed,
         crash_penalty: 100.0,
     };
-    evaluate(&specs, &cfg, "heuristic", &mut Heuristic).unwrap()
+    evaluate(&specs, &cfg, "heuristic", &mut Heuristic, &mut Unobserved).unwrap()
 }
 
 fn row<'a>(r: &'a Results, body: &str) -> &'a carl_spec::experiments::landing_in_space::Row {

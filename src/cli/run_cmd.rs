@@ -10,16 +10,17 @@
 //! Arguments and output paths are checked before the evaluation starts (`crate::output`'s rule:
 //! the directory must exist, nothing is replaced without `--force`, writes are atomic).
 
-use std::io::{BufRead, Write};
+use std::io::{BufReader, Write};
 use std::path::{Path, PathBuf};
 
 use clap::{Subcommand, ValueEnum};
+use serde_json::{Map, Value, json};
 
 use super::{Cli, CmdResult, Failure, exit, load_specs, out};
-use crate::envs::api::{Action, Space};
-use crate::episode::StepRecord;
-use crate::episode::jsonl::{parse_action, quote_input, write_reset, write_step};
-use crate::experiments::landing_in_space::{self as lis, Config, Driver, EpisodeInfo, Heuristic};
+use crate::envs::registry::SpecEnv;
+use crate::episode::jsonl::{ActionStream, JsonLinesWriter};
+use crate::episode::{EpisodeError, EpisodeListener, Flow, StepRecord};
+use crate::experiments::landing_in_space::{self as lis, Config, EpisodeInfo, EvalError, Observer};
 use crate::output;
 
 #[derive(Subcommand, Debug)]
@@ -90,34 +91,30 @@ pub fn run(cli: &Cli, cmd: &RunCommand) -> CmdResult {
                 }
             }
             let specs = load_specs(cli)?;
-            let (results, interactive) = match policy {
-                RunPolicy::Heuristic => (
-                    lis::evaluate(
-                        &specs,
-                        &cfg,
-                        "heuristic",
-                        &mut Counted {
-                            inner: Heuristic,
-                            progress: super::progress::Progress::counter("episodes"),
-                        },
-                    )
-                    .map_err(Failure::usage)?,
-                    false,
-                ),
-                RunPolicy::Stdin => {
-                    let mut d = StdinDriver {
-                        w: std::io::BufWriter::new(std::io::stdout().lock()),
-                        r: std::io::stdin().lock(),
-                        line: String::new(),
-                        space: None,
-                    };
-                    match lis::evaluate(&specs, &cfg, "stdin", &mut d) {
-                        Ok(r) => (r, true),
-                        // The reader went away: stop quietly, as `rollout` does.
-                        Err(e) if e == CLOSED => return Ok(exit::OK),
-                        Err(e) => return Err(Failure::usage(e)),
-                    }
+            let interactive = *policy == RunPolicy::Stdin;
+            let evaluated = match policy {
+                RunPolicy::Heuristic => {
+                    let mut progress = Counted(super::progress::Progress::counter("episodes"));
+                    lis::evaluate(&specs, &cfg, "heuristic", &mut lis::Heuristic, &mut progress)
                 }
+                RunPolicy::Stdin => {
+                    let space = lis::action_space(&specs).map_err(Failure::failed)?;
+                    let mut actions = ActionStream::new(BufReader::new(std::io::stdin()), space);
+                    let mut lines = Streamed(JsonLinesWriter::new(
+                        std::io::BufWriter::new(std::io::stdout().lock()),
+                        Map::new(),
+                        true,
+                    ));
+                    let r = lis::evaluate(&specs, &cfg, "stdin", &mut actions, &mut lines);
+                    lines.0.finish().map_err(|e| Failure::failed(e.to_string()))?;
+                    r
+                }
+            };
+            let results = match evaluated {
+                Ok(r) => r,
+                // The reader went away: stop quietly, as `rollout` does.
+                Err(EvalError::Stopped) => return Ok(exit::OK),
+                Err(EvalError::Failed(e)) => return Err(Failure::usage(e)),
             };
             results.check_finite().map_err(Failure::failed)?;
             let table = lis::table(&results);
@@ -148,116 +145,42 @@ fn write(p: &Path, bytes: &[u8], force: bool) -> Result<(), Failure> {
     output::write_file(p, bytes, force).map_err(|e| Failure::usage(e.to_string()))
 }
 
-/// Streams episodes on stdout and reads actions from stdin.
-struct StdinDriver<W: Write, R: BufRead> {
-    w: W,
-    r: R,
-    line: String,
-    space: Option<Space>,
-}
+/// `--policy stdin`: every episode on stdout as JSON lines, `{"episode": …}` before its reset line.
+struct Streamed<W: Write>(JsonLinesWriter<W>);
 
-const CLOSED: &str = "stdout closed";
-
-impl<W: Write, R: BufRead> Driver for StdinDriver<W, R> {
-    fn begin(
-        &mut self,
-        info: &EpisodeInfo,
-        obs: &[f32],
-        context: &serde_json::Map<String, serde_json::Value>,
-    ) -> Result<(), String> {
-        self.space = Some(info.action_space.clone());
-        let w = &mut self.w;
-        let r = serde_json::to_writer(&mut *w, &serde_json::json!({ "episode": info }))
-            .map_err(std::io::Error::from)
-            .and_then(|()| w.write_all(b"\n"))
-            .and_then(|()| write_reset(w, obs, context, None))
-            .and_then(|()| w.flush());
-        emitted(r)
+impl<W: Write> EpisodeListener<SpecEnv> for Streamed<W> {
+    fn on_reset(&mut self, env: &SpecEnv, obs: &[f32]) -> Result<Flow, EpisodeError> {
+        self.0.on_reset(env, obs)
     }
-
-    fn act(&mut self, t: u64, _obs: &[f32]) -> Result<Action, String> {
-        loop {
-            self.line.clear();
-            match self.r.read_line(&mut self.line) {
-                Ok(0) => return Err(format!("stdin closed before the action of step {}", t + 1)),
-                Ok(_) if self.line.trim().is_empty() => continue,
-                Ok(_) => break,
-                Err(e) => return Err(format!("reading actions from stdin: {e}")),
-            }
-        }
-        let v: serde_json::Value = serde_json::from_str(self.line.trim()).map_err(|e| {
-            format!(
-                "step {}: action \"{}\" is not JSON: {e}",
-                t + 1,
-                quote_input(self.line.trim())
-            )
-        })?;
-        let space = self.space.as_ref().ok_or("no episode has begun")?;
-        parse_action(&v, space).map_err(|m| format!("step {}: {m}", t + 1))
-    }
-
-    fn stepped(
-        &mut self,
-        t: u64,
-        action: &Action,
-        obs: &[f32],
-        reward: f64,
-        terminated: bool,
-        truncated: bool,
-    ) -> Result<(), String> {
-        let record = StepRecord {
-            t,
-            action,
-            obs,
-            outcome: crate::envs::StepOutcome {
-                reward,
-                terminated,
-                truncated,
-            },
-        };
-        let r = write_step(&mut self.w, &record, None).and_then(|()| self.w.flush());
-        emitted(r)
+    fn on_step(&mut self, env: &SpecEnv, step: &StepRecord<'_>) -> Result<Flow, EpisodeError> {
+        self.0.on_step(env, step)
     }
 }
 
-/// A closed pipe ends the run quietly ([`CLOSED`]); any other write failure is an error.
-fn emitted(r: std::io::Result<()>) -> Result<(), String> {
-    match r {
-        Ok(()) => Ok(()),
-        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Err(CLOSED.into()),
-        Err(e) => Err(format!("cannot write to standard output: {e}")),
+impl<W: Write> Observer for Streamed<W> {
+    fn begin(&mut self, info: &EpisodeInfo, context: &Map<String, Value>) -> Result<(), String> {
+        self.0.set_context(context.clone());
+        // A closed pipe shows again (as a stop) on the reset line that follows.
+        self.0
+            .write_line(&json!({ "episode": info }))
+            .map(drop)
+            .map_err(|e| e.to_string())
     }
 }
 
-/// A driver that counts episodes on the progress line.
-struct Counted<D> {
-    inner: D,
-    progress: super::progress::Progress,
+/// The heuristic's evaluation: episodes counted on the progress line.
+struct Counted(super::progress::Progress);
+
+impl EpisodeListener<SpecEnv> for Counted {
+    fn on_step(&mut self, _env: &SpecEnv, _step: &StepRecord<'_>) -> Result<Flow, EpisodeError> {
+        Ok(Flow::Continue)
+    }
 }
 
-impl<D: Driver> Driver for Counted<D> {
-    fn begin(
-        &mut self,
-        info: &EpisodeInfo,
-        obs: &[f32],
-        context: &serde_json::Map<String, serde_json::Value>,
-    ) -> Result<(), String> {
-        self.progress.inc(1);
-        self.progress.message(info.body.clone());
-        self.inner.begin(info, obs, context)
-    }
-    fn act(&mut self, t: u64, obs: &[f32]) -> Result<Action, String> {
-        self.inner.act(t, obs)
-    }
-    fn stepped(
-        &mut self,
-        t: u64,
-        action: &Action,
-        obs: &[f32],
-        reward: f64,
-        terminated: bool,
-        truncated: bool,
-    ) -> Result<(), String> {
-        self.inner.stepped(t, action, obs, reward, terminated, truncated)
+impl Observer for Counted {
+    fn begin(&mut self, info: &EpisodeInfo, _context: &Map<String, Value>) -> Result<(), String> {
+        self.0.inc(1);
+        self.0.message(info.body.clone());
+        Ok(())
     }
 }

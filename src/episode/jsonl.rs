@@ -220,6 +220,19 @@ impl<W: Write> JsonLinesWriter<W> {
         self
     }
 
+    /// The full context reported on the next reset lines (a writer that streams several episodes).
+    pub fn set_context(&mut self, context: Map<String, Value>) {
+        self.context = context;
+    }
+
+    /// Write one extra line (e.g. a header before an episode's reset line), flushed like the others.
+    pub fn write_line(&mut self, value: &impl Serialize) -> Result<Flow, EpisodeError> {
+        let r = serde_json::to_writer(&mut self.out, value)
+            .map_err(std::io::Error::from)
+            .and_then(|()| self.out.write_all(b"\n"));
+        self.done(r)
+    }
+
     /// Flush what is buffered (a failure is an error, a closed pipe is not).
     pub fn finish(mut self) -> Result<(), EpisodeError> {
         match self.out.flush() {

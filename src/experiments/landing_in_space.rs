@@ -19,11 +19,15 @@
 //! crash rates are within 0.10 of Gymnasium's on every body but Neptune (README table).
 
 use serde::Serialize;
-use serde_json::json;
+use serde_json::{Map, Value, json};
 
 use crate::envs::api::{Action, Env, Space};
 use crate::envs::box2d::{LunarLander, Outcome, PHYSICS_ENGINE, heuristic};
-use crate::envs::registry::{MakeOptions, make_with, resolve_context};
+use crate::envs::policy::{Policy, PolicyError};
+use crate::envs::registry::{MakeOptions, SpecEnv, make_with, resolve_context};
+use crate::episode::{
+    EpisodeConfig, EpisodeEnd as Ended, EpisodeError, EpisodeListener, Flow, StepRecord, run_episode,
+};
 use crate::instances::{FrozenSet, Store};
 use crate::sampling::{Pcg64, stream_id};
 use crate::spec::SpecSet;
@@ -86,7 +90,7 @@ pub fn reset_seed(seed: u64, row: &str, k: usize) -> u64 {
     Pcg64::new(seed, stream_id(&format!("landing_in_space/{row}/{k}"))).next_u64()
 }
 
-/// The episode about to start, as a driver sees it.
+/// The episode about to start, as an [`Observer`] is told of it.
 #[derive(Debug, Clone, Serialize)]
 pub struct EpisodeInfo {
     /// Body name, or [`TRAIN_ROW`].
@@ -103,41 +107,58 @@ pub struct EpisodeInfo {
     pub action_space: Space,
 }
 
-/// A policy under evaluation, with hooks to observe each episode (the CLI's `--policy stdin`
-/// streams them as JSON lines).
-pub trait Driver {
-    /// A new episode has been reset: `obs` is the reset observation, `context` the full context.
-    fn begin(
-        &mut self,
-        _info: &EpisodeInfo,
-        _obs: &[f32],
-        _context: &serde_json::Map<String, serde_json::Value>,
-    ) -> Result<(), String> {
-        Ok(())
-    }
-    /// The action for observation `obs` at step `t + 1`.
-    fn act(&mut self, t: u64, obs: &[f32]) -> Result<Action, String>;
-    /// Step `t` has been taken.
-    fn stepped(
-        &mut self,
-        _t: u64,
-        _action: &Action,
-        _obs: &[f32],
-        _reward: f64,
-        _terminated: bool,
-        _truncated: bool,
-    ) -> Result<(), String> {
+/// What watches an evaluation besides the policy: told of each episode before its reset, then
+/// a listener of the shared episode loop ([`crate::episode::run_episode`]) for its reset and
+/// steps. The CLI's `--policy stdin` streams them as JSON lines; a [`Flow::Stop`] from the
+/// listener (its reader went away) ends the whole evaluation ([`EvalError::Stopped`]).
+pub trait Observer: EpisodeListener<SpecEnv> {
+    /// Episode `info` is about to start under the full context `context`.
+    fn begin(&mut self, _info: &EpisodeInfo, _context: &Map<String, Value>) -> Result<(), String> {
         Ok(())
     }
 }
 
-/// Gymnasium's heuristic controller.
+/// An observer that watches nothing.
+pub struct Unobserved;
+
+impl<E: Env + ?Sized> EpisodeListener<E> for Unobserved {
+    fn on_step(&mut self, _env: &E, _step: &StepRecord<'_>) -> Result<Flow, EpisodeError> {
+        Ok(Flow::Continue)
+    }
+}
+
+impl Observer for Unobserved {}
+
+/// Gymnasium's heuristic controller (discrete).
 pub struct Heuristic;
 
-impl Driver for Heuristic {
-    fn act(&mut self, _t: u64, obs: &[f32]) -> Result<Action, String> {
-        Ok(Action::Discrete(heuristic(obs)))
+impl Policy for Heuristic {
+    fn act(&mut self, obs: &[f32]) -> Result<Option<Action>, PolicyError> {
+        Ok(Some(Action::Discrete(heuristic(obs))))
     }
+}
+
+/// Why an evaluation did not finish.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum EvalError {
+    /// The observer asked to stop (the reader of a pipe went away): not a failure.
+    #[error("stopped by its observer")]
+    Stopped,
+    #[error("{0}")]
+    Failed(String),
+}
+
+impl From<String> for EvalError {
+    fn from(s: String) -> Self {
+        EvalError::Failed(s)
+    }
+}
+
+/// The action space every episode of the evaluation has (the discrete lander).
+pub fn action_space(specs: &SpecSet) -> Result<Space, String> {
+    let spec = specs.require("lunar_lander")?;
+    let env = make_with(spec, &Default::default(), MakeOptions::default()).map_err(|e| e.to_string())?;
+    Ok(env.action_space())
 }
 
 /// One episode's result.
@@ -229,14 +250,20 @@ pub struct Results {
     pub rows: Vec<Row>,
 }
 
-/// Evaluate `driver` on every test body and on the train sample.
-pub fn evaluate(specs: &SpecSet, cfg: &Config, policy: &str, driver: &mut dyn Driver) -> Result<Results, String> {
+/// Evaluate `policy` (named `label` in the results) on every test body and on the train sample.
+pub fn evaluate(
+    specs: &SpecSet,
+    cfg: &Config,
+    label: &str,
+    policy: &mut dyn Policy,
+    observer: &mut dyn Observer,
+) -> Result<Results, EvalError> {
     cfg.check()?;
     let store = Store::new(specs);
     let test = store.load(TEST_SET).map_err(|e| e.to_string())?;
     let train = store.load(TRAIN_SET).map_err(|e| e.to_string())?;
     if train.instances.is_empty() {
-        return Err(format!("{TRAIN_SET} has no instances"));
+        return Err(format!("{TRAIN_SET} has no instances").into());
     }
     let mut rows = Vec::new();
     for (i, inst) in test.instances.iter().enumerate() {
@@ -247,17 +274,28 @@ pub fn evaluate(specs: &SpecSet, cfg: &Config, policy: &str, driver: &mut dyn Dr
             None => "unlabelled",
         };
         let runs = (0..cfg.episodes)
-            .map(|k| run_episode(specs, &test, i, &body, k, cfg, driver))
+            .map(|k| run_one(specs, &test, i, &body, k, cfg, policy, observer))
             .collect::<Result<Vec<_>, _>>()?;
         rows.push(Row::from_runs(&body, split, runs));
     }
     let runs = (0..cfg.episodes)
-        .map(|k| run_episode(specs, &train, k % train.instances.len(), TRAIN_ROW, k, cfg, driver))
+        .map(|k| {
+            run_one(
+                specs,
+                &train,
+                k % train.instances.len(),
+                TRAIN_ROW,
+                k,
+                cfg,
+                policy,
+                observer,
+            )
+        })
         .collect::<Result<Vec<_>, _>>()?;
     rows.push(Row::from_runs(TRAIN_ROW, TRAIN_ROW, runs));
     Ok(Results {
         experiment: "landing_in_space",
-        policy: policy.to_string(),
+        policy: label.to_string(),
         episodes_per_row: cfg.episodes,
         seed: cfg.seed,
         crash_penalty: cfg.crash_penalty,
@@ -272,15 +310,17 @@ pub fn evaluate(specs: &SpecSet, cfg: &Config, policy: &str, driver: &mut dyn Dr
     })
 }
 
-fn run_episode(
+#[allow(clippy::too_many_arguments)]
+fn run_one(
     specs: &SpecSet,
     set: &FrozenSet,
     i: usize,
     row: &str,
     k: usize,
     cfg: &Config,
-    driver: &mut dyn Driver,
-) -> Result<EpisodeResult, String> {
+    policy: &mut dyn Policy,
+    observer: &mut dyn Observer,
+) -> Result<EpisodeResult, EvalError> {
     let spec = specs.require(&set.env)?;
     let ctx = set
         .full_context(spec, i)
@@ -289,7 +329,7 @@ fn run_episode(
         allow_out_of_bounds: set.provenance.definition.allow_out_of_bounds,
     };
     let mut env = make_with(spec, &ctx, opts).map_err(|e| e.to_string())?;
-    let full: serde_json::Map<String, serde_json::Value> = resolve_context(spec, &ctx, opts)
+    let full: Map<String, Value> = resolve_context(spec, &ctx, opts)
         .map_err(|e| e.to_string())?
         .into_iter()
         .map(|(k, v)| (k, json!(v)))
@@ -309,37 +349,35 @@ fn run_episode(
         k,
         action_space: env.action_space(),
     };
-    let mut obs = vec![0.0f32; env.obs_dim()];
-    env.reset_into(Some(seed), &mut obs).map_err(|e| e.to_string())?;
-    driver.begin(&info, &obs, &full)?;
-    let mut ret = 0.0;
-    let mut t = 0u64;
-    loop {
-        let action = driver.act(t, &obs)?;
-        let out = env
-            .step_into(&action, &mut obs)
-            .map_err(|e| format!("{row} episode {k}, step {}: {e}", t + 1))?;
-        t += 1;
-        ret += out.reward;
-        driver.stepped(t, &action, &obs, out.reward, out.terminated, out.truncated)?;
-        if out.terminated || out.truncated {
-            let outcome = env.inner().downcast_ref::<LunarLander>().map(|l| l.outcome());
-            let end = match (out.terminated, outcome) {
-                (true, Some(Outcome::Landed)) => EpisodeEnd::Landed,
-                (true, Some(Outcome::OutOfView)) => EpisodeEnd::OutOfView,
-                (true, _) => EpisodeEnd::Crashed,
-                (false, _) => EpisodeEnd::Timeout,
-            };
-            return Ok(EpisodeResult {
-                instance: i,
-                gravity,
-                seed,
-                ret,
-                length: t,
-                end,
-            });
+    observer.begin(&info, &full)?;
+    let config = EpisodeConfig {
+        seed,
+        ..Default::default()
+    };
+    let summary = run_episode(&mut env, policy, &config, observer)
+        .map_err(|e| EvalError::Failed(format!("{row} episode {k}: {e}")))?;
+    let outcome = env.inner().downcast_ref::<LunarLander>().map(|l| l.outcome());
+    let end = match (summary.end, outcome) {
+        (Ended::Terminated, Some(Outcome::Landed)) => EpisodeEnd::Landed,
+        (Ended::Terminated, Some(Outcome::OutOfView)) => EpisodeEnd::OutOfView,
+        (Ended::Terminated, _) => EpisodeEnd::Crashed,
+        (Ended::Truncated | Ended::StepLimit, _) => EpisodeEnd::Timeout,
+        (Ended::ListenerStopped, _) => return Err(EvalError::Stopped),
+        (Ended::PolicyDone, _) => {
+            return Err(EvalError::Failed(format!(
+                "{row} episode {k}: the policy's actions ended before step {}",
+                summary.steps + 1
+            )));
         }
-    }
+    };
+    Ok(EpisodeResult {
+        instance: i,
+        gravity,
+        seed,
+        ret: summary.total_reward,
+        length: summary.steps,
+        end,
+    })
 }
 
 impl Results {
