@@ -551,7 +551,7 @@ impl World {
         let dt = f64::from(self.pw.integration_parameters.dt);
         let closed_form = match initial_force {
             Some(force) => {
-                rigid::first_step(&mut bodies, &self.leg_joints, force, gravity, dt);
+                rigid::first_step(&mut bodies, &self.leg_joints, &self.leg_drive, force, gravity, dt);
                 true
             }
             None => self.airborne() && rigid::flight_step(&mut bodies, &self.leg_joints, &self.leg_drive, gravity, dt),

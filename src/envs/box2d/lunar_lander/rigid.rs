@@ -25,7 +25,9 @@
 //! whose legs turn at a prescribed rate. [`flight_step`] solves that: engine impulses and gravity
 //! change the momenta, the joints only exchange them, so the lander's new velocity is the one that
 //! keeps total linear and angular momentum with the legs moving as prescribed. When a motor could
-//! not supply the torque (tiny `LEG_SPRING_TORQUE` contexts) it declines and rapier steps instead.
+//! not supply the torque (tiny `LEG_SPRING_TORQUE` contexts) it declines and rapier steps instead;
+//! in the first step such a leg turns freely under the motor's full torque, as in Box2D (below
+//! ~20 N·m at the defaults the push swings a leg out: unit tests against Gymnasium).
 
 /// Box2D's `b2_linearSlop`: position error the position solver accepts.
 const LINEAR_SLOP: f64 = 0.005;
@@ -83,43 +85,162 @@ fn perp(d: [f64; 2]) -> [f64; 2] {
 
 /// Box2D's first step of the freshly built lander (`bodies`: lander, leg 0, leg 1, all at
 /// rest, legs where Gymnasium creates them): `force` acts on the lander's centre of mass for
-/// `dt`, gravity on all. Updates positions and velocities in place.
-pub(super) fn first_step(bodies: &mut [Body; 3], joints: &[LegJoint; 2], force: [f64; 2], gravity: [f64; 2], dt: f64) {
-    // Velocity phase: one rigid body, each leg where its joint would put it at its creation angle.
-    let lander = bodies[0];
-    let mut coms = [lander.com; 3];
+/// `dt`, gravity on all; `drive` gives the legs' limits and motor torque. Updates positions and
+/// velocities in place.
+pub(super) fn first_step(
+    bodies: &mut [Body; 3],
+    joints: &[LegJoint; 2],
+    drive: &LegDrive,
+    force: [f64; 2],
+    gravity: [f64; 2],
+    dt: f64,
+) {
+    // Velocity phase at the joints' creation geometry: each leg where its joint would put it.
+    let mut seen = *bodies;
+    let anchors = [anchor_world(&seen[0], &joints[0]), anchor_world(&seen[0], &joints[1])];
     for k in 0..2 {
-        let r = arm(&bodies[1 + k], joints[k].anchor_leg);
-        let a = {
-            let ra = arm(&lander, joints[k].anchor_lander);
-            [lander.com[0] + ra[0], lander.com[1] + ra[1]]
-        };
-        coms[1 + k] = sub(a, r);
+        seen[1 + k].com = sub(anchors[k], arm(&seen[1 + k], joints[k].anchor_leg));
     }
-    let total: f64 = bodies.iter().map(|b| b.mass).sum();
-    let centre = [0, 1].map(|j| (0..3).map(|k| bodies[k].mass * coms[k][j]).sum::<f64>() / total);
-    let inertia: f64 = (0..3)
-        .map(|k| {
-            let d = sub(coms[k], centre);
-            bodies[k].inertia + bodies[k].mass * (d[0] * d[0] + d[1] * d[1])
-        })
-        .sum();
-    let impulse = [force[0] * dt, force[1] * dt];
-    let w = if inertia > 0.0 {
-        cross(sub(lander.com, centre), impulse) / inertia
-    } else {
-        0.0
-    };
-    let v = [0, 1].map(|j| gravity[j] * dt + impulse[j] / total);
-    for (b, c) in bodies.iter_mut().zip(coms) {
-        let d = sub(c, centre);
-        b.vel = [v[0] - w * d[1], v[1] + w * d[0]];
-        b.w = w;
+    seen[0].vel = [force[0] * dt / seen[0].mass, force[1] * dt / seen[0].mass];
+    for b in seen.iter_mut() {
+        b.vel = [b.vel[0] + gravity[0] * dt, b.vel[1] + gravity[1] * dt];
+    }
+    // The legs start inside their limits (the limit pushes them out, the motor pulls them in):
+    // held, unless the motor is too weak.
+    if let Some((vels, _)) = solve_velocities(&seen, anchors, [0.0; 2], drive, dt, true) {
+        for (b, (v, w)) in bodies.iter_mut().zip(vels) {
+            b.vel = v;
+            b.w = w;
+        }
+    }
+    for b in bodies.iter_mut() {
         // Box2D integrates the bodies where they are, not where the velocity phase saw them.
         b.com = [b.com[0] + dt * b.vel[0], b.com[1] + dt * b.vel[1]];
-        b.angle += dt * w;
+        b.angle += dt * b.w;
     }
     solve_positions(bodies, joints);
+}
+
+/// Box2D's converged velocity solution for the lander and its two legs (`b`: velocities before
+/// the joints act, centres of mass where the solver sees them; `anchors`: the joints' anchors in
+/// world coordinates): every joint's anchors move together and each leg turns at `speed`
+/// relative to the lander, unless that takes more joint torque than its motor and limit give
+/// (see [`LegDrive`]); then, if `allow_saturation`, that leg turns freely under the motor's full
+/// torque, else `None`. Returns the velocities (centre of mass, angular) and which legs saturated.
+fn solve_velocities(
+    b: &[Body; 3],
+    anchors: [[f64; 2]; 2],
+    speed: [f64; 2],
+    drive: &LegDrive,
+    dt: f64,
+    allow_saturation: bool,
+) -> Option<([([f64; 2], f64); 3], [bool; 2])> {
+    let max_impulse = drive.max_torque * dt;
+    // Unknowns z = (lander vx, vy, ω, leg 0 ω, leg 1 ω); the joints' force and torque impulses
+    // follow from them. Residuals: the lander's momentum balance (3), per leg its turning rate
+    // or, when saturated, its joint torque.
+    let residuals = |z: [f64; 5], saturated: [Option<f64>; 2]| -> ([f64; 5], [f64; 2]) {
+        let mut r = [0.0; 5];
+        let mut torques = [0.0; 2];
+        let l = &b[0];
+        r[0] = l.mass * (z[0] - l.vel[0]);
+        r[1] = l.mass * (z[1] - l.vel[1]);
+        r[2] = l.inertia * (z[2] - l.w);
+        for k in 0..2 {
+            let leg = &b[1 + k];
+            let (rl, rk) = (sub(anchors[k], l.com), sub(anchors[k], leg.com));
+            let (pl, pk) = (perp(rl), perp(rk));
+            let wk = z[3 + k];
+            let v = [z[0] + z[2] * pl[0] - wk * pk[0], z[1] + z[2] * pl[1] - wk * pk[1]];
+            let f = [leg.mass * (v[0] - leg.vel[0]), leg.mass * (v[1] - leg.vel[1])];
+            let t = leg.inertia * (wk - leg.w) - cross(rk, f);
+            torques[k] = t;
+            r[0] += f[0];
+            r[1] += f[1];
+            r[2] += t + cross(rl, f);
+            r[3 + k] = match saturated[k] {
+                Some(t_sat) => t - t_sat,
+                None => wk - z[2] - speed[k],
+            };
+        }
+        (r, torques)
+    };
+    let mut saturated = [None; 2];
+    for _ in 0..3 {
+        let (r0, _) = residuals([0.0; 5], saturated);
+        let mut m = [[0.0; 6]; 5];
+        for i in 0..5 {
+            let mut e = [0.0; 5];
+            e[i] = 1.0;
+            let (ri, _) = residuals(e, saturated);
+            for row in 0..5 {
+                m[row][i] = ri[row] - r0[row];
+            }
+        }
+        for row in 0..5 {
+            m[row][5] = -r0[row];
+        }
+        let z = solve_linear(m)?;
+        let (_, torques) = residuals(z, saturated);
+        // A leg at (or inside) its limit: the limit pushes it out without bound, the motor pulls
+        // it in with at most `max_torque`. A swinging leg: at most `max_torque` either way.
+        let mut changed = false;
+        for k in 0..2 {
+            if saturated[k].is_some() {
+                continue;
+            }
+            let out = drive.limit[k].signum();
+            let inward = -out * torques[k];
+            let bound = if inward > max_impulse {
+                Some(-out * max_impulse)
+            } else if speed[k] != 0.0 && inward < -max_impulse {
+                Some(out * max_impulse)
+            } else {
+                None
+            };
+            if bound.is_some() {
+                if !allow_saturation {
+                    return None;
+                }
+                saturated[k] = bound;
+                changed = true;
+            }
+        }
+        if !changed {
+            let mut out = [([z[0], z[1]], z[2]); 3];
+            for k in 0..2 {
+                let pk = perp(sub(anchors[k], b[1 + k].com));
+                let pl = perp(sub(anchors[k], b[0].com));
+                let wk = z[3 + k];
+                out[1 + k] = ([z[0] + z[2] * pl[0] - wk * pk[0], z[1] + z[2] * pl[1] - wk * pk[1]], wk);
+            }
+            return Some((out, saturated.map(|s| s.is_some())));
+        }
+    }
+    None
+}
+
+/// Gaussian elimination with partial pivoting on an augmented 5×6 matrix; `None` if singular.
+fn solve_linear(mut m: [[f64; 6]; 5]) -> Option<[f64; 5]> {
+    for col in 0..5 {
+        let pivot = (col..5).max_by(|&a, &b| m[a][col].abs().total_cmp(&m[b][col].abs()))?;
+        if m[pivot][col] == 0.0 || !m[pivot][col].is_finite() {
+            return None;
+        }
+        m.swap(col, pivot);
+        for row in col + 1..5 {
+            let f = m[row][col] / m[col][col];
+            for c in col..6 {
+                m[row][c] -= f * m[col][c];
+            }
+        }
+    }
+    let mut x = [0.0; 5];
+    for row in (0..5).rev() {
+        let s: f64 = (row + 1..5).map(|c| m[row][c] * x[c]).sum();
+        x[row] = (m[row][5] - s) / m[row][row];
+    }
+    Some(x)
 }
 
 /// Which side of its limits a joint started the step on (Box2D decides once per step).
@@ -227,65 +348,18 @@ pub(super) fn flight_step(
     // and the leg stays there (Box2D corrects limit errors only beyond its 2° slop): the rest
     // angle is 0.344–0.35 rad.
     let mut speed = [0.0; 2];
-    let mut at_rest = [true; 2];
     for k in 0..2 {
         let rel = b[1 + k].angle - b[0].angle;
         let inward = -drive.limit[k].signum();
         if (rel - drive.limit[k]) * -inward > 0.0 {
             speed[k] = inward * drive.swing_speed;
-            at_rest[k] = false;
         }
     }
     let anchors = [anchor_world(&b[0], &joints[0]), anchor_world(&b[0], &joints[1])];
-    // Velocities of all three for a lander velocity x = (vx, vy, ω).
-    let velocities = |x: [f64; 3], speed: [f64; 2]| -> [([f64; 2], f64); 3] {
-        let mut out = [([x[0], x[1]], x[2]); 3];
-        for k in 0..2 {
-            let (dl, dk) = (sub(anchors[k], b[0].com), sub(anchors[k], b[1 + k].com));
-            let w = x[2] + speed[k];
-            let (pl, pk) = (perp(dl), perp(dk));
-            out[1 + k] = ([x[0] + x[2] * pl[0] - w * pk[0], x[1] + x[2] * pl[1] - w * pk[1]], w);
-        }
-        out
-    };
-    // Linear momentum and angular momentum about the lander's centre of mass.
-    let momenta = |v: &[([f64; 2], f64); 3]| -> [f64; 3] {
-        let mut m = [0.0; 3];
-        for (body, (vel, w)) in b.iter().zip(v) {
-            m[0] += body.mass * vel[0];
-            m[1] += body.mass * vel[1];
-            m[2] += body.inertia * w + body.mass * cross(sub(body.com, b[0].com), *vel);
-        }
-        m
-    };
-    let target = momenta(&b.map(|x| (x.vel, x.w)));
-    let offset = momenta(&velocities([0.0; 3], speed));
-    let cols = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]].map(|e| momenta(&velocities(e, [0.0; 2])));
-    let Some(x) = solve3(cols, [0, 1, 2].map(|j| target[j] - offset[j])) else {
+    // A motor too weak to hold its leg: rapier's step instead.
+    let Some((new, _)) = solve_velocities(&b, anchors, speed, drive, dt, false) else {
         return false;
     };
-    let new = velocities(x, speed);
-    // The joint torque each leg needed (impulse over the step), against what its motor and
-    // limit can give: a leg at rest is pressed into its limit (which pushes it outwards without
-    // bound) by a motor pulling inwards with at most `max_torque`.
-    let max_impulse = drive.max_torque * dt;
-    for k in 0..2 {
-        let leg = &b[1 + k];
-        let (v, w) = new[1 + k];
-        let dk = sub(anchors[k], leg.com);
-        let force = [leg.mass * (v[0] - leg.vel[0]), leg.mass * (v[1] - leg.vel[1])];
-        let torque = leg.inertia * (w - leg.w) - cross(dk, force);
-        // Positive `inward` pulls the leg towards zero relative angle.
-        let inward = -drive.limit[k].signum() * torque;
-        let ok = if at_rest[k] {
-            inward <= max_impulse
-        } else {
-            inward.abs() <= max_impulse
-        };
-        if !ok {
-            return false;
-        }
-    }
     // Integrate: the lander as Box2D does, the legs kept on their joints at their new angles.
     let (v, w) = new[0];
     b[0].vel = v;
@@ -304,25 +378,15 @@ pub(super) fn flight_step(
     true
 }
 
-/// Solves `[c0 c1 c2] x = rhs` (columns given) by Cramer's rule; `None` if singular.
-fn solve3(c: [[f64; 3]; 3], rhs: [f64; 3]) -> Option<[f64; 3]> {
-    let det3 = |a: [f64; 3], b: [f64; 3], c: [f64; 3]| {
-        a[0] * (b[1] * c[2] - b[2] * c[1]) - b[0] * (a[1] * c[2] - a[2] * c[1]) + c[0] * (a[1] * b[2] - a[2] * b[1])
-    };
-    let d = det3(c[0], c[1], c[2]);
-    if d == 0.0 || !d.is_finite() {
-        return None;
-    }
-    Some([
-        det3(rhs, c[1], c[2]) / d,
-        det3(c[0], rhs, c[2]) / d,
-        det3(c[0], c[1], rhs) / d,
-    ])
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    const DRIVE: LegDrive = LegDrive {
+        limit: [0.35, -0.35],
+        swing_speed: 0.3,
+        max_torque: 40.0,
+    };
 
     /// Gymnasium 1.4's lander at the defaults, as Box2D builds it (masses, inertias about the
     /// centre of mass and centres of mass read from Box2D).
@@ -383,7 +447,7 @@ mod tests {
         ];
         for (force, w, v, origin, angle, rel) in cases {
             let (mut b, j) = gymnasium_lander();
-            first_step(&mut b, &j, force, [0.0, -10.0], 0.02);
+            first_step(&mut b, &j, &DRIVE, force, [0.0, -10.0], 0.02);
             // Box2D computes in float32: velocities agree to ~1e-6 relative.
             assert!((b[0].w - w).abs() < 1e-5, "ω {} vs {w}", b[0].w);
             for k in 0..2 {
@@ -403,13 +467,43 @@ mod tests {
         }
     }
 
+    /// A weak leg motor (`LEG_SPRING_TORQUE` 0 and 5) cannot hold leg 1 against the push in
+    /// Box2D's first step: it swings out and the lander spins less (Gymnasium 1.4, seed 0).
+    #[test]
+    fn weak_motors_let_a_leg_swing_out_as_in_box2d() {
+        for (torque, w, rel) in [(0.0, -0.02779, [0.5119, -0.6235]), (5.0, -0.10081, [0.492, -0.5786])] {
+            let (mut b, j) = gymnasium_lander();
+            let drive = LegDrive {
+                max_torque: torque,
+                ..DRIVE
+            };
+            first_step(
+                &mut b,
+                &j,
+                &drive,
+                [714.8085531751387, -932.8288493890713],
+                [0.0, -10.0],
+                0.02,
+            );
+            assert!((b[0].w - w).abs() < 1e-4, "torque {torque}: ω {} vs {w}", b[0].w);
+            for k in 0..2 {
+                let r = b[1 + k].angle - b[0].angle;
+                assert!((r - rel[k]).abs() < 2e-3, "torque {torque}, leg {k}: {r} vs {}", rel[k]);
+            }
+        }
+    }
+
     #[test]
     fn no_push_no_spin_and_legs_snap_out_wide() {
         let (mut b, j) = gymnasium_lander();
-        first_step(&mut b, &j, [0.0, 0.0], [0.0, -10.0], 0.02);
+        first_step(&mut b, &j, &DRIVE, [0.0, 0.0], [0.0, -10.0], 0.02);
         // Gauss–Seidel solves leg 0 before leg 1: the snap is not exactly mirror-symmetric
         // (Box2D's neither), but no velocity comes of it.
-        assert!(b.iter().all(|x| x.w == 0.0 && x.vel == [0.0, -0.2]), "{b:?}");
+        assert!(
+            b.iter()
+                .all(|x| x.w.abs() < 1e-12 && x.vel[0].abs() < 1e-12 && (x.vel[1] + 0.2).abs() < 1e-12),
+            "{b:?}"
+        );
         let (r0, r1) = (b[1].angle - b[0].angle, b[2].angle - b[0].angle);
         assert!(
             b[0].angle.abs() < 2e-3 && (r0 + r1).abs() < 1e-2,
@@ -422,12 +516,8 @@ mod tests {
     #[test]
     fn flight_keeps_momentum_and_swings_the_legs_in() {
         let (mut b, j) = gymnasium_lander();
-        first_step(&mut b, &j, [300.0, 0.0], [0.0, -10.0], 0.02);
-        let drive = LegDrive {
-            limit: [0.35, -0.35],
-            swing_speed: 0.3,
-            max_torque: 40.0,
-        };
+        first_step(&mut b, &j, &DRIVE, [300.0, 0.0], [0.0, -10.0], 0.02);
+        let drive = DRIVE;
         let momentum = |b: &[Body; 3]| {
             let m: f64 = b.iter().map(|x| x.mass).sum();
             let c = [0, 1].map(|j| b.iter().map(|x| x.mass * x.com[j]).sum::<f64>() / m);
@@ -460,7 +550,7 @@ mod tests {
             ..drive
         };
         let (mut c, _) = gymnasium_lander();
-        first_step(&mut c, &j, [300.0, 0.0], [0.0, -10.0], 0.02);
+        first_step(&mut c, &j, &DRIVE, [300.0, 0.0], [0.0, -10.0], 0.02);
         let before = c;
         assert!(!flight_step(&mut c, &j, &weak, [0.0, -10.0], 0.02));
         assert_eq!(c, before);
