@@ -21,6 +21,8 @@ Usage (Gymnasium installed outside the repository, carl-spec built):
     cargo build --release
     /work/venvs/peers/bin/python scripts/bipedal_walker_gait_check.py --seeds 30 \
         --carl-spec target/release/carl-spec --out bipedal_walker_gait.json --markdown
+    # Box2D's contact model (skins, continuous collision at foot landings):
+    ... scripts/bipedal_walker_gait_check.py --seeds 30 --markdown --option box2d_contacts=true
 """
 import argparse
 import json
@@ -64,9 +66,10 @@ def run_gymnasium(seed):
     return {"return": total, "length": steps, "x": x, "fell": fell}
 
 
-def run_carl_spec(exe, seed):
+def run_carl_spec(exe, seed, options=()):
+    extra = [arg for opt in options for arg in ("--option", opt)]
     proc = subprocess.Popen(
-        [exe, "rollout", "bipedal_walker", "--seed", str(seed), "--actions", "-"],
+        [exe, "rollout", "bipedal_walker", "--seed", str(seed), "--actions", "-", *extra],
         stdin=subprocess.PIPE,
         stdout=subprocess.PIPE,
         text=True,
@@ -145,14 +148,17 @@ def main():
     ap.add_argument("--carl-spec", default="target/release/carl-spec")
     ap.add_argument("--out")
     ap.add_argument("--markdown", action="store_true")
+    ap.add_argument("--option", action="append", default=[], metavar="NAME=VALUE",
+                    help="carl-spec environment option, e.g. box2d_contacts=true (repeatable)")
     args = ap.parse_args()
     import gymnasium as gym
 
     gym_rows = [run_gymnasium(s) for s in range(args.seeds)]
-    carl_rows = [run_carl_spec(args.carl_spec, s) for s in range(args.seeds)]
+    carl_rows = [run_carl_spec(args.carl_spec, s, args.option) for s in range(args.seeds)]
     gs, cs = summary(gym_rows), summary(carl_rows)
     doc = {
-        "source": f"gymnasium {gym.__version__} BipedalWalker-v3 (Box2D) vs carl-spec rollout bipedal_walker; "
+        "source": f"gymnasium {gym.__version__} BipedalWalker-v3 (Box2D) vs carl-spec rollout bipedal_walker "
+                  f"{' '.join('--option ' + o for o in args.option)}; "
                   "controller gymnasium.envs.box2d.bipedal_walker.BipedalWalkerHeuristics, first action zeros",
         "seeds": f"0..{args.seeds - 1}",
         "gymnasium": {"summary": gs, "episodes": gym_rows},

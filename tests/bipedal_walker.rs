@@ -142,10 +142,18 @@ fn alternating_two_walkers_equals_each_alone() {
         motors_torque: 150.0,
         ..Default::default()
     };
+    // The second walker also runs Box2D's contact model (its landings move bodies between steps).
+    let walker_b = || {
+        let opts = BipedalWalkerOptions {
+            box2d_contacts: true,
+            ..Default::default()
+        };
+        BipedalWalker::with_options(pb, opts)
+    };
     let n = 300;
     let (alone_a, ra, _) = gait(&mut walker(pa), 7, n);
-    let (alone_b, rb, _) = gait(&mut walker(pb), 7, n);
-    let (mut a, mut b) = (walker(pa), walker(pb));
+    let (alone_b, rb, _) = gait(&mut walker_b(), 7, n);
+    let (mut a, mut b) = (walker(pa), walker_b());
     let (mut ha, mut hb) = (WalkerHeuristic::default(), WalkerHeuristic::default());
     let (mut oa, _) = a.reset(Some(7));
     let (mut ob, _) = b.reset(Some(7));
@@ -345,8 +353,8 @@ fn lidar_sees_a_stump_closer_than_the_ground() {
 
 /// Gymnasium's protocol (`bipedal_walker.py`'s `__main__`): reset, one zero action, then the
 /// scripted gait; at most 1600 steps. Returns (return, length, final hull x).
-fn gymnasium_protocol(seed: u64) -> (f64, usize, f64) {
-    let mut env = walker(BipedalWalkerParams::default());
+fn gymnasium_protocol(seed: u64, opts: BipedalWalkerOptions) -> (f64, usize, f64) {
+    let mut env = BipedalWalker::with_options(BipedalWalkerParams::default(), opts);
     env.reset(Some(seed));
     let mut h = WalkerHeuristic::default();
     let (mut a, mut ret, mut len) = ([0.0f32; 4], 0.0, 0);
@@ -367,7 +375,7 @@ fn scripted_gait_row_is_pinned() {
     // (enhanced-determinism): changing the walker's physics changes these numbers on purpose only.
     // Gymnasium 1.4 on its own seeds 0-9: 6 positive returns, 6 past 40 m (the README table): the
     // gap is known and documented.
-    let rows: Vec<(f64, usize, f64)> = (0..10).map(gymnasium_protocol).collect();
+    let rows: Vec<(f64, usize, f64)> = (0..10).map(|s| gymnasium_protocol(s, Default::default())).collect();
     let positive = rows.iter().filter(|r| r.0 > 0.0).count();
     let past_40 = rows.iter().filter(|r| r.2 > 40.0).count();
     let lengths: usize = rows.iter().map(|r| r.1).sum();
@@ -385,48 +393,89 @@ fn scripted_gait_row_is_pinned() {
 /// (positive returns, past 40 m, total length) of [`scripted_gait_row_is_pinned`].
 const PINNED_GAIT_ROW: (usize, usize, usize) = (0, 0, 5844);
 
+#[test]
+fn scripted_gait_row_with_box2d_contacts_is_pinned() {
+    // The same with `box2d_contacts` (README): landings as in Box2D, but after weak push-offs
+    // the gait stalls in a split stance (9 of seeds 0-9 stand within 2 m of the start until the
+    // time limit; seed 3 falls).
+    let opts = BipedalWalkerOptions {
+        box2d_contacts: true,
+        ..Default::default()
+    };
+    let rows: Vec<(f64, usize, f64)> = (0..10).map(|s| gymnasium_protocol(s, opts)).collect();
+    let positive = rows.iter().filter(|r| r.0 > 0.0).count();
+    let past_40 = rows.iter().filter(|r| r.2 > 40.0).count();
+    let lengths: usize = rows.iter().map(|r| r.1).sum();
+    assert_eq!((positive, past_40, lengths), PINNED_GAIT_ROW_BOX2D_CONTACTS, "{rows:?}");
+}
+
+/// (positive returns, past 40 m, total length) of
+/// [`scripted_gait_row_with_box2d_contacts_is_pinned`].
+const PINNED_GAIT_ROW_BOX2D_CONTACTS: (usize, usize, usize) = (0, 0, 14572);
+
+/// A Gymnasium walker state (seed 0, scripted gait, flat start pad) loaded here: hull (origin x,
+/// y, angle, vx, vy, ω), joint angles from the reference angles, joint speeds, contact flags.
+/// Box2D rests its polygons 0.015 m off the ground (two 0.01 m skins minus 0.005 m slop): with
+/// `box2d_contacts` the walker's contact skin does too and the state loads as recorded;
+/// without, rapier's bodies touch, so the walker is loaded 0.015 m lower.
+fn load_box2d_state(hull: [f64; 6], q: [f64; 4], dq: [f64; 4], contact: [f64; 2]) -> BipedalWalker {
+    load_box2d_state_with(hull, q, dq, contact, BipedalWalkerOptions::default())
+}
+
+fn load_box2d_state_with(
+    hull: [f64; 6],
+    q: [f64; 4],
+    dq: [f64; 4],
+    contact: [f64; 2],
+    opts: BipedalWalkerOptions,
+) -> BipedalWalker {
+    let p = BipedalWalkerParams {
+        terrain_height: 400.0 / 30.0 / 4.0, // Gymnasium's TERRAIN_HEIGHT: the same flat start pad
+        ..BipedalWalkerParams::default()
+    };
+    let mut env = BipedalWalker::with_options(p, opts);
+    env.reset(Some(0));
+    let mut s = env.state();
+    s[..6].copy_from_slice(&hull);
+    s[6..10].copy_from_slice(&q);
+    s[10..14].copy_from_slice(&dq);
+    s[14..16].copy_from_slice(&contact);
+    if !opts.box2d_contacts {
+        s[1] -= 0.015;
+    }
+    env.set_state(&s).unwrap();
+    env
+}
+
 /// Box2D's first push-off, replayed: Gymnasium 1.4's walker (seed 0, scripted gait) at step 98,
 /// standing on both feet, gets action 99 (supporting knee at full torque). Box2D lifts the hull
 /// (vy −0.27 → +0.21 m/s). Before 16 solver substeps, rapier's unconverged joint chain left it
 /// sinking (vy −0.12 with 4 substeps, 0.16 with 8).
 #[test]
 fn push_off_lifts_the_hull_as_in_box2d() {
-    let p = BipedalWalkerParams {
-        terrain_height: 400.0 / 30.0 / 4.0, // Gymnasium's TERRAIN_HEIGHT: the same flat start pad
-        ..BipedalWalkerParams::default()
-    };
-    let mut env = walker(p);
-    env.reset(Some(0));
-    let mut s = env.state();
-    // Box2D's hull (origin x, y, angle, vx, vy, ω), joint angles from the reference angles and
-    // speeds, both lower legs touching. Box2D rests its polygons 0.015 m apart from the ground
-    // (two 0.01 m skins minus 0.005 m slop); rapier's touch, so the walker is loaded 0.015 lower.
-    let hull = [
-        5.576474666595459,
-        5.485766887664795 - 0.015,
-        0.05302462726831436,
-        1.9589295387268066,
-        -0.2699141204357147,
-        0.825517475605011,
-    ];
-    let q = [
-        -0.1143953949213028,
-        -0.8405235409736633,
-        0.7254852652549744,
-        -1.1512845754623413,
-    ];
-    let dq = [
-        -2.6789698600769043,
-        1.7487534284591675,
-        -1.0069942474365234,
-        -1.6326321363449097,
-    ];
-    s[..6].copy_from_slice(&hull);
-    s[6..10].copy_from_slice(&q);
-    s[10..14].copy_from_slice(&dq);
-    s[14] = 1.0;
-    s[15] = 1.0;
-    env.set_state(&s).unwrap();
+    let mut env = load_box2d_state(
+        [
+            5.576474666595459,
+            5.485766887664795,
+            0.05302462726831436,
+            1.9589295387268066,
+            -0.2699141204357147,
+            0.825517475605011,
+        ],
+        [
+            -0.1143953949213028,
+            -0.8405235409736633,
+            0.7254852652549744,
+            -1.1512845754623413,
+        ],
+        [
+            -2.6789698600769043,
+            1.7487534284591675,
+            -1.0069942474365234,
+            -1.6326321363449097,
+        ],
+        [1.0, 1.0],
+    );
     let a = [0.0486266054213047f64, 1.0, -0.20137318968772888, 0.19596163928508759].map(|x| x as f32);
     env.step(&act(a)).unwrap();
     let h = env.state();
@@ -438,6 +487,73 @@ fn push_off_lifts_the_hull_as_in_box2d() {
     ] {
         assert!((got - want).abs() < 0.03, "{name}: {got} here, {want} in Box2D");
     }
+}
+
+/// A foot landing, replayed: Gymnasium 1.4's walker (seed 0, scripted gait) at step 126 swings
+/// leg 1 down (knee at +6 rad/s, lower leg falling at 3.6 m/s) and lands it within the step.
+/// Box2D's continuous collision stops the lower leg inside that step (knee speed 6.0 → −0.95,
+/// lower leg vy −0.14) and the leg's contact flag is set, so the scripted gait ends the swing at
+/// once. Without the landing emulation rapier's contact acts one step later: the flag is still
+/// clear and the knee still turns at +6 rad/s.
+#[test]
+fn foot_landing_stops_the_lower_leg_inside_the_step_as_in_box2d() {
+    let hull = [
+        7.177334308624268,
+        5.487006187438965,
+        -0.05940749868750572,
+        3.2069270610809326,
+        -0.5723114609718323,
+        0.8598585724830627,
+    ];
+    let q = [
+        -0.07580478489398956,
+        -0.7507901191711426,
+        0.9089997410774231,
+        -1.2020463943481445,
+    ];
+    let dq = [
+        -3.7876927852630615,
+        2.7450220584869385,
+        -2.8770084381103516,
+        6.000000953674316,
+    ];
+    let a = [
+        -0.0009376164525747299,
+        -0.01222085952758789,
+        -0.27508094906806946,
+        0.8224796652793884,
+    ]
+    .map(|x| x as f32);
+    let run = |box2d_contacts: bool| {
+        let opts = BipedalWalkerOptions {
+            box2d_contacts,
+            ..Default::default()
+        };
+        let mut env = load_box2d_state_with(hull, q, dq, [0.0, 0.0], opts);
+        let st = env.step(&act(a)).unwrap();
+        (st.obs, env.state(), env.body_states().unwrap())
+    };
+    let (obs, s, bodies) = run(true);
+    // Box2D after the step: leg 1 touches (observation 13), knee 1 at −0.95 rad/s, lower leg 1
+    // (vx, vy, ω) = (2.20, −0.14, −3.77), hull (vx, vy, ω) = (3.250, −0.758, 1.110).
+    assert_eq!((obs[8], obs[13]), (0.0, 1.0), "contact flags");
+    assert!((s[13] - -0.9526867866516113).abs() < 0.5, "knee 1 speed {}", s[13]);
+    let lower = bodies[4];
+    for (name, got, want, tol) in [
+        ("lower vx", lower.vx, 2.1961007118225098, 0.3),
+        ("lower vy", lower.vy, -0.14476870000362396, 0.1),
+        ("lower w", lower.w, -3.7684550285339355, 0.5),
+        ("hull vx", s[3], 3.2498252391815186, 0.02),
+        ("hull vy", s[4], -0.7578383684158325, 0.02),
+        ("hull w", s[5], 1.1098676919937134, 0.02),
+    ] {
+        assert!((got - want).abs() < tol, "{name}: {got} here, {want} in Box2D");
+    }
+    // Without Box2D's contact model (the default) the landing waits for the next step.
+    let (obs_off, s_off, bodies_off) = run(false);
+    assert_eq!(obs_off[13], 0.0, "rapier's contact alone sets the flag one step late");
+    assert!(s_off[13] > 5.0, "knee 1 still turning: {}", s_off[13]);
+    assert!(bodies_off[4].vy < -3.0, "lower leg still falling: {}", bodies_off[4].vy);
 }
 
 #[test]

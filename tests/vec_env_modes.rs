@@ -132,7 +132,11 @@ fn contextual_batch_equals_scalar_contextual_envs() {
             assert_eq!((r[i], tr[i]), (out.reward, out.truncated));
             if out.truncated {
                 assert_eq!(venv.final_obs(i).unwrap(), &obs[..]);
+                // The batch already reset: it still reports the finished episode's context.
+                let finished = e.context_info().clone();
+                assert_eq!(venv.final_context_info(i).as_ref(), Some(&finished));
                 e.reset_into(None, &mut obs).unwrap();
+                assert_eq!(e.previous_context_info(), Some(finished));
             }
             assert_eq!(&o[i * 3..i * 3 + 3], &obs[..]);
             assert_eq!(venv.instance_ids()[i], e.context_info().instance_id.unwrap() as i64);
@@ -144,4 +148,30 @@ fn contextual_batch_equals_scalar_contextual_envs() {
         venv.context_info(0).unwrap().instance_id,
         scalar[0].context_info().instance_id
     );
+}
+
+/// A distribution draws a new context at every reset: the finished episode's draw stays
+/// reportable after the automatic reset replaced it.
+#[test]
+fn final_context_of_a_distribution_is_the_finished_draw() {
+    let specs = SpecSet::bundled().unwrap();
+    let spec = specs.get("pendulum").unwrap();
+    let source = ContextSource::Distribution {
+        name: "q1_g_sigma_0_5".into(),
+    };
+    let proto = ContextualEnv::new(spec, source, ContextualOptions::default()).unwrap();
+    let mut venv = VecEnv::from_contextual(vec![proto; 2], VecOptions::default(), AutoresetMode::SameStep).unwrap();
+    venv.reset(3);
+    let before: Vec<_> = (0..2).map(|i| venv.context_info(i).unwrap().clone()).collect();
+    assert!(venv.final_context_info(0).is_none(), "no episode has ended yet");
+    for _ in 0..200 {
+        venv.step(VecActions::Continuous(&[0.5, -0.5])).unwrap();
+    }
+    // Pendulum truncates at 200 steps: both reset in this step, each to a fresh draw.
+    assert!(venv.truncated().iter().all(|t| *t));
+    for (i, old) in before.iter().enumerate() {
+        let new = venv.context_info(i).unwrap();
+        assert_ne!(new.context_seed, old.context_seed);
+        assert_eq!(venv.final_context_info(i).as_ref(), Some(old));
+    }
 }

@@ -2,19 +2,28 @@
 """Steps per second through the Python API, each workload beside its anchor in the same run.
 
     python python/bench/bench_python_api.py [--seconds S] [--rounds R] [--only NAME ...]
+    python python/bench/bench_python_api.py --fixed-steps K --only NAME    # for callgrind
 
 Every workload runs `R` rounds; in each round the anchor and carl-spec are timed for ~S seconds
 each, one after the other (the order alternates between rounds), so both see the same machine
-load. Printed: one JSON line per workload with the median rate of each side, their ratio and the
+load. The physics workloads time carl-spec over exactly the batch steps the Rust `VecEnv` anchor
+times (same reset, same actions, same window after the reset: `same_window`). Printed: one JSON line per workload with the median rate of each side, their ratio and the
 load average before and after. Anchors: Gymnasium 1.x's NumPy `CartPoleVectorEnv`, Gymnasium's
 CartPole through `gymnasium.make`, envpool (if importable) and the Rust `VecEnv` itself
 (`carl-spec bench`, the binary in target/release or $CARL_SPEC_BIN). Names: import, vec_cartpole,
 make_cartpole, lunar_lander, bipedal_walker, half_cheetah, ant.
+
+`--fixed-steps K` times nothing: it resets the physics workload's batch (1 thread) with seed 0
+and runs K batch steps of the bench actions, for an instruction count that does not depend on the
+machine's load (README, "Speed through the Python API"):
+    valgrind --tool=callgrind python python/bench/bench_python_api.py --fixed-steps K --only NAME
+Instructions per batch step = (I(K2) - I(K1)) / (K2 - K1) (start-up cancels out).
 """
 
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import os
 import statistics
@@ -22,9 +31,12 @@ import subprocess
 import sys
 import time
 from pathlib import Path
-from typing import Any, Callable
+from typing import TYPE_CHECKING, Any, Callable
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from carl_spec import CarlVectorEnv
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -130,10 +142,11 @@ def make_cartpole(seconds: float, rounds: int) -> dict[str, Any]:
     }
 
 
-def rust_vec_rate(env_id: str, n: int, threads: int, seconds: float) -> float:
+def rust_vec_rate(env_id: str, n: int, threads: int, batch_steps: int) -> float:
+    """`carl-spec bench`'s VecEnv rate over `batch_steps` timed batch steps (see `same_window`)."""
     binary = os.environ.get("CARL_SPEC_BIN", str(ROOT / "target" / "release" / "carl-spec"))
     out = subprocess.run(
-        [binary, "bench", env_id, "--num-envs", str(n), "--threads", str(threads), "--steps", str(max(n * 20, int(4000 * seconds)))],
+        [binary, "bench", env_id, "--num-envs", str(n), "--threads", str(threads), "--steps", str(n * batch_steps)],
         capture_output=True,
         text=True,
         check=True,
@@ -159,21 +172,46 @@ def bench_actions(space: Any, n: int) -> list[np.ndarray]:
     return [b.reshape(n, dim) for b in flat.reshape(batches, n * dim)]
 
 
+def warmup_steps(batch_steps: int) -> int:
+    """Untimed batch steps `carl-spec bench` runs before its timed ones (src/bench.rs
+    `vec_steps_per_sec`)."""
+    return min(max(batch_steps // 10, 1), 1000)
+
+
+def same_window(venv: "CarlVectorEnv", acts: list[np.ndarray], batch_steps: int) -> float:
+    """Steps per second of `venv` over exactly the steps `carl-spec bench --steps n*batch_steps`
+    times: reset with seed 0, `warmup_steps` untimed batch steps, then `batch_steps` timed, the
+    action batches taken in the same order (batch 1 first). A physics step's cost depends on the
+    episode's phase (BipedalWalker: ~20 % more per step after a few hundred steps, walkers down
+    with many contacts), so both sides must time the same window of the same episodes."""
+    venv.reset(seed=0)
+    step = cycle(acts, venv.step)
+    for _ in range(warmup_steps(batch_steps)):
+        step()
+    t0 = time.perf_counter()
+    for _ in range(batch_steps):
+        step()
+    return batch_steps * venv.num_envs / (time.perf_counter() - t0)
+
+
 def vec_physics(env_id: str, envpool_id: str | None, n: int, threads: int, seconds: float, rounds: int) -> dict[str, Any]:
     import carl_spec as cs
 
     venv = cs.make_vec(env_id, n, autoreset_mode="same_step", threads=threads)
     venv.reset(seed=0)
     acts = bench_actions(venv.single_action_space, n)
+    # Batch steps per round: what carl-spec does in ~`seconds` from a reset, fixed for every round
+    # and both sides.
+    batch_steps = max(20, round(seconds * same_window(venv, acts, 20) / n))
     sides: dict[str, Callable[[], float]] = {
-        "carl_spec": lambda: timed(cycle(acts, venv.step), n, seconds),
-        "rust_VecEnv": lambda: rust_vec_rate(env_id, n, threads, seconds),
+        "carl_spec": lambda: same_window(venv, acts, batch_steps),
+        "rust_VecEnv": lambda: rust_vec_rate(env_id, n, threads, batch_steps),
     }
     if envpool_id is not None:
         try:
             import envpool
         except ImportError:
-            envpool = None
+            envpool = None  # type: ignore[assignment]
         if envpool is not None:
 
             def envpool_rate() -> float:
@@ -190,26 +228,53 @@ def vec_physics(env_id: str, envpool_id: str | None, n: int, threads: int, secon
 
             sides["envpool"] = envpool_rate
     row = interleaved(sides, rounds)
-    out = {"workload": f"make_vec('{env_id}', {n}), {threads} threads", **row}
+    out = {"workload": f"make_vec('{env_id}', {n}), {threads} threads", "timed_batch_steps": batch_steps, **row}
     out["fraction_of_rust_VecEnv"] = round(row["carl_spec"] / row["rust_VecEnv"], 3)
     if "envpool" in row:
         out["ratio_to_envpool"] = round(row["carl_spec"] / row["envpool"], 2)
     return out
 
 
+PHYSICS = {
+    "lunar_lander": ("lunar_lander", "LunarLander-v3", 64, 2),
+    "bipedal_walker": ("bipedal_walker", "BipedalWalker-v3", 64, 2),
+    "half_cheetah": ("half_cheetah", "HalfCheetah-v5", 16, 2),
+    "ant": ("ant", "Ant-v5", 16, 2),
+}
+
+
+def fixed_steps(name: str, k: int) -> None:
+    """`k` batch steps of a physics workload from reset(seed=0) on 1 thread, untimed."""
+    import carl_spec as cs
+
+    env_id, _, n, _ = PHYSICS[name]
+    venv = cs.make_vec(env_id, n, autoreset_mode="same_step", threads=1)
+    venv.reset(seed=0)
+    step = cycle(bench_actions(venv.single_action_space, n), venv.step)
+    for _ in range(k):
+        step()
+
+
 def import_and_make(rounds: int) -> dict[str, Any]:
+    """`import carl_spec; cs.make("cartpole")` in fresh processes: the total, and NumPy +
+    Gymnasium alone (imported first in the same process), which any Gymnasium environment pays."""
     code = (
         "import time; t0 = time.perf_counter(); import numpy, gymnasium; t1 = time.perf_counter(); "
         "import carl_spec as cs; cs.make('cartpole'); t2 = time.perf_counter(); print(t2 - t0, t2 - t1)"
     )
+    # An installed package has its bytecode compiled (pip does it); an editable build under
+    # PYTHONDONTWRITEBYTECODE=1 would compile carl_spec's sources in every timed run.
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    subprocess.run([sys.executable, "-c", code], capture_output=True, check=True, env=env)
     total, own = [], []
     for _ in range(max(rounds, 5)):
-        a, b = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
+        a, b = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, env=env).stdout.split()
         total.append(float(a))
         own.append(float(b))
     return {
         "workload": "import carl_spec; cs.make('cartpole') (fresh process)",
         "seconds_median": round(statistics.median(total), 3),
+        "numpy_and_gymnasium_median": round(statistics.median(t - o for t, o in zip(total, own)), 3),
         "beyond_numpy_and_gymnasium_median": round(statistics.median(own), 3),
         "seconds_all": [round(x, 3) for x in total],
         "load_average": round(os.getloadavg()[0], 1),
@@ -221,17 +286,22 @@ def main() -> None:
     p.add_argument("--seconds", type=float, default=1.0, help="time per side per round")
     p.add_argument("--rounds", type=int, default=5)
     p.add_argument("--only", nargs="*", default=None)
+    p.add_argument("--fixed-steps", type=int, default=None, metavar="K", help="run K batch steps untimed (callgrind)")
     args = p.parse_args()
     s, r = args.seconds, args.rounds
+    if args.fixed_steps is not None:
+        if not args.only or any(name not in PHYSICS for name in args.only):
+            p.error(f"--fixed-steps needs --only with names among {', '.join(PHYSICS)}")
+        for name in args.only:
+            fixed_steps(name, args.fixed_steps)
+        return
     work: dict[str, Callable[[], dict[str, Any]]] = {
         "import": lambda: import_and_make(r),
         "vec_cartpole": lambda: vec_cartpole(s, r),
         "make_cartpole": lambda: make_cartpole(s, r),
-        "lunar_lander": lambda: vec_physics("lunar_lander", "LunarLander-v3", 64, 2, s, r),
-        "bipedal_walker": lambda: vec_physics("bipedal_walker", "BipedalWalker-v3", 64, 2, s, r),
-        "half_cheetah": lambda: vec_physics("half_cheetah", "HalfCheetah-v5", 16, 2, s, r),
-        "ant": lambda: vec_physics("ant", "Ant-v5", 16, 2, s, r),
     }
+    for name, (env_id, envpool_id, n, threads) in PHYSICS.items():
+        work[name] = functools.partial(vec_physics, env_id, envpool_id, n, threads, s, r)
     for name, run in work.items():
         if args.only is None or name in args.only:
             print(json.dumps(run()), flush=True)

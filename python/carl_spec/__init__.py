@@ -8,17 +8,64 @@
 
 from __future__ import annotations
 
-from typing import Any
+import importlib
+import sys
+import types
+from typing import TYPE_CHECKING, Any
 
 import gymnasium
 
 from . import _core
 from ._errors import UnknownNameError
 from .env import CarlEnv
-from .specs import Diagnostic, InstanceSet, Spec, ValidationReport, instances, list_envs, sample, spec, validate
-from .vector import CarlVectorEnv
-from .wrap import ContextualWrapper, wrap
-from .audit import AuditReport, audit
+
+if TYPE_CHECKING:
+    from .audit import AuditReport, audit
+    from .specs import Diagnostic, InstanceSet, Spec, ValidationReport, instances, list_envs, sample, spec, validate
+    from .vector import CarlVectorEnv
+    from .wrap import ContextualWrapper, wrap
+
+# Loaded on first use (PEP 562 `__getattr__` below): `import carl_spec; cs.make(...)` needs none
+# of them, and their classes (frozen dataclasses above all) cost as much to create as the rest of
+# the package. The integrations (carl_spec.sb3, .rllib, .compat) are never imported from here.
+_LAZY: dict[str, str] = {
+    "AuditReport": "audit",
+    "audit": "audit",
+    "CarlVectorEnv": "vector",
+    "ContextualWrapper": "wrap",
+    "wrap": "wrap",
+    **dict.fromkeys(
+        ["Diagnostic", "InstanceSet", "Spec", "ValidationReport", "instances", "list_envs", "sample", "spec", "validate"],
+        "specs",
+    ),
+}
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{module}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
+
+
+class _Package(types.ModuleType):
+    """`carl_spec.wrap` and `carl_spec.audit` are functions named like their modules: importing
+    those modules (first use, or a user's `import carl_spec.wrap`) must not rebind the package's
+    attribute to the module, as the import system does for every submodule."""
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if name in _LAZY and isinstance(value, types.ModuleType):
+            return
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package
 
 __version__: str = _core.VERSION
 RUNTIMES: list[str] = list(_core.RUNTIMES)
@@ -54,6 +101,8 @@ def make(env: str, **kwargs: Any) -> CarlEnv:
 
 def make_vec(env: str, num_envs: int, **kwargs: Any) -> CarlVectorEnv:
     """`num_envs` environments stepped as one batch in Rust; see `CarlVectorEnv`."""
+    from .vector import CarlVectorEnv
+
     return CarlVectorEnv(env, num_envs, **kwargs)
 
 

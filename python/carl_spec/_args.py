@@ -12,7 +12,7 @@ from typing import Any, Mapping, Union
 NoiseStd = Union[float, str]
 
 
-def _noise_triples(noise: Mapping[str, NoiseStd] | None) -> list[tuple[str, str, float]] | None:
+def noise_triples(noise: Mapping[str, NoiseStd] | None) -> list[tuple[str, str, float]] | None:
     if noise is None:
         return None
     if not isinstance(noise, Mapping):
@@ -85,7 +85,7 @@ def core_kwargs(
         "instance": instance,
         "obs_context": list(obs_context) if isinstance(obs_context, (list, tuple)) else obs_context,
         "options_json": _json_object("options", options),
-        "noise": _noise_triples(context_noise),
+        "noise": noise_triples(context_noise),
         "noise_redraw": context_noise_redraw,
         "allow_out_of_bounds": allow_out_of_bounds,
         "specs_dir": None if specs_dir is None else os.fspath(specs_dir),

@@ -42,7 +42,10 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
     (`context_noise_redraw="episode"`) or every step ("step"); the dynamics keep the true value and
     `info["observed_context"]` holds what the agent saw. `options` selects the runtime's variant
     (`{"continuous": True}` for LunarLanderContinuous, `{"hardcore": True}`, ...; unknown names are
-    refused with the valid ones). A fixed context outside the spec's bounds is refused (naming the
+    refused with the valid ones); for `rna_design`, `{"target_structure_ids": [1, 5]}` picks the
+    targets (ids of the dataset's targets; unknown ids are refused with the valid range), and the
+    info of an episode's last step holds `sequence`, `folded_structure`, `target_structure`,
+    `target_id` and the Hamming distances. A fixed context outside the spec's bounds is refused (naming the
     feature and its bounds) unless `allow_out_of_bounds=True`.
 
     Seeding: `reset(seed=s)` determines everything that follows (instance choice, draws, initial
@@ -116,7 +119,12 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
         obs, reward, terminated, truncated = self._core.step(action)
         if self._noise_per_step:
             self._info["observed_context"] = self._core.observed_context()
-        return obs, reward, terminated, truncated, _fresh(self._info)
+        info = _fresh(self._info)
+        if terminated:
+            end = self._core.episode_end_info()
+            if end is not None:
+                info.update(end)
+        return obs, reward, terminated, truncated, info
 
     def render(self) -> np.ndarray | None:
         if self.render_mode == "rgb_array":

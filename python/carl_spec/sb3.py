@@ -68,8 +68,8 @@ class CarlSB3VecEnv(VecEnv):  # type: ignore[misc]  # VecEnv is Any where SB3 is
         seeds, options = self._seeds, self._options
         if all(s is None for s in seeds):
             seed: int | list[int | None] | None = None
-        elif all(s is not None for s in seeds) and all(s == seeds[0] + i for i, s in enumerate(seeds)):
-            seed = seeds[0]  # SB3's seed(s) layout is the batch's own: one call
+        elif (first := seeds[0]) is not None and all(s == first + i for i, s in enumerate(seeds)):
+            seed = first  # SB3's seed(s) layout is the batch's own: one call
         else:
             seed = list(seeds)
         if any(options):

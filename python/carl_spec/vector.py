@@ -38,7 +38,11 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
     "next_step" (default), "same_step" (`final_obs` / `final_info` in the infos) or "disabled"
     (reset with `options={"reset_mask": mask}`). `reset(seed=s)` seeds environment `i` with
     `s + i`, as Gymnasium's vector envs do. `context_noise`, `context_noise_redraw`, `options` and
-    `allow_out_of_bounds` are `carl_spec.make`'s (see `CarlEnv`).
+    `allow_out_of_bounds` are `carl_spec.make`'s (see `CarlEnv`); with noise,
+    `infos["observed_context"]` holds what each environment observes (`{feature: (num_envs,)}`
+    plus Gymnasium's `_feature` / `_observed_context` masks). In same-step mode
+    `infos["final_info"]` is the finished episodes' step info (`context`, `instance_id`, ...) in
+    the same vector layout, as Gymnasium's `SyncVectorEnv` over `carl_spec.make` envs gives it.
     """
 
     def __init__(
@@ -92,11 +96,16 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
         self._mode = _MODES[mode]
         self._same_step = self._mode == AutoresetMode.SAME_STEP
         self._all = np.ones(num_envs, dtype=np.bool_)
+        self._noisy = self._core.noisy
+        self._end_info = self._core.has_episode_end_info
 
     def _context_infos(self, infos: dict[str, Any]) -> dict[str, Any]:
         if self._contextual:
             infos["instance_id"] = self._core.instance_ids()
             infos["_instance_id"] = self._all
+        observed = self._core.observed_context_info() if self._noisy else None
+        if observed is not None:
+            infos.update(observed)
         return infos
 
     def reset(
@@ -143,14 +152,29 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
         if self._same_step:
             # Gymnasium's layout (what VectorEnv._add_info builds env by env), built in Rust: an
             # object array of final observations (None elsewhere) and the mask.
+            # object array of final observations (None elsewhere) and the mask; `final_info` is
+            # the finished episodes' infos in the vector layout.
             final = self._core.final_obs_info()
             if final is not None:
                 final_obs, done = final
-                infos = {"final_obs": final_obs, "_final_obs": done, "final_info": {}, "_final_info": done}
-        if self._contextual:
-            infos["instance_id"] = self._core.instance_ids()
-            infos["_instance_id"] = self._all
-        return obs, rewards, terminated, truncated, infos
+                infos = {
+                    "final_obs": final_obs,
+                    "_final_obs": done,
+                    "final_info": self._core.final_info(),
+                    "_final_info": done.copy(),
+                }
+        if self._end_info and terminated.any():
+            # rna_design's sequences: Gymnasium's own layout, env by env (only at episode ends).
+            target = infos["final_info"] if self._same_step else infos
+            for i in np.flatnonzero(terminated):
+                end = self._core.episode_end_info(int(i))
+                if end is not None:
+                    target = self._add_info(target, end, int(i))
+            if self._same_step:
+                infos["final_info"] = target
+            else:
+                infos = target
+        return obs, rewards, terminated, truncated, self._context_infos(infos)
 
     def context_info(self, i: int) -> dict[str, Any] | None:
         """Environment `i`'s current context info (contexts from a set or distribution)."""

@@ -24,8 +24,9 @@ import numpy as np
 from gymnasium import spaces
 
 from . import _core
+from ._args import NoiseStd, noise_triples
 from ._errors import UnknownNameError
-from .env import os_entropy_seed
+from .env import _fresh, os_entropy_seed
 
 PathLike = str | os.PathLike[str]
 EnvFactory = Callable[[], gymnasium.Env[Any, Any]]
@@ -64,6 +65,8 @@ class ContextualWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
         selection: str = "round_robin",
         instance: int | None = None,
         obs_context: list[str] | bool | None = None,
+        context_noise: dict[str, NoiseStd] | None = None,
+        context_noise_redraw: str = "episode",
         apply: ApplyFn | None = None,
         attributes: dict[str, str] | None = None,
         _factory: EnvFactory | None = None,
@@ -73,11 +76,13 @@ class ContextualWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
             raise ValueError("give attributes= (feature -> attribute names) or apply=fn(env, context), not both")
         self._ctor: dict[str, Any] = dict(
             spec=spec, env_id=env_id, context=context, instances=instances, distribution=distribution,
-            selection=selection, instance=instance, obs_context=obs_context, apply=apply, attributes=attributes,
+            selection=selection, instance=instance, obs_context=obs_context, context_noise=context_noise,
+            context_noise_redraw=context_noise_redraw, apply=apply, attributes=attributes,
         )
         self._factory = _factory
         self._spec = load_user_spec(spec, env_id)
         self._features: dict[str, dict[str, Any]] = {f["name"]: f for f in self._spec["features"]}
+        self._visible = self._visible_names(obs_context)
         self._chooser = _core.ContextChooser(
             os.fspath(spec),
             env=env_id,
@@ -86,12 +91,17 @@ class ContextualWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
             distribution=distribution,
             selection=selection,
             instance=instance,
+            obs_context=self._visible,
+            noise=noise_triples(context_noise),
+            noise_redraw=context_noise_redraw,
         )
+        self._noise_per_step = self._chooser.noise_redraw() == "step"
         self._apply = apply
         self._attributes = self._check_attributes(attributes or {}) if apply is None else {}
-        self._visible = self._visible_names(obs_context)
+        # A Gaussian measurement can land anywhere: noisy features are unbounded (as in cs.make).
+        noisy = {self._canonical(n) for n in context_noise or {}}
         if self._visible:
-            self.observation_space = self._observation_space_with_context()
+            self.observation_space = self._observation_space_with_context(noisy)
         self._seeded = False
         self._info: dict[str, Any] = self._chooser.info()
 
@@ -138,13 +148,13 @@ class ContextualWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
             f"{self._spec['id']} has no context feature \"{name}\"; features: {', '.join(self._features)}"
         )
 
-    def _observation_space_with_context(self) -> spaces.Box:
+    def _observation_space_with_context(self, noisy: set[str]) -> spaces.Box:
         base = self.env.observation_space
         if not isinstance(base, spaces.Box):
             raise ValueError(f"obs_context needs a Box observation space, got {base}")
         lows, highs = [], []
         for n in self._visible:
-            lo, hi = self._features[n].get("bounds") or [None, None]
+            lo, hi = [None, None] if n in noisy else self._features[n].get("bounds") or [None, None]
             lows.append(-np.inf if lo is None else lo)
             highs.append(np.inf if hi is None else hi)
         dtype = base.dtype if np.issubdtype(base.dtype, np.floating) else np.float32
@@ -155,7 +165,8 @@ class ContextualWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
     def _observe(self, obs: Any) -> Any:
         if not self._visible:
             return obs
-        ctx = self._info["context"]
+        # What the agent sees: the noisy measurement when there is noise, else the true values.
+        ctx = self._info.get("observed_context", self._info["context"])
         dtype = self.observation_space.dtype
         extra = np.array([ctx[n] for n in self._visible], dtype=dtype)
         return np.concatenate([np.asarray(obs, dtype=dtype).reshape(-1), extra])
@@ -185,12 +196,12 @@ class ContextualWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
 
     def step(self, action: Any) -> tuple[Any, SupportsFloat, bool, bool, dict[str, Any]]:
         obs, reward, terminated, truncated, env_info = self.env.step(action)
+        if self._noise_per_step:
+            self._info["observed_context"] = self._chooser.after_step()
         return self._observe(obs), reward, terminated, truncated, {**env_info, **self._fresh_info()}
 
     def _fresh_info(self) -> dict[str, Any]:
-        out = dict(self._info)
-        out["context"] = dict(self._info["context"])
-        return out
+        return _fresh(self._info)
 
     @property
     def context(self) -> dict[str, Any]:
@@ -227,6 +238,10 @@ def wrap(
     `cs.audit` to check that every feature really does what the spec claims.
 
     `obs_context` (a list of names, or True) appends those features to a Box observation.
+    `context_noise={feature: std}` (a number in the feature's unit, or "10%" of |default|) and
+    `context_noise_redraw` ("episode" or "step") show the agent noisy values of visible features,
+    as `cs.make` does: the env keeps the true context, `info["observed_context"]` holds what the
+    agent saw, and the draws are `cs.make`'s for the same seed.
     Seeding is `cs.make`'s: `reset(seed=s)` determines the instance (or draw) and resets the env
     with `s`; an env never seeded draws its first seed from the OS.
     """

@@ -3,6 +3,8 @@ to Gymnasium's own SyncVectorEnv over cs.make envs, plus the modes' defining beh
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 from gymnasium.vector import AutoresetMode, SyncVectorEnv
@@ -10,6 +12,17 @@ from gymnasium.vector import AutoresetMode, SyncVectorEnv
 import carl_spec as cs
 
 MODES = {"next_step": AutoresetMode.NEXT_STEP, "same_step": AutoresetMode.SAME_STEP, "disabled": AutoresetMode.DISABLED}
+
+
+def assert_infos_equal(ours: dict[str, Any], ref: dict[str, Any], path: str = "infos") -> None:
+    """Same keys, and equal arrays (values and dtypes) or nested dicts, recursively."""
+    assert sorted(ours) == sorted(ref), f"{path}: {sorted(ours)} != {sorted(ref)}"
+    for k, v in ref.items():
+        if isinstance(v, dict):
+            assert_infos_equal(ours[k], v, f"{path}[{k!r}]")
+        else:
+            assert ours[k].dtype == v.dtype, f"{path}[{k!r}]: {ours[k].dtype} != {v.dtype}"
+            np.testing.assert_array_equal(ours[k], v, err_msg=f"{path}[{k!r}]")
 
 
 def _pair(env_id: str, n: int, mode: str, **kw: object) -> tuple[cs.CarlVectorEnv, SyncVectorEnv]:
@@ -26,17 +39,29 @@ def _pair(env_id: str, n: int, mode: str, **kw: object) -> tuple[cs.CarlVectorEn
         ("pendulum", {"distribution": "q1_g_sigma_0_5"}),
         ("pendulum", {"instances": "pendulum/q1_g_sigma_0_5", "selection": "random", "obs_context": True}),
         ("lunar_lander", {"instances": "lunar_lander/landing_in_space_train", "obs_context": ["GRAVITY_Y"]}),
+        (
+            "pendulum",
+            {
+                "instances": "pendulum/q1_g_sigma_0_5",
+                "obs_context": ["g", "m"],
+                "context_noise": {"g": "10%"},
+                "context_noise_redraw": "step",
+            },
+        ),
     ],
-    ids=["cartpole", "pendulum-dist", "pendulum-set", "lunar-set"],
+    ids=["cartpole", "pendulum-dist", "pendulum-set", "lunar-set", "pendulum-noise"],
 )
 def test_equals_sync_vector_env(mode: str, env_id: str, kw: dict[str, object]) -> None:
     n = 5
     ours, ref = _pair(env_id, n, mode, **kw)
     assert ours.metadata["autoreset_mode"] == MODES[mode]
     assert ours.single_observation_space == ref.single_observation_space
-    a, _ = ours.reset(seed=21)
-    b, _ = ref.reset(seed=21)
+    a, ia = ours.reset(seed=21)
+    b, ib = ref.reset(seed=21)
     np.testing.assert_array_equal(a, b)
+    noisy = "context_noise" in kw
+    if noisy:
+        assert_infos_equal(ia["observed_context"], ib["observed_context"])
     ours.action_space.seed(1)
     finished = 0
     for t in range(400):
@@ -50,10 +75,22 @@ def test_equals_sync_vector_env(mode: str, env_id: str, kw: dict[str, object]) -
         assert a.dtype == b.dtype and ra.dtype == np.float64 and ta.dtype == np.bool_
         done = ta | ua
         finished += int(done.sum())
+        if noisy:
+            # What each env observes of its context, in Gymnasium's vector info layout.
+            assert_infos_equal(ia["observed_context"], ib["observed_context"], f"step {t}")
+            np.testing.assert_array_equal(ia["_observed_context"], ib["_observed_context"])
+        if "instance_id" in ib:
+            np.testing.assert_array_equal(ia["instance_id"], ib["instance_id"])
         if mode == "same_step" and done.any():
             np.testing.assert_array_equal(ia["_final_obs"], ib["_final_obs"])
             for i in np.flatnonzero(done):
                 np.testing.assert_array_equal(ia["final_obs"][i], ib["final_obs"][i])
+            # final_info: the finished episodes' infos (context, instance, draw seed, observed
+            # context), laid out as SyncVectorEnv lays out cs.make's.
+            np.testing.assert_array_equal(ia["_final_info"], ib["_final_info"])
+            assert_infos_equal(ia["final_info"], ib["final_info"], f"step {t} final_info")
+        elif mode == "same_step":
+            assert "final_info" not in ia and "final_info" not in ib
         if mode == "disabled" and done.any():
             a, _ = ours.reset(options={"reset_mask": done})
             b, _ = ref.reset(options={"reset_mask": done})

@@ -288,3 +288,43 @@ def test_wrap_names_the_freeze_command_for_an_unfrozen_set(tmp_path: Path) -> No
         cs.wrap(PendulumEnv, spec, instances="q1_g_sigma_0_5")
     with pytest.raises(cs.UnknownNameError, match="sets of my_pendulum: q1_dt_sigma_0_1"):
         cs.wrap(PendulumEnv, spec, instances="nope")
+
+
+@pytest.mark.parametrize("redraw", ["episode", "step"])
+def test_wrap_context_noise_equals_cs_make(tmp_path: Path, redraw: str) -> None:
+    """The same noise option as cs.make, drawn by the library's noise code from the same seed:
+    the wrapped env observes exactly what cs.make's observes, and pickles with it."""
+    spec = user_copy(tmp_path, "pendulum", "my_pendulum")
+    kw: dict[str, Any] = dict(obs_context=["g", "m"], context_noise={"g": "10%", "m": 0.2}, context_noise_redraw=redraw)
+    mine = cs.wrap(PendulumEnv, spec, instances="q1_g_sigma_0_5", selection="random", **kw)
+    ref = cs.make("pendulum", instances="pendulum/q1_g_sigma_0_5", selection="random", **kw)
+    assert mine.observation_space.low[-2] == -np.inf and mine.observation_space.high[-2] == np.inf
+    np.testing.assert_array_equal(mine.observation_space.low, ref.observation_space.low)
+    np.testing.assert_array_equal(mine.observation_space.high, ref.observation_space.high)
+    seen = []
+    for seed in [3, None, 8, None]:
+        (o1, i1), (o2, i2) = mine.reset(seed=seed), ref.reset(seed=seed)
+        for t in range(6):
+            assert i1["observed_context"] == i2["observed_context"], (seed, t)
+            assert i1["context"] == pytest.approx(i2["context"]), "the env keeps the true context"
+            np.testing.assert_array_equal(o1[-2:], o2[-2:])
+            assert o1[-2] == np.float32(i1["observed_context"]["g"]) != np.float32(i1["context"]["g"])
+            seen.append(float(o1[-2]))
+            a = np.array([t % 3 - 1.0], dtype=np.float32)
+            o1, *_, i1 = mine.step(a)
+            o2, *_, i2 = ref.step(a)
+    # Per episode: one measurement per episode (4 distinct); per step: a fresh one every step.
+    assert len(set(seen)) == (4 if redraw == "episode" else len(seen))
+    clone = pickle.loads(pickle.dumps(mine))
+    np.testing.assert_array_equal(clone.reset(seed=5)[0], mine.reset(seed=5)[0])
+
+
+def test_wrap_context_noise_is_checked(tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match="context_noise applies to observed context features"):
+        cs.wrap(ToyEnv, toy_spec(tmp_path), context_noise={"gain": 0.1})
+    with pytest.raises(ValueError, match="the feature is not observed"):
+        cs.wrap(ToyEnv, toy_spec(tmp_path), obs_context=["gain"], context_noise={"bonus": 0.1})
+    with pytest.raises(ValueError, match="relative noise on a feature whose default is 0"):
+        cs.wrap(ToyEnv, toy_spec(tmp_path), obs_context=["bonus"], context_noise={"bonus": "10%"})
+    with pytest.raises(ValueError, match="context_noise_redraw must be"):
+        cs.wrap(ToyEnv, toy_spec(tmp_path), obs_context=["gain"], context_noise={"gain": 0.1}, context_noise_redraw="often")

@@ -52,3 +52,10 @@ def loopback_ray() -> Iterator[Any]:
         yield ray
     finally:
         ray.shutdown()
+
+
+@pytest.fixture(autouse=True)
+def sb3_logs_in_tmp_path(tmp_path: Any, monkeypatch: pytest.MonkeyPatch) -> None:
+    """SB3 makes `$TMPDIR/SB3-<date>` for every model it trains unless SB3_LOGDIR names a folder:
+    each test's logs go to its own tmp_path (pytest cleans those), nothing to the system temp."""
+    monkeypatch.setenv("SB3_LOGDIR", str(tmp_path / "sb3-logs"))

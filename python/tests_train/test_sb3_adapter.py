@@ -173,3 +173,19 @@ def test_sb3_check_env(env: str) -> None:
     allowed = env in ("pendulum", "vehicle_racing", "humanoid")
     bad = [str(w.message) for w in caught if not (allowed and str(w.message).startswith(advice))]
     assert not bad, bad
+
+
+def test_sb3_training_leaves_no_log_folder_in_tmp(tmp_path: object) -> None:
+    """SB3 makes `$TMPDIR/SB3-<date>` for every model unless SB3_LOGDIR is set; the tier's
+    conftest points it into the test's tmp_path, so repeated runs leave nothing behind."""
+    import tempfile
+    from pathlib import Path
+
+    from stable_baselines3 import PPO
+
+    tmp = Path(tempfile.gettempdir())
+    before = set(tmp.glob("SB3-*"))
+    model = PPO("MlpPolicy", CarlSB3VecEnv("cartpole", 2), n_steps=16, batch_size=16, n_epochs=1, device="cpu", seed=0)
+    model.learn(32)
+    assert set(tmp.glob("SB3-*")) == before, "SB3 wrote a log folder into the system temp dir"
+    assert (Path(str(tmp_path)) / "sb3-logs").is_dir()

@@ -36,7 +36,8 @@ pub struct ContextArgs {
     #[arg(long)]
     pub allow_out_of_bounds: bool,
     /// A variant option of the environment, e.g. `--option continuous=true` (LunarLander),
-    /// `--option hardcore=true` (BipedalWalker); repeatable.
+    /// `--option hardcore=true` (BipedalWalker), `--option target_structure_ids=1,5,17`
+    /// (rna_design's targets); repeatable.
     #[arg(long = "option", value_name = "NAME=VALUE")]
     pub options: Vec<String>,
     /// Append this context feature to the observation (repeatable; `all` for every feature).

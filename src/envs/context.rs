@@ -48,6 +48,11 @@ pub enum MakeError {
         expected: &'static str,
         got: String,
     },
+    #[error(
+        "{env}: {name} is a list, and a context holds numbers only; give it as an option instead \
+         (Python: options={{\"{name}\": [1, 2]}}; CLI: --option {name}=1,2)"
+    )]
+    ListFeature { env: String, name: String },
     #[error("{env}: {name} = {value} is not finite")]
     NotFinite { env: String, name: String, value: f64 },
     /// The runtime could not be built from a valid context: its data is missing or corrupt, or
@@ -84,6 +89,12 @@ pub fn resolve_context(spec: &EnvSpec, context: &Context, opts: MakeOptions) -> 
     let mut out = Vec::with_capacity(spec.features.len());
     for f in &spec.features {
         let given = context.iter().find(|(k, _)| f.matches_name(k)).map(|(_, v)| v);
+        if f.kind == FeatureType::ListInt && given.is_some() {
+            return Err(MakeError::ListFeature {
+                env,
+                name: f.name.clone(),
+            });
+        }
         let value = given.or(f.default.as_ref());
         let Some(value) = value else { continue };
         let x = match (f.kind, value) {
@@ -215,24 +226,50 @@ pub enum OptionKind {
     Bool { default: bool },
     /// A finite number in `[min, max]`.
     Number { default: f64, min: f64, max: f64 },
+    /// A non-empty list of integer ids in `0..=u32::MAX` (default: none given). Given as a list
+    /// (JSON / Python), one number, or comma-separated text (`--option NAME=1,2,3`).
+    Ids,
 }
 
-/// Every declared option's value (given or default), as numbers (`bool`: 0 or 1).
+/// Every declared option's value (given or default), as numbers (`bool`: 0 or 1), and the
+/// id lists that were given.
 #[derive(Debug, Clone, Default, PartialEq)]
-pub struct OptionValues(Vec<(&'static str, f64)>);
+pub struct OptionValues {
+    numbers: Vec<(&'static str, f64)>,
+    ids: Vec<(&'static str, Vec<u32>)>,
+}
 
 impl OptionValues {
     /// The value of a declared option (0 for a name that was not declared).
     pub fn get(&self, name: &str) -> f64 {
-        self.0.iter().find(|(n, _)| *n == name).map_or(0.0, |(_, v)| *v)
+        self.numbers.iter().find(|(n, _)| *n == name).map_or(0.0, |(_, v)| *v)
     }
     pub fn flag(&self, name: &str) -> bool {
         self.get(name) != 0.0
     }
-    /// `(name, value)` of every declared option, in declaration order.
-    pub fn pairs(&self) -> &[(&'static str, f64)] {
-        &self.0
+    /// The ids given for an [`OptionKind::Ids`] option (`None`: not given).
+    pub fn ids(&self, name: &str) -> Option<&[u32]> {
+        self.ids.iter().find(|(n, _)| *n == name).map(|(_, v)| v.as_slice())
     }
+    /// `(name, value)` of every declared number or bool option, in declaration order.
+    pub fn pairs(&self) -> &[(&'static str, f64)] {
+        &self.numbers
+    }
+}
+
+/// An [`OptionKind::Ids`] value: a list of whole numbers, one number, or text "1,2,3".
+fn parse_ids(value: &Value) -> Option<Vec<u32>> {
+    let id = |x: f64| (x.fract() == 0.0 && (0.0..=f64::from(u32::MAX)).contains(&x)).then_some(x as u32);
+    let ids: Option<Vec<u32>> = match value {
+        Value::List(xs) => xs.iter().map(|x| id(*x)).collect(),
+        Value::Number(x) => id(*x).map(|i| vec![i]),
+        Value::String(text) => text
+            .split(',')
+            .map(|part| part.trim().parse::<f64>().ok().and_then(id))
+            .collect(),
+        Value::Bool(_) => None,
+    };
+    ids.filter(|v| !v.is_empty())
 }
 
 /// Check `given` against the declared options of environment `env` and fill in defaults.
@@ -262,9 +299,22 @@ pub fn resolve_options(env: &str, declared: &[OptionSpec], given: &EnvOptions) -
         got: crate::validate::value_text(got),
     };
     let mut out = Vec::with_capacity(declared.len());
+    let mut ids = Vec::new();
     for o in declared {
         let v = given.get(o.name);
         let x = match (o.kind, v) {
+            (OptionKind::Ids, None) => continue,
+            (OptionKind::Ids, Some(got)) => {
+                let list = parse_ids(got).ok_or_else(|| {
+                    bad(
+                        o,
+                        "a non-empty list of whole numbers >= 0 (Python: a list; CLI: NAME=1,2,3)".into(),
+                        got,
+                    )
+                })?;
+                ids.push((o.name, list));
+                continue;
+            }
             (OptionKind::Bool { default }, None) => f64::from(u8::from(default)),
             (OptionKind::Number { default, .. }, None) => default,
             (OptionKind::Bool { .. }, Some(Value::Bool(b))) => f64::from(u8::from(*b)),
@@ -280,5 +330,5 @@ pub fn resolve_options(env: &str, declared: &[OptionSpec], given: &EnvOptions) -
         };
         out.push((o.name, x));
     }
-    Ok(OptionValues(out))
+    Ok(OptionValues { numbers: out, ids })
 }

@@ -54,6 +54,10 @@
 //!    Gymnasium's `reset()` after `reset(seed=s)`); for sets and distributions, whose runtime
 //!    changes between episodes, the runtime is reset with `Some(e)`.
 //!
+//! These rules live in [`super::context_schedule`] ([`ContextSchedule`] for the three streams,
+//! [`ObservationNoise`] for the fourth, `carl-spec/contextual/noise`, which draws the context
+//! noise), shared with wrappers of users' own environments.
+//!
 //! The draws of one stream never depend on another stream, so switching, e.g., from `RoundRobin`
 //! to `Random` leaves the initial-state seeds unchanged.
 //!
@@ -79,11 +83,11 @@
 //! environments).
 
 use super::api::{Action, Env, EnvError, Info, Space, Step, StepOutcome, check_obs_len};
+use super::context_schedule::{ContextSchedule, ObservationNoise, Pick, ScheduleKind, drawn_context};
 use super::registry::{Context, EnvOptions, MakeError, MakeOptions, SpecEnv, make_env, resolve_context};
 use super::rng::DEFAULT_SEED;
 use crate::instances::FrozenSet;
 use crate::instances::derive::{DeriveError, sample_distribution};
-use crate::sampling::{Pcg64, dist::below, dist::std_normal, stream_id};
 use crate::spec::model::{Distribution, EnvSpec, FeatureType, Value};
 use crate::suggest::did_you_mean;
 
@@ -249,7 +253,7 @@ struct Slot {
 
 #[derive(Debug, Clone)]
 enum Mode {
-    Set { selection: Selection },
+    Set,
     Fixed,
     Distribution { name: String, dist: Distribution },
 }
@@ -266,19 +270,16 @@ pub struct ContextualEnv {
     visible: Vec<String>,
     base_dim: usize,
     obs_space: Space,
-    selection_rng: Pcg64,
-    context_rng: Pcg64,
-    env_rng: Pcg64,
-    noise_rng: Pcg64,
-    /// Per visible feature: the noise std in the feature's unit (0: observed exactly).
-    noise_std: Vec<f64>,
-    noise_redraw: NoiseRedraw,
+    schedule: ContextSchedule,
+    noise: ObservationNoise,
+    /// The slot of the episode before the latest reset (see [`ContextualEnv::previous_context_info`]),
+    /// and for distributions that episode's retired draw.
+    previous: Option<(usize, u64)>,
+    retired: Option<ContextInfo>,
     env_options: EnvOptions,
     /// What the agent observes of the visible features this step (true value + noise).
     observed: Vec<f32>,
     resets: u64,
-    /// Round robin: the instance of the next unseeded reset.
-    round_robin_next: u64,
 }
 
 fn make_err(who: &str) -> impl FnOnce(MakeError) -> ContextualError + '_ {
@@ -443,13 +444,7 @@ impl ContextualEnv {
                     )?);
                     labels.push(who);
                 }
-                (
-                    Mode::Set {
-                        selection: options.selection,
-                    },
-                    slots,
-                    labels,
-                )
+                (Mode::Set, slots, labels)
             }
             ContextSource::Fixed(ctx) => {
                 let who = format!("{} fixed context", spec.id);
@@ -491,7 +486,7 @@ impl ContextualEnv {
         for (slot, who) in slots.iter_mut().zip(&labels) {
             fill_visible(spec, slot, &visible, who)?;
         }
-        let noise_std = noise_stds(spec, &visible, &options.noise)?;
+        let noise = ObservationNoise::new(spec, &visible, &options.noise)?;
 
         // Base observation space: hull over the slots, widened for distributions.
         let mut base = slots[0].env.observation_space();
@@ -554,7 +549,7 @@ impl ContextualEnv {
                         hi = hi.max(s.ctx_obs[k]);
                     }
                 }
-                if noise_std[k] > 0.0 {
+                if noise.stds()[k] > 0.0 {
                     // A Gaussian measurement can land anywhere.
                     (lo, hi) = (f32::NEG_INFINITY, f32::INFINITY);
                 }
@@ -570,12 +565,20 @@ impl ContextualEnv {
         };
 
         let current = match (&mode, options.selection) {
-            (Mode::Set { .. }, Selection::Static(i)) => i,
+            (Mode::Set, Selection::Static(i)) => i,
             _ => 0,
         };
         let id = slots[0].env.id();
         let slots_first_ctx_obs = slots[current].ctx_obs.clone();
-        let mut env = ContextualEnv {
+        let kind = match &mode {
+            Mode::Set => ScheduleKind::Set {
+                n: slots.len(),
+                selection: options.selection,
+            },
+            Mode::Fixed => ScheduleKind::Fixed,
+            Mode::Distribution { .. } => ScheduleKind::Distribution,
+        };
+        Ok(ContextualEnv {
             spec: spec.clone(),
             id,
             mode,
@@ -584,45 +587,20 @@ impl ContextualEnv {
             visible,
             base_dim,
             obs_space,
-            selection_rng: Pcg64::new(0, 0),
-            context_rng: Pcg64::new(0, 0),
-            env_rng: Pcg64::new(0, 0),
-            noise_rng: Pcg64::new(0, 0),
+            // Both seeded with DEFAULT_SEED until the first seeded reset.
+            schedule: ContextSchedule::new(kind),
+            previous: None,
+            retired: None,
+            noise,
             observed: slots_first_ctx_obs,
-            noise_std,
-            noise_redraw: options.noise.redraw,
             env_options: options.env_options.clone(),
             resets: 0,
-            round_robin_next: 0,
-        };
-        env.seed_streams(DEFAULT_SEED);
-        Ok(env)
-    }
-
-    fn seed_streams(&mut self, seed: u64) {
-        self.selection_rng = Pcg64::new(seed, stream_id(SELECTION_STREAM));
-        self.context_rng = Pcg64::new(seed, stream_id(CONTEXT_STREAM));
-        self.env_rng = Pcg64::new(seed, stream_id(ENV_STREAM));
-        self.noise_rng = Pcg64::new(seed, stream_id(NOISE_STREAM));
-    }
-
-    /// Observe the current slot's visible features, with fresh noise where there is noise.
-    fn draw_observed(&mut self) {
-        let truth = &self.slots[self.current].ctx_obs;
-        self.observed.clear();
-        for (x, std) in truth.iter().zip(&self.noise_std) {
-            let noisy = if *std > 0.0 {
-                (f64::from(*x) + std * std_normal(&mut self.noise_rng)) as f32
-            } else {
-                *x
-            };
-            self.observed.push(noisy);
-        }
+        })
     }
 
     /// Whether some visible feature is observed with noise (and when the noise is redrawn).
     pub fn noise(&self) -> Option<NoiseRedraw> {
-        self.noise_std.iter().any(|s| *s > 0.0).then_some(self.noise_redraw)
+        self.noise.redraw()
     }
 
     /// What the agent observes of the visible features now (equal to the true values without noise).
@@ -633,6 +611,18 @@ impl ContextualEnv {
     /// The current episode's context (before the first reset: the initial slot's).
     pub fn context_info(&self) -> &ContextInfo {
         &self.slots[self.current].info
+    }
+
+    /// The context of the episode before the latest reset (`None` before the second reset):
+    /// in same-step autoreset, the episode that just ended.
+    pub fn previous_context_info(&self) -> Option<ContextInfo> {
+        let (slot, episode) = self.previous?;
+        let mut info = match (&self.mode, &self.retired) {
+            (Mode::Distribution { .. }, Some(retired)) => retired.clone(),
+            _ => self.slots[slot].info.clone(),
+        };
+        info.episode = episode;
+        Some(info)
     }
 
     /// Number of instances (1 for fixed contexts and distributions).
@@ -706,54 +696,13 @@ impl ContextualEnv {
         for (k, v) in &ci.context {
             info.insert(format!("context.{k}"), *v);
         }
-        if self.noise_std.iter().any(|s| *s > 0.0) {
+        if self.noise.redraw().is_some() {
             for (k, v) in self.visible.iter().zip(&self.observed) {
                 info.insert(format!("{OBSERVED_PREFIX}{k}"), f64::from(*v));
             }
         }
         info
     }
-}
-
-/// Per visible feature, the noise std in the feature's unit (0 where there is no noise).
-fn noise_stds(spec: &EnvSpec, visible: &[String], noise: &ContextNoise) -> Result<Vec<f64>, ContextualError> {
-    let mut stds = vec![0.0; visible.len()];
-    for (name, std) in &noise.features {
-        let err = |message: String| ContextualError::Noise {
-            env: spec.id.clone(),
-            name: name.clone(),
-            message,
-        };
-        let f = spec.feature(name).ok_or_else(|| {
-            let hint = did_you_mean(name, spec.feature_names())
-                .map(|s| format!(" (did you mean \"{s}\"?)"))
-                .unwrap_or_default();
-            err(format!("no such context feature{hint}"))
-        })?;
-        let k = visible.iter().position(|v| *v == f.name).ok_or_else(|| {
-            err("the feature is not observed; noise applies to visible features (make it visible first)".into())
-        })?;
-        let sd = match *std {
-            NoiseStd::Absolute(sd) => sd,
-            NoiseStd::Relative(r) => {
-                let d = f.default_f64().unwrap_or(0.0).abs();
-                if d == 0.0 && r > 0.0 {
-                    return Err(err(
-                        "relative noise on a feature whose default is 0 is always 0; give an absolute std".into(),
-                    ));
-                }
-                r * d
-            }
-        };
-        if !sd.is_finite() || sd < 0.0 {
-            return Err(err(format!("the std must be finite and >= 0, got {sd}")));
-        }
-        if stds[k] != 0.0 {
-            return Err(err("listed twice".into()));
-        }
-        stds[k] = sd;
-    }
-    Ok(stds)
 }
 
 /// A fresh slot for one draw of a distribution (reset time only; allocates).
@@ -765,12 +714,8 @@ fn draw_slot(
     env_options: &EnvOptions,
     context_seed: u64,
 ) -> Result<Slot, String> {
-    let (names, rows) = sample_distribution(spec, name, dist, 1, context_seed)
+    let ctx = drawn_context(spec, name, dist, context_seed)
         .map_err(|e| format!("drawing from {name} with seed {context_seed}: {e}"))?;
-    let mut ctx = spec.default_context();
-    if let Some(row) = rows.into_iter().next() {
-        ctx.extend(names.into_iter().zip(row));
-    }
     let who = format!("{name} draw with seed {context_seed}");
     let mut slot =
         build_slot(spec, &ctx, MakeOptions::default(), env_options, &who, None, None).map_err(|e| e.to_string())?;
@@ -799,42 +744,31 @@ impl Env for ContextualEnv {
     fn reset_into(&mut self, seed: Option<u64>, obs: &mut [f32]) -> Result<(), EnvError> {
         check_obs_len(self.id, obs, self.obs_dim())?;
         if let Some(s) = seed {
-            self.seed_streams(s);
+            self.noise.seed(s);
         }
+        let plan = self.schedule.next(seed);
         let episode = self.resets;
-        let index = match &self.mode {
-            Mode::Set { selection } => match *selection {
-                Selection::RoundRobin => {
-                    let n = self.slots.len() as u64;
-                    let i = seed.map_or(self.round_robin_next, |s| s % n);
-                    self.round_robin_next = (i + 1) % n;
-                    i as usize
-                }
-                Selection::Random => below(&mut self.selection_rng, self.slots.len() as u64) as usize,
-                Selection::Static(i) => i,
-            },
-            Mode::Fixed => 0,
-            Mode::Distribution { name, dist } => {
-                let context_seed = self.context_rng.next_u64();
-                self.slots[0] = draw_slot(&self.spec, name, dist, &self.visible, &self.env_options, context_seed)
+        let finished = (self.current, self.slots[self.current].info.episode);
+        let index = match (plan.pick, &self.mode) {
+            (Pick::Instance(i), _) => i,
+            (Pick::Draw { context_seed }, Mode::Distribution { name, dist }) => {
+                let slot = draw_slot(&self.spec, name, dist, &self.visible, &self.env_options, context_seed)
                     .map_err(|message| EnvError::Context { env: self.id, message })?;
+                self.retired = Some(std::mem::replace(&mut self.slots[0], slot).info);
                 0
             }
+            _ => 0,
         };
-        // A draw is taken at every reset, so the env stream's position depends only on the
-        // number of resets since the seed, whatever the mode.
-        let drawn = self.env_rng.next_u64();
-        let runtime_seed = match (seed, &self.mode) {
-            (Some(s), _) => Some(s),
-            (None, Mode::Fixed) => None,
-            (None, _) => Some(drawn),
-        };
+        if episode > 0 {
+            self.previous = Some(finished);
+        }
+        let runtime_seed = plan.runtime_seed;
         self.resets += 1;
         self.current = index;
         let slot = &mut self.slots[index];
         slot.info.episode = episode;
         slot.env.reset_into(runtime_seed, &mut obs[..self.base_dim])?;
-        self.draw_observed();
+        self.noise.observe(&self.slots[index].ctx_obs, &mut self.observed);
         self.write_context(obs);
         Ok(())
     }
@@ -845,9 +779,8 @@ impl Env for ContextualEnv {
         let out = self.slots[self.current]
             .env
             .step_into(action, &mut obs[..self.base_dim])?;
-        if self.noise_redraw == NoiseRedraw::Step && !self.noise_std.is_empty() {
-            self.draw_observed();
-        }
+        self.noise
+            .after_step(&self.slots[self.current].ctx_obs, &mut self.observed);
         self.write_context(obs);
         Ok(out)
     }

@@ -19,6 +19,7 @@ pub mod api;
 pub mod box2d;
 pub mod classic;
 pub mod context;
+pub mod context_schedule;
 pub mod contextual;
 pub mod mario;
 pub mod policy;

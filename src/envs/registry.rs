@@ -22,7 +22,7 @@ use super::classic::{
     MountainCarParams, Pendulum, PendulumParams,
 };
 use super::policy::{FnPolicy, Policy, PolicyError};
-use super::rna_design::{Dataset, RnaDesign, RnaDesignParams};
+use super::rna_design::{Dataset, RnaDesign, RnaDesignParams, TargetError};
 use super::robots::{self, RobotParams};
 use super::runtime::AnyEnv;
 use crate::spec::model::EnvSpec;
@@ -265,15 +265,23 @@ pub static REGISTRY: &[Registration] = &[
             let p = params::<BipedalWalkerParams>("bipedal_walker", v, BipedalWalkerParams::set)?;
             let opts = BipedalWalkerOptions {
                 hardcore: o.flag("hardcore"),
+                box2d_contacts: o.flag("box2d_contacts"),
                 ..BipedalWalkerOptions::default()
             };
             Ok(AnyEnv::new(BipedalWalker::with_options(p, opts)))
         },
-        options: &[OptionSpec {
-            name: "hardcore",
-            help: "BipedalWalkerHardcore: stumps, stairs and pits between grass stretches",
-            kind: OptionKind::Bool { default: false },
-        }],
+        options: &[
+            OptionSpec {
+                name: "hardcore",
+                help: "BipedalWalkerHardcore: stumps, stairs and pits between grass stretches",
+                kind: OptionKind::Bool { default: false },
+            },
+            OptionSpec {
+                name: "box2d_contacts",
+                help: "Box2D's contact model: 0.015 m skins and continuous collision at foot landings",
+                kind: OptionKind::Bool { default: false },
+            },
+        ],
         heuristic: Some(|_| Box::new(WalkerPolicy(WalkerHeuristic::default()))),
         renders: true,
         cost: StepCost::Heavy,
@@ -464,23 +472,36 @@ pub static REGISTRY: &[Registration] = &[
         id: "rna_design",
         build: |v, o| {
             let p = rna_design_params(v, o)?;
-            let env = RnaDesign::new(p).map_err(|e| MakeError::BadValue {
-                env: "rna_design".into(),
-                name: "dataset".into(),
-                expected: "loadable",
-                got: e.to_string(),
+            let env = RnaDesign::new(p).map_err(|e| match e {
+                TargetError::UnknownId { .. } | TargetError::NoTargets { .. } => MakeError::Runtime {
+                    env: "rna_design".into(),
+                    message: format!("option target_structure_ids: {e}"),
+                },
+                other => MakeError::BadValue {
+                    env: "rna_design".into(),
+                    name: "dataset".into(),
+                    expected: "loadable",
+                    got: other.to_string(),
+                },
             })?;
             Ok(AnyEnv::new(env))
         },
-        options: &[OptionSpec {
-            name: "max_improvement_folds",
-            help: "cap on the folds of LEARNA's local improvement per episode (it costs up to 4^d folds); 0: no cap, as LEARNA",
-            kind: OptionKind::Number {
-                default: 0.0,
-                min: 0.0,
-                max: 1e12,
+        options: &[
+            OptionSpec {
+                name: "max_improvement_folds",
+                help: "cap on the folds of LEARNA's local improvement per episode (it costs up to 4^d folds); 0: no cap, as LEARNA",
+                kind: OptionKind::Number {
+                    default: 0.0,
+                    min: 0.0,
+                    max: 1e12,
+                },
             },
-        }],
+            OptionSpec {
+                name: "target_structure_ids",
+                help: "ids of the dataset's targets to design for (Eterna100: puzzle numbers 1-100; Rfam-Taneda: 1-29), e.g. 1,5,17; default: all",
+                kind: OptionKind::Ids,
+            },
+        ],
         heuristic: None,
         renders: false,
         cost: StepCost::Heavy,
@@ -649,6 +670,7 @@ fn rna_design_params(values: &[(String, f64)], options: &OptionValues) -> Result
     }
     let cap = options.get("max_improvement_folds");
     p.max_improvement_folds = (cap > 0.0).then_some(cap as u64);
+    p.target_structure_ids = options.ids("target_structure_ids").map(<[u32]>::to_vec);
     Ok(p)
 }
 

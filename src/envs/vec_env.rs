@@ -455,6 +455,24 @@ impl VecEnv {
         }
     }
 
+    /// Environment `i`'s runtime (not for the CartPole kernel, which has none per environment).
+    pub fn runtime(&self, i: usize) -> Option<&AnyEnv> {
+        match &self.envs {
+            Envs::Contextual(envs, _) => Some(envs.get(i)?.inner().inner()),
+            Envs::Array(envs, _) => envs.get(i),
+            Envs::CartPole(_) => None,
+        }
+    }
+
+    /// Same-step mode, after a step where environment `i` finished: the context of the episode
+    /// that ended (its autoreset already chose the next one; contextual batches only).
+    pub fn final_context_info(&self, i: usize) -> Option<ContextInfo> {
+        match &self.envs {
+            Envs::Contextual(envs, _) => envs.get(i)?.previous_context_info(),
+            _ => None,
+        }
+    }
+
     /// Per environment: finished and waiting for a reset (next-step: at the next step; disabled:
     /// by [`VecEnv::reset_masked`]).
     pub fn pending_resets(&self) -> &[bool] {

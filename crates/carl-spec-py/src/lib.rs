@@ -8,6 +8,7 @@
 //! (a `KeyError` and a `ValueError`), other bad input `ValueError`, misuse of an episode
 //! (stepping before reset) `RuntimeError`.
 
+use std::borrow::Cow;
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
@@ -23,8 +24,9 @@ use carl_spec::envs::contextual::{
 use carl_spec::envs::registry::{
     Context, EnvOptions, MakeError, MakeOptions, has_runtime, ids, ids_text, make_env, make_with,
 };
+use carl_spec::envs::rna_design::RnaDesign;
 use carl_spec::envs::vec_env::{AutoresetMode, VecActions, VecEnv as RustVecEnv, VecEnvError, VecOptions};
-use carl_spec::envs::{Action, DType, Env as _, EnvError, Features, Selection, Space, Visibility};
+use carl_spec::envs::{Action, AnyEnv, DType, Env as _, EnvError, Features, Space, Visibility};
 use carl_spec::instances::Store;
 use carl_spec::instances::derive::{DeriveError, sample_adhoc};
 use carl_spec::spec::SpecSet;
@@ -364,18 +366,7 @@ fn build_contextual(py: Python<'_>, specs: &SpecSet, env: &str, a: &SourceArgs) 
     } else {
         ContextSource::Fixed(a.context()?)
     };
-    let selection = match (a.selection.as_str(), a.instance) {
-        ("round_robin", None) => Selection::RoundRobin,
-        ("random", None) => Selection::Random,
-        ("static", Some(i)) => Selection::Static(i),
-        ("static", None) => return Err(value_error("selection=\"static\" needs instance=<index>")),
-        (_, Some(_)) => return Err(value_error("instance= goes with selection=\"static\"")),
-        (other, None) => {
-            return Err(value_error(format!(
-                "selection must be \"round_robin\", \"random\" or \"static\", got \"{other}\""
-            )));
-        }
-    };
+    let selection = user_spec::parse_selection(&a.selection, a.instance)?;
     let visibility = if a.obs_context_all {
         Visibility::Visible(Features::All)
     } else {
@@ -385,9 +376,7 @@ fn build_contextual(py: Python<'_>, specs: &SpecSet, env: &str, a: &SourceArgs) 
         }
     };
     if !a.noise.is_empty() && visibility == Visibility::Hidden {
-        return Err(value_error(
-            "context_noise applies to observed context features: name them in obs_context= (or obs_context=True)",
-        ));
+        return Err(value_error(NOISE_NEEDS_OBS_CONTEXT));
     }
     ContextualEnv::new(
         spec,
@@ -567,6 +556,33 @@ pub(crate) fn context_info_dict<'py>(
     Ok(d)
 }
 
+/// What a runtime knows of an episode that just terminated and its numeric info cannot hold:
+/// for `rna_design`, the target, the designed sequence and its fold (`RnaDesign::last_outcome`,
+/// which the next reset keeps). None for other runtimes.
+fn episode_end_info<'py>(py: Python<'py>, runtime: &AnyEnv) -> PyResult<Option<Bound<'py, PyDict>>> {
+    let Some(o) = runtime.downcast_ref::<RnaDesign>().and_then(RnaDesign::last_outcome) else {
+        return Ok(None);
+    };
+    let d = PyDict::new(py);
+    d.set_item("target_id", o.target_id)?;
+    d.set_item("target_structure", &o.target_structure)?;
+    d.set_item("sequence", &o.design)?;
+    d.set_item("folded_structure", &o.folded)?;
+    d.set_item("hamming_distance", o.distance)?;
+    d.set_item("hamming_distance_folded", o.distance_folded)?;
+    d.set_item(
+        "normalized_hamming_distance",
+        o.distance as f64 / o.target_structure.len() as f64,
+    )?;
+    d.set_item("improvement_folds", o.improvement_folds)?;
+    Ok(Some(d))
+}
+
+/// Whether the runtime reports [`episode_end_info`].
+fn has_episode_end_info(runtime: &AnyEnv) -> bool {
+    runtime.downcast_ref::<RnaDesign>().is_some()
+}
+
 /// `{feature: observed value}` of the visible features (what the agent sees, noise included).
 fn observed_dict<'py>(py: Python<'py>, env: &ContextualEnv) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
@@ -597,7 +613,27 @@ fn env_source_args(
             Err(_) => (Some(v.extract::<Vec<String>>()?), false),
         },
     };
-    let redraw = match noise_redraw {
+    Ok(SourceArgs {
+        context_json,
+        instances,
+        distribution,
+        selection: selection.to_string(),
+        instance,
+        obs_context,
+        obs_context_all,
+        options_json,
+        noise: context_noise_arg(noise, noise_redraw)?,
+        allow_out_of_bounds,
+    })
+}
+
+pub(crate) const NOISE_NEEDS_OBS_CONTEXT: &str =
+    "context_noise applies to observed context features: name them in obs_context= (or obs_context=True)";
+
+/// `context_noise=` as the Python package passes it (`(feature, "absolute" | "relative", std)`
+/// triples) and `context_noise_redraw=`.
+pub(crate) fn context_noise_arg(noise: Option<Vec<(String, String, f64)>>, redraw: &str) -> PyResult<ContextNoise> {
+    let redraw = match redraw {
         "episode" => NoiseRedraw::Episode,
         "step" => NoiseRedraw::Step,
         other => {
@@ -619,18 +655,7 @@ fn env_source_args(
         };
         features.push((name, std));
     }
-    Ok(SourceArgs {
-        context_json,
-        instances,
-        distribution,
-        selection: selection.to_string(),
-        instance,
-        obs_context,
-        obs_context_all,
-        options_json,
-        noise: ContextNoise { features, redraw },
-        allow_out_of_bounds,
-    })
+    Ok(ContextNoise { features, redraw })
 }
 
 /// One contextual environment (`carl_spec.make` wraps it in a `gymnasium.Env`).
@@ -766,6 +791,13 @@ impl Env {
         observed_dict(py, &self.inner)
     }
 
+    /// Right after a step that terminated the episode: what the runtime knows of it beyond
+    /// numbers (`rna_design`: `sequence`, `folded_structure`, `target_structure`, `target_id`,
+    /// distances), else None.
+    fn episode_end_info<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        episode_end_info(py, self.inner.inner().inner())
+    }
+
     /// When noise on the observed context is redrawn: "episode", "step", or None (no noise).
     fn noise_redraw(&self) -> Option<&'static str> {
         self.inner.noise().map(|r| match r {
@@ -861,6 +893,13 @@ struct VecEnv {
     discrete: bool,
     action_dim: usize,
     contextual: bool,
+    /// The visible features, where they start in an observation row, and whether they are
+    /// observed with noise (then the infos carry `observed_context`).
+    visible: Vec<String>,
+    base_dim: usize,
+    noisy: bool,
+    /// The context of a plain batch (one fixed context: every episode's).
+    fixed_info: ContextInfo,
     /// The actions of the step in progress, copied out of NumPy before the GIL is released.
     discrete_actions: Vec<i64>,
     continuous_actions: Vec<f32>,
@@ -871,6 +910,56 @@ impl VecEnv {
         self.layout
             .value(py, self.inner.obs(), self.inner.obs_f64(), Some(self.inner.num_envs()))
     }
+
+    /// `observed_context` of the envs `rows` in the vector layout: the visible features' values
+    /// are the tail of each observation row, as `cs.make`'s `info["observed_context"]`
+    /// (float32 widened).
+    fn set_observed(&self, d: &Bound<'_, PyDict>, obs: &[f32], rows: &[usize]) -> PyResult<()> {
+        let (w, base) = (self.inner.obs_dim(), self.base_dim);
+        let value = |i: usize, j: usize| f64::from(obs[i * w + base + j]);
+        set_nested(d, "observed_context", self.inner.num_envs(), &self.visible, rows, value)
+    }
+}
+
+/// Gymnasium's vector info layout (`VectorEnv._add_info`) of a column of numbers: an array with
+/// each listed env's value (zero elsewhere) and the `_key` mask of the envs that have one.
+fn set_column<'py, T: numpy::Element + Copy + Default>(
+    d: &Bound<'py, PyDict>,
+    key: &str,
+    n: usize,
+    rows: impl IntoIterator<Item = (usize, T)>,
+) -> PyResult<()> {
+    let (mut col, mut mask) = (vec![T::default(); n], vec![false; n]);
+    for (i, v) in rows {
+        col[i] = v;
+        mask[i] = true;
+    }
+    let py = d.py();
+    d.set_item(key, PyArray1::from_vec(py, col))?;
+    d.set_item(format!("_{key}"), PyArray1::from_vec(py, mask))
+}
+
+/// A nested info dict (`{feature: value}` per env) in Gymnasium's vector layout: one masked
+/// column per feature under `key`, and `_key`, the mask of the envs that have the dict.
+/// `value(i, j)`: env `i`'s value of `names[j]`, for the envs `rows`.
+fn set_nested(
+    d: &Bound<'_, PyDict>,
+    key: &str,
+    n: usize,
+    names: &[String],
+    rows: &[usize],
+    value: impl Fn(usize, usize) -> f64,
+) -> PyResult<()> {
+    let inner = PyDict::new(d.py());
+    for (j, name) in names.iter().enumerate() {
+        set_column(&inner, name, n, rows.iter().map(|&i| (i, value(i, j))))?;
+    }
+    d.set_item(key, inner)?;
+    let mut mask = vec![false; n];
+    for &i in rows {
+        mask[i] = true;
+    }
+    d.set_item(format!("_{key}"), PyArray1::from_vec(d.py(), mask))
 }
 
 #[pymethods]
@@ -921,7 +1010,7 @@ impl VecEnv {
             VecEnvError::Make(m) => make_error(py, &m),
             other => value_error(other),
         };
-        let (inner, layout) = with_specs(specs_dir, |specs| {
+        let (inner, layout, proto) = with_specs(specs_dir, |specs| {
             // Validate everything (names, selection, options, bounds) through the contextual
             // path first.
             let proto = build_contextual(py, specs, env, &args)?;
@@ -945,9 +1034,9 @@ impl VecEnv {
                     .map_err(|e| make_error(py, &e))?;
                 RustVecEnv::from_envs_with(envs, opts, mode).map_err(vec_err)?
             } else {
-                RustVecEnv::from_contextual(vec![proto; num_envs], opts, mode).map_err(vec_err)?
+                RustVecEnv::from_contextual(vec![proto.clone(); num_envs], opts, mode).map_err(vec_err)?
             };
-            Ok((inner, layout))
+            Ok((inner, layout, proto))
         })?;
         let (discrete, action_dim) = match inner.action_space() {
             Space::Discrete { .. } => (true, 1),
@@ -962,6 +1051,10 @@ impl VecEnv {
             discrete,
             action_dim,
             contextual: !plain,
+            visible: proto.visible_features().to_vec(),
+            base_dim: proto.base_obs_dim(),
+            noisy: proto.noise().is_some(),
+            fixed_info: proto.context_info().clone(),
         })
     }
 
@@ -1090,6 +1183,92 @@ impl VecEnv {
         Ok(Some((PyArray1::from_vec(py, objects).into_any(), done)))
     }
 
+    /// Same-step mode, after a step where some episode ended: `final_info` as Gymnasium lays it
+    /// out, i.e. the finished episodes' infos (`cs.make`'s step info: `context`, `instance_id`,
+    /// `instance_name`, `context_seed`, `observed_context`) in the vector info layout, masked to
+    /// the finished envs. None when no episode ended.
+    fn final_info<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let (term, trunc) = (self.inner.terminated(), self.inner.truncated());
+        let n = term.len();
+        let ended: Vec<usize> = (0..n).filter(|&i| term[i] | trunc[i]).collect();
+        if ended.is_empty() {
+            return Ok(None);
+        }
+        // Plain batches: every episode has the one fixed context (borrowed, not copied).
+        let infos: Vec<(usize, Cow<'_, ContextInfo>)> = ended
+            .iter()
+            .filter_map(|&i| {
+                let info = if self.contextual {
+                    self.inner.final_context_info(i).map(Cow::Owned)
+                } else {
+                    Some(Cow::Borrowed(&self.fixed_info))
+                };
+                info.map(|ci| (i, ci))
+            })
+            .collect();
+        let d = PyDict::new(py);
+        // Every episode's context lists every feature, in spec order.
+        let names: Vec<String> = self.fixed_info.context.iter().map(|(k, _)| k.clone()).collect();
+        let mut at = vec![0; n];
+        for (k, (i, _)) in infos.iter().enumerate() {
+            at[*i] = k;
+        }
+        let rows: Vec<usize> = infos.iter().map(|(i, _)| *i).collect();
+        let value = |i: usize, j: usize| infos[at[i]].1.context.get(j).map_or(0.0, |(_, v)| *v);
+        set_nested(&d, "context", n, &names, &rows, value)?;
+        if infos.iter().any(|(_, ci)| ci.instance_id.is_some()) {
+            let ids = infos.iter().filter_map(|(i, ci)| Some((*i, ci.instance_id? as i64)));
+            set_column(&d, "instance_id", n, ids)?;
+        }
+        if infos.iter().any(|(_, ci)| ci.instance_name.is_some()) {
+            let mut names: Vec<Py<PyAny>> = (0..n).map(|_| py.None()).collect();
+            let mut mask = vec![false; n];
+            for (i, ci) in &infos {
+                if let Some(name) = &ci.instance_name {
+                    names[*i] = name.into_pyobject(py)?.into_any().unbind();
+                    mask[*i] = true;
+                }
+            }
+            d.set_item("instance_name", PyArray1::from_vec(py, names))?;
+            d.set_item("_instance_name", PyArray1::from_vec(py, mask))?;
+        }
+        if infos.iter().any(|(_, ci)| ci.context_seed.is_some()) {
+            let seeds = infos.iter().filter_map(|(i, ci)| Some((*i, ci.context_seed?)));
+            set_column(&d, "context_seed", n, seeds)?;
+        }
+        if self.noisy {
+            self.set_observed(&d, self.inner.final_observations(), &ended)?;
+        }
+        Ok(Some(d))
+    }
+
+    /// With context noise: every env's observed context in Gymnasium's vector info layout
+    /// (`{feature: float64 (num_envs,), "_feature": mask}`), else None.
+    fn observed_context_info<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        if !self.noisy {
+            return Ok(None);
+        }
+        let all: Vec<usize> = (0..self.inner.num_envs()).collect();
+        let d = PyDict::new(py);
+        self.set_observed(&d, self.inner.obs(), &all)?;
+        Ok(Some(d))
+    }
+
+    /// Right after a step where environment `i` terminated (before it is stepped again): what its
+    /// runtime knows of that episode beyond numbers (see `Env.episode_end_info`), else None.
+    fn episode_end_info<'py>(&self, py: Python<'py>, i: usize) -> PyResult<Option<Bound<'py, PyDict>>> {
+        match self.inner.runtime(i) {
+            Some(runtime) => episode_end_info(py, runtime),
+            None => Ok(None),
+        }
+    }
+
+    /// Whether the runtime reports `episode_end_info`.
+    #[getter]
+    fn has_episode_end_info(&self) -> bool {
+        self.inner.runtime(0).is_some_and(has_episode_end_info)
+    }
+
     /// Each environment's instance id in its set (-1: not from a set).
     fn instance_ids<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i64>> {
         PyArray1::from_slice(py, self.inner.instance_ids())
@@ -1125,6 +1304,12 @@ impl VecEnv {
     #[getter]
     fn contextual(&self) -> bool {
         self.contextual
+    }
+
+    /// Whether the visible context is observed with noise (infos carry `observed_context`).
+    #[getter]
+    fn noisy(&self) -> bool {
+        self.noisy
     }
 
     #[getter]

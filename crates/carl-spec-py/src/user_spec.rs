@@ -1,10 +1,11 @@
 //! Users' own spec files for `carl_spec.wrap` and `carl_spec.audit` (environments carl-spec does
-//! not ship): loading them through the same validator, choosing a context per reset with exactly
-//! the selection and seeding rules of the library's `ContextualEnv`, and the audit's probe values.
+//! not ship): loading them through the same validator, choosing a context per reset by the
+//! library's own rules (`carl_spec::envs::context_schedule`, which `ContextualEnv` uses too), and
+//! the audit's probe values.
 //!
 //! The environment itself is the user's Python object, so no runtime is built here: a
-//! [`ContextChooser`] only answers "which context does this reset use, and with which seed does the
-//! user's env reset".
+//! [`ContextChooser`] only answers "which context does this reset use, with which seed does the
+//! user's env reset, and what does the agent observe of the visible features".
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -15,12 +16,11 @@ use pyo3::types::PyDict;
 
 use carl_spec::audit::probes::{perturbed_values, unauditable_reason};
 use carl_spec::envs::Selection;
-use carl_spec::envs::contextual::{CONTEXT_STREAM, ENV_STREAM, SELECTION_STREAM};
+use carl_spec::envs::context_schedule::{ContextSchedule, ObservationNoise, Pick, ScheduleKind, drawn_context};
+use carl_spec::envs::contextual::NoiseRedraw;
 use carl_spec::envs::registry::{Context, MakeError, MakeOptions};
-use carl_spec::envs::rng::DEFAULT_SEED;
 use carl_spec::instances::Store;
-use carl_spec::instances::derive::{DeriveError, sample_distribution};
-use carl_spec::sampling::{Pcg64, dist::below, stream_id};
+use carl_spec::instances::derive::DeriveError;
 use carl_spec::spec::SpecSet;
 use carl_spec::spec::load::{bundled_inputs, read_inputs};
 use carl_spec::spec::model::{Distribution, EnvSpec};
@@ -134,45 +134,44 @@ struct Chosen {
 
 enum Mode {
     Fixed(Chosen),
-    Set {
-        instances: Vec<Chosen>,
-        selection: Selection,
-    },
-    Distribution {
-        name: String,
-        dist: Distribution,
-    },
+    Set(Vec<Chosen>),
+    Distribution { name: String, dist: Distribution },
 }
 
-/// Chooses each episode's context for a wrapped user environment, with the streams and rules of
-/// `carl_spec::envs::contextual` (see its module docs): `reset(seed)` re-creates the selection,
-/// context and env streams from the seed; round robin starts at `seed mod n`; random takes
-/// `below(selection stream, n)`; a distribution draws with `context_seed = context.next_u64()`;
-/// one env-stream draw per reset is the user env's reset seed when the context can change.
+/// Chooses each episode's context for a wrapped user environment by the library's
+/// [`ContextSchedule`] (the rules and streams of `carl_spec::envs::contextual`, see its module
+/// docs), and measures the visible features with the library's [`ObservationNoise`], so a wrapped
+/// env and `cs.make` make the same choices and draws from the same seed.
 #[pyclass(module = "carl_spec._core")]
 pub struct ContextChooser {
     spec: EnvSpec,
     mode: Mode,
-    selection_rng: Pcg64,
-    context_rng: Pcg64,
-    env_rng: Pcg64,
-    round_robin_next: u64,
+    schedule: ContextSchedule,
+    /// Canonical names of the features the wrapper appends to the observation.
+    visible: Vec<String>,
+    noise: ObservationNoise,
+    /// What the agent observes of `visible` now (true values + noise).
+    observed: Vec<f32>,
     current: Option<Chosen>,
 }
 
 impl ContextChooser {
-    fn seed_streams(&mut self, seed: u64) {
-        self.selection_rng = Pcg64::new(seed, stream_id(SELECTION_STREAM));
-        self.context_rng = Pcg64::new(seed, stream_id(CONTEXT_STREAM));
-        self.env_rng = Pcg64::new(seed, stream_id(ENV_STREAM));
+    /// The spec's default context, resolved.
+    fn defaults(&self, py: Python<'_>) -> PyResult<Vec<(String, f64)>> {
+        carl_spec::envs::context::resolve_context(&self.spec, &Context::new(), MakeOptions::default())
+            .map_err(|e| make_error(py, e))
+    }
+
+    /// The visible features' true values in `context`, in observation order.
+    fn truth(&self, context: &[(String, f64)]) -> Vec<f32> {
+        self.visible
+            .iter()
+            .map(|name| context.iter().find(|(k, _)| k == name).map_or(0.0, |(_, v)| *v as f32))
+            .collect()
     }
 
     fn draw(&self, py: Python<'_>, name: &str, dist: &Distribution, context_seed: u64) -> PyResult<Chosen> {
-        let (names, rows) = sample_distribution(&self.spec, name, dist, 1, context_seed).map_err(value_error)?;
-        let mut ctx = self.spec.default_context();
-        if let Some(row) = rows.into_iter().next() {
-            ctx.extend(names.into_iter().zip(row));
-        }
+        let ctx = drawn_context(&self.spec, name, dist, context_seed).map_err(value_error)?;
         let context = carl_spec::envs::context::resolve_context(&self.spec, &ctx, MakeOptions::default())
             .map_err(|e| make_error(py, e))?;
         Ok(Chosen {
@@ -188,9 +187,10 @@ impl ContextChooser {
 impl ContextChooser {
     /// `path`: the user's spec file or directory (`env` picks one of its environments); None: the
     /// bundled spec of `env`. `contexts_json`: an inline list of contexts used like a set (ids are
-    /// positions), for `carl_spec.compat`.
+    /// positions), for `carl_spec.compat`. `obs_context`: the features the wrapper shows the agent
+    /// (in order); `noise` / `noise_redraw`: `cs.make`'s context noise on them.
     #[new]
-    #[pyo3(signature = (path, *, env=None, context_json=None, contexts_json=None, instances=None, distribution=None, selection="round_robin", instance=None))]
+    #[pyo3(signature = (path, *, env=None, context_json=None, contexts_json=None, instances=None, distribution=None, selection="round_robin", instance=None, obs_context=None, noise=None, noise_redraw="episode"))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -202,7 +202,11 @@ impl ContextChooser {
         distribution: Option<String>,
         selection: &str,
         instance: Option<usize>,
+        obs_context: Option<Vec<String>>,
+        noise: Option<Vec<(String, String, f64)>>,
+        noise_redraw: &str,
     ) -> PyResult<Self> {
+        let noise = crate::context_noise_arg(noise, noise_redraw)?;
         let (specs, id) = match &path {
             Some(path) => load_set(py, path, env)?,
             None => {
@@ -262,7 +266,7 @@ impl ContextChooser {
                     })
                 })
                 .collect::<PyResult<Vec<_>>>()?;
-            Mode::Set { instances, selection }
+            Mode::Set(instances)
         } else if let Some(set_name) = instances {
             let qualified = if set_name.contains('/') {
                 set_name
@@ -306,7 +310,7 @@ impl ContextChooser {
                     })
                 })
                 .collect::<PyResult<Vec<_>>>()?;
-            Mode::Set { instances, selection }
+            Mode::Set(instances)
         } else if let Some(name) = distribution {
             let dist = spec.distributions.get(&name).cloned().ok_or_else(|| {
                 let known: Vec<&str> = spec.distributions.keys().map(String::as_str).collect();
@@ -337,81 +341,138 @@ impl ContextChooser {
                 context_seed: None,
             })
         };
+        let kind = match &mode {
+            Mode::Set(instances) => ScheduleKind::Set {
+                n: instances.len(),
+                selection,
+            },
+            Mode::Fixed(_) => ScheduleKind::Fixed,
+            Mode::Distribution { .. } => ScheduleKind::Distribution,
+        };
+        let visible = obs_context
+            .unwrap_or_default()
+            .iter()
+            .map(|name| {
+                spec.feature(name).map(|f| f.name.clone()).ok_or_else(|| {
+                    unknown_name(
+                        py,
+                        format!(
+                            "{} has no context feature \"{name}\"; features: {}",
+                            spec.id,
+                            spec.feature_names().collect::<Vec<_>>().join(", ")
+                        ),
+                    )
+                })
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        if !noise.is_empty() && visible.is_empty() {
+            return Err(value_error(crate::NOISE_NEEDS_OBS_CONTEXT));
+        }
+        let noise = ObservationNoise::new(&spec, &visible, &noise).map_err(value_error)?;
         let mut chooser = ContextChooser {
             spec,
             mode,
-            selection_rng: Pcg64::new(DEFAULT_SEED, 0),
-            context_rng: Pcg64::new(DEFAULT_SEED, 0),
-            env_rng: Pcg64::new(DEFAULT_SEED, 0),
-            round_robin_next: 0,
+            schedule: ContextSchedule::new(kind),
+            visible,
+            noise,
+            observed: Vec::new(),
             current: None,
         };
-        chooser.seed_streams(DEFAULT_SEED);
+        let defaults = chooser.defaults(py)?;
+        if let Some(name) = chooser.visible.iter().find(|n| !defaults.iter().any(|(k, _)| k == *n)) {
+            return Err(value_error(format!(
+                "{}: feature \"{name}\" has no numeric value, so it cannot be observed",
+                chooser.spec.id
+            )));
+        }
+        chooser.observed = chooser.truth(&defaults);
         Ok(chooser)
     }
 
     /// Choose the next episode's context. Returns `(info, env_seed)`: the info dict (`context`,
-    /// and `instance_id`/`instance_name` for sets, `context_seed` for distributions) and the seed
-    /// the user's env resets with (None: continue its own stream).
+    /// `instance_id`/`instance_name` for sets, `context_seed` for distributions, and with noise
+    /// `observed_context`, as `cs.make`'s) and the seed the user's env resets with (None: continue
+    /// its own stream).
     #[pyo3(signature = (seed=None))]
     fn reset<'py>(&mut self, py: Python<'py>, seed: Option<u64>) -> PyResult<(Bound<'py, PyDict>, Option<u64>)> {
         if let Some(s) = seed {
-            self.seed_streams(s);
+            self.noise.seed(s);
         }
-        let (chosen, changes) = match &self.mode {
-            Mode::Fixed(c) => (c.clone(), false),
-            Mode::Set { instances, selection } => {
-                let n = instances.len() as u64;
-                let i = match *selection {
-                    Selection::RoundRobin => {
-                        let i = seed.map_or(self.round_robin_next, |s| s % n);
-                        self.round_robin_next = (i + 1) % n;
-                        i as usize
-                    }
-                    Selection::Random => below(&mut self.selection_rng, n) as usize,
-                    Selection::Static(i) => i,
-                };
-                (instances[i].clone(), true)
+        let plan = self.schedule.next(seed);
+        let chosen = match (&self.mode, plan.pick) {
+            (Mode::Set(instances), Pick::Instance(i)) => instances[i].clone(),
+            (Mode::Distribution { name, dist }, Pick::Draw { context_seed }) => {
+                self.draw(py, name, dist, context_seed)?
             }
-            Mode::Distribution { name, dist } => {
-                let context_seed = self.context_rng.next_u64();
-                (self.draw(py, name, dist, context_seed)?, true)
+            (Mode::Fixed(c), _) => c.clone(),
+            // The schedule's kind is built from the mode, so they always agree.
+            _ => {
+                return Err(value_error(
+                    "internal error: the context schedule disagrees with the source",
+                ));
             }
         };
-        let drawn = self.env_rng.next_u64();
-        let env_seed = match (seed, changes) {
-            (Some(s), _) => Some(s),
-            (None, false) => None,
-            (None, true) => Some(drawn),
-        };
+        let truth = self.truth(&chosen.context);
+        self.noise.observe(&truth, &mut self.observed);
         self.current = Some(chosen);
-        Ok((self.info(py)?, env_seed))
+        Ok((self.info(py)?, plan.runtime_seed))
+    }
+
+    /// After a step of the user's env: with per-step noise, a fresh measurement of the visible
+    /// features (`{feature: observed}`); else None (the episode's measurement stands).
+    fn after_step<'py>(&mut self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        if self.noise.redraw() != Some(NoiseRedraw::Step) {
+            return Ok(None);
+        }
+        let truth = match &self.current {
+            Some(c) => self.truth(&c.context),
+            None => self.truth(&self.defaults(py)?),
+        };
+        self.noise.after_step(&truth, &mut self.observed);
+        self.observed_context(py).map(Some)
+    }
+
+    /// `{feature: value}` of the visible features as the agent observes them now (noise
+    /// included; the true values without noise).
+    fn observed_context<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for (k, v) in self.visible.iter().zip(&self.observed) {
+            d.set_item(k, f64::from(*v))?;
+        }
+        Ok(d)
+    }
+
+    /// When the noise is redrawn: "episode", "step", or None (no noise).
+    fn noise_redraw(&self) -> Option<&'static str> {
+        self.noise.redraw().map(|r| match r {
+            NoiseRedraw::Episode => "episode",
+            NoiseRedraw::Step => "step",
+        })
     }
 
     /// The current episode's info (the default context before the first reset).
     fn info<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        match &self.current {
+        let d = match &self.current {
             Some(c) => crate::context_info_dict(
                 py,
                 &c.context,
                 c.instance_id,
                 c.instance_name.as_deref(),
                 c.context_seed,
-            ),
-            None => {
-                let defaults =
-                    carl_spec::envs::context::resolve_context(&self.spec, &Context::new(), MakeOptions::default())
-                        .map_err(|e| make_error(py, e))?;
-                crate::context_info_dict(py, &defaults, None, None, None)
-            }
+            )?,
+            None => crate::context_info_dict(py, &self.defaults(py)?, None, None, None)?,
+        };
+        if self.noise.redraw().is_some() {
+            d.set_item("observed_context", self.observed_context(py)?)?;
         }
+        Ok(d)
     }
 
     /// Switch to instance `i` now (carl-bench's `context_id` setter): the current info becomes
     /// instance `i`'s; round robin continues with `i + 1` at the next unseeded reset, static
     /// selection stays on `i`. The switch takes effect in the user's env at the next reset.
     fn set_instance(&mut self, i: usize) -> PyResult<()> {
-        let Mode::Set { instances, selection } = &mut self.mode else {
+        let Mode::Set(instances) = &self.mode else {
             return Err(value_error("context_id can be set only for a set of contexts"));
         };
         let n = instances.len();
@@ -421,10 +482,7 @@ impl ContextChooser {
             )));
         }
         self.current = Some(instances[i].clone());
-        self.round_robin_next = ((i + 1) % n) as u64;
-        if let Selection::Static(s) = selection {
-            *s = i;
-        }
+        self.schedule.continue_after(i);
         Ok(())
     }
 
@@ -439,7 +497,7 @@ impl ContextChooser {
             Ok(d)
         };
         match &self.mode {
-            Mode::Set { instances, .. } => instances.iter().map(|c| dict(&c.context)).collect(),
+            Mode::Set(instances) => instances.iter().map(|c| dict(&c.context)).collect(),
             Mode::Fixed(c) => Ok(vec![dict(&c.context)?]),
             Mode::Distribution { .. } => Ok(Vec::new()),
         }
@@ -453,7 +511,7 @@ impl ContextChooser {
     #[getter]
     fn num_instances(&self) -> usize {
         match &self.mode {
-            Mode::Set { instances, .. } => instances.len(),
+            Mode::Set(instances) => instances.len(),
             _ => 1,
         }
     }

@@ -129,7 +129,8 @@ impl RnaDesign {
             .collect()
     }
 
-    /// The last finished episode's design, fold and distances.
+    /// The last finished episode's target, design, fold and distances (kept after the next
+    /// reset, so a batch that resets in the same step still reports it).
     pub fn last_outcome(&self) -> Option<&Outcome> {
         self.last.as_ref()
     }
@@ -402,7 +403,12 @@ mod tests {
             assert_eq!(s.reward, 0.0);
         }
         assert_eq!(steps, 11);
-        assert_eq!(e.last_outcome().unwrap().design, "GGGGGGGGGGGCCCCC");
+        let outcome = e.last_outcome().unwrap();
+        assert_eq!(outcome.design, "GGGGGGGGGGGCCCCC");
+        assert_eq!(
+            (outcome.target_id, outcome.target_structure.as_str()),
+            (1, "(((((......)))))")
+        );
         assert!(matches!(e.step(&Action::Discrete(0)), Err(EnvError::NeedsReset { .. })));
     }
 

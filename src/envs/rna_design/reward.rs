@@ -6,6 +6,9 @@ use super::targets::Target;
 /// What the terminal step found.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Outcome {
+    /// The target's id in its dataset, and its dot-bracket structure.
+    pub target_id: u32,
+    pub target_structure: String,
     /// The designed sequence (before local improvement).
     pub design: String,
     /// Its MFE structure (carl-rna, identical to ViennaRNA's `RNA.fold`).
@@ -42,6 +45,8 @@ pub fn terminal_reward(
     let n = target.len() as f64;
     let reward = (1.0 - distance as f64 / n).powf(reward_exponent);
     Outcome {
+        target_id: target.id,
+        target_structure: target.structure.clone(),
         design: design.to_string(),
         folded,
         distance_folded,

@@ -1,3 +1,4 @@
+use super::mass_factor::{MassMatrixFactor, NO_PARENT};
 use super::multibody_link::{MultibodyLink, MultibodyLinkVec};
 use super::multibody_workspace::MultibodyWorkspace;
 use crate::alloc_prelude::*;
@@ -15,7 +16,7 @@ use crate::prelude::MultibodyJoint;
 use crate::utils::mat_to_na;
 use crate::utils::{AngularInertiaOps, CrossProduct, CrossProductMatrix, IndexMut2, vect_to_na};
 use na::{
-    self, DMatrix, DVectorView, DVectorViewMut, Dyn, LU, OMatrix, SMatrix, SVector, StorageMut,
+    self, DMatrix, DVectorView, DVectorViewMut, Dyn, OMatrix, SMatrix, SVector, StorageMut,
 };
 
 #[cfg(doc)]
@@ -90,6 +91,17 @@ pub struct MultibodyDofCoupling {
     pub offset: Real,
 }
 
+/// `m·x` for a 3×3 matrix and a 3-vector slice (carl-spec patch: the mass-matrix workspaces
+/// are read and written column by column as plain slices).
+#[inline]
+fn mul3(m: &na::Matrix3<Real>, x: &[Real]) -> [Real; 3] {
+    [
+        m[(0, 0)] * x[0] + m[(0, 1)] * x[1] + m[(0, 2)] * x[2],
+        m[(1, 0)] * x[0] + m[(1, 1)] * x[1] + m[(1, 2)] * x[2],
+        m[(2, 0)] * x[0] + m[(2, 1)] * x[1] + m[(2, 2)] * x[2],
+    ]
+}
+
 /// An articulated body simulated using the reduced-coordinates approach.
 #[cfg_attr(feature = "serde-serialize", derive(Serialize, Deserialize))]
 #[derive(Clone, Debug)]
@@ -110,13 +122,14 @@ pub struct Multibody {
     //       move dofs from/to a format that matches the augmented mass.
     // TODO: use sparse matrices?
     augmented_mass: DMatrix<Real>,
-    inv_augmented_mass: LU<Real, Dyn, Dyn>,
+    // carl-spec patch: tree-sparse factorization (dense LU fallback), see `mass_factor.rs`.
+    inv_augmented_mass: MassMatrixFactor,
     // The indexing sequence for moving all kinematics degrees of
     // freedoms to the end of the generalized coordinates vector.
     augmented_mass_indices: IndexSequence,
 
     acc_augmented_mass: DMatrix<Real>,
-    acc_inv_augmented_mass: LU<Real, Dyn, Dyn>,
+    acc_inv_augmented_mass: MassMatrixFactor,
 
     ndofs: usize,
     pub(crate) root_is_dynamic: bool,
@@ -136,6 +149,9 @@ pub struct Multibody {
     // ndofs)` of every link they were computed from.
     tree_segments: Vec<Vec<(usize, usize)>>,
     tree_key: Vec<(usize, usize, usize)>,
+    // carl-spec patch: each DoF's parent DoF (the previous DoF of its link, or the last DoF of
+    // its nearest ancestor link with DoFs; `NO_PARENT` at the root), for `MassMatrixFactor`.
+    dof_parent: Vec<usize>,
     coriolis_v: Vec<OMatrix<Real, Dim, Dyn>>,
     coriolis_w: Vec<OMatrix<Real, AngDim, Dyn>>,
     i_coriolis_dt: Jacobian<Real>,
@@ -162,15 +178,16 @@ impl Multibody {
             accelerations: DVector::zeros(0),
             body_jacobians: Vec::new(),
             augmented_mass: DMatrix::zeros(0, 0),
-            inv_augmented_mass: LU::new(DMatrix::zeros(0, 0)),
+            inv_augmented_mass: MassMatrixFactor::default(),
             acc_augmented_mass: DMatrix::zeros(0, 0),
-            acc_inv_augmented_mass: LU::new(DMatrix::zeros(0, 0)),
+            acc_inv_augmented_mass: MassMatrixFactor::default(),
             augmented_mass_indices: IndexSequence::new(),
             ndofs: 0,
             solver_id: 0,
             workspace: MultibodyWorkspace::new(),
             tree_segments: Vec::new(),
             tree_key: Vec::new(),
+            dof_parent: Vec::new(),
             coriolis_v: Vec::new(),
             coriolis_w: Vec::new(),
             i_coriolis_dt: Jacobian::zeros(0),
@@ -370,8 +387,15 @@ impl Multibody {
     }
 
     /// The inverse augmented mass matrix of this multibody.
-    pub fn inv_augmented_mass(&self) -> &LU<Real, Dyn, Dyn> {
+    pub fn inv_augmented_mass(&self) -> &MassMatrixFactor {
         &self.inv_augmented_mass
+    }
+
+    /// The factorization of the accelerated mass matrix (with the implicit gyroscopic and
+    /// Coriolis terms) that the free accelerations are solved with (carl-spec patch, for tests).
+    #[doc(hidden)]
+    pub fn acc_inv_augmented_mass(&self) -> &MassMatrixFactor {
+        &self.acc_inv_augmented_mass
     }
 
     /// The first link of this multibody.
@@ -799,17 +823,15 @@ impl Multibody {
     /// Coriolis workspace: the sparse updates never write the other columns, which must be 0.
     fn refresh_tree_segments(&mut self) {
         let ndofs = self.ndofs;
-        let unchanged = self.tree_key.len() == self.links.len()
+        let unchanged = self.tree_is_current()
             && self.body_jacobians.len() == self.links.len()
-            && self.body_jacobians.iter().all(|j| j.ncols() == ndofs)
-            && self.links.iter().zip(&self.tree_key).all(|(l, k)| {
-                *k == (l.parent_internal_id, l.assembly_id, l.joint.ndofs())
-            });
+            && self.body_jacobians.iter().all(|j| j.ncols() == ndofs);
         if unchanged {
             return;
         }
         self.tree_key.clear();
         self.tree_segments.clear();
+        self.dof_parent.clear();
         for (i, link) in self.links.iter().enumerate() {
             self.tree_key
                 .push((link.parent_internal_id, link.assembly_id, link.joint.ndofs()));
@@ -823,6 +845,12 @@ impl Multibody {
                 self.tree_segments[link.parent_internal_id].clone()
             };
             let n = link.joint.ndofs();
+            let mut parent_dof = segments.last().map_or(NO_PARENT, |&(c, m)| c + m - 1);
+            for k in link.assembly_id..link.assembly_id + n {
+                debug_assert_eq!(self.dof_parent.len(), k);
+                self.dof_parent.push(parent_dof);
+                parent_dof = k;
+            }
             if n > 0 {
                 match segments.last_mut() {
                     Some(last) if last.0 + last.1 == link.assembly_id => last.1 += n,
@@ -839,6 +867,15 @@ impl Multibody {
         self.coriolis_w.clear();
     }
 
+    /// Whether `tree_segments` and `dof_parent` describe the current tree.
+    fn tree_is_current(&self) -> bool {
+        self.tree_key.len() == self.links.len()
+            && self.dof_parent.len() == self.ndofs
+            && self.links.iter().zip(&self.tree_key).all(|(l, k)| {
+                *k == (l.parent_internal_id, l.assembly_id, l.joint.ndofs())
+            })
+    }
+
     fn update_body_jacobians(&mut self) {
         self.refresh_tree_segments();
         for i in 0..self.links.len() {
@@ -852,13 +889,19 @@ impl Multibody {
                 parent_to_world = parent_link.local_to_world;
 
                 let (link_j, parent_j) = self.body_jacobians.index_mut_const(i, parent_id);
+                let (lj, pj) = (link_j.as_mut_slice(), parent_j.as_slice());
                 let shift_tr = vect_to_na(link.shift02).gcross_matrix_tr();
+                // The parent's columns, its linear part shifted to this link's joint:
+                // J_v += [shift02]ₓᵀ·J_w (column by column; upstream: a `gemm` on views).
                 for &(c, n) in &self.tree_segments[parent_id] {
-                    link_j.columns_mut(c, n).copy_from(&parent_j.columns(c, n));
-                    let mut link_j_v = link_j.fixed_rows_mut::<DIM>(0);
-                    let mut link_j_v = link_j_v.columns_mut(c, n);
-                    let parent_j_w = parent_j.fixed_rows::<ANG_DIM>(DIM);
-                    link_j_v.gemm(1.0, &shift_tr, &parent_j_w.columns(c, n), 1.0);
+                    for col in c..c + n {
+                        let b = SPATIAL_DIM * col;
+                        let a = mul3(&shift_tr, &pj[b + DIM..b + SPATIAL_DIM]);
+                        for r in 0..DIM {
+                            lj[b + r] = pj[b + r] + a[r];
+                            lj[b + DIM + r] = pj[b + DIM + r];
+                        }
+                    }
                 }
             } else {
                 self.body_jacobians[i].fill(0.0);
@@ -878,39 +921,57 @@ impl Multibody {
             link_j_part += link_joint_j;
 
             {
-                let link_j = &mut self.body_jacobians[i];
+                let lj = self.body_jacobians[i].as_mut_slice();
                 let shift_tr = vect_to_na(link.shift23).gcross_matrix_tr();
                 for &(c, n) in &self.tree_segments[i] {
-                    let mut cols = link_j.columns_mut(c, n);
-                    let (mut link_j_v, link_j_w) =
-                        cols.rows_range_pair_mut(0..DIM, DIM..DIM + ANG_DIM);
-                    link_j_v.gemm(1.0, &shift_tr, &link_j_w, 1.0);
+                    for col in c..c + n {
+                        let b = SPATIAL_DIM * col;
+                        let a = mul3(&shift_tr, &lj[b + DIM..b + SPATIAL_DIM]);
+                        for r in 0..DIM {
+                            lj[b + r] += a[r];
+                        }
+                    }
                 }
             }
         }
     }
 
-    /// `out[r, col] += J[:, r] · w` for the rows `r` in `segments`: nalgebra's `gemv_tr` step
-    /// of `quadform`/`gemm_tr` (`1·dot + 1·out`, the dot summed from 0 in row order).
+    /// `out[r] += J[:, r] · w` for the rows `r ≥ min_row` in `segments`.
     #[inline]
-    fn add_column_dots(out_col: &mut [Real], js: &[Real], w: &[Real; SPATIAL_DIM], segments: &[(usize, usize)]) {
+    fn add_column_dots(
+        out_col: &mut [Real],
+        js: &[Real],
+        w: &[Real; SPATIAL_DIM],
+        segments: &[(usize, usize)],
+        min_row: usize,
+    ) {
         for &(r0, rn) in segments {
-            for row in r0..r0 + rn {
+            for row in r0.max(min_row)..r0 + rn {
                 let a = &js[SPATIAL_DIM * row..SPATIAL_DIM * (row + 1)];
-                let mut dot: Real = 0.0;
-                for k in 0..SPATIAL_DIM {
-                    dot += a[k] * w[k];
-                }
-                out_col[row] = dot + out_col[row];
+                let lin = a[0] * w[0] + a[1] * w[1] + a[2] * w[2];
+                let ang = a[3] * w[3] + a[4] * w[4] + a[5] * w[5];
+                out_col[row] += lin + ang;
             }
         }
     }
 
-    /// `out += Jᵀ·mid·J` on the rows and columns `segments`, for a rigid-body `mid` (diagonal
-    /// mass block, angular block, zero coupling: `concat_rb_mass_matrix`). Operation by
-    /// operation nalgebra's `quadform` (`work = mid·J[:, col]` by `gemv`, then `gemv_tr`),
-    /// without the products with `mid`'s zero entries, which add exact zeros there.
-    fn sparse_quadform(
+    /// `mid·x` for a rigid-body `mid` (diagonal mass block, angular block, zero coupling:
+    /// `concat_rb_mass_matrix`).
+    #[inline]
+    fn rb_mass_times(mid: &SMatrix<Real, SPATIAL_DIM, SPATIAL_DIM>, x: &[Real]) -> [Real; SPATIAL_DIM] {
+        let mut w = [0.0; SPATIAL_DIM];
+        for r in 0..DIM {
+            w[r] = mid[(r, r)] * x[r];
+        }
+        for r in DIM..SPATIAL_DIM {
+            w[r] = mid[(r, DIM)] * x[DIM] + mid[(r, DIM + 1)] * x[DIM + 1] + mid[(r, DIM + 2)] * x[DIM + 2];
+        }
+        w
+    }
+
+    /// `out += Jᵀ·mid·J` on the rows and columns `segments`, lower triangle only (`mid`
+    /// symmetric; the caller mirrors).
+    fn sparse_quadform_lower(
         out: &mut DMatrix<Real>,
         mid: &SMatrix<Real, SPATIAL_DIM, SPATIAL_DIM>,
         j: &Jacobian<Real>,
@@ -921,19 +982,32 @@ impl Multibody {
         let os = out.as_mut_slice();
         for &(c, cn) in segments {
             for col in c..c + cn {
-                let x = &js[SPATIAL_DIM * col..SPATIAL_DIM * (col + 1)];
-                let mut w = [0.0; SPATIAL_DIM];
-                for r in 0..DIM {
-                    w[r] = mid[(r, r)] * x[r];
+                let w = Self::rb_mass_times(mid, &js[SPATIAL_DIM * col..SPATIAL_DIM * (col + 1)]);
+                Self::add_column_dots(&mut os[n * col..n * (col + 1)], js, &w, segments, col);
+            }
+        }
+    }
+
+    /// `out += Jᵀ·(mid·J + extra)` on the rows and columns `segments` (`extra`: a 6 × ndofs
+    /// column-major matrix).
+    fn sparse_quadform_plus(
+        out: &mut DMatrix<Real>,
+        mid: &SMatrix<Real, SPATIAL_DIM, SPATIAL_DIM>,
+        extra: &[Real],
+        j: &Jacobian<Real>,
+        segments: &[(usize, usize)],
+    ) {
+        let n = out.nrows();
+        let js = j.as_slice();
+        let os = out.as_mut_slice();
+        for &(c, cn) in segments {
+            for col in c..c + cn {
+                let range = SPATIAL_DIM * col..SPATIAL_DIM * (col + 1);
+                let mut w = Self::rb_mass_times(mid, &js[range.clone()]);
+                for (w, e) in w.iter_mut().zip(&extra[range]) {
+                    *w += *e;
                 }
-                for r in DIM..SPATIAL_DIM {
-                    let mut acc = mid[(r, DIM)] * x[DIM];
-                    for k in DIM + 1..SPATIAL_DIM {
-                        acc = mid[(r, k)] * x[k] + acc;
-                    }
-                    w[r] = acc;
-                }
-                Self::add_column_dots(&mut os[n * col..n * (col + 1)], js, &w, segments);
+                Self::add_column_dots(&mut os[n * col..n * (col + 1)], js, &w, segments, 0);
             }
         }
     }
@@ -988,37 +1062,33 @@ impl Multibody {
             let rb_mass_matrix_wo_gyro = concat_rb_mass_matrix(rb_mass, rb_inertia.into());
             #[allow(clippy::useless_conversion)] // Needed in 3D, no-op in 2D
             let rb_mass_matrix = concat_rb_mass_matrix(rb_mass, augmented_inertia.into());
-            Self::sparse_quadform(
+            // M += Jᵀ·Mᵢ·J, lower triangle only (mirrored after the loop).
+            Self::sparse_quadform_lower(
                 &mut self.augmented_mass,
                 &rb_mass_matrix_wo_gyro,
                 body_jacobian,
                 segments,
             );
-            Self::sparse_quadform(
-                &mut self.acc_augmented_mass,
-                &rb_mass_matrix,
-                body_jacobian,
-                segments,
-            );
 
             /*
-             * Coriolis matrix (see `update_mass_matrix_dense`), on the link's columns only.
+             * Coriolis matrix (see `update_mass_matrix_dense`), on the link's columns only,
+             * column by column with 3×3 products (upstream: nalgebra `gemm`s on views; the
+             * three products with the parent's angular Jacobian are summed into one matrix).
              */
             let rb_j = &self.body_jacobians[i];
-            let rb_j_w = rb_j.fixed_rows::<ANG_DIM>(DIM);
-
             let ndofs = link.joint.ndofs();
 
             if i != 0 {
                 let parent_id = link.parent_internal_id;
                 let parent_link = &self.links[parent_id];
                 let parent_rb = &bodies[parent_link.rigid_body];
-                let parent_j = &self.body_jacobians[parent_id];
-                let parent_j_w = parent_j.fixed_rows::<ANG_DIM>(DIM);
+                let parent_j = self.body_jacobians[parent_id].as_slice();
                 let parent_w = SimdAngVector::<Real>::from(parent_rb.vels.angvel).gcross_matrix();
 
                 let (coriolis_v, parent_coriolis_v) = self.coriolis_v.index_mut2(i, parent_id);
                 let (coriolis_w, parent_coriolis_w) = self.coriolis_w.index_mut2(i, parent_id);
+                let (cv, cw) = (coriolis_v.as_mut_slice(), coriolis_w.as_mut_slice());
+                let (pcv, pcw) = (parent_coriolis_v.as_slice(), parent_coriolis_w.as_slice());
 
                 let shift_cross_tr = vect_to_na(link.shift02).gcross_matrix_tr();
                 let dvel_cross = vect_to_na(
@@ -1028,29 +1098,28 @@ impl Multibody {
                 let joint_linvel_cross =
                     vect_to_na(link.joint_velocity.linvel).gcross_matrix_tr();
                 let parent_w_shift = parent_w * shift_cross_tr;
-                #[cfg(feature = "dim3")]
+                let pjw_coeff = dvel_cross + joint_linvel_cross + parent_w_shift;
                 let vel_wrt_joint_w = vect_to_na(link.joint_velocity.angvel).gcross_matrix();
 
                 for &(c, n) in &self.tree_segments[parent_id] {
-                    let mut cv = coriolis_v.columns_mut(c, n);
-                    let mut cw = coriolis_w.columns_mut(c, n);
-                    let pj_w = parent_j_w.columns(c, n);
-                    cv.copy_from(&parent_coriolis_v.columns(c, n));
-                    cw.copy_from(&parent_coriolis_w.columns(c, n));
-                    cv.gemm(1.0, &shift_cross_tr, &parent_coriolis_w.columns(c, n), 1.0);
-                    cv.gemm(1.0, &dvel_cross, &pj_w, 1.0);
-                    cv.gemm(1.0, &joint_linvel_cross, &pj_w, 1.0);
-                    cv.gemm(1.0, &parent_w_shift, &pj_w, 1.0);
-                    #[cfg(feature = "dim3")]
-                    cw.gemm(-1.0, &vel_wrt_joint_w, &pj_w, 1.0);
+                    for col in c..c + n {
+                        let pjw = &parent_j[SPATIAL_DIM * col + DIM..SPATIAL_DIM * (col + 1)];
+                        let pcw_c = &pcw[DIM * col..DIM * (col + 1)];
+                        let a = mul3(&shift_cross_tr, pcw_c);
+                        let b = mul3(&pjw_coeff, pjw);
+                        let d = mul3(&vel_wrt_joint_w, pjw);
+                        for r in 0..DIM {
+                            cv[DIM * col + r] = pcv[DIM * col + r] + a[r] + b[r];
+                            cw[DIM * col + r] = pcw_c[r] - d[r];
+                        }
+                    }
                 }
 
                 // The dense code's copy of the parent's terms zeroed the link's own columns.
-                coriolis_v.columns_mut(link.assembly_id, ndofs).fill(0.0);
-                coriolis_w.columns_mut(link.assembly_id, ndofs).fill(0.0);
+                let own = DIM * link.assembly_id..DIM * (link.assembly_id + ndofs);
+                cv[own.clone()].fill(0.0);
+                cw[own].fill(0.0);
                 if !link.joint.kinematic {
-                    let mut coriolis_v_part = coriolis_v.columns_mut(link.assembly_id, ndofs);
-
                     let mut tmp1 = SMatrix::<Real, SPATIAL_DIM, SPATIAL_DIM>::zeros();
                     let mut rb_joint_j = tmp1.columns_mut(0, ndofs);
                     link.joint.jacobian(
@@ -1058,75 +1127,69 @@ impl Multibody {
                             * link.joint.data.local_frame1.rotation),
                         &mut rb_joint_j,
                     );
-
-                    let rb_joint_j_v = rb_joint_j.fixed_rows::<DIM>(0);
-                    coriolis_v_part.gemm(2.0, &parent_w, &rb_joint_j_v, 1.0);
-
-                    #[cfg(feature = "dim3")]
-                    {
-                        let rb_joint_j_w = rb_joint_j.fixed_rows::<ANG_DIM>(DIM);
-                        let mut coriolis_w_part = coriolis_w.columns_mut(link.assembly_id, ndofs);
-                        coriolis_w_part.gemm(1.0, &parent_w, &rb_joint_j_w, 1.0);
+                    let tj = tmp1.as_slice();
+                    for m in 0..ndofs {
+                        let col = link.assembly_id + m;
+                        let jv = mul3(&parent_w, &tj[SPATIAL_DIM * m..SPATIAL_DIM * m + DIM]);
+                        let jw = mul3(&parent_w, &tj[SPATIAL_DIM * m + DIM..SPATIAL_DIM * (m + 1)]);
+                        for r in 0..DIM {
+                            cv[DIM * col + r] = 2.0 * jv[r];
+                            cw[DIM * col + r] = jw[r];
+                        }
                     }
                 }
             } else {
-                self.coriolis_v[i].fill(0.0);
-                self.coriolis_w[i].fill(0.0);
+                self.coriolis_v[i].as_mut_slice().fill(0.0);
+                self.coriolis_w[i].as_mut_slice().fill(0.0);
             }
 
-            let coriolis_v = &mut self.coriolis_v[i];
-            let coriolis_w = &mut self.coriolis_w[i];
+            let cv = self.coriolis_v[i].as_mut_slice();
+            let cw = self.coriolis_w[i].as_slice();
+            let j = rb_j.as_slice();
+            let icd = self.i_coriolis_dt.as_mut_slice();
 
             let shift_cross_tr = vect_to_na(link.shift23).gcross_matrix_tr();
             let dvel_cross = vect_to_na(rb.vels.angvel.gcross(link.shift23)).gcross_matrix_tr();
             let w_shift =
                 SimdAngVector::<Real>::from(rb.vels.angvel).gcross_matrix() * shift_cross_tr;
+            // [c3 - c2].gcross() * (JDot + JDot/u * qdot) + JDot + JDot/u * qdot
+            let jw_coeff = dvel_cross + w_shift;
             let rb_mass_dt = vect_to_na(rb_mass * dt);
+            let inertia_dt = mat_to_na(rb_inertia) * dt;
             for &(c, n) in segments {
-                let mut cv = coriolis_v.columns_mut(c, n);
-                let cw = coriolis_w.columns(c, n);
-                let j_w = rb_j_w.columns(c, n);
-                // [c3 - c2].gcross() * (JDot + JDot/u * qdot)
-                cv.gemm(1.0, &shift_cross_tr, &cw, 1.0);
-                // JDot
-                cv.gemm(1.0, &dvel_cross, &j_w, 1.0);
-                // JDot/u * qdot
-                cv.gemm(1.0, &w_shift, &j_w, 1.0);
-
-                // Meld with the mass matrix.
-                let mut i_coriolis_dt_v = self.i_coriolis_dt.fixed_rows_mut::<DIM>(0);
-                let mut i_coriolis_dt_v = i_coriolis_dt_v.columns_mut(c, n);
-                i_coriolis_dt_v.copy_from(&cv);
-                i_coriolis_dt_v
-                    .column_iter_mut()
-                    .for_each(|mut col| col.component_mul_assign(&rb_mass_dt));
-
-                #[cfg(feature = "dim2")]
-                {
-                    let mut i_coriolis_dt_w = self.i_coriolis_dt.fixed_rows_mut::<ANG_DIM>(DIM);
-                    i_coriolis_dt_w
-                        .columns_mut(c, n)
-                        .zip_apply(&cw, |o, x| *o = x * dt * rb_inertia);
-                }
-                #[cfg(feature = "dim3")]
-                {
-                    let mut i_coriolis_dt_w = self.i_coriolis_dt.fixed_rows_mut::<ANG_DIM>(DIM);
-                    i_coriolis_dt_w
-                        .columns_mut(c, n)
-                        .gemm(dt, &mat_to_na(rb_inertia), &cw, 0.0);
+                for col in c..c + n {
+                    let jw = &j[SPATIAL_DIM * col + DIM..SPATIAL_DIM * (col + 1)];
+                    let cw_c = &cw[DIM * col..DIM * (col + 1)];
+                    let a = mul3(&shift_cross_tr, cw_c);
+                    let b = mul3(&jw_coeff, jw);
+                    let e = mul3(&inertia_dt, cw_c);
+                    for r in 0..DIM {
+                        let v = cv[DIM * col + r] + a[r] + b[r];
+                        cv[DIM * col + r] = v;
+                        // Meld with the mass matrix: i_coriolis_dt = (Mᵢ·dt)·C.
+                        icd[SPATIAL_DIM * col + r] = v * rb_mass_dt[r];
+                        icd[SPATIAL_DIM * col + DIM + r] = e[r];
+                    }
                 }
             }
 
-            // acc_augmented_mass += rb_jᵀ · i_coriolis_dt (nalgebra's `gemm_tr`, column by column).
-            let nrows = self.acc_augmented_mass.nrows();
-            let acc = self.acc_augmented_mass.as_mut_slice();
-            let icd = self.i_coriolis_dt.as_slice();
-            for &(c, n) in segments {
-                for col in c..c + n {
-                    let mut w = [0.0; SPATIAL_DIM];
-                    w.copy_from_slice(&icd[SPATIAL_DIM * col..SPATIAL_DIM * (col + 1)]);
-                    Self::add_column_dots(&mut acc[nrows * col..nrows * (col + 1)], rb_j.as_slice(), &w, segments);
-                }
+            // acc_augmented_mass += Jᵀ·(M̃ᵢ·J + i_coriolis_dt): the implicit gyroscopic and
+            // Coriolis terms in one pass (upstream: a quadform, then a `gemm_tr`).
+            Self::sparse_quadform_plus(
+                &mut self.acc_augmented_mass,
+                &rb_mass_matrix,
+                self.i_coriolis_dt.as_slice(),
+                rb_j,
+                segments,
+            );
+        }
+
+        // The mass matrix is symmetric: mirror the lower triangle.
+        let n = self.augmented_mass.nrows();
+        let m = self.augmented_mass.as_mut_slice();
+        for col in 0..n {
+            for row in col + 1..n {
+                m[n * row + col] = m[n * col + row];
             }
         }
 
@@ -1405,8 +1468,9 @@ impl Multibody {
             self.augmented_mass = DMatrix::zeros(self.ndofs, self.ndofs);
             self.acc_augmented_mass = DMatrix::zeros(self.ndofs, self.ndofs);
         } else {
-            self.augmented_mass.fill(0.0);
-            self.acc_augmented_mass.fill(0.0);
+            // carl-spec patch: slice fills (memset) instead of nalgebra's element iterators.
+            self.augmented_mass.as_mut_slice().fill(0.0);
+            self.acc_augmented_mass.as_mut_slice().fill(0.0);
         }
 
         self.augmented_mass_indices.clear();
@@ -1474,17 +1538,14 @@ impl Multibody {
         self.augmented_mass_indices
             .rearrange_rows(&mut self.augmented_mass, true);
 
-        // TODO: avoid allocation inside LU at each timestep.
-        self.acc_inv_augmented_mass = LU::new(
-            self.acc_augmented_mass
-                .view((0, 0), (effective_dim, effective_dim))
-                .into_owned(),
-        );
-        self.inv_augmented_mass = LU::new(
-            self.augmented_mass
-                .view((0, 0), (effective_dim, effective_dim))
-                .into_owned(),
-        );
+        // carl-spec patch: tree-sparse factorizations in reused storage; upstream's dense LU
+        // when kinematic DoFs reorder the matrices or a pivot does not qualify.
+        let tree = (effective_dim == self.ndofs && self.tree_is_current())
+            .then_some(&self.dof_parent[..]);
+        self.acc_inv_augmented_mass
+            .factorize(&self.acc_augmented_mass, effective_dim, tree, false);
+        self.inv_augmented_mass
+            .factorize(&self.augmented_mass, effective_dim, tree, true);
     }
 
     /// Per-DoF inverse joint-space inertia `diag(M⁻¹)` at the current configuration, where `M`

@@ -33,7 +33,38 @@ pub fn unit_joint_limit_constraint(
     let rhs_wo_bias = 0.0;
 
     let dof_j_id = *j_id + dof_id + link.assembly_id;
-    jacobians.rows_mut(*j_id, ndofs * 2).fill(0.0);
+    jacobians.as_mut_slice()[*j_id..*j_id + ndofs * 2].fill(0.0);
+    let impulse_bounds = [
+        min_enabled as u32 as Real * -Real::MAX,
+        max_enabled as u32 as Real * Real::MAX,
+    ];
+    if !min_enabled && !max_enabled {
+        // carl-spec patch: within its limits the constraint's impulse is clamped to [-0, 0],
+        // so it never acts; skip the `M⁻¹·J` solve and leave `J` and `M⁻¹·J` zero (the solver
+        // then computes a zero impulse and adds `0·0`, the same velocities as upstream).
+        constraints[*insert_at] = GenericJointConstraint {
+            is_rigid_body1: false,
+            solver_vel1: u32::MAX,
+            ndofs1: 0,
+            j_id1: 0,
+            is_rigid_body2: false,
+            solver_vel2: multibody.solver_id,
+            ndofs2: ndofs,
+            j_id2: *j_id,
+            joint_id: usize::MAX,
+            impulse: 0.0,
+            impulse_bounds,
+            inv_lhs: 0.0,
+            rhs: rhs_wo_bias + rhs_bias,
+            rhs_wo_bias,
+            cfm_coeff,
+            cfm_gain: 0.0,
+            writeback_id: WritebackId::Limit(dof_id),
+        };
+        *insert_at += 1;
+        *j_id += 2 * ndofs;
+        return;
+    }
     jacobians[dof_j_id] = 1.0;
     jacobians[dof_j_id + ndofs] = 1.0;
     multibody
@@ -41,10 +72,6 @@ pub fn unit_joint_limit_constraint(
         .solve_mut(&mut jacobians.rows_mut(*j_id + ndofs, ndofs));
 
     let lhs = jacobians[dof_j_id + ndofs]; // = J^t * M^-1 J
-    let impulse_bounds = [
-        min_enabled as u32 as Real * -Real::MAX,
-        max_enabled as u32 as Real * Real::MAX,
-    ];
     let cfm_gain = lhs * cfm_coeff;
 
     let constraint = GenericJointConstraint {
@@ -96,7 +123,7 @@ pub fn unit_joint_friction_constraint(
     let cfm_coeff = softness.cfm_coeff(params.dt);
 
     let dof_j_id = *j_id + dof_id + link.assembly_id;
-    jacobians.rows_mut(*j_id, ndofs * 2).fill(0.0);
+    jacobians.as_mut_slice()[*j_id..*j_id + ndofs * 2].fill(0.0);
     jacobians[dof_j_id] = 1.0;
     jacobians[dof_j_id + ndofs] = 1.0;
     multibody
@@ -153,7 +180,7 @@ pub fn unit_joint_motor_constraint(
     let motor_params = motor.motor_params(params.dt);
 
     let dof_j_id = *j_id + dof_id + link.assembly_id;
-    jacobians.rows_mut(*j_id, ndofs * 2).fill(0.0);
+    jacobians.as_mut_slice()[*j_id..*j_id + ndofs * 2].fill(0.0);
     jacobians[dof_j_id] = 1.0;
     jacobians[dof_j_id + ndofs] = 1.0;
     multibody
