@@ -121,6 +121,9 @@ pub(super) fn first_step(
     solve_positions(bodies, joints);
 }
 
+/// Velocity (of the centre of mass) and angular velocity of lander, leg 0 and leg 1.
+type Velocities = [([f64; 2], f64); 3];
+
 /// Box2D's converged velocity solution for the lander and its two legs (`b`: velocities before
 /// the joints act, centres of mass where the solver sees them; `anchors`: the joints' anchors in
 /// world coordinates): every joint's anchors move together and each leg turns at `speed`
@@ -134,7 +137,7 @@ fn solve_velocities(
     drive: &LegDrive,
     dt: f64,
     allow_saturation: bool,
-) -> Option<([([f64; 2], f64); 3], [bool; 2])> {
+) -> Option<(Velocities, [bool; 2])> {
     let max_impulse = drive.max_torque * dt;
     // Unknowns z = (lander vx, vy, ω, leg 0 ω, leg 1 ω); the joints' force and torque impulses
     // follow from them. Residuals: the lander's momentum balance (3), per leg its turning rate
@@ -228,10 +231,11 @@ fn solve_linear(mut m: [[f64; 6]; 5]) -> Option<[f64; 5]> {
             return None;
         }
         m.swap(col, pivot);
-        for row in col + 1..5 {
-            let f = m[row][col] / m[col][col];
-            for c in col..6 {
-                m[row][c] -= f * m[col][c];
+        let pivot_row = m[col];
+        for row in m.iter_mut().skip(col + 1) {
+            let f = row[col] / pivot_row[col];
+            for (x, p) in row.iter_mut().zip(pivot_row).skip(col) {
+                *x -= f * p;
             }
         }
     }
