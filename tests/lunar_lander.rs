@@ -49,6 +49,9 @@ fn heuristic_episode(env: &mut LunarLander, seed: u64) -> (f64, Outcome, Vec<Vec
     (ret, env.outcome(), trace)
 }
 
+/// Free fall once the legs have swung in (Box2D's first step snaps them out wide, the motors swing
+/// them in at 0.3 rad/s over ~24 steps, moving the lander a little against them): from then on
+/// the lander falls as `y0 + v0·τ + ½gτ²` up to the semi-implicit Euler term.
 #[test]
 fn free_fall_matches_half_g_t_squared() {
     for (name, g) in planets() {
@@ -60,31 +63,50 @@ fn free_fall_matches_half_g_t_squared() {
         let mut env = LunarLander::new(p);
         env.reset(Some(0));
         let dt = 1.0 / p.fps;
-        let y0 = p.world_h();
-        // Fall at most 4 m (the terrain is at most H/2 = 6.7 m high, the lander starts at 13.3 m).
-        let n_max = ((2.0 * 4.0 / -g).sqrt() / dt).floor().min(200.0) as u64;
-        let mut n = 1; // reset takes one step
+        let deployed = |env: &LunarLander| {
+            let [l, a, b] = env.body_poses().unwrap();
+            a.2 - l.2 <= 0.35 && b.2 - l.2 >= -0.35
+        };
+        let mut swing = 1; // reset takes one step
+        while !deployed(&env) {
+            env.step(&Action::Discrete(0)).unwrap();
+            swing += 1;
+        }
+        assert!((22..=26).contains(&swing), "{name}: legs swung in after {swing} steps");
+        // One more step for the legs' last turn to stop (its momentum goes to the lander).
+        env.step(&Action::Discrete(0)).unwrap();
+        swing += 1;
+        let (_, y0, _) = env.lander_pose().unwrap();
+        let (_, v0, _) = env.lander_velocity().unwrap();
+        // Fall at most 4.5 m in all (the terrain is at most H/2 = 6.7 m high, the lander starts at
+        // 13.3 m and its legs reach 1.2 m below it).
+        let n_max = ((2.0 * 4.5 / -g).sqrt() / dt).floor().min(200.0) as u64;
+        let mut n = 0;
         let mut worst: f64 = 0.0;
-        while n < n_max {
+        while swing + n < n_max {
             env.step(&Action::Discrete(0)).unwrap();
             n += 1;
             let (x, y, angle) = env.lander_pose().unwrap();
             let t = n as f64 * dt;
-            let exact = y0 + 0.5 * g * t * t;
-            // Semi-implicit Euler: y_n = y0 + g dt² n(n+1)/2, i.e. ½ g t² + ½ g dt t.
-            let bound = 0.5 * g.abs() * dt * t + 1e-3;
-            let err = (y - exact).abs();
-            worst = worst.max(err / bound);
-            assert!(err <= bound, "{name}: step {n}: y {y} vs ½gt² {exact} (bound {bound})");
+            let exact = y0 + v0 * t + 0.5 * g * t * t;
+            // Semi-implicit Euler: y_n = y0 + v0 t + g dt² n(n+1)/2, i.e. ½ g t² + ½ g dt t.
+            let euler = 0.5 * g * dt * t;
+            let err = (y - exact - euler).abs();
+            worst = worst.max(err);
+            assert!(
+                err <= 1e-4,
+                "{name}: step {n}: y {y} vs {} (error {err})",
+                exact + euler
+            );
             assert!(
                 (x - p.world_w() / 2.0).abs() < 1e-4,
                 "{name}: drifted sideways to x = {x}"
             );
-            // Internal joint/motor forces are balanced but leave an f32-solver-level rotation.
             assert!(angle.abs() < 2e-3, "{name}: rotated to {angle}");
             assert_eq!(env.outcome(), Outcome::Running);
         }
-        eprintln!("{name}: {n} steps of free fall, worst error / Euler bound = {worst:.3}");
+        assert!(n >= 5, "{name}: only {n} steps of free fall");
+        eprintln!("{name}: {n} steps of free fall after the swing, worst error {worst:.1e} m");
     }
 }
 
@@ -297,8 +319,9 @@ fn registry_builds_lunar_lander_from_spec_and_instance_sets() {
 /// `scripts/lunar_lander_heuristic_check.py` (tests/fixtures/lunar_lander_heuristic_gymnasium.json,
 /// 50 seeds per body). Seeds give Gymnasium's own terrains and initial pushes (NumPy's generator),
 /// so only the physics differs: landing and crash rates within 0.10 of Gymnasium's on every body
-/// but Neptune, where our legs still yield more than Box2D's under the hardest touchdowns
-/// (documented in the module docs: landed ≥ 0.60, crashed ≤ 0.25; Gymnasium 0.80 and 0.12).
+/// but Neptune's landed rate. The flight there is Box2D's (`flight_follows_box2d_step_by_step`);
+/// hard, tilted touchdowns still crash more often here than in Box2D (measured: landed 0.68,
+/// crashed 0.18; Gymnasium 0.80 and 0.12), so Neptune's landed rate has a 0.15 band.
 #[test]
 fn heuristic_lands_where_gymnasium_lands_and_crashes_where_it_crashes() {
     let fixture: serde_json::Value =
@@ -315,15 +338,9 @@ fn heuristic_lands_where_gymnasium_lands_and_crashes_where_it_crashes() {
             gym["crashed_rate"].as_f64().unwrap(),
         );
         eprintln!("{body}: landed {landed} (Gymnasium {gym_landed}), crashed {crashed} (Gymnasium {gym_crashed})");
-        if body == "Neptune" {
-            assert!(
-                landed >= 0.6 && crashed <= 0.25,
-                "{body}: landed {landed}, crashed {crashed}"
-            );
-            continue;
-        }
+        let landed_band = if body == "Neptune" { 0.15 } else { 0.10 };
         assert!(
-            (landed - gym_landed).abs() <= 0.10,
+            (landed - gym_landed).abs() <= landed_band,
             "{body}: landed {landed} vs Gymnasium {gym_landed}"
         );
         assert!(
@@ -474,7 +491,7 @@ fn box2d_touchdowns_end_as_in_box2d() {
             );
         }
     }
-    // Measured: 245 of 270 replays and 270 of 300 whole episodes end as in Box2D.
+    // Measured: 244 of 270 replays and 275 of 300 whole episodes end as in Box2D.
     let (replay, whole) = (
         replay_agree as f64 / replay_total as f64,
         whole_agree as f64 / whole_total as f64,
@@ -484,4 +501,79 @@ fn box2d_touchdowns_end_as_in_box2d() {
         replay >= 0.85 && whole >= 0.85,
         "replays {replay}, whole episodes {whole}"
     );
+}
+
+/// The flight is Box2D's: `scripts/lunar_lander_flight_box2d.py` records Gymnasium's heuristic in
+/// Box2D (every planet, seeds 0–4, until the first leg contact or 200 steps): its actions and the
+/// lander's state. The same actions from the same seeds here (same terrain, push and engine
+/// dispersion) give the same trajectory, from the first step (Box2D assembles the legs in it and
+/// the push spins the lander, see `src/envs/box2d/lunar_lander/rigid.rs`) through the legs'
+/// swing-in to the last steps before touchdown (where rapier takes over).
+#[test]
+fn flight_follows_box2d_step_by_step() {
+    let fixture: serde_json::Value =
+        serde_json::from_str(include_str!("fixtures/lunar_lander_flight_box2d.json")).unwrap();
+    let mut worst = [0.0f64; 8];
+    let mut compared = 0;
+    for (planet, p) in fixture["planets"].as_object().unwrap() {
+        let mut env = lander(p["gravity_y"].as_f64().unwrap());
+        for run in p["runs"].as_array().unwrap() {
+            let seed = run["seed"].as_u64().unwrap();
+            env.reset(Some(seed));
+            let actions: Vec<i64> = run["actions"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|a| a.as_i64().unwrap())
+                .collect();
+            let mut states = run["states"].as_array().unwrap().iter().peekable();
+            for (t, a) in actions.iter().enumerate() {
+                env.step(&Action::Discrete(*a)).unwrap();
+                let Some(want) = states.next_if(|s| s[0].as_u64().unwrap() == t as u64 + 1) else {
+                    continue;
+                };
+                let want: Vec<f64> = want.as_array().unwrap()[1..]
+                    .iter()
+                    .map(|x| x.as_f64().unwrap())
+                    .collect();
+                let [l, a0, a1] = env.body_poses().unwrap();
+                let (vx, vy, w) = env.lander_velocity().unwrap();
+                let got = [l.0, l.1, l.2, vx, vy, w, a0.2 - l.2, a1.2 - l.2];
+                // Free flight is Box2D's to the float32 rounding of Box2D's own state: positions
+                // and angles to 3 mm / 3 mrad, velocities to 0.02, leg angles to 6 mrad (a swing
+                // ends up to one step's turn past the limit). In the last steps before touchdown
+                // rapier steps (within two steps' travel of the ground; a slowly hovering lander
+                // can stay there for ~20 steps), and its substeps integrate gravity differently:
+                // ~2 mm of height per step.
+                let end_phase = actions.len() - t <= 20;
+                for k in 0..8 {
+                    let err = (got[k] - want[k]).abs();
+                    let tol = match (k, end_phase) {
+                        (3..=5, false) => 0.02,
+                        (6..=7, false) => 6e-3,
+                        (_, false) => 3e-3,
+                        (3..=5, true) => 0.1,
+                        (_, true) => 0.05,
+                    };
+                    if !end_phase {
+                        worst[k] = worst[k].max(err);
+                    }
+                    assert!(
+                        err <= tol,
+                        "{planet} seed {seed} step {} of {}: value {k} is {} here, {} in Box2D",
+                        t + 1,
+                        actions.len(),
+                        got[k],
+                        want[k]
+                    );
+                }
+                compared += 1;
+            }
+        }
+    }
+    eprintln!(
+        "{compared} states compared; in flight, worst |error| (x, y, angle, vx, vy, ω, legs): {:?}",
+        worst.map(|e| format!("{e:.1e}"))
+    );
+    assert!(compared > 500);
 }

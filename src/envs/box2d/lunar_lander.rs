@@ -11,38 +11,48 @@
 //! (lander body touches the ground), out-of-view (`|x| >= 1`) or rest ("not awake", +100).
 //! Like Gymnasium's `reset`, ours ends with one `step(noop)` whose observation it returns.
 //!
-//! Where this is not Box2D (documented deviations):
+//! **Box2D where the lander is one rigid body** ([`rigid`]). Gymnasium creates the legs
+//! unassembled (beside the lander, turned 0.05 rad, their anchors `LEG_DOWN` too high); Box2D's
+//! first step moves lander and legs as one rigid body at the legs' creation geometry (so the
+//! random push spins the lander about −0.113 rad/s per m/s of sideways push) and then snaps the
+//! legs onto their joints ~0.14 rad wide, from where the motors swing them in at 0.3 rad/s. That
+//! step and all free flight (every step in which no body can reach the ground within two steps'
+//! travel) are computed in closed form, as Box2D's converged solver has them: lander and legs
+//! keep their total momentum, the legs turn at their motors' speed. Gymnasium's heuristic flies
+//! the same trajectory as in Box2D to 1e-3 until the touchdown (`tests/lunar_lander.rs`,
+//! against `tests/fixtures/lunar_lander_flight_box2d.json`). rapier takes over near the ground.
+//!
+//! Where this is not Box2D (documented deviations, near the ground):
 //! * **Solver.** rapier's TGS-soft solver with [`LunarLanderOptions::solver_iterations`] (8)
-//!   substeps near the ground (4 in free flight, where only the leg joints are solved)
-//!   replaces Box2D's sequential impulses with 6·30 velocity and 2·30 position iterations;
-//!   4 substeps on the ground leave the 68:1 lander/leg mass ratio too soft (legs fold).
+//!   substeps replaces Box2D's sequential impulses with 6·30 velocity and 2·30 position
+//!   iterations; 4 substeps on the ground leave the 68:1 lander/leg mass ratio too soft (legs
+//!   fold).
 //! * **Leg springs.** Box2D's leg motor (speed ±0.3 rad/s towards the inner limit, max torque
 //!   `LEG_SPRING_TORQUE`) ends up pressed into that limit, where Box2D's 180 warm-started
 //!   iterations saturate it: a leg pushed away by the ground is resisted with the full torque.
 //!   rapier's motors get a few iterations per step and never build that preload against a
-//!   limit (the legs folded on touchdown), so the spring is a stiff position motor at the rest
-//!   angle (saturating at `LEG_SPRING_TORQUE` within 0.004 rad). A leg freed after a bounce
-//!   therefore springs back at once instead of at 0.3 rad/s.
-//! * **Leg rest angle.** Box2D holds the legs 0.055 rad past their nominal 0.4 rad limit (its
-//!   angular slop; measured in Gymnasium 1.4: 0.349 at 50 FPS, 0.340 at 25 FPS), which makes
-//!   the lander stand 7 cm taller; we use 0.345 rad as the limit and spring angle. Box2D creates
-//!   the legs 0.05 rad off and `LEG_DOWN` away from their anchors, snaps them to 0.487 rad in
-//!   the first step and swings them in at 0.3 rad/s for ~25 steps; we create them assembled at
-//!   the rest angle.
+//!   limit (the legs folded on touchdown), so near the ground the spring is a stiff position
+//!   motor at the rest angle (saturating at `LEG_SPRING_TORQUE` within 0.004 rad). A leg freed
+//!   by a bounce near the ground therefore springs back at once instead of at 0.3 rad/s.
+//! * **Leg angles.** Gymnasium's joint limits (0.4, 0.9) count from the joints' reference angle,
+//!   the legs' creation angle 0.05 rad: 0.35 and 0.85 rad between leg and lander. A swing ends
+//!   up to one step's turn past the inner limit (Box2D decides at the start of a step whether a
+//!   limit is active and corrects only errors beyond its 2° slop; measured in Gymnasium 1.4:
+//!   0.344–0.35 rad at 50 FPS); the spring holds 0.345 rad.
 //! * **Rest ("not awake").** Box2D's island sleep test is reproduced explicitly rather than via
 //!   rapier's sleeping (disabled): the lander is at rest once the lander and both legs have
-//!   moved less than 0.01·F m/s and 2·F °/s for 0.5 s (`b2_linearSleepTolerance`,
+//!   moved less than 0.01·F m/s and turned less than 2 °/s for 0.5 s (`b2_linearSleepTolerance`,
 //!   `b2_angularSleepTolerance`, `b2_timeToSleep`, F = [`REST_TOLERANCE_FACTOR`]). Speeds are
 //!   measured as displacement per step, not from rapier's velocities, which keep the soft
 //!   constraints' correction terms of a body at rest.
 //! * **Contact skin.** Box2D keeps polygons and edges its polygon radius (0.01 m each) apart;
 //!   rapier's contact skin does the same here ([`CONTACT_SKIN`]).
 //! * **Landing rates.** With these, Gymnasium's heuristic controller (seeds 0–49 per body, the
-//!   same terrains as Gymnasium's, see `tests/lunar_lander.rs`) lands 86 % on Earth (Gymnasium:
-//!   92 %), 98 % on Mars (96 %), 80 % on the Moon (78 %), 42 % on Pluto (34 %) and crashes 100 %
-//!   on Jupiter (100 %); on Neptune it lands 64 % (80 %) and crashes 22 % (12 %). From Box2D's own
-//!   pre-touchdown states Neptune crashes 10 % (Box2D 12 %): the remaining gap is the flight to
-//!   the touchdown, which drifts apart from Box2D's over 70–140 closed-loop steps.
+//!   same terrains as Gymnasium's, see `tests/lunar_lander.rs`) lands 88 % on Earth (Gymnasium:
+//!   92 %), 96 % on Mars (96 %), 78 % on the Moon (78 %), 42 % on Pluto (34 %) and crashes 100 %
+//!   on Jupiter (100 %); on Neptune it lands 68 % (80 %) and crashes 18 % (12 %). The flight is
+//!   Box2D's; the remaining Neptune gap is hard, tilted touchdowns (6 seeds land in Box2D and
+//!   crash here).
 //! * **Touching.** Box2D polygons carry a 0.01 m skin, so shapes "touch" (contact begins, leg
 //!   flag set, crash) when closer than 0.02 m. We use rapier's contact manifolds with the same
 //!   0.02 m threshold on the signed distance. A leg's flag is "touches any terrain segment" (Box2D
@@ -55,6 +65,7 @@
 //!   against moving bodies) would find nothing; the sweeps run only near the ground.
 
 mod render;
+mod rigid;
 
 use rapier2d::prelude::*;
 
@@ -81,9 +92,10 @@ pub const CHUNKS: usize = 11;
 /// Box2D's sleep criterion (b2Settings.h, 2.3).
 pub const LINEAR_SLEEP_TOLERANCE: f32 = 0.01;
 pub const ANGULAR_SLEEP_TOLERANCE: f32 = 2.0 / 180.0 * std::f32::consts::PI;
-/// Rest tolerances used here (see module docs): rapier's soft contacts let a resting lander
-/// creep by a few mm/s where Box2D's 180 velocity iterations hold it still, so the Box2D
-/// tolerances are widened by this factor.
+/// Rest tolerance used here (see module docs): rapier's soft contacts let a resting lander
+/// creep where Box2D's 180 velocity iterations hold it still, so Box2D's *linear* tolerance is
+/// widened by this factor (its angular one is kept: widening it too lets a lander still rocking
+/// on its legs count as landed, 0.48 instead of Box2D's 0.34 on Pluto).
 pub const REST_TOLERANCE_FACTOR: f32 = 10.0;
 pub const TIME_TO_SLEEP: f32 = 0.5;
 /// Two Box2D polygon skins (`2 * b2_polygonRadius`): closer than this counts as touching.
@@ -190,7 +202,9 @@ pub struct LunarLanderOptions {
     pub crash_penalty: f64,
     /// rapier solver substeps per step while the lander is near the ground (legs can touch).
     pub solver_iterations: usize,
-    /// Substeps per step in free flight, where only the two leg joints are solved.
+    /// Substeps when rapier steps away from the ground: only where the closed-form flight does
+    /// not apply (a `LEG_SPRING_TORQUE` too weak to hold the legs), where only the two leg joints
+    /// are solved.
     pub flight_solver_iterations: usize,
     /// rapier PGS iterations inside each substep.
     pub pgs_iterations: usize,
@@ -240,6 +254,16 @@ struct World {
     legs: [RigidBodyHandle; 2],
     lander_col: ColliderHandle,
     leg_cols: [ColliderHandle; 2],
+    joints: [ImpulseJointHandle; 2],
+    /// The legs' joints and how their motors drive them, for [`rigid`]'s steps.
+    leg_joints: [rigid::LegJoint; 2],
+    leg_drive: rigid::LegDrive,
+    /// Whether the last step was rapier's (its joint and contact caches are current).
+    rapier_stepped: bool,
+    /// The ground as segments `[x1, y1, x2, y2]` (bottom edge and terrain chunks).
+    ground: [[f64; 4]; CHUNKS],
+    /// Radius of each body (lander, legs) around its centre of mass, contact skin included.
+    radii: [f64; 3],
 }
 
 impl std::fmt::Debug for World {
@@ -248,10 +272,22 @@ impl std::fmt::Debug for World {
     }
 }
 
-/// Where Box2D holds a leg pressed into its inner joint limit (Gymnasium's 0.4 rad): its
-/// solver lets the joint drift past the limit until the angular slop stops it. Measured in
-/// Gymnasium 1.4: 0.349 rad at 50 FPS, 0.340 at 25 FPS, whatever the gravity or spring torque.
+/// Where Box2D holds a leg pressed into its inner joint limit, as the angle between leg and
+/// lander. Gymnasium's limit is 0.4 rad of *joint* angle, measured from the creation angle
+/// (`LEG_CREATION_ANGLE`, the joint's reference angle), i.e. 0.35 rad between the bodies; the
+/// motor presses the leg a little past it. Measured in Gymnasium 1.4: 0.349 rad at 50 FPS, 0.340
+/// at 25 FPS, whatever the gravity or spring torque.
 const LEG_REST_ANGLE: f32 = 0.345;
+/// Gymnasium creates leg `i` (−1, +1) turned `i · 0.05` rad from the lander; the joint's
+/// reference angle.
+const LEG_CREATION_ANGLE: f64 = 0.05;
+/// Gymnasium's inner joint limit (0.4 rad of joint angle) as the angle between leg and lander.
+const LEG_INNER_LIMIT: f64 = 0.4 - LEG_CREATION_ANGLE;
+/// Gymnasium's outer joint limit (0.9 rad of joint angle) as the angle between leg and lander.
+const LEG_OUTER_LIMIT: f32 = 0.9 - LEG_CREATION_ANGLE as f32;
+/// Gymnasium's leg motor speed (`motorSpeed = +0.3 * i`), rad/s: in flight, a leg wider than its
+/// rest angle swings in at this speed (after the first step, or after a bounce).
+const LEG_SWING_SPEED: f64 = 0.3;
 /// Stiffness of the leg spring (N·m/rad): stiff enough that it saturates at
 /// `LEG_SPRING_TORQUE` within 0.004 rad, as Box2D's saturated motor does.
 const LEG_SPRING_STIFFNESS: f32 = 1.0e4;
@@ -303,6 +339,11 @@ impl World {
 
         let scale = p.scale;
         let w = p.world_w();
+        let mut ground_segments = [[0.0, 0.0, w, 0.0]; CHUNKS];
+        for i in 0..CHUNKS - 1 {
+            let x = |j: usize| w / (CHUNKS - 1) as f64 * j as f64;
+            ground_segments[1 + i] = [x(i), smooth_y[i], x(i + 1), smooth_y[i + 1]];
+        }
         // Terrain: a static body with the bottom edge and the 10 chunk segments.
         let (ground, _) = pw.insert(
             RigidBodyBuilder::fixed(),
@@ -351,6 +392,7 @@ impl World {
         );
         let mut legs = [lander; 2];
         let mut leg_cols = [lander_col; 2];
+        let mut joints = [ImpulseJointHandle::invalid(); 2];
         for (k, i) in [-1.0f64, 1.0].into_iter().enumerate() {
             let (leg, col) = pw.insert(
                 dynamic(&bodies[1 + k]),
@@ -362,34 +404,175 @@ impl World {
                     .friction_combine_rule(CoefficientCombineRule::GeometricMean)
                     .collision_groups(groups(LEG_GROUP, GROUND_GROUP)),
             );
-            // Gymnasium's limits are (0.4, 0.9) and (-0.9, -0.4); the inner one is where Box2D
-            // actually holds the leg (see LEG_REST_ANGLE).
+            // Gymnasium's limits, as angles between leg and lander; the inner one is where Box2D
+            // holds the leg (see LEG_REST_ANGLE).
             let (lo, hi) = if i < 0.0 {
-                (LEG_REST_ANGLE, 0.9)
+                (LEG_REST_ANGLE, LEG_OUTER_LIMIT)
             } else {
-                (-0.9, -LEG_REST_ANGLE)
+                (-LEG_OUTER_LIMIT, -LEG_REST_ANGLE)
             };
             let joint = RevoluteJointBuilder::new()
                 .local_anchor1(Vector::new(0.0, 0.0))
                 .local_anchor2(Vector::new((i * p.leg_away / s) as f32, (p.leg_down / s) as f32))
                 .limits([lo, hi])
                 .motor_model(MotorModel::ForceBased)
-                // The leg spring (see the module docs): a stiff position motor at the rest
-                // angle, capped at LEG_SPRING_TORQUE.
-                .motor_position(-LEG_REST_ANGLE * i as f32, LEG_SPRING_STIFFNESS, 0.0)
                 .motor_max_force(p.leg_spring_torque.max(0.0) as f32)
                 .contacts_enabled(false);
-            pw.insert_impulse_joint(lander, leg, joint);
+            joints[k] = pw.insert_impulse_joint(lander, leg, joint);
             legs[k] = leg;
             leg_cols[k] = col;
         }
-        World {
+        let mut world = World {
             pw,
             lander,
             legs,
             lander_col,
             leg_cols,
+            joints,
+            leg_joints: [-1.0f64, 1.0].map(|i| rigid::LegJoint {
+                anchor_lander: [0.0, 0.0],
+                anchor_leg: [i * p.leg_away / s, p.leg_down / s],
+                limits: if i < 0.0 {
+                    (f64::from(LEG_REST_ANGLE), f64::from(LEG_OUTER_LIMIT))
+                } else {
+                    (-f64::from(LEG_OUTER_LIMIT), -f64::from(LEG_REST_ANGLE))
+                },
+            }),
+            leg_drive: rigid::LegDrive {
+                limit: [LEG_INNER_LIMIT, -LEG_INNER_LIMIT],
+                swing_speed: LEG_SWING_SPEED,
+                max_torque: p.leg_spring_torque.max(0.0),
+            },
+            rapier_stepped: false,
+            ground: ground_segments,
+            radii: [0.0; 3],
+        };
+        for (k, h) in [lander, legs[0], legs[1]].into_iter().enumerate() {
+            let b = &world.pw.bodies[h];
+            let com = b.mass_properties().local_mprops.local_com;
+            let col = &world.pw.colliders[b.colliders()[0]];
+            let aabb = col.shape().compute_local_aabb();
+            // Farthest corner of the shape's box from the centre of mass.
+            let r = [aabb.mins, aabb.maxs]
+                .iter()
+                .flat_map(|a| [aabb.mins, aabb.maxs].map(|b| Vector::new(a.x, b.y)))
+                .map(|c| f64::from((c - com).length()))
+                .fold(0.0, f64::max);
+            world.radii[k] = r + f64::from(CONTACT_SKIN);
         }
+        for k in 0..2 {
+            world.set_leg_spring(k);
+        }
+        world
+    }
+
+    /// Leg `k`'s spring (see the module docs): a stiff position motor at the rest angle, capped
+    /// at `LEG_SPRING_TORQUE`.
+    fn set_leg_spring(&mut self, k: usize) {
+        let i = [-1.0f32, 1.0][k];
+        if let Some(j) = self.pw.impulse_joints.get_mut(self.joints[k], false) {
+            j.data
+                .set_motor(JointAxis::AngX, -LEG_REST_ANGLE * i, 0.0, LEG_SPRING_STIFFNESS, 0.0);
+        }
+    }
+
+    /// Lander, leg 0 and leg 1 as plain rigid bodies (for [`rigid`]).
+    fn rigid_bodies(&self) -> [rigid::Body; 3] {
+        [self.lander, self.legs[0], self.legs[1]].map(|h| {
+            let b = &self.pw.bodies[h];
+            let mp = &b.mass_properties().local_mprops;
+            let (c, v) = (b.center_of_mass(), b.linvel());
+            rigid::Body {
+                com: [f64::from(c.x), f64::from(c.y)],
+                angle: f64::from(b.rotation().angle()),
+                mass: f64::from(b.mass()),
+                inertia: f64::from(mp.principal_inertia()),
+                local_com: [f64::from(mp.local_com.x), f64::from(mp.local_com.y)],
+                vel: [f64::from(v.x), f64::from(v.y)],
+                w: f64::from(b.angvel()),
+            }
+        })
+    }
+
+    /// Writes [`rigid`]'s results back into rapier's bodies.
+    fn set_rigid_bodies(&mut self, bodies: &[rigid::Body; 3]) {
+        for (h, b) in [self.lander, self.legs[0], self.legs[1]].into_iter().zip(bodies) {
+            let rb = &mut self.pw.bodies[h];
+            let (sn, cs) = b.angle.sin_cos();
+            let lc = b.local_com;
+            let origin = [
+                b.com[0] - (cs * lc[0] - sn * lc[1]),
+                b.com[1] - (sn * lc[0] + cs * lc[1]),
+            ];
+            rb.set_position(
+                Pose::new(Vector::new(origin[0] as f32, origin[1] as f32), b.angle as f32),
+                false,
+            );
+            rb.set_linvel(Vector::new(b.vel[0] as f32, b.vel[1] as f32), false);
+            rb.set_angvel(b.w as f32, false);
+        }
+    }
+
+    /// Whether no body can reach the ground within two steps: each body's bounding circle is
+    /// farther from every ground segment than twice its fastest point moves in a step, plus a
+    /// margin for rapier's contact prediction. Then nothing touches, and free flight applies.
+    fn airborne(&self) -> bool {
+        let dt = f64::from(self.pw.integration_parameters.dt);
+        [self.lander, self.legs[0], self.legs[1]]
+            .into_iter()
+            .zip(self.radii)
+            .all(|(h, r)| {
+                let b = &self.pw.bodies[h];
+                let (c, v) = (b.center_of_mass(), b.linvel());
+                let (cx, cy) = (f64::from(c.x), f64::from(c.y));
+                let speed = f64::from(v.length()) + f64::from(b.angvel().abs()) * r;
+                let margin = r + 2.0 * speed * dt + 0.05;
+                self.ground.iter().all(|&[x1, y1, x2, y2]| {
+                    let (dx, dy) = (x2 - x1, y2 - y1);
+                    let len2 = dx * dx + dy * dy;
+                    let t = if len2 > 0.0 {
+                        (((cx - x1) * dx + (cy - y1) * dy) / len2).clamp(0.0, 1.0)
+                    } else {
+                        0.0
+                    };
+                    let (ex, ey) = (cx - x1 - t * dx, cy - y1 - t * dy);
+                    ex * ex + ey * ey > margin * margin
+                })
+            })
+    }
+
+    /// One step: Box2D's first step when `initial_force` is given, free flight in closed form
+    /// where it applies (see [`rigid`]), rapier's solver otherwise. Returns whether rapier
+    /// stepped (contacts are only current then; in flight there are none).
+    fn step(&mut self, initial_force: Option<[f64; 2]>) -> bool {
+        let mut bodies = self.rigid_bodies();
+        let g = self.pw.gravity;
+        let gravity = [f64::from(g.x), f64::from(g.y)];
+        let dt = f64::from(self.pw.integration_parameters.dt);
+        let closed_form = match initial_force {
+            Some(force) => {
+                rigid::first_step(&mut bodies, &self.leg_joints, &self.leg_drive, force, gravity, dt);
+                true
+            }
+            None => self.airborne() && rigid::flight_step(&mut bodies, &self.leg_joints, &self.leg_drive, gravity, dt),
+        };
+        if closed_form {
+            self.set_rigid_bodies(&bodies);
+            self.rapier_stepped = false;
+            return false;
+        }
+        if !self.rapier_stepped {
+            // The joints' warm-start impulses are from before the flight: start afresh, as a
+            // world rebuilt from this state would.
+            for h in self.joints {
+                if let Some(j) = self.pw.impulse_joints.get_mut(h, false) {
+                    j.impulses = Default::default();
+                }
+            }
+        }
+        self.pw.step();
+        self.rapier_stepped = true;
+        true
     }
 
     fn body_state(&self, h: RigidBodyHandle, angle: f32) -> BodyState {
@@ -429,9 +612,10 @@ fn terrain_height(smooth_y: &[f64; CHUNKS], world_w: f64, x: f64) -> f64 {
     smooth_y[lo..=hi].iter().copied().fold(f64::MIN, f64::max)
 }
 
-/// Initial body states: lander at `(W/2, H)`, legs assembled at their joint limits.
-fn initial_bodies(p: &LunarLanderParams) -> [BodyState; 3] {
-    let s = p.scale;
+/// The bodies as Gymnasium's `reset` creates them: lander at `(W/2, H)`, each leg at the
+/// lander's height, `LEG_AWAY` to the side and turned `i · 0.05` rad, its joint anchor
+/// `LEG_DOWN` above the lander's; the first step assembles them ([`rigid::first_step`]).
+fn creation_bodies(p: &LunarLanderParams) -> [BodyState; 3] {
     let (x0, y0) = (p.world_w() / 2.0, p.world_h());
     let mut out = [BodyState {
         x: x0 as f32,
@@ -439,15 +623,10 @@ fn initial_bodies(p: &LunarLanderParams) -> [BodyState; 3] {
         ..Default::default()
     }; 3];
     for (k, i) in [-1.0f64, 1.0].into_iter().enumerate() {
-        // Joint angle at rest: +0.345 for i = -1, -0.345 for i = +1.
-        let a = -f64::from(LEG_REST_ANGLE) * i;
-        // Anchor on the leg, (i·LEG_AWAY, LEG_DOWN)/SCALE, coincides with the lander origin.
-        let (ax, ay) = (i * p.leg_away / s, p.leg_down / s);
-        let (sn, cs) = a.sin_cos();
         out[1 + k] = BodyState {
-            x: (x0 - (cs * ax - sn * ay)) as f32,
-            y: (y0 - (sn * ax + cs * ay)) as f32,
-            angle: a as f32,
+            x: (x0 - i * p.leg_away / p.scale) as f32,
+            y: y0 as f32,
+            angle: (i * LEG_CREATION_ANGLE) as f32,
             ..Default::default()
         };
     }
@@ -467,8 +646,9 @@ pub struct LunarLander {
     game_over: bool,
     rest_time: f32,
     prev_shaping: Option<f64>,
-    /// Force applied at reset, acting during the first step only (Box2D clears forces).
-    pending_force: bool,
+    /// Gymnasium's random push at reset, acting during the first step only (Box2D clears
+    /// forces); that step assembles the legs ([`rigid::first_step`]).
+    initial_force: Option<[f64; 2]>,
     outcome: Outcome,
     /// Engine powers of the last step `(main, side direction, side)`, for rendering flames.
     last_engines: (f64, f64, f64),
@@ -493,7 +673,6 @@ impl Clone for LunarLander {
             c.load_state(&self.state_array());
             c.outcome = self.outcome;
             c.last_engines = self.last_engines;
-            c.pending_force = false;
         }
         c
     }
@@ -521,7 +700,7 @@ impl LunarLander {
             game_over: false,
             rest_time: 0.0,
             prev_shaping: None,
-            pending_force: false,
+            initial_force: None,
             outcome: Outcome::Running,
             last_engines: (0.0, 0.0, 0.0),
             rng: rng_for(crate::envs::rng::DEFAULT_SEED),
@@ -647,13 +826,13 @@ impl LunarLander {
             };
             self.angles[k] = b.angle;
         }
-        self.world = Some(World::build(&self.params, &self.opts, &self.smooth_y, &bodies));
         let o = CHUNKS + 18;
         self.leg_contact = [s[o] != 0.0, s[o + 1] != 0.0];
+        self.world = Some(World::build(&self.params, &self.opts, &self.smooth_y, &bodies));
         self.game_over = s[o + 2] != 0.0;
         self.rest_time = s[o + 3] as f32;
         self.prev_shaping = (s[o + 4] != 0.0).then_some(s[o + 5]);
-        self.pending_force = false;
+        self.initial_force = None;
         self.outcome = Outcome::Running;
         self.last_engines = (0.0, 0.0, 0.0);
     }
@@ -783,12 +962,8 @@ impl LunarLander {
         } else {
             self.opts.flight_solver_iterations.max(1)
         };
-        world.pw.step();
+        let rapier_stepped = world.step(self.initial_force.take());
         let dt = world.pw.integration_parameters.dt;
-        if self.pending_force {
-            world.pw.bodies[world.lander].reset_forces(false);
-            self.pending_force = false;
-        }
 
         // Box2D's motion caps, unwrapped angles and the rest criterion.
         let hs = [world.lander, world.legs[0], world.legs[1]];
@@ -812,10 +987,7 @@ impl LunarLander {
             // Rest is judged on how far each body actually moved during the step: rapier's
             // velocities carry the soft constraints' correction terms, which do not move a
             // body at rest but would keep it "awake" forever.
-            let (lt, at) = (
-                LINEAR_SLEEP_TOLERANCE * REST_TOLERANCE_FACTOR,
-                ANGULAR_SLEEP_TOLERANCE * REST_TOLERANCE_FACTOR,
-            );
+            let (lt, at) = (LINEAR_SLEEP_TOLERANCE * REST_TOLERANCE_FACTOR, ANGULAR_SLEEP_TOLERANCE);
             let moved = b.translation() - before[k];
             let turned = self.angles[k] - angles_before[k];
             if moved.length_squared() > (lt * dt) * (lt * dt) || turned * turned > (at * dt) * (at * dt) {
@@ -825,10 +997,15 @@ impl LunarLander {
         self.rest_time = if resting { self.rest_time + dt } else { 0.0 };
         let awake = self.rest_time < TIME_TO_SLEEP;
 
-        if world.touching(world.lander_col) {
+        // In flight nothing touches (rapier's contacts are from its last step).
+        if rapier_stepped && world.touching(world.lander_col) {
             self.game_over = true;
         }
-        self.leg_contact = [world.touching(world.leg_cols[0]), world.touching(world.leg_cols[1])];
+        self.leg_contact = if rapier_stepped {
+            [world.touching(world.leg_cols[0]), world.touching(world.leg_cols[1])]
+        } else {
+            [false; 2]
+        };
 
         let s = self.state_f64();
         let shaping = -100.0 * (s[0] * s[0] + s[1] * s[1]).sqrt()
@@ -913,7 +1090,7 @@ impl Env for LunarLander {
             self.rng = rng_for(seed);
         }
         self.generate_terrain();
-        let bodies = initial_bodies(&self.params);
+        let bodies = creation_bodies(&self.params);
         self.world = Some(World::build(&self.params, &self.opts, &self.smooth_y, &bodies));
         self.angles = [bodies[0].angle, bodies[1].angle, bodies[2].angle];
         self.leg_contact = [false; 2];
@@ -924,10 +1101,7 @@ impl Env for LunarLander {
         let ir = self.params.initial_random;
         let fx = self.uniform(-ir, ir);
         let fy = self.uniform(-ir, ir);
-        if let Some(w) = self.world.as_mut() {
-            w.pw.bodies[w.lander].add_force(Vector::new(fx as f32, fy as f32), true);
-        }
-        self.pending_force = true;
+        self.initial_force = Some([fx, fy]);
         // Gymnasium's reset returns the observation of `step(0)`.
         self.advance(0.0, 0.0, 0.0);
         self.write_obs(obs);
