@@ -705,3 +705,42 @@ fn hip_limits_act_on_the_joint_angle_from_box2ds_reference_angle() {
         );
     }
 }
+
+/// Random actions (uniform in [-1, 1]^4 from `Pcg64::new(seed, 7)`) from `reset(seed)` until
+/// the episode ends: the largest |hull angle| observed.
+fn largest_random_action_angle(seed: u64, opts: BipedalWalkerOptions) -> f32 {
+    use carl_spec::sampling::{Pcg64, dist};
+    let mut env = BipedalWalker::with_options(BipedalWalkerParams::default(), opts);
+    let mut rng = Pcg64::new(seed, 7);
+    env.reset(Some(seed));
+    let mut largest = 0f32;
+    for _ in 0..1600 {
+        let a: Vec<f32> = (0..4).map(|_| dist::uniform(&mut rng, -1.0, 1.0) as f32).collect();
+        let st = env.step(&Action::Continuous(a)).unwrap();
+        largest = largest.max(st.obs[0].abs());
+        if st.terminated {
+            break;
+        }
+    }
+    largest
+}
+
+#[test]
+fn without_warm_start_the_flipping_episode_stays_within_pi() {
+    // examples/bipedal_walker_flips.rs, episode 65: with rapier's contact warm start a landing
+    // throws the hull up (vy −3.9 → +8.1 m/s) and it turns over in the air (|angle| > π from
+    // step 85); without warm start it does not.
+    let opts = BipedalWalkerOptions {
+        warmstart_coefficient: 0.0,
+        ..Default::default()
+    };
+    let largest = largest_random_action_angle(65, opts);
+    assert!(largest < std::f32::consts::PI, "{largest}");
+}
+
+#[test]
+#[ignore = "known deviation: the default (warm-started) walker flips past ±π in episode 65 (8 of 300 random-action episodes)"]
+fn random_action_episode_65_stays_within_pi() {
+    let largest = largest_random_action_angle(65, BipedalWalkerOptions::default());
+    assert!(largest < std::f32::consts::PI, "{largest}");
+}

@@ -74,7 +74,9 @@ SPINS = pytest.mark.xfail(
 # BipedalWalker's hull can flip past ±π in the air without touching the ground (2 of 68 random-action
 # episodes from seed 0, 8 of 30,000 steps; Gymnasium 1.4's Box2D walker: 0 of 51 episodes, largest
 # |angle| 2.53), where Box2D's walker ends the episode on hull contact first. Seen since the walker's
-# 16 solver substeps and Box2D limit rule; strict, so a fix shows.
+# 16 solver substeps and Box2D limit rule. Cause found: rapier's contact warm start throws the
+# walker up on some landings (examples/bipedal_walker_flips.rs; BipedalWalkerOptions::
+# warmstart_coefficient 0 gives 0 of 300 flips but is not the default yet); strict, so a fix shows.
 FLIPS = pytest.mark.xfail(
     strict=True, reason="BipedalWalker's hull flips past ±π in the air in rare random-action episodes"
 )
