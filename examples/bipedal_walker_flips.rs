@@ -41,11 +41,24 @@ fn main() {
             total += 1;
             largest = largest.max(o[0].abs());
             if trace.is_some() {
-                let y: Vec<String> = env.body_states().unwrap().iter().map(|b| format!("{:.2}", b.y)).collect();
+                let y: Vec<String> = env
+                    .body_states()
+                    .unwrap()
+                    .iter()
+                    .map(|b| format!("{:.2}", b.y))
+                    .collect();
                 let hull = env.body_states().unwrap()[0];
                 println!(
                     "{t}: y {y:?} hull vy {:.2} angle {:.3} w {:.2} joints [{:.2} {:.2} {:.2} {:.2}] contacts {} {}",
-                    hull.vy, o[0], hull.w, o[4], o[6] - 1.0, o[9], o[11] - 1.0, o[8], o[13]
+                    hull.vy,
+                    o[0],
+                    hull.w,
+                    o[4],
+                    o[6] - 1.0,
+                    o[9],
+                    o[11] - 1.0,
+                    o[8],
+                    o[13]
                 );
             }
             if o[0].abs() > std::f32::consts::PI {
