@@ -5,7 +5,7 @@
 
 use carl_spec::envs::rng::EnvRng;
 use carl_spec::envs::robots::world::{Configuration, RobotWorld};
-use carl_spec::envs::robots::{RobotModel, default_params};
+use carl_spec::envs::robots::{RobotModel, RobotParams, default_params};
 
 const ROBOTS: &[(&str, &str)] = &[
     ("ant", "ant"),
@@ -47,6 +47,30 @@ fn random_configuration(model: &RobotModel, root_dofs: usize, rng: &mut EnvRng) 
 }
 
 /// Largest entry difference relative to the largest entry.
+/// How many root DoFs the robot's multibody has (6 for a free root, 0 for a fixed base).
+fn root_dofs(model: &RobotModel, params: &RobotParams) -> usize {
+    let q = random_configuration(model, 0, &mut EnvRng::from_seed(0));
+    RobotWorld::build(model, params, &q).root_dofs()
+}
+
+/// A world in a random configuration, then `steps` steps under random controls (link
+/// velocities, contacts and springs as in use).
+fn random_state(
+    model: &RobotModel,
+    params: &RobotParams,
+    root_dofs: usize,
+    steps: usize,
+    rng: &mut EnvRng,
+) -> RobotWorld {
+    let q = random_configuration(model, root_dofs, rng);
+    let mut w = RobotWorld::build(model, params, &q);
+    for _ in 0..steps {
+        let ctrl: Vec<f32> = (0..model.num_actuators()).map(|_| uniform(rng, 1.0) as f32).collect();
+        w.step(&ctrl);
+    }
+    w
+}
+
 fn rel_diff(a: &[f32], b: &[f32]) -> f64 {
     assert_eq!(a.len(), b.len());
     let scale = a.iter().map(|x| f64::from(x.abs())).fold(0.0, f64::max).max(1e-30);
@@ -63,25 +87,12 @@ fn sparse_mass_matrix_equals_dense_reference_on_every_robot() {
     for &(id, robot) in ROBOTS {
         let model = RobotModel::load(robot).unwrap();
         let params = default_params(id).unwrap();
-        let probe = RobotWorld::build(
-            &model,
-            &params,
-            &random_configuration(&model, 0, &mut EnvRng::from_seed(0)),
-        );
-        let root_dofs = probe.root_dofs();
+        let root_dofs = root_dofs(&model, &params);
         let mut rng = EnvRng::from_seed(15);
         let mut worst_all: f64 = 0.0;
         let mut worst_implicit: f64 = 0.0;
         for trial in 0..20 {
-            let q = random_configuration(&model, root_dofs, &mut rng);
-            let mut w = RobotWorld::build(&model, &params, &q);
-            // A few steps with random controls: link velocities, contacts and springs as in use.
-            for _ in 0..1 + trial % 4 {
-                let ctrl: Vec<f32> = (0..model.num_actuators())
-                    .map(|_| uniform(&mut rng, 1.0) as f32)
-                    .collect();
-                w.step(&ctrl);
-            }
+            let w = random_state(&model, &params, root_dofs, 1 + trial % 4, &mut rng);
             let dt = w.pw.integration_parameters.dt;
             let mut dense = w.multibody().clone();
             dense.update_dense_reference(dt, &w.pw.bodies);
@@ -144,23 +155,11 @@ fn tree_sparse_factorization_solves_like_dense_lu_on_every_robot() {
     for &(id, robot) in ROBOTS {
         let model = RobotModel::load(robot).unwrap();
         let params = default_params(id).unwrap();
-        let probe = RobotWorld::build(
-            &model,
-            &params,
-            &random_configuration(&model, 0, &mut EnvRng::from_seed(0)),
-        );
-        let root_dofs = probe.root_dofs();
+        let root_dofs = root_dofs(&model, &params);
         let mut rng = EnvRng::from_seed(16);
         let (mut worst_tree, mut worst_lu): (f64, f64) = (0.0, 0.0);
         for trial in 0..20 {
-            let q = random_configuration(&model, root_dofs, &mut rng);
-            let mut w = RobotWorld::build(&model, &params, &q);
-            for _ in 0..1 + trial % 4 {
-                let ctrl: Vec<f32> = (0..model.num_actuators())
-                    .map(|_| uniform(&mut rng, 1.0) as f32)
-                    .collect();
-                w.step(&ctrl);
-            }
+            let w = random_state(&model, &params, root_dofs, 1 + trial % 4, &mut rng);
             let dt = w.pw.integration_parameters.dt;
             let mut mb = w.multibody().clone();
             mb.update_sparse(dt, &w.pw.bodies);
