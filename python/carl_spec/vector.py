@@ -151,7 +151,6 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
         infos: dict[str, Any] = {}
         if self._same_step:
             # Gymnasium's layout (what VectorEnv._add_info builds env by env), built in Rust: an
-            # object array of final observations (None elsewhere) and the mask.
             # object array of final observations (None elsewhere) and the mask; `final_info` is
             # the finished episodes' infos in the vector layout.
             final = self._core.final_obs_info()

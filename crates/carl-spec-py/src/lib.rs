@@ -946,7 +946,7 @@ fn set_nested(
     d: &Bound<'_, PyDict>,
     key: &str,
     n: usize,
-    names: &[String],
+    names: &[impl AsRef<str>],
     rows: &[usize],
     value: impl Fn(usize, usize) -> f64,
 ) -> PyResult<()> {
@@ -966,6 +966,7 @@ fn set_nested(
         for &i in rows {
             col[i] = value(i, j);
         }
+        let name = name.as_ref();
         inner.set_item(name, PyArray1::from_vec(py, col))?;
         inner.set_item(format!("_{name}"), &shared)?;
     }
@@ -1219,7 +1220,7 @@ impl VecEnv {
             .collect();
         let d = PyDict::new(py);
         // Every episode's context lists every feature, in spec order.
-        let names: Vec<String> = self.fixed_info.context.iter().map(|(k, _)| k.clone()).collect();
+        let names: Vec<&str> = self.fixed_info.context.iter().map(|(k, _)| k.as_str()).collect();
         let mut at = vec![0; n];
         for (k, (i, _)) in infos.iter().enumerate() {
             at[*i] = k;

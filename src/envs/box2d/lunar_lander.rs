@@ -285,6 +285,16 @@ const LEG_CREATION_ANGLE: f64 = 0.05;
 const LEG_INNER_LIMIT: f64 = 0.4 - LEG_CREATION_ANGLE;
 /// Gymnasium's outer joint limit (0.9 rad of joint angle) as the angle between leg and lander.
 const LEG_OUTER_LIMIT: f32 = 0.9 - LEG_CREATION_ANGLE as f32;
+/// Leg `i`'s (−1, +1) joint limits as angles between leg and lander: Gymnasium's, with the
+/// inner one where Box2D holds the leg (see [`LEG_REST_ANGLE`]).
+fn leg_limits(i: f32) -> (f32, f32) {
+    if i < 0.0 {
+        (LEG_REST_ANGLE, LEG_OUTER_LIMIT)
+    } else {
+        (-LEG_OUTER_LIMIT, -LEG_REST_ANGLE)
+    }
+}
+
 /// Gymnasium's leg motor speed (`motorSpeed = +0.3 * i`), rad/s: in flight, a leg wider than its
 /// rest angle swings in at this speed (after the first step, or after a bounce).
 const LEG_SWING_SPEED: f64 = 0.3;
@@ -404,13 +414,7 @@ impl World {
                     .friction_combine_rule(CoefficientCombineRule::GeometricMean)
                     .collision_groups(groups(LEG_GROUP, GROUND_GROUP)),
             );
-            // Gymnasium's limits, as angles between leg and lander; the inner one is where Box2D
-            // holds the leg (see LEG_REST_ANGLE).
-            let (lo, hi) = if i < 0.0 {
-                (LEG_REST_ANGLE, LEG_OUTER_LIMIT)
-            } else {
-                (-LEG_OUTER_LIMIT, -LEG_REST_ANGLE)
-            };
+            let (lo, hi) = leg_limits(i as f32);
             let joint = RevoluteJointBuilder::new()
                 .local_anchor1(Vector::new(0.0, 0.0))
                 .local_anchor2(Vector::new((i * p.leg_away / s) as f32, (p.leg_down / s) as f32))
@@ -432,10 +436,9 @@ impl World {
             leg_joints: [-1.0f64, 1.0].map(|i| rigid::LegJoint {
                 anchor_lander: [0.0, 0.0],
                 anchor_leg: [i * p.leg_away / s, p.leg_down / s],
-                limits: if i < 0.0 {
-                    (f64::from(LEG_REST_ANGLE), f64::from(LEG_OUTER_LIMIT))
-                } else {
-                    (-f64::from(LEG_OUTER_LIMIT), -f64::from(LEG_REST_ANGLE))
+                limits: {
+                    let (lo, hi) = leg_limits(i as f32);
+                    (f64::from(lo), f64::from(hi))
                 },
             }),
             leg_drive: rigid::LegDrive {
