@@ -36,6 +36,15 @@ pub fn bundled_inputs(library: bool) -> Vec<Input> {
         .collect()
 }
 
+/// Whether `input` is a bundled spec exactly as embedded at build time (name and bytes).
+pub(crate) fn is_embedded(input: &Input) -> bool {
+    input
+        .name
+        .strip_prefix("bundled:specs/")
+        .and_then(|p| bundled_files().iter().find(|(q, _)| *q == p))
+        .is_some_and(|(_, text)| text.as_bytes() == input.bytes.as_slice())
+}
+
 /// A validated, resolved set of environment specs.
 #[derive(Debug, Clone, Default)]
 pub struct SpecSet {

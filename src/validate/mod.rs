@@ -1,8 +1,9 @@
 //! The validator: syntax → JSON Schema → typed model → resolution → semantic rules.
 //!
 //! Every problem in every file is collected (never stop at the first), each as a located
-//! [`Diagnostic`] with a stable rule id. `SpecSet::load` runs the same pipeline, so anything the
-//! library accepts has passed validation.
+//! [`Diagnostic`] with a stable rule id. `SpecSet`'s loaders run the same pipeline, so anything the
+//! library accepts has passed validation (the bundled specs' syntactic checks at test time, see
+//! [`Syntax::TrustEmbedded`]).
 
 mod load;
 mod rules;
@@ -23,24 +24,50 @@ use schema_check::SchemaChecker;
 
 /// Validate a set of documents and return the resolved environment specs of the valid ones.
 pub fn run(inputs: &[Input]) -> (Vec<Resolved>, Report) {
-    let checker = match schema_check::shared() {
-        Ok(c) => c,
-        Err(e) => {
-            let d = Diagnostic::file_level(&rule::INTERNAL, "<schema>", e, None);
-            return (
-                Vec::new(),
-                Report {
-                    diagnostics: vec![d],
-                    ..Default::default()
-                },
-            );
+    run_with(inputs, Syntax::CheckAll)
+}
+
+/// Which documents get the syntactic checks (duplicate keys, JSON Schema).
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Syntax {
+    /// Every document (`carl-spec validate`, `cs.validate`, authors' specs).
+    CheckAll,
+    /// All but the bundled specs exactly as embedded at build time: the test
+    /// `bundled_specs_pass_the_whole_validator` (tests/bundled_specs.rs) runs the whole validator
+    /// over those very bytes, so loading them need not compile the schema again (half the cost
+    /// of `import carl_spec; cs.make(...)` beyond NumPy and Gymnasium). Typed deserialization,
+    /// resolution and the semantic rules still run for them.
+    TrustEmbedded,
+}
+
+pub(crate) fn run_with(inputs: &[Input], syntax: Syntax) -> (Vec<Resolved>, Report) {
+    let trusted: Vec<bool> = inputs
+        .iter()
+        .map(|i| syntax == Syntax::TrustEmbedded && crate::spec::load::is_embedded(i))
+        .collect();
+    // The schema is compiled only if some document needs it.
+    let checker = if trusted.iter().all(|&t| t) {
+        None
+    } else {
+        match schema_check::shared() {
+            Ok(c) => Some(c),
+            Err(e) => {
+                let d = Diagnostic::file_level(&rule::INTERNAL, "<schema>", e, None);
+                return (
+                    Vec::new(),
+                    Report {
+                        diagnostics: vec![d],
+                        ..Default::default()
+                    },
+                );
+            }
         }
     };
     let mut early: Vec<Diagnostic> = Vec::new();
     let mut files: Vec<SourceFile> = Vec::with_capacity(inputs.len());
     let mut docs: Vec<Option<RawDocument>> = Vec::with_capacity(inputs.len());
-    for input in inputs {
-        let (file, doc, mut diags) = check_document(input, checker);
+    for (input, &trusted) in inputs.iter().zip(&trusted) {
+        let (file, doc, mut diags) = check_document(input, if trusted { None } else { checker });
         files.push(file);
         docs.push(doc);
         early.append(&mut diags);
@@ -116,8 +143,12 @@ pub fn run(inputs: &[Input]) -> (Vec<Resolved>, Report) {
     (resolved, report)
 }
 
-/// Syntax, duplicate keys, schema and typed deserialization of one file.
-fn check_document(input: &Input, checker: &SchemaChecker) -> (SourceFile, Option<RawDocument>, Vec<Diagnostic>) {
+/// Syntax, duplicate keys, schema and typed deserialization of one file (`checker` None: a
+/// trusted embedded spec, see [`Syntax::TrustEmbedded`]; no duplicate-key or schema check).
+fn check_document(
+    input: &Input,
+    checker: Option<&SchemaChecker>,
+) -> (SourceFile, Option<RawDocument>, Vec<Diagnostic>) {
     let name = input.name.clone();
     if input.bytes.len() > MAX_FILE_BYTES {
         let d = Diagnostic::file_level(
@@ -173,8 +204,10 @@ fn check_document(input: &Input, checker: &SchemaChecker) -> (SourceFile, Option
     let file = SourceFile::new(name, text, Some(root));
     let root = file.root.as_ref().expect("just set");
     let mut diags = Vec::new();
-    duplicate_keys(root, "", &file, &mut diags);
-    diags.truncate(MAX_DIAGNOSTICS_PER_FILE);
+    if checker.is_some() {
+        duplicate_keys(root, "", &file, &mut diags);
+        diags.truncate(MAX_DIAGNOSTICS_PER_FILE);
+    }
 
     if !matches!(root.kind, NodeKind::Object(_)) {
         diags.push(file.diagnostic(
@@ -187,7 +220,7 @@ fn check_document(input: &Input, checker: &SchemaChecker) -> (SourceFile, Option
         return (file, None, diags);
     }
     let value = root.to_value();
-    let problems = checker.check(&value);
+    let problems = checker.map(|c| c.check(&value)).unwrap_or_default();
     if !problems.is_empty() {
         for p in problems {
             let on_key = p.keyword == "additionalProperties";
