@@ -90,23 +90,10 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
         self.single_action_space = space_from_json(json.loads(self._core.action_space_json()))
         self.observation_space = batch_space(self.single_observation_space, num_envs)
         self.action_space = batch_space(self.single_action_space, num_envs)
-        self._discrete = isinstance(self.single_action_space, gymnasium.spaces.Discrete)
-        self._contextual = self._core.contextual
         self._seeded = False
         self._mode = _MODES[mode]
         self._same_step = self._mode == AutoresetMode.SAME_STEP
-        self._all = np.ones(num_envs, dtype=np.bool_)
-        self._noisy = self._core.noisy
         self._end_info = self._core.has_episode_end_info
-
-    def _context_infos(self, infos: dict[str, Any]) -> dict[str, Any]:
-        if self._contextual:
-            infos["instance_id"] = self._core.instance_ids()
-            infos["_instance_id"] = self._all
-        observed = self._core.observed_context_info() if self._noisy else None
-        if observed is not None:
-            infos.update(observed)
-        return infos
 
     def reset(
         self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
@@ -133,47 +120,35 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
                         s_i = (os_entropy_seed() - i) % 2**64
                     obs = self._core.reset(s_i, one)
             self._seeded = True
-            return self._core.reset(None, np.zeros(self.num_envs, dtype=np.bool_)) if obs is None else obs, self._context_infos({})
+            return self._core.reset(None, np.zeros(self.num_envs, dtype=np.bool_)) if obs is None else obs, self._core.infos()
         if seed is None and not self._seeded:
             seed = os_entropy_seed()
         if seed is not None:
             self._seeded = True
             seed = int(seed) % 2**64
         obs = self._core.reset(seed, mask)
-        return obs, self._context_infos({})
+        return obs, self._core.infos()
 
     def step(self, actions: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
-        if self._discrete:
-            a = np.ascontiguousarray(actions, dtype=np.int64).reshape(self.num_envs)
-        else:
-            a = np.ascontiguousarray(actions, dtype=np.float32)
-        obs, rewards, terminated, truncated = self._core.step(a)
-        infos: dict[str, Any] = {}
+        # One call: actions in, the GIL released around the native batch step, the arrays and
+        # Gymnasium's vector infos (same-step `final_obs` / `final_info`, `instance_id`,
+        # `observed_context`) built in Rust.
+        out = self._core.step(actions)
+        if self._end_info and out[2].any():
+            self._add_episode_end_info(out[4], out[2])
+        return out
+
+    def _add_episode_end_info(self, infos: dict[str, Any], terminated: np.ndarray) -> None:
+        # rna_design's sequences: Gymnasium's own layout, env by env (only at episode ends).
+        target = infos["final_info"] if self._same_step else infos
+        for i in np.flatnonzero(terminated):
+            end = self._core.episode_end_info(int(i))
+            if end is not None:
+                target = self._add_info(target, end, int(i))
         if self._same_step:
-            # Gymnasium's layout (what VectorEnv._add_info builds env by env), built in Rust: an
-            # object array of final observations (None elsewhere) and the mask; `final_info` is
-            # the finished episodes' infos in the vector layout.
-            final = self._core.final_obs_info()
-            if final is not None:
-                final_obs, done = final
-                infos = {
-                    "final_obs": final_obs,
-                    "_final_obs": done,
-                    "final_info": self._core.final_info(),
-                    "_final_info": done.copy(),
-                }
-        if self._end_info and terminated.any():
-            # rna_design's sequences: Gymnasium's own layout, env by env (only at episode ends).
-            target = infos["final_info"] if self._same_step else infos
-            for i in np.flatnonzero(terminated):
-                end = self._core.episode_end_info(int(i))
-                if end is not None:
-                    target = self._add_info(target, end, int(i))
-            if self._same_step:
-                infos["final_info"] = target
-            else:
-                infos = target
-        return obs, rewards, terminated, truncated, self._context_infos(infos)
+            infos["final_info"] = target
+        else:
+            infos.update(target)
 
     def context_info(self, i: int) -> dict[str, Any] | None:
         """Environment `i`'s current context info (contexts from a set or distribution)."""

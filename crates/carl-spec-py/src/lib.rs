@@ -16,7 +16,7 @@ use numpy::ndarray::IxDyn;
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{IntoPyDict, PyDict, PyList};
+use pyo3::types::{PyDict, PyList};
 
 use carl_spec::envs::contextual::{
     ContextInfo, ContextNoise, ContextSource, ContextualEnv, ContextualError, ContextualOptions, NoiseRedraw, NoiseStd,
@@ -34,6 +34,9 @@ use carl_spec::spec::load::{bundled_inputs, read_inputs};
 use carl_spec::validate;
 
 mod user_spec;
+mod vec_infos;
+
+use vec_infos::{Keyed, keyed, keyed_all, mask, read_only, set_column, set_nested};
 
 // ---------------------------------------------------------------------------------------
 // Errors
@@ -510,7 +513,7 @@ impl ObsLayout {
 }
 
 /// A fresh C-contiguous array of `dims`, written by `fill` (one allocation, no reshape).
-fn filled<'py, T: numpy::Element>(py: Python<'py>, dims: &[usize], fill: impl FnOnce(&mut [T])) -> Bound<'py, PyAny> {
+pub(crate) fn filled<'py, T: numpy::Element>(py: Python<'py>, dims: &[usize], fill: impl FnOnce(&mut [T])) -> Bound<'py, PyAny> {
     // SAFETY: `fill` writes every element before Python can see the array (all callers copy
     // exactly `dims.product()` values), and a fresh array is contiguous.
     let arr = unsafe { PyArrayDyn::<T>::new(py, IxDyn(dims), false) };
@@ -875,12 +878,13 @@ fn autoreset_mode(name: &str) -> PyResult<AutoresetMode> {
     }
 }
 
-/// `(observations, rewards, terminated, truncated)` of one batch step.
+/// `(observations, rewards, terminated, truncated, infos)` of one batch step.
 type BatchStep<'py> = (
     Bound<'py, PyAny>,
     Bound<'py, PyAny>,
     Bound<'py, PyAny>,
     Bound<'py, PyAny>,
+    Bound<'py, PyDict>,
 );
 
 /// A batch of environments stepped by one call (`carl_spec.make_vec` wraps it in a
@@ -893,9 +897,8 @@ struct VecEnv {
     discrete: bool,
     action_dim: usize,
     contextual: bool,
-    /// The visible features, where they start in an observation row, and whether they are
-    /// observed with noise (then the infos carry `observed_context`).
-    visible: Vec<String>,
+    /// Where the visible features start in an observation row, and whether they are observed
+    /// with noise (then the infos carry `observed_context`).
     base_dim: usize,
     noisy: bool,
     /// The context of a plain batch (one fixed context: every episode's).
@@ -903,6 +906,14 @@ struct VecEnv {
     /// The actions of the step in progress, copied out of NumPy before the GIL is released.
     discrete_actions: Vec<i64>,
     continuous_actions: Vec<f32>,
+    same_step: bool,
+    /// Info keys made once: every context feature (spec order; every episode's context lists
+    /// them all) and the visible ones.
+    feature_keys: Vec<Keyed>,
+    visible_keys: Vec<Keyed>,
+    /// `_instance_id` of a contextual batch (every env has an instance id): one read-only
+    /// all-true mask shared by every step's infos.
+    all_envs: Py<PyAny>,
 }
 
 impl VecEnv {
@@ -917,61 +928,176 @@ impl VecEnv {
     fn set_observed(&self, d: &Bound<'_, PyDict>, obs: &[f32], rows: &[usize]) -> PyResult<()> {
         let (w, base) = (self.inner.obs_dim(), self.base_dim);
         let value = |i: usize, j: usize| f64::from(obs[i * w + base + j]);
-        set_nested(d, "observed_context", self.inner.num_envs(), &self.visible, rows, value)
+        set_nested(d, &keyed!(d.py(), "observed_context"), self.inner.num_envs(), &self.visible_keys, rows, value)
     }
-}
 
-/// Gymnasium's vector info layout (`VectorEnv._add_info`) of a column of numbers: an array with
-/// each listed env's value (zero elsewhere) and the `_key` mask of the envs that have one.
-fn set_column<'py, T: numpy::Element + Copy + Default>(
-    d: &Bound<'py, PyDict>,
-    key: &str,
-    n: usize,
-    rows: impl IntoIterator<Item = (usize, T)>,
-) -> PyResult<()> {
-    let (mut col, mut mask) = (vec![T::default(); n], vec![false; n]);
-    for (i, v) in rows {
-        col[i] = v;
-        mask[i] = true;
-    }
-    let py = d.py();
-    d.set_item(key, PyArray1::from_vec(py, col))?;
-    d.set_item(format!("_{key}"), PyArray1::from_vec(py, mask))
-}
-
-/// A nested info dict (`{feature: value}` per env) in Gymnasium's vector layout: one masked
-/// column per feature under `key`, and `_key`, the mask of the envs that have the dict.
-/// `value(i, j)`: env `i`'s value of `names[j]`, for the envs `rows`.
-fn set_nested(
-    d: &Bound<'_, PyDict>,
-    key: &str,
-    n: usize,
-    names: &[impl AsRef<str>],
-    rows: &[usize],
-    value: impl Fn(usize, usize) -> f64,
-) -> PyResult<()> {
-    let py = d.py();
-    let mut mask = vec![false; n];
-    for &i in rows {
-        mask[i] = true;
-    }
-    // Every feature has the same mask: one read-only array serves them all (a same-step batch
-    // builds this at every step where an episode ends, ~20 features; a mask per feature cost
-    // as much again). Read-only, so no reader can change one feature's mask through another's.
-    let shared = PyArray1::from_slice(py, &mask);
-    shared.call_method("setflags", (), Some(&[("write", false)].into_py_dict(py)?))?;
-    let inner = PyDict::new(py);
-    for (j, name) in names.iter().enumerate() {
-        let mut col = vec![0.0f64; n];
-        for &i in rows {
-            col[i] = value(i, j);
+    /// Copy the batch's actions out of NumPy (the GIL is held). An int64 (discrete) or float32
+    /// C-contiguous array is read as it is; anything else goes through
+    /// `numpy.ascontiguousarray(actions, dtype)` first, as `CarlVectorEnv.step` always did.
+    fn take_actions(&mut self, actions: &Bound<'_, PyAny>) -> PyResult<()> {
+        let py = actions.py();
+        let (n, id) = (self.inner.num_envs(), self.inner.id());
+        let convert = |dtype: &str| -> PyResult<Bound<'_, PyAny>> {
+            let numpy = py.import(pyo3::intern!(py, "numpy"))?;
+            let kwargs = PyDict::new(py);
+            kwargs.set_item(pyo3::intern!(py, "dtype"), dtype)?;
+            numpy
+                .getattr(pyo3::intern!(py, "ascontiguousarray"))?
+                .call((actions,), Some(&kwargs))
+        };
+        if self.discrete {
+            let owned;
+            let a = match actions.cast::<PyArrayDyn<i64>>() {
+                Ok(a) if a.is_c_contiguous() => a,
+                _ => {
+                    owned = convert("int64")?;
+                    owned.cast::<PyArrayDyn<i64>>()?
+                }
+            };
+            if a.len() != n {
+                return Err(value_error(format!("{id}: expected {n} actions, got {}", a.len())));
+            }
+            // SAFETY: C-contiguous (checked or made so), and read while the GIL is held: no
+            // Python code runs until the copy is done.
+            self.discrete_actions.copy_from_slice(unsafe { a.as_slice() }.map_err(value_error)?);
+        } else {
+            let owned;
+            let a = match actions.cast::<PyArrayDyn<f32>>() {
+                Ok(a) if a.is_c_contiguous() => a,
+                _ => {
+                    owned = convert("float32")?;
+                    owned.cast::<PyArrayDyn<f32>>()?
+                }
+            };
+            if a.len() != n * self.action_dim {
+                return Err(value_error(format!(
+                    "{}: expected actions of shape ({}, {}), got {:?}",
+                    id,
+                    n,
+                    self.action_dim,
+                    a.shape()
+                )));
+            }
+            // SAFETY: as above.
+            self.continuous_actions.copy_from_slice(unsafe { a.as_slice() }.map_err(value_error)?);
         }
-        let name = name.as_ref();
-        inner.set_item(name, PyArray1::from_vec(py, col))?;
-        inner.set_item(format!("_{name}"), &shared)?;
+        Ok(())
     }
-    d.set_item(key, inner)?;
-    d.set_item(format!("_{key}"), PyArray1::from_vec(py, mask))
+
+    /// What every step's (and reset's) infos carry: `instance_id` (contextual batches) and
+    /// `observed_context` (with context noise), in Gymnasium's vector layout.
+    fn context_infos<'py>(&self, d: &Bound<'py, PyDict>) -> PyResult<()> {
+        let py = d.py();
+        if self.contextual {
+            d.set_item(pyo3::intern!(py, "instance_id"), PyArray1::from_slice(py, self.inner.instance_ids()))?;
+            d.set_item(pyo3::intern!(py, "_instance_id"), self.all_envs.bind(py))?;
+        }
+        if self.noisy {
+            let all: Vec<usize> = (0..self.inner.num_envs()).collect();
+            self.set_observed(d, self.inner.obs(), &all)?;
+        }
+        Ok(())
+    }
+
+    /// Same-step mode, after a step where the episodes `ended` ended: `final_obs` and
+    /// `final_info` as Gymnasium's vector envs lay them out (an object array holding each
+    /// finished environment's last observation and None elsewhere; the finished episodes' infos
+    /// in the vector layout), with their masks.
+    fn final_infos(&self, d: &Bound<'_, PyDict>, ended: &[usize]) -> PyResult<()> {
+        let py = d.py();
+        let n = self.inner.num_envs();
+        d.set_item(pyo3::intern!(py, "final_obs"), self.final_obs_objects(py, ended)?)?;
+        d.set_item(pyo3::intern!(py, "_final_obs"), mask(py, n, ended))?;
+        d.set_item(pyo3::intern!(py, "final_info"), self.final_info(py, ended)?)?;
+        d.set_item(pyo3::intern!(py, "_final_info"), mask(py, n, ended))
+    }
+
+    fn final_obs_objects<'py>(&self, py: Python<'py>, ended: &[usize]) -> PyResult<Bound<'py, PyAny>> {
+        let n = self.inner.num_envs();
+        let d = self.inner.obs_dim();
+        let (flat, wide) = (self.inner.final_observations(), self.inner.final_observations_f64());
+        let mut objects: Vec<Py<PyAny>> = (0..n).map(|_| py.None()).collect();
+        if let ObsLayout::Array { .. } = &self.layout {
+            // One array of the finished rows, handed out as row views (NumPy's own iteration:
+            // the cheapest way to make one Python object per row).
+            let gather32: Vec<f32> = ended.iter().flat_map(|&i| &flat[i * d..(i + 1) * d]).copied().collect();
+            let gather64: Option<Vec<f64>> =
+                wide.map(|w| ended.iter().flat_map(|&i| &w[i * d..(i + 1) * d]).copied().collect());
+            let block = self
+                .layout
+                .value(py, &gather32, gather64.as_deref(), Some(ended.len()))?;
+            for (&i, row) in ended.iter().zip(block.try_iter()?) {
+                objects[i] = row?.unbind();
+            }
+        } else {
+            for &i in ended {
+                objects[i] = self
+                    .layout
+                    .value(
+                        py,
+                        &flat[i * d..(i + 1) * d],
+                        wide.map(|w| &w[i * d..(i + 1) * d]),
+                        None,
+                    )?
+                    .unbind();
+            }
+        }
+        Ok(PyArray1::from_vec(py, objects).into_any())
+    }
+
+    /// `final_info`: the finished episodes' infos (`cs.make`'s step info: `context`,
+    /// `instance_id`, `instance_name`, `context_seed`, `observed_context`) in the vector info
+    /// layout, masked to the finished envs.
+    fn final_info<'py>(&self, py: Python<'py>, ended: &[usize]) -> PyResult<Bound<'py, PyDict>> {
+        let n = self.inner.num_envs();
+        // Plain batches: every episode has the one fixed context (borrowed, not copied).
+        let infos: Vec<(usize, Cow<'_, ContextInfo>)> = ended
+            .iter()
+            .filter_map(|&i| {
+                let info = if self.contextual {
+                    self.inner.final_context_info(i).map(Cow::Owned)
+                } else {
+                    Some(Cow::Borrowed(&self.fixed_info))
+                };
+                info.map(|ci| (i, ci))
+            })
+            .collect();
+        let d = PyDict::new(py);
+        let mut at = vec![0; n];
+        for (k, (i, _)) in infos.iter().enumerate() {
+            at[*i] = k;
+        }
+        let rows: Vec<usize> = infos.iter().map(|(i, _)| *i).collect();
+        let value = |i: usize, j: usize| infos[at[i]].1.context.get(j).map_or(0.0, |(_, v)| *v);
+        set_nested(&d, &keyed!(py, "context"), n, &self.feature_keys, &rows, value)?;
+        let ids: Vec<(usize, i64)> = infos
+            .iter()
+            .filter_map(|(i, ci)| Some((*i, ci.instance_id? as i64)))
+            .collect();
+        if !ids.is_empty() {
+            set_column(&d, &keyed!(py, "instance_id"), n, &ids)?;
+        }
+        if infos.iter().any(|(_, ci)| ci.instance_name.is_some()) {
+            let mut names: Vec<Py<PyAny>> = (0..n).map(|_| py.None()).collect();
+            let mut has = Vec::new();
+            for (i, ci) in &infos {
+                if let Some(name) = &ci.instance_name {
+                    names[*i] = name.into_pyobject(py)?.into_any().unbind();
+                    has.push(*i);
+                }
+            }
+            d.set_item(pyo3::intern!(py, "instance_name"), PyArray1::from_vec(py, names))?;
+            d.set_item(pyo3::intern!(py, "_instance_name"), mask(py, n, &has))?;
+        }
+        let seeds: Vec<(usize, u64)> = infos.iter().filter_map(|(i, ci)| Some((*i, ci.context_seed?))).collect();
+        if !seeds.is_empty() {
+            set_column(&d, &keyed!(py, "context_seed"), n, &seeds)?;
+        }
+        if self.noisy {
+            self.set_observed(&d, self.inner.final_observations(), ended)?;
+        }
+        Ok(d)
+    }
 }
 
 #[pymethods]
@@ -1054,19 +1180,23 @@ impl VecEnv {
             Space::Discrete { .. } => (true, 1),
             s @ Space::Box { .. } => (false, s.flat_dim()),
         };
+        let fixed_info = proto.context_info().clone();
         Ok(VecEnv {
             obs_space: inner.observation_space(),
             discrete_actions: vec![0; if discrete { num_envs } else { 0 }],
             continuous_actions: vec![0.0; if discrete { 0 } else { num_envs * action_dim }],
+            same_step: mode == AutoresetMode::SameStep,
+            feature_keys: keyed_all(py, fixed_info.context.iter().map(|(k, _)| k.as_str())),
+            visible_keys: keyed_all(py, proto.visible_features().iter().map(String::as_str)),
+            all_envs: read_only(mask(py, num_envs, &(0..num_envs).collect::<Vec<_>>())).unbind(),
             inner,
             layout,
             discrete,
             action_dim,
             contextual: !plain,
-            visible: proto.visible_features().to_vec(),
             base_dim: proto.base_obs_dim(),
             noisy: proto.noise().is_some(),
-            fixed_info: proto.context_info().clone(),
+            fixed_info,
         })
     }
 
@@ -1100,43 +1230,44 @@ impl VecEnv {
         self.batch_obs(py)
     }
 
-    /// `(observations, rewards, terminated, truncated)` as fresh NumPy arrays. Actions: int64
-    /// `(num_envs,)` or float32 `(num_envs, action_dim)`, C-contiguous.
+    /// `(observations, rewards, terminated, truncated, infos)`: fresh NumPy arrays and the step's
+    /// infos in Gymnasium's vector layout (same-step `final_obs` / `final_info`, `instance_id`,
+    /// `observed_context`), all built here in one call. Actions: int64 `(num_envs,)` or float32
+    /// `(num_envs, action_dim)` (other dtypes and layouts are converted as NumPy converts them).
+    /// The GIL is released around the whole native batch step.
     fn step<'py>(&mut self, py: Python<'py>, actions: &Bound<'py, PyAny>) -> PyResult<BatchStep<'py>> {
-        let (n, id) = (self.inner.num_envs(), self.inner.id());
-        if self.discrete {
-            let a: PyReadonlyArray1<'_, i64> = actions.extract()?;
-            let a = a.as_slice().map_err(value_error)?;
-            if a.len() != n {
-                return Err(value_error(format!("{id}: expected {n} actions, got {}", a.len())));
-            }
-            self.discrete_actions.copy_from_slice(a);
-            let (inner, acts) = (&mut self.inner, &self.discrete_actions);
-            py.detach(|| inner.step(VecActions::Discrete(acts)).map(|_| ()))
-                .map_err(|e| env_error(&e))?;
+        self.take_actions(actions)?;
+        let inner = &mut self.inner;
+        let acts = if self.discrete {
+            VecActions::Discrete(&self.discrete_actions)
         } else {
-            let a: numpy::PyReadonlyArrayDyn<'_, f32> = actions.extract()?;
-            if a.len() != n * self.action_dim {
-                return Err(value_error(format!(
-                    "{}: expected actions of shape ({}, {}), got {:?}",
-                    id,
-                    n,
-                    self.action_dim,
-                    a.shape()
-                )));
+            VecActions::Continuous(&self.continuous_actions)
+        };
+        py.detach(|| inner.step(acts).map(|_| ())).map_err(|e| env_error(&e))?;
+        let n = self.inner.num_envs();
+        let (term, trunc) = (self.inner.terminated(), self.inner.truncated());
+        let infos = PyDict::new(py);
+        if self.same_step {
+            let ended: Vec<usize> = (0..n).filter(|&i| term[i] | trunc[i]).collect();
+            if !ended.is_empty() {
+                self.final_infos(&infos, &ended)?;
             }
-            self.continuous_actions
-                .copy_from_slice(a.as_slice().map_err(value_error)?);
-            let (inner, acts) = (&mut self.inner, &self.continuous_actions);
-            py.detach(|| inner.step(VecActions::Continuous(acts)).map(|_| ()))
-                .map_err(|e| env_error(&e))?;
         }
+        self.context_infos(&infos)?;
         Ok((
             self.batch_obs(py)?,
             filled(py, &[n], |o: &mut [f64]| o.copy_from_slice(self.inner.rewards())),
-            filled(py, &[n], |o: &mut [bool]| o.copy_from_slice(self.inner.terminated())),
-            filled(py, &[n], |o: &mut [bool]| o.copy_from_slice(self.inner.truncated())),
+            filled(py, &[n], |o: &mut [bool]| o.copy_from_slice(term)),
+            filled(py, &[n], |o: &mut [bool]| o.copy_from_slice(trunc)),
+            infos,
         ))
+    }
+
+    /// The infos every step and reset carry (`instance_id`, `observed_context`), for `reset`.
+    fn infos<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        self.context_infos(&d)?;
+        Ok(d)
     }
 
     /// Last observations of the episodes that ended in the latest step (same-step mode; rows of
@@ -1148,122 +1279,6 @@ impl VecEnv {
             self.inner.final_observations_f64(),
             Some(self.inner.num_envs()),
         )
-    }
-
-    /// Same-step mode, after a step where some episode ended: `(final_obs, done)` laid out as
-    /// Gymnasium's vector envs do (an object array holding each finished environment's last
-    /// observation and None elsewhere, and the bool mask); None when no episode ended.
-    fn final_obs_info<'py>(&self, py: Python<'py>) -> PyResult<Option<(Bound<'py, PyAny>, Bound<'py, PyAny>)>> {
-        let (term, trunc) = (self.inner.terminated(), self.inner.truncated());
-        if !term.iter().zip(trunc).any(|(a, b)| *a | *b) {
-            return Ok(None);
-        }
-        let d = self.inner.obs_dim();
-        let (flat, wide) = (self.inner.final_observations(), self.inner.final_observations_f64());
-        let ended: Vec<usize> = (0..term.len()).filter(|&i| term[i] | trunc[i]).collect();
-        let mut objects: Vec<Py<PyAny>> = (0..term.len()).map(|_| py.None()).collect();
-        if let ObsLayout::Array { .. } = &self.layout {
-            // One array of the finished rows, handed out as row views (NumPy's own iteration:
-            // the cheapest way to make one Python object per row).
-            let gather32: Vec<f32> = ended.iter().flat_map(|&i| &flat[i * d..(i + 1) * d]).copied().collect();
-            let gather64: Option<Vec<f64>> =
-                wide.map(|w| ended.iter().flat_map(|&i| &w[i * d..(i + 1) * d]).copied().collect());
-            let block = self
-                .layout
-                .value(py, &gather32, gather64.as_deref(), Some(ended.len()))?;
-            for (&i, row) in ended.iter().zip(block.try_iter()?) {
-                objects[i] = row?.unbind();
-            }
-        } else {
-            for &i in &ended {
-                objects[i] = self
-                    .layout
-                    .value(
-                        py,
-                        &flat[i * d..(i + 1) * d],
-                        wide.map(|w| &w[i * d..(i + 1) * d]),
-                        None,
-                    )?
-                    .unbind();
-            }
-        }
-        let done = filled(py, &[term.len()], |o: &mut [bool]| {
-            for (o, (a, b)) in o.iter_mut().zip(term.iter().zip(trunc)) {
-                *o = *a | *b;
-            }
-        });
-        Ok(Some((PyArray1::from_vec(py, objects).into_any(), done)))
-    }
-
-    /// Same-step mode, after a step where some episode ended: `final_info` as Gymnasium lays it
-    /// out, i.e. the finished episodes' infos (`cs.make`'s step info: `context`, `instance_id`,
-    /// `instance_name`, `context_seed`, `observed_context`) in the vector info layout, masked to
-    /// the finished envs. None when no episode ended.
-    fn final_info<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
-        let (term, trunc) = (self.inner.terminated(), self.inner.truncated());
-        let n = term.len();
-        let ended: Vec<usize> = (0..n).filter(|&i| term[i] | trunc[i]).collect();
-        if ended.is_empty() {
-            return Ok(None);
-        }
-        // Plain batches: every episode has the one fixed context (borrowed, not copied).
-        let infos: Vec<(usize, Cow<'_, ContextInfo>)> = ended
-            .iter()
-            .filter_map(|&i| {
-                let info = if self.contextual {
-                    self.inner.final_context_info(i).map(Cow::Owned)
-                } else {
-                    Some(Cow::Borrowed(&self.fixed_info))
-                };
-                info.map(|ci| (i, ci))
-            })
-            .collect();
-        let d = PyDict::new(py);
-        // Every episode's context lists every feature, in spec order.
-        let names: Vec<&str> = self.fixed_info.context.iter().map(|(k, _)| k.as_str()).collect();
-        let mut at = vec![0; n];
-        for (k, (i, _)) in infos.iter().enumerate() {
-            at[*i] = k;
-        }
-        let rows: Vec<usize> = infos.iter().map(|(i, _)| *i).collect();
-        let value = |i: usize, j: usize| infos[at[i]].1.context.get(j).map_or(0.0, |(_, v)| *v);
-        set_nested(&d, "context", n, &names, &rows, value)?;
-        if infos.iter().any(|(_, ci)| ci.instance_id.is_some()) {
-            let ids = infos.iter().filter_map(|(i, ci)| Some((*i, ci.instance_id? as i64)));
-            set_column(&d, "instance_id", n, ids)?;
-        }
-        if infos.iter().any(|(_, ci)| ci.instance_name.is_some()) {
-            let mut names: Vec<Py<PyAny>> = (0..n).map(|_| py.None()).collect();
-            let mut mask = vec![false; n];
-            for (i, ci) in &infos {
-                if let Some(name) = &ci.instance_name {
-                    names[*i] = name.into_pyobject(py)?.into_any().unbind();
-                    mask[*i] = true;
-                }
-            }
-            d.set_item("instance_name", PyArray1::from_vec(py, names))?;
-            d.set_item("_instance_name", PyArray1::from_vec(py, mask))?;
-        }
-        if infos.iter().any(|(_, ci)| ci.context_seed.is_some()) {
-            let seeds = infos.iter().filter_map(|(i, ci)| Some((*i, ci.context_seed?)));
-            set_column(&d, "context_seed", n, seeds)?;
-        }
-        if self.noisy {
-            self.set_observed(&d, self.inner.final_observations(), &ended)?;
-        }
-        Ok(Some(d))
-    }
-
-    /// With context noise: every env's observed context in Gymnasium's vector info layout
-    /// (`{feature: float64 (num_envs,), "_feature": mask}`), else None.
-    fn observed_context_info<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
-        if !self.noisy {
-            return Ok(None);
-        }
-        let all: Vec<usize> = (0..self.inner.num_envs()).collect();
-        let d = PyDict::new(py);
-        self.set_observed(&d, self.inner.obs(), &all)?;
-        Ok(Some(d))
     }
 
     /// Right after a step where environment `i` terminated (before it is stepped again): what its

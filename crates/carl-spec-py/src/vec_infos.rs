@@ -1,0 +1,110 @@
+//! Gymnasium's vector info layout (what `VectorEnv._add_info` builds env by env in Python), built
+//! in Rust for `make_vec`'s batch step. The keys are Python strings made once per batch: a
+//! same-step LunarLander batch builds ~20 masked feature columns at every step where an episode
+//! ends, so every allocation per feature counts.
+
+use numpy::npyffi::{_PyArray_GET_ITEM_DATA, NPY_ARRAY_WRITEABLE};
+use numpy::{PyArrayDyn, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyString};
+
+use crate::filled;
+
+/// An info key and Gymnasium's mask key beside it (`name`, `_name`).
+pub(crate) struct Keyed {
+    pub key: Py<PyString>,
+    pub mask: Py<PyString>,
+}
+
+impl Keyed {
+    pub fn new(py: Python<'_>, name: &str) -> Self {
+        Keyed {
+            key: PyString::intern(py, name).unbind(),
+            mask: PyString::intern(py, &format!("_{name}")).unbind(),
+        }
+    }
+}
+
+/// A [`Keyed`] of a literal name, its strings interned once per process.
+macro_rules! keyed {
+    ($py:expr, $name:literal) => {
+        $crate::vec_infos::Keyed {
+            key: pyo3::intern!($py, $name).clone().unbind(),
+            mask: pyo3::intern!($py, concat!("_", $name)).clone().unbind(),
+        }
+    };
+}
+pub(crate) use keyed;
+
+pub(crate) fn keyed_all<'a>(py: Python<'_>, names: impl IntoIterator<Item = &'a str>) -> Vec<Keyed> {
+    names.into_iter().map(|n| Keyed::new(py, n)).collect()
+}
+
+/// A fresh bool array of `n` entries, true at `rows`.
+pub(crate) fn mask<'py>(py: Python<'py>, n: usize, rows: &[usize]) -> Bound<'py, PyAny> {
+    filled(py, &[n], |o: &mut [bool]| {
+        o.fill(false);
+        for &i in rows {
+            o[i] = true;
+        }
+    })
+}
+
+/// `array` made read-only: an array shared by several keys (or steps) must not let a reader
+/// change one key's value through another's.
+pub(crate) fn read_only(array: Bound<'_, PyAny>) -> Bound<'_, PyAny> {
+    let a = array.cast::<PyArrayDyn<bool>>().expect("a bool mask made by `mask`");
+    // SAFETY: a fresh array that no Rust borrow and no Python code has seen yet; clearing the
+    // flag is what `ndarray.setflags(write=False)` does.
+    unsafe { (*_PyArray_GET_ITEM_DATA(a.as_array_ptr())).flags &= !NPY_ARRAY_WRITEABLE };
+    array
+}
+
+/// A column of numbers: `key` holds each listed env's value (zero elsewhere), `_key` the mask of
+/// the envs that have one.
+pub(crate) fn set_column<T: numpy::Element + Copy + Default>(
+    d: &Bound<'_, PyDict>,
+    key: &Keyed,
+    n: usize,
+    rows: &[(usize, T)],
+) -> PyResult<()> {
+    let py = d.py();
+    let col = filled(py, &[n], |o: &mut [T]| {
+        o.fill(T::default());
+        for &(i, v) in rows {
+            o[i] = v;
+        }
+    });
+    let at: Vec<usize> = rows.iter().map(|(i, _)| *i).collect();
+    d.set_item(key.key.bind(py), col)?;
+    d.set_item(key.mask.bind(py), mask(py, n, &at))
+}
+
+/// A nested info dict (`{feature: value}` per env): one masked column per feature under `key`,
+/// and `_key`, the mask of the envs that have the dict. `value(i, j)`: env `i`'s value of
+/// `names[j]`, for the envs `rows`.
+pub(crate) fn set_nested(
+    d: &Bound<'_, PyDict>,
+    key: &Keyed,
+    n: usize,
+    names: &[Keyed],
+    rows: &[usize],
+    value: impl Fn(usize, usize) -> f64,
+) -> PyResult<()> {
+    let py = d.py();
+    // Every feature has the same mask: one read-only array serves them all.
+    let shared = read_only(mask(py, n, rows));
+    let inner = PyDict::new(py);
+    for (j, name) in names.iter().enumerate() {
+        let col = filled(py, &[n], |o: &mut [f64]| {
+            o.fill(0.0);
+            for &i in rows {
+                o[i] = value(i, j);
+            }
+        });
+        inner.set_item(name.key.bind(py), col)?;
+        inner.set_item(name.mask.bind(py), &shared)?;
+    }
+    d.set_item(key.key.bind(py), inner)?;
+    d.set_item(key.mask.bind(py), mask(py, n, rows))
+}
