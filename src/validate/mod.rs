@@ -183,6 +183,22 @@ fn check_document(
             return (file, None, vec![d]);
         }
     };
+    if checker.is_none()
+        && let Ok(value) = serde_json::from_str::<serde_json::Value>(&text)
+    {
+        // A trusted embedded spec: no located diagnostics are expected, so serde_json's parser
+        // stands in for the located one (which keeps every node's position). Anything the
+        // deserializer, the resolver or the rules still report is then unlocated.
+        let doc = typed_document(value);
+        let file = SourceFile::new(name, text, None);
+        return match doc {
+            Ok(doc) => (file, Some(doc), Vec::new()),
+            Err(msg) => {
+                let d = file.diagnostic(&rule::SCHEMA, Some("deserialize"), "", msg, None);
+                (file, None, vec![d])
+            }
+        };
+    }
     let root = match json::parse(&text) {
         Ok(root) => root,
         Err(e) => {
@@ -233,18 +249,22 @@ fn check_document(
         }
         return (file, None, diags);
     }
-    let is_fragment = root.get("fragment").is_some() && root.get("id").is_none();
-    let doc = if is_fragment {
-        serde_path_deser::<RawFragment>(value).map(RawDocument::Fragment)
-    } else {
-        serde_path_deser::<RawEnvSpec>(value).map(|e| RawDocument::Environment(Box::new(e)))
-    };
-    match doc {
+    match typed_document(value) {
         Ok(doc) => (file, Some(doc), diags),
         Err(msg) => {
             diags.push(file.diagnostic(&rule::SCHEMA, Some("deserialize"), "", msg, None));
             (file, None, diags)
         }
+    }
+}
+
+/// A fragment (`fragment`, no `id`) or an environment spec.
+fn typed_document(value: serde_json::Value) -> Result<RawDocument, String> {
+    let is_fragment = value.get("fragment").is_some() && value.get("id").is_none();
+    if is_fragment {
+        serde_path_deser::<RawFragment>(value).map(RawDocument::Fragment)
+    } else {
+        serde_path_deser::<RawEnvSpec>(value).map(|e| RawDocument::Environment(Box::new(e)))
     }
 }
 
