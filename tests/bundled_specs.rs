@@ -10,13 +10,22 @@ use carl_spec::validate;
 fn bundled_specs_pass_the_whole_validator() {
     let inputs = bundled_inputs(false);
     let documents = bundled_files().iter().filter(|(p, _)| !p.starts_with("instances/"));
-    assert_eq!(inputs.len(), documents.count(), "every bundled spec document is checked");
+    assert_eq!(
+        inputs.len(),
+        documents.count(),
+        "every bundled spec document is checked"
+    );
     assert!(inputs.len() >= 17);
     let (resolved, report) = validate::run(&inputs);
     assert!(
         report.diagnostics.is_empty(),
         "bundled specs must be clean (errors and warnings):\n{}",
-        report.diagnostics.iter().map(|d| format!("{d:?}")).collect::<Vec<_>>().join("\n")
+        report
+            .diagnostics
+            .iter()
+            .map(|d| format!("{d:?}"))
+            .collect::<Vec<_>>()
+            .join("\n")
     );
     assert_eq!(resolved.len(), SpecSet::bundled().unwrap().envs().len());
 }

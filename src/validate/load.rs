@@ -46,7 +46,10 @@ mod tests {
     #[test]
     fn a_changed_bundled_spec_is_checked_in_full() {
         let mut inputs = bundled_inputs(false);
-        let cartpole = inputs.iter_mut().find(|i| i.name == "bundled:specs/cartpole.json").unwrap();
+        let cartpole = inputs
+            .iter_mut()
+            .find(|i| i.name == "bundled:specs/cartpole.json")
+            .unwrap();
         let text = String::from_utf8(cartpole.bytes.clone()).unwrap();
         // A property the schema does not allow, and a duplicate key.
         let changed = text.replacen('{', "{\"not_a_field\": 1, \"not_a_field\": 2, ", 1);

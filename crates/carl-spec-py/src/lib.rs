@@ -513,7 +513,11 @@ impl ObsLayout {
 }
 
 /// A fresh C-contiguous array of `dims`, written by `fill` (one allocation, no reshape).
-pub(crate) fn filled<'py, T: numpy::Element>(py: Python<'py>, dims: &[usize], fill: impl FnOnce(&mut [T])) -> Bound<'py, PyAny> {
+pub(crate) fn filled<'py, T: numpy::Element>(
+    py: Python<'py>,
+    dims: &[usize],
+    fill: impl FnOnce(&mut [T]),
+) -> Bound<'py, PyAny> {
     // SAFETY: `fill` writes every element before Python can see the array (all callers copy
     // exactly `dims.product()` values), and a fresh array is contiguous.
     let arr = unsafe { PyArrayDyn::<T>::new(py, IxDyn(dims), false) };
@@ -928,7 +932,14 @@ impl VecEnv {
     fn set_observed(&self, d: &Bound<'_, PyDict>, obs: &[f32], rows: &[usize]) -> PyResult<()> {
         let (w, base) = (self.inner.obs_dim(), self.base_dim);
         let value = |i: usize, j: usize| f64::from(obs[i * w + base + j]);
-        set_nested(d, &keyed!(d.py(), "observed_context"), self.inner.num_envs(), &self.visible_keys, rows, value)
+        set_nested(
+            d,
+            &keyed!(d.py(), "observed_context"),
+            self.inner.num_envs(),
+            &self.visible_keys,
+            rows,
+            value,
+        )
     }
 
     /// Copy the batch's actions out of NumPy (the GIL is held). An int64 (discrete) or float32
@@ -959,7 +970,8 @@ impl VecEnv {
             }
             // SAFETY: C-contiguous (checked or made so), and read while the GIL is held: no
             // Python code runs until the copy is done.
-            self.discrete_actions.copy_from_slice(unsafe { a.as_slice() }.map_err(value_error)?);
+            self.discrete_actions
+                .copy_from_slice(unsafe { a.as_slice() }.map_err(value_error)?);
         } else {
             let owned;
             let a = match actions.cast::<PyArrayDyn<f32>>() {
@@ -979,7 +991,8 @@ impl VecEnv {
                 )));
             }
             // SAFETY: as above.
-            self.continuous_actions.copy_from_slice(unsafe { a.as_slice() }.map_err(value_error)?);
+            self.continuous_actions
+                .copy_from_slice(unsafe { a.as_slice() }.map_err(value_error)?);
         }
         Ok(())
     }
@@ -989,7 +1002,10 @@ impl VecEnv {
     fn context_infos<'py>(&self, d: &Bound<'py, PyDict>) -> PyResult<()> {
         let py = d.py();
         if self.contextual {
-            d.set_item(pyo3::intern!(py, "instance_id"), PyArray1::from_slice(py, self.inner.instance_ids()))?;
+            d.set_item(
+                pyo3::intern!(py, "instance_id"),
+                PyArray1::from_slice(py, self.inner.instance_ids()),
+            )?;
             d.set_item(pyo3::intern!(py, "_instance_id"), self.all_envs.bind(py))?;
         }
         if self.noisy {
@@ -1089,7 +1105,10 @@ impl VecEnv {
             d.set_item(pyo3::intern!(py, "instance_name"), PyArray1::from_vec(py, names))?;
             d.set_item(pyo3::intern!(py, "_instance_name"), mask(py, n, &has))?;
         }
-        let seeds: Vec<(usize, u64)> = infos.iter().filter_map(|(i, ci)| Some((*i, ci.context_seed?))).collect();
+        let seeds: Vec<(usize, u64)> = infos
+            .iter()
+            .filter_map(|(i, ci)| Some((*i, ci.context_seed?)))
+            .collect();
         if !seeds.is_empty() {
             set_column(&d, &keyed!(py, "context_seed"), n, &seeds)?;
         }
