@@ -36,7 +36,7 @@ use carl_spec::validate;
 mod user_spec;
 mod vec_infos;
 
-use vec_infos::{Keyed, keyed, keyed_all, mask, read_only, set_column, set_nested};
+use vec_infos::{Columns, keyed, mask, read_only, set_column, set_nested};
 
 // ---------------------------------------------------------------------------------------
 // Errors
@@ -913,8 +913,8 @@ struct VecEnv {
     same_step: bool,
     /// Info keys made once: every context feature (spec order; every episode's context lists
     /// them all) and the visible ones.
-    feature_keys: Vec<Keyed>,
-    visible_keys: Vec<Keyed>,
+    feature_keys: Columns,
+    visible_keys: Columns,
     /// `_instance_id` of a contextual batch (every env has an instance id): one read-only
     /// all-true mask shared by every step's infos.
     all_envs: Py<PyAny>,
@@ -1205,8 +1205,8 @@ impl VecEnv {
             discrete_actions: vec![0; if discrete { num_envs } else { 0 }],
             continuous_actions: vec![0.0; if discrete { 0 } else { num_envs * action_dim }],
             same_step: mode == AutoresetMode::SameStep,
-            feature_keys: keyed_all(py, fixed_info.context.iter().map(|(k, _)| k.as_str())),
-            visible_keys: keyed_all(py, proto.visible_features().iter().map(String::as_str)),
+            feature_keys: Columns::new(py, fixed_info.context.iter().map(|(k, _)| k.as_str()))?,
+            visible_keys: Columns::new(py, proto.visible_features().iter().map(String::as_str))?,
             all_envs: read_only(mask(py, num_envs, &(0..num_envs).collect::<Vec<_>>())).unbind(),
             inner,
             layout,

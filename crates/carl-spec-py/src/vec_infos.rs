@@ -36,8 +36,27 @@ macro_rules! keyed {
 }
 pub(crate) use keyed;
 
-pub(crate) fn keyed_all<'a>(py: Python<'_>, names: impl IntoIterator<Item = &'a str>) -> Vec<Keyed> {
-    names.into_iter().map(|n| Keyed::new(py, n)).collect()
+/// The keys of a nested info dict (`{feature: column, _feature: mask}`), and that dict's layout
+/// made once: copying it (same key order, table already sized) and filling in the values costs
+/// less than growing a fresh dict key by key at every step.
+pub(crate) struct Columns {
+    keys: Vec<Keyed>,
+    template: Py<PyDict>,
+}
+
+impl Columns {
+    pub fn new<'a>(py: Python<'_>, names: impl IntoIterator<Item = &'a str>) -> PyResult<Self> {
+        let keys: Vec<Keyed> = names.into_iter().map(|n| Keyed::new(py, n)).collect();
+        let template = PyDict::new(py);
+        for k in &keys {
+            template.set_item(k.key.bind(py), py.None())?;
+            template.set_item(k.mask.bind(py), py.None())?;
+        }
+        Ok(Columns {
+            keys,
+            template: template.unbind(),
+        })
+    }
 }
 
 /// A fresh bool array of `n` entries, true at `rows`.
@@ -87,15 +106,15 @@ pub(crate) fn set_nested(
     d: &Bound<'_, PyDict>,
     key: &Keyed,
     n: usize,
-    names: &[Keyed],
+    names: &Columns,
     rows: &[usize],
     value: impl Fn(usize, usize) -> f64,
 ) -> PyResult<()> {
     let py = d.py();
     // Every feature has the same mask: one read-only array serves them all.
     let shared = read_only(mask(py, n, rows));
-    let inner = PyDict::new(py);
-    for (j, name) in names.iter().enumerate() {
+    let inner = names.template.bind(py).copy()?;
+    for (j, name) in names.keys.iter().enumerate() {
         let col = filled(py, &[n], |o: &mut [f64]| {
             o.fill(0.0);
             for &i in rows {
