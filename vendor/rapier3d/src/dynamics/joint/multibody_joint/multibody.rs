@@ -5,7 +5,8 @@ use crate::alloc_prelude::*;
 use crate::dynamics::integration_parameters::SpringCoefficients;
 use crate::dynamics::solver::{GenericJointConstraint, WritebackId};
 use crate::dynamics::{
-    IntegrationParameters, RigidBodyHandle, RigidBodySet, RigidBodyType, RigidBodyVelocity,
+    IntegrationParameters, RigidBodyChanges, RigidBodyHandle, RigidBodySet, RigidBodyType,
+    RigidBodyVelocity,
 };
 use crate::math::{
     ANG_DIM, AngDim, AngVector, DIM, DVector, Dim, Jacobian, Pose, Real, SPATIAL_DIM,
@@ -155,6 +156,10 @@ pub struct Multibody {
     coriolis_v: Vec<OMatrix<Real, Dim, Dyn>>,
     coriolis_w: Vec<OMatrix<Real, AngDim, Dyn>>,
     i_coriolis_dt: Jacobian<Real>,
+    // carl-spec patch: whether the link poses and Jacobians may be out of date with the joint
+    // coordinates or the links' data (set by every `&mut` access to them, cleared by
+    // `forward_kinematics`); lets the pipeline skip its start-of-step forward kinematics.
+    kinematics_stale: bool,
 }
 impl Default for Multibody {
     fn default() -> Self {
@@ -191,6 +196,7 @@ impl Multibody {
             coriolis_v: Vec::new(),
             coriolis_w: Vec::new(),
             i_coriolis_dt: Jacobian::zeros(0),
+            kinematics_stale: true,
             root_is_dynamic: false,
             self_contacts_enabled,
             couplings: Vec::new(),
@@ -299,6 +305,7 @@ impl Multibody {
     }
 
     pub(crate) fn append(&mut self, mut rhs: Multibody, parent: usize, joint: MultibodyJoint) {
+        self.kinematics_stale = true;
         let joint_ndofs = joint.ndofs();
         let rhs_root_ndofs = rhs.links[0].joint.ndofs();
         let ndofs_before_append = self.velocities.len();
@@ -407,6 +414,7 @@ impl Multibody {
     /// Mutable reference to the first link of this multibody.
     #[inline]
     pub fn root_mut(&mut self) -> &mut MultibodyLink {
+        self.kinematics_stale = true;
         &mut self.links[0]
     }
 
@@ -423,6 +431,7 @@ impl Multibody {
     /// Return `None` if the given id does not identifies a multibody link part of `self`.
     #[inline]
     pub fn link_mut(&mut self, id: usize) -> Option<&mut MultibodyLink> {
+        self.kinematics_stale = true;
         self.links.get_mut(id)
     }
 
@@ -442,6 +451,7 @@ impl Multibody {
     ///
     /// All link are guaranteed to be yielded before its descendant.
     pub fn links_mut(&mut self) -> impl Iterator<Item = &mut MultibodyLink> {
+        self.kinematics_stale = true;
         self.links.iter_mut()
     }
 
@@ -490,6 +500,7 @@ impl Multibody {
         dof: MultibodyJoint,
         body: RigidBodyHandle,
     ) -> &mut MultibodyLink {
+        self.kinematics_stale = true;
         assert!(
             parent.is_none() || !self.links.is_empty(),
             "Multibody::build_body: invalid parent id."
@@ -946,11 +957,17 @@ impl Multibody {
         min_row: usize,
     ) {
         for &(r0, rn) in segments {
-            for row in r0.max(min_row)..r0 + rn {
-                let a = &js[SPATIAL_DIM * row..SPATIAL_DIM * (row + 1)];
+            let start = r0.max(min_row);
+            let end = r0 + rn;
+            if start >= end {
+                continue;
+            }
+            // Whole runs of rows as slices: no bounds check per row.
+            let rows = js[SPATIAL_DIM * start..SPATIAL_DIM * end].chunks_exact(SPATIAL_DIM);
+            for (out, a) in out_col[start..end].iter_mut().zip(rows) {
                 let lin = a[0] * w[0] + a[1] * w[1] + a[2] * w[2];
                 let ang = a[3] * w[3] + a[4] * w[4] + a[5] * w[5];
-                out_col[row] += lin + ang;
+                *out += lin + ang;
             }
         }
     }
@@ -1735,6 +1752,7 @@ impl Multibody {
 
     #[inline]
     pub(crate) fn integrate(&mut self, dt: Real) {
+        self.kinematics_stale = true;
         for rb in self.links.iter_mut() {
             rb.joint
                 .integrate(dt, &self.velocities.as_slice()[rb.assembly_id..])
@@ -1746,6 +1764,7 @@ impl Multibody {
     /// Note this does **not** updates the link poses, only their generalized coordinates.
     /// To update the link poses and associated rigid-bodies, call [`Self::forward_kinematics`].
     pub fn apply_displacements(&mut self, disp: &[Real]) {
+        self.kinematics_stale = true;
         for link in self.links.iter_mut() {
             link.joint.apply_displacement(&disp[link.assembly_id..])
         }
@@ -1929,6 +1948,24 @@ impl Multibody {
          * Compute body jacobians.
          */
         self.update_body_jacobians();
+        self.kinematics_stale = false;
+    }
+
+    /// carl-spec patch: whether [`Self::forward_kinematics`] (reading the root pose from its
+    /// rigid body) followed by writing the link poses and world mass properties to the rigid
+    /// bodies would change nothing: no `&mut` access to the joints or links since the last
+    /// forward kinematics, no user change to any link's rigid body (other than waking it up),
+    /// and every link's rigid body (position and next position) at the link's pose.
+    pub(crate) fn kinematics_up_to_date(&self, bodies: &RigidBodySet) -> bool {
+        let ignored = RigidBodyChanges::IN_MODIFIED_SET | RigidBodyChanges::SLEEP;
+        !self.kinematics_stale
+            && self.links.iter().all(|link| {
+                bodies.get(link.rigid_body).is_some_and(|rb| {
+                    (rb.changes - ignored).is_empty()
+                        && rb.pos.position == link.local_to_world
+                        && rb.pos.next_position == link.local_to_world
+                })
+            })
     }
 
     /// Computes the ids of all the links between the root and the link identified by `link_id`.
