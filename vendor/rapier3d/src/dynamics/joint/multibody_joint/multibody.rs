@@ -160,6 +160,11 @@ pub struct Multibody {
     // coordinates or the links' data (set by every `&mut` access to them, cleared by
     // `forward_kinematics`); lets the pipeline skip its start-of-step forward kinematics.
     kinematics_stale: bool,
+    // carl-spec patch: per link, 6 × ndofs column-major, the wrenches (at the link's centre of
+    // mass) `Σ_{k in subtree} Mₖ·Jₖ[:, b]` of the mass matrix and of the accelerated one
+    // (`M̃ₖ·Jₖ + Mₖ·Cₖ·dt`), on the link's own and ancestors' DoF columns b.
+    subtree_wrenches: Vec<Real>,
+    subtree_wrenches_acc: Vec<Real>,
 }
 impl Default for Multibody {
     fn default() -> Self {
@@ -197,6 +202,8 @@ impl Multibody {
             coriolis_w: Vec::new(),
             i_coriolis_dt: Jacobian::zeros(0),
             kinematics_stale: true,
+            subtree_wrenches: Vec::new(),
+            subtree_wrenches_acc: Vec::new(),
             root_is_dynamic: false,
             self_contacts_enabled,
             couplings: Vec::new(),
@@ -947,31 +954,6 @@ impl Multibody {
         }
     }
 
-    /// `out[r] += J[:, r] · w` for the rows `r ≥ min_row` in `segments`.
-    #[inline]
-    fn add_column_dots(
-        out_col: &mut [Real],
-        js: &[Real],
-        w: &[Real; SPATIAL_DIM],
-        segments: &[(usize, usize)],
-        min_row: usize,
-    ) {
-        for &(r0, rn) in segments {
-            let start = r0.max(min_row);
-            let end = r0 + rn;
-            if start >= end {
-                continue;
-            }
-            // Whole runs of rows as slices: no bounds check per row.
-            let rows = js[SPATIAL_DIM * start..SPATIAL_DIM * end].chunks_exact(SPATIAL_DIM);
-            for (out, a) in out_col[start..end].iter_mut().zip(rows) {
-                let lin = a[0] * w[0] + a[1] * w[1] + a[2] * w[2];
-                let ang = a[3] * w[3] + a[4] * w[4] + a[5] * w[5];
-                *out += lin + ang;
-            }
-        }
-    }
-
     /// `mid·x` for a rigid-body `mid` (diagonal mass block, angular block, zero coupling:
     /// `concat_rb_mass_matrix`).
     #[inline]
@@ -984,49 +966,6 @@ impl Multibody {
             w[r] = mid[(r, DIM)] * x[DIM] + mid[(r, DIM + 1)] * x[DIM + 1] + mid[(r, DIM + 2)] * x[DIM + 2];
         }
         w
-    }
-
-    /// `out += Jᵀ·mid·J` on the rows and columns `segments`, lower triangle only (`mid`
-    /// symmetric; the caller mirrors).
-    fn sparse_quadform_lower(
-        out: &mut DMatrix<Real>,
-        mid: &SMatrix<Real, SPATIAL_DIM, SPATIAL_DIM>,
-        j: &Jacobian<Real>,
-        segments: &[(usize, usize)],
-    ) {
-        let n = out.nrows();
-        let js = j.as_slice();
-        let os = out.as_mut_slice();
-        for &(c, cn) in segments {
-            for col in c..c + cn {
-                let w = Self::rb_mass_times(mid, &js[SPATIAL_DIM * col..SPATIAL_DIM * (col + 1)]);
-                Self::add_column_dots(&mut os[n * col..n * (col + 1)], js, &w, segments, col);
-            }
-        }
-    }
-
-    /// `out += Jᵀ·(mid·J + extra)` on the rows and columns `segments` (`extra`: a 6 × ndofs
-    /// column-major matrix).
-    fn sparse_quadform_plus(
-        out: &mut DMatrix<Real>,
-        mid: &SMatrix<Real, SPATIAL_DIM, SPATIAL_DIM>,
-        extra: &[Real],
-        j: &Jacobian<Real>,
-        segments: &[(usize, usize)],
-    ) {
-        let n = out.nrows();
-        let js = j.as_slice();
-        let os = out.as_mut_slice();
-        for &(c, cn) in segments {
-            for col in c..c + cn {
-                let range = SPATIAL_DIM * col..SPATIAL_DIM * (col + 1);
-                let mut w = Self::rb_mass_times(mid, &js[range.clone()]);
-                for (w, e) in w.iter_mut().zip(&extra[range]) {
-                    *w += *e;
-                }
-                Self::add_column_dots(&mut os[n * col..n * (col + 1)], js, &w, segments, 0);
-            }
-        }
     }
 
     pub(crate) fn update_mass_matrix(&mut self, dt: Real, bodies: &RigidBodySet) {
@@ -1079,13 +1018,19 @@ impl Multibody {
             let rb_mass_matrix_wo_gyro = concat_rb_mass_matrix(rb_mass, rb_inertia.into());
             #[allow(clippy::useless_conversion)] // Needed in 3D, no-op in 2D
             let rb_mass_matrix = concat_rb_mass_matrix(rb_mass, augmented_inertia.into());
-            // M += Jᵀ·Mᵢ·J, lower triangle only (mirrored after the loop).
-            Self::sparse_quadform_lower(
-                &mut self.augmented_mass,
-                &rb_mass_matrix_wo_gyro,
-                body_jacobian,
-                segments,
-            );
+            // The link's own wrenches Mᵢ·Jᵢ[:, b] (summed over subtrees after the loop).
+            {
+                let stride = SPATIAL_DIM * self.ndofs;
+                let js = body_jacobian.as_slice();
+                let ws = &mut self.subtree_wrenches[stride * i..stride * (i + 1)];
+                for &(c, cn) in segments {
+                    for col in c..c + cn {
+                        let range = SPATIAL_DIM * col..SPATIAL_DIM * (col + 1);
+                        let w = Self::rb_mass_times(&rb_mass_matrix_wo_gyro, &js[range.clone()]);
+                        ws[range].copy_from_slice(&w);
+                    }
+                }
+            }
 
             /*
              * Coriolis matrix (see `update_mass_matrix_dense`), on the link's columns only,
@@ -1190,27 +1135,102 @@ impl Multibody {
                 }
             }
 
-            // acc_augmented_mass += Jᵀ·(M̃ᵢ·J + i_coriolis_dt): the implicit gyroscopic and
-            // Coriolis terms in one pass (upstream: a quadform, then a `gemm_tr`).
-            Self::sparse_quadform_plus(
-                &mut self.acc_augmented_mass,
-                &rb_mass_matrix,
-                self.i_coriolis_dt.as_slice(),
-                rb_j,
-                segments,
-            );
-        }
-
-        // The mass matrix is symmetric: mirror the lower triangle.
-        let n = self.augmented_mass.nrows();
-        let m = self.augmented_mass.as_mut_slice();
-        for col in 0..n {
-            for row in col + 1..n {
-                m[n * row + col] = m[n * col + row];
+            // The accelerated matrix's wrenches M̃ᵢ·Jᵢ[:, b] + i_coriolis_dt[:, b]: the implicit
+            // gyroscopic and Coriolis terms (upstream: a quadform, then a `gemm_tr`).
+            {
+                let stride = SPATIAL_DIM * self.ndofs;
+                let js = rb_j.as_slice();
+                let icd = self.i_coriolis_dt.as_slice();
+                let ws = &mut self.subtree_wrenches_acc[stride * i..stride * (i + 1)];
+                for &(c, cn) in segments {
+                    for col in c..c + cn {
+                        let range = SPATIAL_DIM * col..SPATIAL_DIM * (col + 1);
+                        let mut w = Self::rb_mass_times(&rb_mass_matrix, &js[range.clone()]);
+                        for (w, e) in w.iter_mut().zip(&icd[range.clone()]) {
+                            *w += *e;
+                        }
+                        ws[range].copy_from_slice(&w);
+                    }
+                }
             }
         }
 
+        self.assemble_from_subtree_wrenches();
         self.finish_mass_matrix(dt);
+    }
+
+    /// Both mass matrices from the links' own wrenches (composite-rigid-body style; carl-spec
+    /// patch). Link `k`'s Jacobian column `b` is the rigid-body motion of DoF `b` seen at `k`'s
+    /// centre of mass `cₖ` whenever `b` is one of `k`'s own or ancestors' DoFs, so
+    /// `Jₖ[:, b] = Tₖₗᵀ·Jₗ[:, b]` for any link `l` between `b`'s link and `k`, where `Tₖₗ`
+    /// moves a wrench `(f, τ)` from `cₖ` to `cₗ`: `(f, τ + (cₖ − cₗ) × f)`. Hence, with `l` the
+    /// deeper of the links of DoFs `a` and `b` (the other is its ancestor or itself),
+    /// `A[a, b] = Σₖ Jₖ[:, a]ᵀ·Wₖ[:, b] = Jₗ[:, a]ᵀ·Σ_{k in subtree(l)} Tₖₗ·Wₖ[:, b]`:
+    /// the subtree sums are accumulated leaves first, O(Σ depth) work instead of the
+    /// O(Σ depth²) of the per-link quadratic forms `Σₖ Jₖᵀ·Wₖ`.
+    fn assemble_from_subtree_wrenches(&mut self) {
+        let n = self.ndofs;
+        let stride = SPATIAL_DIM * n;
+        // Leaves first: add each link's subtree sums, moved to its parent's centre of mass,
+        // to the parent's (on the parent's columns, its own and its ancestors' DoFs).
+        for i in (1..self.links.len()).rev() {
+            let link = &self.links[i];
+            let p = link.parent_internal_id;
+            let s = link.shift02 + link.shift23; // c_i − c_parent
+            let (s0, s1, s2) = (s.x, s.y, s.z);
+            for ws in [&mut self.subtree_wrenches, &mut self.subtree_wrenches_acc] {
+                let (before, after) = ws.split_at_mut(stride * i);
+                let child = &after[..stride];
+                let parent = &mut before[stride * p..stride * (p + 1)];
+                for &(c, cn) in &self.tree_segments[p] {
+                    let range = SPATIAL_DIM * c..SPATIAL_DIM * (c + cn);
+                    for (pw, cw) in parent[range.clone()]
+                        .chunks_exact_mut(SPATIAL_DIM)
+                        .zip(child[range].chunks_exact(SPATIAL_DIM))
+                    {
+                        let (f0, f1, f2) = (cw[0], cw[1], cw[2]);
+                        pw[0] += f0;
+                        pw[1] += f1;
+                        pw[2] += f2;
+                        pw[3] += cw[3] + (s1 * f2 - s2 * f1);
+                        pw[4] += cw[4] + (s2 * f0 - s0 * f2);
+                        pw[5] += cw[5] + (s0 * f1 - s1 * f0);
+                    }
+                }
+            }
+        }
+
+        #[inline]
+        fn dot6(a: &[Real], w: &[Real]) -> Real {
+            let lin = a[0] * w[0] + a[1] * w[1] + a[2] * w[2];
+            let ang = a[3] * w[3] + a[4] * w[4] + a[5] * w[5];
+            lin + ang
+        }
+
+        let m = self.augmented_mass.as_mut_slice();
+        let macc = self.acc_augmented_mass.as_mut_slice();
+        for (l, link) in self.links.iter().enumerate() {
+            let js = self.body_jacobians[l].as_slice();
+            let ws = &self.subtree_wrenches[stride * l..stride * (l + 1)];
+            let ws_acc = &self.subtree_wrenches_acc[stride * l..stride * (l + 1)];
+            for a in link.assembly_id..link.assembly_id + link.joint.ndofs() {
+                let ja = &js[SPATIAL_DIM * a..SPATIAL_DIM * (a + 1)];
+                let wa_acc = &ws_acc[SPATIAL_DIM * a..SPATIAL_DIM * (a + 1)];
+                for &(c, cn) in &self.tree_segments[l] {
+                    for b in c..(c + cn).min(a + 1) {
+                        let cols = SPATIAL_DIM * b..SPATIAL_DIM * (b + 1);
+                        // Column-major: entry (row, col) at n·col + row.
+                        let v = dot6(ja, &ws[cols.clone()]);
+                        m[n * b + a] = v;
+                        m[n * a + b] = v;
+                        macc[n * b + a] = dot6(ja, &ws_acc[cols.clone()]);
+                        if b != a {
+                            macc[n * a + b] = dot6(&js[cols], wa_acc);
+                        }
+                    }
+                }
+            }
+        }
     }
 
     /// Upstream's dense body Jacobians and mass matrices, for checking the sparse ones:
@@ -1491,6 +1511,9 @@ impl Multibody {
         }
 
         self.augmented_mass_indices.clear();
+        let wrench_len = self.links.len() * SPATIAL_DIM * self.ndofs;
+        self.subtree_wrenches.resize(wrench_len, 0.0);
+        self.subtree_wrenches_acc.resize(wrench_len, 0.0);
 
         // Resize coriolis workspaces if the link count or number of DOFs change.
         let coriolis_ndofs = self.coriolis_v.first().map(|m| m.ncols());
