@@ -656,25 +656,21 @@ impl Multibody {
             } else {
                 &full
             };
-            for &(r, m) in segments {
-                self.accelerations.rows_mut(r, m).gemv_tr(
-                    1.0,
-                    &self.body_jacobians[i].columns(r, m),
-                    external_forces.as_vector(),
-                    1.0,
-                );
-            }
+            // (Column dots on plain slices; upstream: nalgebra `gemv_tr` on views.)
+            let js = self.body_jacobians[i].as_slice();
+            let add_dots = |out: &mut [Real], w: &SVector<Real, SPATIAL_DIM>| {
+                for &(r, m) in segments {
+                    let cols = js[SPATIAL_DIM * r..SPATIAL_DIM * (r + m)].chunks_exact(SPATIAL_DIM);
+                    for (o, a) in out[r..r + m].iter_mut().zip(cols) {
+                        *o += a[0] * w[0] + a[1] * w[1] + a[2] * w[2] + a[3] * w[3] + a[4] * w[4] + a[5] * w[5];
+                    }
+                }
+            };
+            add_dots(self.accelerations.as_mut_slice(), external_forces.as_vector());
 
             if check_implicit_coriolis_divergence {
                 let applied_forces = Force::new(rb.forces.force, rb.forces.torque);
-                for &(r, m) in segments {
-                    pos_forces.rows_mut(r, m).gemv_tr(
-                        1.0,
-                        &self.body_jacobians[i].columns(r, m),
-                        applied_forces.as_vector(),
-                        1.0,
-                    );
-                }
+                add_dots(pos_forces.as_mut_slice(), applied_forces.as_vector());
             }
         }
 
