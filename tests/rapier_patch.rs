@@ -163,7 +163,9 @@ fn skipped_start_of_step_kinematics_changes_nothing() {
         let mut skipping = RobotWorld::build(&model, &params, &q);
         let mut forced = RobotWorld::build(&model, &params, &q);
         for step in 0..40 {
-            let ctrl: Vec<f32> = (0..model.num_actuators()).map(|_| uniform(&mut rng, 1.0) as f32).collect();
+            let ctrl: Vec<f32> = (0..model.num_actuators())
+                .map(|_| uniform(&mut rng, 1.0) as f32)
+                .collect();
             forced.multibody_mut().link_mut(0).expect("root link");
             skipping.step(&ctrl);
             forced.step(&ctrl);
@@ -201,7 +203,9 @@ fn user_changes_rerun_the_skipped_kinematics() {
                     _ => {}
                 }
             }
-            let ctrl: Vec<f32> = (0..model.num_actuators()).map(|_| uniform(&mut rng, 1.0) as f32).collect();
+            let ctrl: Vec<f32> = (0..model.num_actuators())
+                .map(|_| uniform(&mut rng, 1.0) as f32)
+                .collect();
             let before = exact_state(&skipping);
             forced.multibody_mut().link_mut(0).expect("root link");
             skipping.step(&ctrl);
