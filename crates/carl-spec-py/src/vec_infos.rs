@@ -1,6 +1,6 @@
 //! Gymnasium's vector info layout (what `VectorEnv._add_info` builds env by env in Python), built
 //! in Rust for `make_vec`'s batch step. The keys are Python strings made once per batch: a
-//! same-step LunarLander batch builds ~20 masked feature columns at every step where an episode
+//! same-step LunarLander batch builds 16 masked feature columns at every step where an episode
 //! ends, so every allocation per feature counts.
 
 use numpy::npyffi::{_PyArray_GET_ITEM_DATA, NPY_ARRAY_WRITEABLE};
