@@ -483,3 +483,21 @@ pub(crate) fn integrate_position(body: &mut Body, h: f64) {
     body.sweep.c += h * body.v;
     body.sweep.a += h * body.w;
 }
+
+impl World {
+    /// Find and evaluate the contacts of the current placement without reporting events: for
+    /// a world rebuilt from a saved state, what touches now is the baseline, not news.
+    pub fn prime_contacts(&mut self) {
+        self.find_new_contacts();
+        self.new_fixture = false;
+        for k in (0..self.contacts.len()).rev() {
+            self.update_contact(k);
+        }
+        self.events.clear();
+    }
+
+    /// Whether any contact of fixture `f` touches.
+    pub fn fixture_touches(&self, f: usize) -> bool {
+        self.contacts.iter().any(|c| c.touching && (c.fixture_a == f || c.fixture_b == f))
+    }
+}
