@@ -23,6 +23,7 @@ pub mod experiments;
 pub mod instances;
 pub mod json;
 pub mod output;
+pub mod physics2d;
 pub mod pixels;
 pub mod plot;
 pub mod render;
