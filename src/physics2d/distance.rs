@@ -112,10 +112,16 @@ pub struct Transform {
 }
 
 impl Transform {
-    pub const IDENTITY: Transform = Transform { p: (0.0, 0.0), q: Rot::IDENTITY };
+    pub const IDENTITY: Transform = Transform {
+        p: (0.0, 0.0),
+        q: Rot::IDENTITY,
+    };
 
     pub fn new(p: Vec2, angle: f64) -> Transform {
-        Transform { p, q: Rot::from_angle(angle) }
+        Transform {
+            p,
+            q: Rot::from_angle(angle),
+        }
     }
 
     /// A body-local point in world coordinates.
@@ -272,7 +278,14 @@ impl SimplexVertex {
     fn at(input: &DistanceInput, index_a: usize, index_b: usize) -> SimplexVertex {
         let wa = input.transform_a.apply(input.proxy_a.vertex(index_a));
         let wb = input.transform_b.apply(input.proxy_b.vertex(index_b));
-        SimplexVertex { wa, wb, w: v2::sub(wb, wa), weight: 0.0, index_a, index_b }
+        SimplexVertex {
+            wa,
+            wb,
+            w: v2::sub(wb, wa),
+            weight: 0.0,
+            index_a,
+            index_b,
+        }
     }
 }
 
@@ -286,7 +299,10 @@ impl Simplex {
     /// The cached simplex at the new transforms, or the first vertices of both proxies when the
     /// cache is empty or its shape changed too much to be a useful start.
     fn from_cache(cache: &SimplexCache, input: &DistanceInput) -> Simplex {
-        let mut simplex = Simplex { v: [SimplexVertex::default(); 3], count: cache.count.min(3) };
+        let mut simplex = Simplex {
+            v: [SimplexVertex::default(); 3],
+            count: cache.count.min(3),
+        };
         let (na, nb) = (input.proxy_a.vertices.len(), input.proxy_b.vertices.len());
         for i in 0..simplex.count {
             if cache.index_a[i] >= na || cache.index_b[i] >= nb {
@@ -336,7 +352,11 @@ impl Simplex {
             return v2::neg(w1);
         }
         let e12 = v2::sub(w2, w1);
-        if v2::cross(e12, v2::neg(w1)) > 0.0 { v2::left_perp(e12) } else { v2::right_perp(e12) }
+        if v2::cross(e12, v2::neg(w1)) > 0.0 {
+            v2::left_perp(e12)
+        } else {
+            v2::right_perp(e12)
+        }
     }
 
     /// Closest points on A and on B from the barycentric weights.
@@ -491,7 +511,12 @@ pub fn distance(input: &DistanceInput, cache: &mut SimplexCache) -> DistanceOutp
             dist = 0.0;
         }
     }
-    DistanceOutput { point_a, point_b, distance: dist, iterations }
+    DistanceOutput {
+        point_a,
+        point_b,
+        distance: dist,
+        iterations,
+    }
 }
 
 #[cfg(test)]
@@ -538,7 +563,12 @@ pub(super) mod tests {
     #[test]
     fn rotated_box_corner_against_face() {
         let b = unit_box();
-        let out = query(&b, Transform::IDENTITY, &b, Transform::new((2.0, 0.0), std::f64::consts::FRAC_PI_4));
+        let out = query(
+            &b,
+            Transform::IDENTITY,
+            &b,
+            Transform::new((2.0, 0.0), std::f64::consts::FRAC_PI_4),
+        );
         assert!((out.distance - (2.0 - SQRT_HALF - 0.5)).abs() < 1e-12, "{out:?}");
         assert!(close(out.point_b, (2.0 - SQRT_HALF, 0.0)), "{out:?}");
         assert!(close(out.point_a, (0.5, 0.0)), "{out:?}");
@@ -558,7 +588,10 @@ pub(super) mod tests {
         assert!((out.distance - 0.98).abs() < 1e-12, "{out:?}");
         assert!((out.point_a.0 - 0.51).abs() < 1e-12 && (out.point_b.0 - 1.49).abs() < 1e-12);
         // Skins overlapping: distance 0, both points at the midpoint.
-        let touching = DistanceInput { transform_b: Transform::new((1.015, 0.0), 0.0), ..input };
+        let touching = DistanceInput {
+            transform_b: Transform::new((1.015, 0.0), 0.0),
+            ..input
+        };
         let out = distance(&touching, &mut SimplexCache::default());
         assert_eq!(out.distance, 0.0);
         assert!(close(out.point_a, out.point_b) && (out.point_a.0 - 0.5075).abs() < 1e-12);
@@ -568,17 +601,29 @@ pub(super) mod tests {
     fn tilted_box_above_an_edge() {
         let ground = DistanceProxy::edge((-5.0, 0.0), (5.0, 0.0), 0.01).unwrap();
         let angle: f64 = 0.3;
-        let out = query(&ground, Transform::IDENTITY, &unit_box(), Transform::new((1.0, 2.0), angle));
+        let out = query(
+            &ground,
+            Transform::IDENTITY,
+            &unit_box(),
+            Transform::new((1.0, 2.0), angle),
+        );
         let expected = 2.0 - 0.5 * (angle.sin() + angle.cos());
         assert!((out.distance - expected).abs() < 1e-12, "{out:?}");
-        assert!(out.point_a.1.abs() < 1e-12, "closest point of the edge lies on it: {out:?}");
+        assert!(
+            out.point_a.1.abs() < 1e-12,
+            "closest point of the edge lies on it: {out:?}"
+        );
     }
 
     #[test]
     fn point_against_edge_interior_vertex_and_on_it() {
         let edge = DistanceProxy::edge((0.0, 0.0), (3.0, 0.0), 0.0).unwrap();
         let p = point();
-        let cases = [((1.0, 2.0), 2.0, (1.0, 0.0)), ((-3.0, 4.0), 5.0, (0.0, 0.0)), ((1.5, 0.0), 0.0, (1.5, 0.0))];
+        let cases = [
+            ((1.0, 2.0), 2.0, (1.0, 0.0)),
+            ((-3.0, 4.0), 5.0, (0.0, 0.0)),
+            ((1.5, 0.0), 0.0, (1.5, 0.0)),
+        ];
         for (at, expected, closest) in cases {
             let out = query(&p, Transform::new(at, 0.7), &edge, Transform::IDENTITY);
             assert!((out.distance - expected).abs() < 1e-12, "{at:?}: {out:?}");
@@ -611,7 +656,14 @@ pub(super) mod tests {
         cache.index_a = [7, 7, 7];
         cache.index_b = [6, 5, 4];
         let p = point();
-        let out = distance(&DistanceInput { proxy_a: &p, proxy_b: &p, ..input }, &mut cache);
+        let out = distance(
+            &DistanceInput {
+                proxy_a: &p,
+                proxy_b: &p,
+                ..input
+            },
+            &mut cache,
+        );
         assert!((out.distance - v2::length((3.0, 0.5))).abs() < 1e-12, "{out:?}");
         assert!(expected.distance > 0.0);
     }
@@ -619,14 +671,32 @@ pub(super) mod tests {
     #[test]
     fn invalid_vertex_lists_are_rejected() {
         assert_eq!(DistanceProxy::new(vec![], 0.0), Err(ProxyError::VertexCount(0)));
-        assert_eq!(DistanceProxy::new(vec![(0.0, 0.0); 9], 0.0), Err(ProxyError::VertexCount(9)));
-        assert_eq!(DistanceProxy::new(vec![(f64::NAN, 0.0)], 0.0), Err(ProxyError::NonFinite(0)));
-        assert_eq!(DistanceProxy::new(vec![(0.0, 0.0)], -1.0), Err(ProxyError::Radius(-1.0)));
-        assert_eq!(DistanceProxy::edge((1.0, 1.0), (1.0, 1.0), 0.0), Err(ProxyError::ShortEdge(0)));
+        assert_eq!(
+            DistanceProxy::new(vec![(0.0, 0.0); 9], 0.0),
+            Err(ProxyError::VertexCount(9))
+        );
+        assert_eq!(
+            DistanceProxy::new(vec![(f64::NAN, 0.0)], 0.0),
+            Err(ProxyError::NonFinite(0))
+        );
+        assert_eq!(
+            DistanceProxy::new(vec![(0.0, 0.0)], -1.0),
+            Err(ProxyError::Radius(-1.0))
+        );
+        assert_eq!(
+            DistanceProxy::edge((1.0, 1.0), (1.0, 1.0), 0.0),
+            Err(ProxyError::ShortEdge(0))
+        );
         let clockwise = vec![(0.0, 0.0), (0.0, 1.0), (1.0, 0.0)];
-        assert!(matches!(DistanceProxy::new(clockwise, 0.0), Err(ProxyError::NotConvexCcw { .. })));
+        assert!(matches!(
+            DistanceProxy::new(clockwise, 0.0),
+            Err(ProxyError::NotConvexCcw { .. })
+        ));
         let collinear = vec![(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (1.0, 1.0)];
-        assert!(matches!(DistanceProxy::new(collinear, 0.0), Err(ProxyError::NotConvexCcw { .. })));
+        assert!(matches!(
+            DistanceProxy::new(collinear, 0.0),
+            Err(ProxyError::NotConvexCcw { .. })
+        ));
         let bow_tie = vec![(0.0, 0.0), (1.0, 1.0), (1.0, 0.0), (0.0, 1.0)];
         assert!(DistanceProxy::new(bow_tie, 0.0).is_err());
         let message = DistanceProxy::new(vec![], 0.0).unwrap_err().to_string();
@@ -647,7 +717,11 @@ pub(super) mod tests {
     fn point_segment(p: Vec2, a: Vec2, b: Vec2) -> f64 {
         let ab = v2::sub(b, a);
         let len2 = v2::dot(ab, ab);
-        let t = if len2 == 0.0 { 0.0 } else { (v2::dot(v2::sub(p, a), ab) / len2).clamp(0.0, 1.0) };
+        let t = if len2 == 0.0 {
+            0.0
+        } else {
+            (v2::dot(v2::sub(p, a), ab) / len2).clamp(0.0, 1.0)
+        };
         v2::length(v2::sub(p, v2::add(a, v2::scale(t, ab))))
     }
 
@@ -669,7 +743,10 @@ pub(super) mod tests {
     }
 
     fn inside(p: Vec2, polygon: &[(Vec2, Vec2)]) -> bool {
-        polygon.len() >= 3 && polygon.iter().all(|&(a, b)| v2::cross(v2::sub(b, a), v2::sub(p, a)) > 0.0)
+        polygon.len() >= 3
+            && polygon
+                .iter()
+                .all(|&(a, b)| v2::cross(v2::sub(b, a), v2::sub(p, a)) > 0.0)
     }
 
     /// Core distance by brute force: 0 when one contains a vertex of the other or edges cross,
@@ -697,8 +774,13 @@ pub(super) mod tests {
 
     /// A convex CCW polygon with 1..=8 vertices on a circle at random increasing angles.
     pub(crate) fn arb_proxy() -> impl Strategy<Value = DistanceProxy> {
-        (1usize..=8, 0.2f64..2.0, proptest::collection::vec(0.2f64..1.0, 8), 0.0f64..6.3).prop_map(
-            |(n, r, gaps, start)| {
+        (
+            1usize..=8,
+            0.2f64..2.0,
+            proptest::collection::vec(0.2f64..1.0, 8),
+            0.0f64..6.3,
+        )
+            .prop_map(|(n, r, gaps, start)| {
                 let total: f64 = gaps[..n].iter().sum();
                 let mut angle = start;
                 let mut vertices = Vec::with_capacity(n);
@@ -707,8 +789,7 @@ pub(super) mod tests {
                     angle += 2.0 * std::f64::consts::PI * gap / total;
                 }
                 DistanceProxy::new(vertices, 0.01).unwrap()
-            },
-        )
+            })
     }
 
     fn arb_transform() -> impl Strategy<Value = Transform> {
