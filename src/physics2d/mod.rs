@@ -2,7 +2,9 @@
 //! (Gymnasium 1.4 runs box2d-py 2.3.x): sequential impulses with warm starting, a two-point
 //! block solver for contacts, non-linear (NGS) position correction, revolute joints with
 //! velocity motors and Box2D 2.3's limit states, Box2D's collision manifolds with feature ids,
-//! fat-box broad phase and contact begin/end events in Box2D's order.
+//! fat-box broad phase, contact begin/end events in Box2D's order, and continuous collision
+//! (Box2D's `SolveTOI`: dynamic-versus-static sub-steps, built on `distance` (GJK) and `toi`
+//! (conservative advancement)).
 //!
 //! Written from Erin Catto's papers and GDC talks ("Iterative Dynamics with Temporal
 //! Coherence", "Modeling and Solving Constraints", "Computing Distance", "Continuous
@@ -26,10 +28,12 @@
 pub mod body;
 pub mod collide;
 pub mod contact_solver;
+pub mod distance;
 pub mod math;
 pub mod revolute;
 pub mod settings;
 pub mod shapes;
+pub mod toi;
 pub mod world;
 
 pub use body::{Body, BodyKind};

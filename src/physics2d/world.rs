@@ -8,8 +8,13 @@ use super::collide::{Manifold, collide_edge_polygon, collide_polygons};
 use super::contact_solver::{self as cs, ContactConstraint};
 use super::math::{V2, Xf, v2};
 use super::revolute::{RevoluteDef, RevoluteJoint};
-use super::settings::{AABB_EXTENSION, AABB_MULTIPLIER, BAUMGARTE, MAX_ROTATION, MAX_TRANSLATION};
+use super::distance::DistanceProxy;
+use super::settings::{
+    AABB_EXTENSION, AABB_MULTIPLIER, BAUMGARTE, EPSILON, MAX_ROTATION, MAX_SUB_STEPS, MAX_TOI_CONTACTS,
+    MAX_TRANSLATION, TOI_BAUMGARTE,
+};
 use super::shapes::{Aabb, Shape};
+use super::toi::{self, ToiState};
 
 /// Collision filtering (Box2D's `b2Filter` without groups).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -41,6 +46,8 @@ pub struct Fixture {
     /// of the motion; it moves only when the shape leaves it.
     pub fat_aabb: Aabb,
     moved: bool,
+    /// The shape for the time-of-impact routines (`None` if they reject it).
+    proxy: Option<DistanceProxy>,
 }
 
 /// A potential contact between two fixtures whose broad-phase boxes overlap.
@@ -128,7 +135,15 @@ impl World {
     pub fn add_fixture(&mut self, body: usize, def: FixtureDef) -> usize {
         let aabb = def.shape.aabb(&self.bodies[body].xf);
         let e = v2(AABB_EXTENSION, AABB_EXTENSION);
-        self.fixtures.push(Fixture { body, def, fat_aabb: Aabb { lo: aabb.lo - e, hi: aabb.hi + e }, moved: true });
+        let verts = def.shape.core_vertices().into_iter().map(V2::tuple).collect();
+        let proxy = DistanceProxy::new(verts, def.shape.radius()).ok();
+        self.fixtures.push(Fixture {
+            body,
+            def,
+            fat_aabb: Aabb { lo: aabb.lo - e, hi: aabb.hi + e },
+            moved: true,
+            proxy,
+        });
         self.new_fixture = true;
         self.reset_mass(body);
         self.fixtures.len() - 1
@@ -329,8 +344,192 @@ impl World {
         }
     }
 
-    /// Continuous collision; a no-op until the time-of-impact routines are in.
-    fn solve_toi(&mut self, _dt: f64, _velocity_iterations: usize) {}
+    /// Time of impact of contact `k` in the current pass (Box2D's cached `m_toi`), computing it
+    /// if needed; `None` if the pair takes no continuous collision (two dynamic bodies: Box2D
+    /// sweeps them only against static ones, or as bullets, which are not modelled).
+    fn contact_toi(&mut self, k: usize) -> Option<f64> {
+        if let Some(t) = self.contacts[k].toi {
+            return Some(t);
+        }
+        let (fa, fb) = (self.contacts[k].fixture_a, self.contacts[k].fixture_b);
+        let (ba, bb) = (self.fixtures[fa].body, self.fixtures[fb].body);
+        let (da, db) = (self.bodies[ba].is_dynamic(), self.bodies[bb].is_dynamic());
+        if (da && db) || !(da || db) {
+            return None;
+        }
+        // Put both sweeps on the same time interval.
+        let (a0a, a0b) = (self.bodies[ba].sweep.alpha0, self.bodies[bb].sweep.alpha0);
+        let alpha0 = if a0a < a0b {
+            self.bodies[ba].sweep.advance(a0b);
+            a0b
+        } else {
+            if a0b < a0a {
+                self.bodies[bb].sweep.advance(a0a);
+            }
+            a0a
+        };
+        let alpha = match (&self.fixtures[fa].proxy, &self.fixtures[fb].proxy) {
+            (Some(pa), Some(pb)) => {
+                let out = toi::time_of_impact(
+                    pa,
+                    &toi_sweep(&self.bodies[ba].sweep),
+                    pb,
+                    &toi_sweep(&self.bodies[bb].sweep),
+                    1.0,
+                );
+                if out.state == ToiState::Touching { (alpha0 + (1.0 - alpha0) * out.t).min(1.0) } else { 1.0 }
+            }
+            _ => 1.0,
+        };
+        self.contacts[k].toi = Some(alpha);
+        Some(alpha)
+    }
+
+    /// Box2D's `SolveTOI`: repeatedly take the earliest time of impact of a dynamic body with a
+    /// static one, move the pair there, and solve a sub-step for the rest of the step on an
+    /// island of those two bodies and their touching static contacts (no joints, no warm start;
+    /// the position solve with `TOI_BAUMGARTE` moves only the two bodies of the impact).
+    fn solve_toi(&mut self, dt: f64, velocity_iterations: usize) {
+        for b in &mut self.bodies {
+            b.sweep.alpha0 = 0.0;
+        }
+        for c in &mut self.contacts {
+            c.toi = None;
+            c.toi_count = 0;
+        }
+        let mut s = std::mem::take(&mut self.scratch);
+        loop {
+            let mut min: Option<usize> = None;
+            let mut min_alpha = 1.0;
+            for k in (0..self.contacts.len()).rev() {
+                let c = &self.contacts[k];
+                if !c.enabled || c.toi_count > MAX_SUB_STEPS {
+                    continue;
+                }
+                if let Some(alpha) = self.contact_toi(k)
+                    && alpha < min_alpha
+                {
+                    min = Some(k);
+                    min_alpha = alpha;
+                }
+            }
+            let Some(k) = min else { break };
+            if 1.0 - 10.0 * EPSILON < min_alpha {
+                break;
+            }
+            let (ba, bb) = self.contact_bodies(k);
+            let backup = (self.bodies[ba].sweep, self.bodies[bb].sweep);
+            self.bodies[ba].advance(min_alpha);
+            self.bodies[bb].advance(min_alpha);
+            self.update_contact(k);
+            self.contacts[k].toi = None;
+            self.contacts[k].toi_count += 1;
+            if !self.contacts[k].touching {
+                // The shapes do not quite touch there: skip this pair for the rest of the pass.
+                self.contacts[k].enabled = false;
+                self.bodies[ba].sweep = backup.0;
+                self.bodies[bb].sweep = backup.1;
+                self.bodies[ba].synchronize_transform();
+                self.bodies[bb].synchronize_transform();
+                continue;
+            }
+            s.bodies.clear();
+            s.contacts.clear();
+            s.bodies.extend([ba, bb]);
+            s.contacts.push(k);
+            for body in [ba, bb] {
+                if !self.bodies[body].is_dynamic() {
+                    continue;
+                }
+                for ck in (0..self.contacts.len()).rev() {
+                    if s.bodies.len() == 2 * MAX_TOI_CONTACTS || s.contacts.len() == MAX_TOI_CONTACTS {
+                        break;
+                    }
+                    let (ca, cb) = self.contact_bodies(ck);
+                    if (ca != body && cb != body) || s.contacts.contains(&ck) {
+                        continue;
+                    }
+                    let other = if ca == body { cb } else { ca };
+                    if self.bodies[other].is_dynamic() {
+                        continue;
+                    }
+                    let saved = self.bodies[other].sweep;
+                    if !s.bodies.contains(&other) {
+                        self.bodies[other].advance(min_alpha);
+                    }
+                    self.update_contact(ck);
+                    if !self.contacts[ck].touching {
+                        self.bodies[other].sweep = saved;
+                        self.bodies[other].synchronize_transform();
+                        continue;
+                    }
+                    s.contacts.push(ck);
+                    if !s.bodies.contains(&other) {
+                        s.bodies.push(other);
+                    }
+                }
+            }
+            self.solve_toi_island(&mut s, (1.0 - min_alpha) * dt, velocity_iterations, (ba, bb));
+            for i in 0..s.bodies.len() {
+                let b = s.bodies[i];
+                if !self.bodies[b].is_dynamic() {
+                    continue;
+                }
+                self.synchronize_fixtures(b);
+                for c in 0..self.contacts.len() {
+                    let (ca, cb) = self.contact_bodies(c);
+                    if ca == b || cb == b {
+                        self.contacts[c].toi = None;
+                    }
+                }
+            }
+            self.find_new_contacts();
+        }
+        self.scratch = s;
+    }
+
+    fn contact_bodies(&self, k: usize) -> (usize, usize) {
+        let c = &self.contacts[k];
+        (self.fixtures[c.fixture_a].body, self.fixtures[c.fixture_b].body)
+    }
+
+    fn solve_toi_island(&mut self, s: &mut Scratch, h: f64, vel_iters: usize, toi_pair: (usize, usize)) {
+        s.constraints.clear();
+        for &k in &s.contacts {
+            let c = &self.contacts[k];
+            let (fa, fb) = (&self.fixtures[c.fixture_a], &self.fixtures[c.fixture_b]);
+            s.constraints.push(ContactConstraint::new(
+                k,
+                (fa.body, fb.body),
+                &c.manifold,
+                c.friction,
+                c.restitution,
+                (fa.def.shape.radius(), fb.def.shape.radius()),
+                None,
+            ));
+        }
+        for _ in 0..20 {
+            if cs::solve_position(&s.constraints, &mut self.bodies, TOI_BAUMGARTE, Some(toi_pair), 1.5) {
+                break;
+            }
+        }
+        // The corrected placement is the sub-step's start.
+        for b in [toi_pair.0, toi_pair.1] {
+            let body = &mut self.bodies[b];
+            body.sweep.c0 = body.sweep.c;
+            body.sweep.a0 = body.sweep.a;
+        }
+        cs::init_velocity(&mut s.constraints, &self.bodies);
+        for _ in 0..vel_iters {
+            cs::solve_velocity(&mut s.constraints, &mut self.bodies);
+        }
+        for &b in &s.bodies {
+            if self.bodies[b].is_dynamic() {
+                integrate_position(&mut self.bodies[b], h);
+                self.bodies[b].synchronize_transform();
+            }
+        }
+    }
 
     /// Build the islands (Box2D's depth-first order) and solve each.
     fn solve(&mut self, dt: f64, dt_ratio: f64, vel_iters: usize, pos_iters: usize) {
@@ -463,6 +662,17 @@ impl World {
                 self.bodies[b].synchronize_transform();
             }
         }
+    }
+}
+
+fn toi_sweep(s: &super::body::Sweep) -> toi::Sweep {
+    toi::Sweep {
+        local_center: s.local_center.tuple(),
+        c0: s.c0.tuple(),
+        c: s.c.tuple(),
+        a0: s.a0,
+        a: s.a,
+        alpha0: s.alpha0,
     }
 }
 
