@@ -7,25 +7,31 @@ const DT: f64 = 1.0 / 60.0;
 
 fn ground(w: &mut World) -> usize {
     let g = w.add_body(BodyKind::Static, v2(0.0, 0.0), 0.0);
-    w.add_fixture(g, FixtureDef {
-        shape: Shape::Edge(v2(-20.0, 0.0), v2(20.0, 0.0)),
-        density: 0.0,
-        friction: 0.6,
-        restitution: 0.0,
-        filter: Filter::default(),
-    });
+    w.add_fixture(
+        g,
+        FixtureDef {
+            shape: Shape::Edge(v2(-20.0, 0.0), v2(20.0, 0.0)),
+            density: 0.0,
+            friction: 0.6,
+            restitution: 0.0,
+            filter: Filter::default(),
+        },
+    );
     g
 }
 
 fn boxed(w: &mut World, pos: V2, angle: f64, hx: f64, hy: f64) -> usize {
     let b = w.add_body(BodyKind::Dynamic, pos, angle);
-    w.add_fixture(b, FixtureDef {
-        shape: Shape::Polygon(Polygon::new_box(hx, hy)),
-        density: 1.0,
-        friction: 0.6,
-        restitution: 0.0,
-        filter: Filter::default(),
-    });
+    w.add_fixture(
+        b,
+        FixtureDef {
+            shape: Shape::Polygon(Polygon::new_box(hx, hy)),
+            density: 1.0,
+            friction: 0.6,
+            restitution: 0.0,
+            filter: Filter::default(),
+        },
+    );
     b
 }
 
@@ -112,7 +118,10 @@ fn motor_reaches_its_speed_unless_torque_saturates() {
     w.step(DT, 8, 3);
     let expected = 0.5 / i_pin * DT;
     let got = w.joints[j2].speed(&w.bodies);
-    assert!((got - expected).abs() < 1e-3 * expected.abs() + 1e-9, "{got} vs {expected}");
+    assert!(
+        (got - expected).abs() < 1e-3 * expected.abs() + 1e-9,
+        "{got} vs {expected}"
+    );
     let _ = bob;
 }
 

@@ -61,7 +61,14 @@ impl Body {
     pub fn new(kind: BodyKind, position: V2, angle: f64) -> Body {
         Body {
             kind,
-            sweep: Sweep { local_center: V2::ZERO, c0: position, c: position, a0: angle, a: angle, alpha0: 0.0 },
+            sweep: Sweep {
+                local_center: V2::ZERO,
+                c0: position,
+                c: position,
+                a0: angle,
+                a: angle,
+                alpha0: 0.0,
+            },
             xf: Xf::new(position, angle),
             v: V2::ZERO,
             w: 0.0,

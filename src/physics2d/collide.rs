@@ -28,7 +28,12 @@ pub struct Feature {
 
 impl Feature {
     fn swapped(self) -> Feature {
-        Feature { index_a: self.index_b, index_b: self.index_a, type_a: self.type_b, type_b: self.type_a }
+        Feature {
+            index_a: self.index_b,
+            index_b: self.index_a,
+            type_a: self.type_b,
+            type_b: self.type_a,
+        }
     }
 }
 
@@ -76,7 +81,12 @@ fn clip_segment(vin: &[ClipVertex; 2], normal: V2, offset: f64, index_a: usize) 
         let t = d0 / (d0 - d1);
         out[n] = ClipVertex {
             v: vin[0].v + t * (vin[1].v - vin[0].v),
-            id: Feature { index_a: index_a as u8, index_b: vin[0].id.index_b, type_a: VERTEX, type_b: FACE },
+            id: Feature {
+                index_a: index_a as u8,
+                index_b: vin[0].id.index_b,
+                type_a: VERTEX,
+                type_b: FACE,
+            },
         };
         n += 1;
     }
@@ -131,11 +141,21 @@ pub fn collide_polygons(m: &mut Manifold, pa: &Polygon, xfa: &Xf, pb: &Polygon, 
     let incident = [
         ClipVertex {
             v: xf2.apply(p2.vertices[i1]),
-            id: Feature { index_a: edge1 as u8, index_b: i1 as u8, type_a: FACE, type_b: VERTEX },
+            id: Feature {
+                index_a: edge1 as u8,
+                index_b: i1 as u8,
+                type_a: FACE,
+                type_b: VERTEX,
+            },
         },
         ClipVertex {
             v: xf2.apply(p2.vertices[i2]),
-            id: Feature { index_a: edge1 as u8, index_b: i2 as u8, type_a: FACE, type_b: VERTEX },
+            id: Feature {
+                index_a: edge1 as u8,
+                index_b: i2 as u8,
+                type_a: FACE,
+                type_b: VERTEX,
+            },
         },
     ];
     let iv1 = edge1;
@@ -172,18 +192,13 @@ pub fn collide_polygons(m: &mut Manifold, pa: &Polygon, xfa: &Xf, pb: &Polygon, 
 
 /// Box2D's `b2CollideEdgeAndPolygon` for a lone edge (no neighbour vertices, two-sided): the
 /// edge is shape A, the polygon B.
-pub fn collide_edge_polygon(
-    m: &mut Manifold,
-    e1: V2,
-    e2: V2,
-    xfa: &Xf,
-    poly: &Polygon,
-    xfb: &Xf,
-    total_radius: f64,
-) {
+pub fn collide_edge_polygon(m: &mut Manifold, e1: V2, e2: V2, xfa: &Xf, poly: &Polygon, xfb: &Xf, total_radius: f64) {
     m.count = 0;
     // Work in A's frame.
-    let xf = Xf { q: rot_mul_t(xfa, xfb), p: xfa.q.apply_inv(xfb.p - xfa.p) };
+    let xf = Xf {
+        q: rot_mul_t(xfa, xfb),
+        p: xfa.q.apply_inv(xfb.p - xfa.p),
+    };
     let centroid_b = xf.apply(poly.centroid);
     let nb = poly.count;
     let mut verts = [V2::ZERO; MAX_VERTICES];
@@ -195,7 +210,11 @@ pub fn collide_edge_polygon(
     let edge = (e2 - e1).normalized();
     let normal1 = v2(edge.y, -edge.x);
     let front = normal1.dot(centroid_b - e1) >= 0.0;
-    let (normal, limit) = if front { (normal1, -normal1) } else { (-normal1, normal1) };
+    let (normal, limit) = if front {
+        (normal1, -normal1)
+    } else {
+        (-normal1, normal1)
+    };
 
     // Edge axis.
     let edge_sep = verts[..nb].iter().map(|v| normal.dot(*v - e1)).fold(f64::MAX, f64::min);
@@ -244,8 +263,24 @@ pub fn collide_edge_polygon(
         let i1 = best;
         let i2 = if i1 + 1 < nb { i1 + 1 } else { 0 };
         ie = [
-            ClipVertex { v: verts[i1], id: Feature { index_a: 0, index_b: i1 as u8, type_a: FACE, type_b: VERTEX } },
-            ClipVertex { v: verts[i2], id: Feature { index_a: 0, index_b: i2 as u8, type_a: FACE, type_b: VERTEX } },
+            ClipVertex {
+                v: verts[i1],
+                id: Feature {
+                    index_a: 0,
+                    index_b: i1 as u8,
+                    type_a: FACE,
+                    type_b: VERTEX,
+                },
+            },
+            ClipVertex {
+                v: verts[i2],
+                id: Feature {
+                    index_a: 0,
+                    index_b: i2 as u8,
+                    type_a: FACE,
+                    type_b: VERTEX,
+                },
+            },
         ];
         if front {
             (rf_i1, rf_i2, rf_v1, rf_v2, rf_normal) = (0, 1, e1, e2, normal1);
@@ -256,8 +291,24 @@ pub fn collide_edge_polygon(
         m.kind = ManifoldKind::FaceB;
         let (k, _) = poly_axis.expect("polygon axis");
         ie = [
-            ClipVertex { v: e1, id: Feature { index_a: 0, index_b: k as u8, type_a: VERTEX, type_b: FACE } },
-            ClipVertex { v: e2, id: Feature { index_a: 0, index_b: k as u8, type_a: VERTEX, type_b: FACE } },
+            ClipVertex {
+                v: e1,
+                id: Feature {
+                    index_a: 0,
+                    index_b: k as u8,
+                    type_a: VERTEX,
+                    type_b: FACE,
+                },
+            },
+            ClipVertex {
+                v: e2,
+                id: Feature {
+                    index_a: 0,
+                    index_b: k as u8,
+                    type_a: VERTEX,
+                    type_b: FACE,
+                },
+            },
         ];
         rf_i1 = k;
         rf_i2 = if k + 1 < nb { k + 1 } else { 0 };
@@ -299,7 +350,10 @@ pub fn collide_edge_polygon(
 
 /// Rotation of B relative to A.
 fn rot_mul_t(a: &Xf, b: &Xf) -> super::math::Rot {
-    super::math::Rot { s: a.q.c * b.q.s - a.q.s * b.q.c, c: a.q.c * b.q.c + a.q.s * b.q.s }
+    super::math::Rot {
+        s: a.q.c * b.q.s - a.q.s * b.q.c,
+        c: a.q.c * b.q.c + a.q.s * b.q.s,
+    }
 }
 
 /// World normal, contact points (midway between the skins) and separations of a manifold.

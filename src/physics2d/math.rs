@@ -30,7 +30,11 @@ impl V2 {
     /// Unit vector (the zero vector for lengths below `EPSILON`, as Box2D's `Normalize`).
     pub fn normalized(self) -> V2 {
         let l = self.length();
-        if l < super::settings::EPSILON { V2::ZERO } else { self * (1.0 / l) }
+        if l < super::settings::EPSILON {
+            V2::ZERO
+        } else {
+            self * (1.0 / l)
+        }
     }
     /// `cross(v, s)`: `(s·y, −s·x)`.
     pub fn cross_s(self, s: f64) -> V2 {
@@ -134,7 +138,10 @@ impl Xf {
     /// The transform of a body whose centre of mass `c` (local `local_center`) has angle `a`.
     pub fn from_center(c: V2, a: f64, local_center: V2) -> Xf {
         let q = Rot::new(a);
-        Xf { p: c - q.apply(local_center), q }
+        Xf {
+            p: c - q.apply(local_center),
+            q,
+        }
     }
     pub fn apply(&self, v: V2) -> V2 {
         self.q.apply(v) + self.p

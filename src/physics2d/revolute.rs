@@ -57,11 +57,18 @@ fn solve22(k: &[[f64; 3]; 3], b: V2) -> V2 {
     if det != 0.0 {
         det = 1.0 / det;
     }
-    V2 { x: det * (a22 * b.x - a12 * b.y), y: det * (a11 * b.y - a21 * b.x) }
+    V2 {
+        x: det * (a22 * b.x - a12 * b.y),
+        y: det * (a11 * b.y - a21 * b.x),
+    }
 }
 
 fn cross3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
 }
 fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
@@ -69,12 +76,20 @@ fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
 
 fn solve33(k: &[[f64; 3]; 3], b: [f64; 3]) -> [f64; 3] {
     // Columns of the (symmetric) matrix.
-    let (ex, ey, ez) = ([k[0][0], k[1][0], k[2][0]], [k[0][1], k[1][1], k[2][1]], [k[0][2], k[1][2], k[2][2]]);
+    let (ex, ey, ez) = (
+        [k[0][0], k[1][0], k[2][0]],
+        [k[0][1], k[1][1], k[2][1]],
+        [k[0][2], k[1][2], k[2][2]],
+    );
     let mut det = dot3(ex, cross3(ey, ez));
     if det != 0.0 {
         det = 1.0 / det;
     }
-    [det * dot3(b, cross3(ey, ez)), det * dot3(ex, cross3(b, ez)), det * dot3(ex, cross3(ey, b))]
+    [
+        det * dot3(b, cross3(ey, ez)),
+        det * dot3(ex, cross3(b, ez)),
+        det * dot3(ex, cross3(ey, b)),
+    ]
 }
 
 impl RevoluteJoint {
@@ -153,7 +168,10 @@ impl RevoluteJoint {
                 *i *= dt_ratio;
             }
             self.motor_impulse *= dt_ratio;
-            let p = V2 { x: self.impulse[0], y: self.impulse[1] };
+            let p = V2 {
+                x: self.impulse[0],
+                y: self.impulse[1],
+            };
             let l = self.motor_impulse + self.impulse[2];
             let ba = &mut bodies[ia_];
             ba.v -= ma * p;
@@ -190,7 +208,12 @@ impl RevoluteJoint {
             let s = solve33(&self.k, [cdot1.x, cdot1.y, cdot2]);
             let mut imp = [-s[0], -s[1], -s[2]];
             let reduced = |acc: &[f64; 3]| {
-                let rhs = -cdot1 + acc[2] * V2 { x: self.k[2][0], y: self.k[2][1] };
+                let rhs = -cdot1
+                    + acc[2]
+                        * V2 {
+                            x: self.k[2][0],
+                            y: self.k[2][1],
+                        };
                 solve22(&self.k, rhs)
             };
             match self.limit_state {
@@ -201,8 +224,11 @@ impl RevoluteJoint {
                 }
                 LimitState::AtLower | LimitState::AtUpper => {
                     let new_z = self.impulse[2] + imp[2];
-                    let violates =
-                        if self.limit_state == LimitState::AtLower { new_z < 0.0 } else { new_z > 0.0 };
+                    let violates = if self.limit_state == LimitState::AtLower {
+                        new_z < 0.0
+                    } else {
+                        new_z > 0.0
+                    };
                     if violates {
                         let r = reduced(&self.impulse);
                         imp = [r.x, r.y, -self.impulse[2]];

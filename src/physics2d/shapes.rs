@@ -179,7 +179,10 @@ impl Aabb {
         self.lo.x <= o.lo.x && self.lo.y <= o.lo.y && o.hi.x <= self.hi.x && o.hi.y <= self.hi.y
     }
     pub fn union(&self, o: &Aabb) -> Aabb {
-        Aabb { lo: self.lo.min(o.lo), hi: self.hi.max(o.hi) }
+        Aabb {
+            lo: self.lo.min(o.lo),
+            hi: self.hi.max(o.hi),
+        }
     }
 }
 
@@ -193,9 +196,17 @@ impl Shape {
         match self {
             Shape::Polygon(p) => {
                 let (area, c, i) = p.area_moments();
-                MassData { mass: density * area, center: c, inertia_center: density * i }
+                MassData {
+                    mass: density * area,
+                    center: c,
+                    inertia_center: density * i,
+                }
             }
-            Shape::Edge(a, b) => MassData { mass: 0.0, center: 0.5 * (*a + *b), inertia_center: 0.0 },
+            Shape::Edge(a, b) => MassData {
+                mass: 0.0,
+                center: 0.5 * (*a + *b),
+                inertia_center: 0.0,
+            },
         }
     }
 

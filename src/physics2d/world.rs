@@ -6,9 +6,9 @@
 use super::body::{Body, BodyKind};
 use super::collide::{Manifold, collide_edge_polygon, collide_polygons};
 use super::contact_solver::{self as cs, ContactConstraint};
+use super::distance::DistanceProxy;
 use super::math::{V2, Xf, v2};
 use super::revolute::{RevoluteDef, RevoluteJoint};
-use super::distance::DistanceProxy;
 use super::settings::{
     AABB_EXTENSION, AABB_MULTIPLIER, BAUMGARTE, EPSILON, MAX_ROTATION, MAX_SUB_STEPS, MAX_TOI_CONTACTS,
     MAX_TRANSLATION, TOI_BAUMGARTE,
@@ -25,7 +25,10 @@ pub struct Filter {
 
 impl Default for Filter {
     fn default() -> Self {
-        Filter { category: 1, mask: 0xFFFF }
+        Filter {
+            category: 1,
+            mask: 0xFFFF,
+        }
     }
 }
 
@@ -140,7 +143,10 @@ impl World {
         self.fixtures.push(Fixture {
             body,
             def,
-            fat_aabb: Aabb { lo: aabb.lo - e, hi: aabb.hi + e },
+            fat_aabb: Aabb {
+                lo: aabb.lo - e,
+                hi: aabb.hi + e,
+            },
             moved: true,
             proxy,
         });
@@ -171,7 +177,10 @@ impl World {
 
     /// Fixtures `a`, `b` are in a contact whose manifold has points.
     pub fn touching_fixtures(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
-        self.contacts.iter().filter(|c| c.touching).map(|c| (c.fixture_a, c.fixture_b))
+        self.contacts
+            .iter()
+            .filter(|c| c.touching)
+            .map(|c| (c.fixture_a, c.fixture_b))
     }
 
     fn should_collide(&self, fa: usize, fb: usize) -> bool {
@@ -223,7 +232,11 @@ impl World {
         c.touching = touching;
         c.enabled = true;
         if touching != was_touching {
-            self.events.push(ContactEvent { fixture_a: fa, fixture_b: fb, begin: touching });
+            self.events.push(ContactEvent {
+                fixture_a: fa,
+                fixture_b: fb,
+                begin: touching,
+            });
         }
     }
 
@@ -236,7 +249,11 @@ impl World {
             let (fa, fb) = (c.fixture_a, c.fixture_b);
             if !self.fixtures[fa].fat_aabb.overlaps(&self.fixtures[fb].fat_aabb) {
                 if c.touching {
-                    self.events.push(ContactEvent { fixture_a: fa, fixture_b: fb, begin: false });
+                    self.events.push(ContactEvent {
+                        fixture_a: fa,
+                        fixture_b: fb,
+                        begin: false,
+                    });
                 }
                 self.contacts.remove(k);
                 continue;
@@ -305,7 +322,10 @@ impl World {
                 continue;
             }
             let e = v2(AABB_EXTENSION, AABB_EXTENSION);
-            let mut fat = Aabb { lo: aabb.lo - e, hi: aabb.hi + e };
+            let mut fat = Aabb {
+                lo: aabb.lo - e,
+                hi: aabb.hi + e,
+            };
             let d = AABB_MULTIPLIER * d;
             if d.x < 0.0 {
                 fat.lo.x += d.x;
@@ -377,7 +397,11 @@ impl World {
                     &toi_sweep(&self.bodies[bb].sweep),
                     1.0,
                 );
-                if out.state == ToiState::Touching { (alpha0 + (1.0 - alpha0) * out.t).min(1.0) } else { 1.0 }
+                if out.state == ToiState::Touching {
+                    (alpha0 + (1.0 - alpha0) * out.t).min(1.0)
+                } else {
+                    1.0
+                }
             }
             _ => 1.0,
         };
@@ -708,6 +732,8 @@ impl World {
 
     /// Whether any contact of fixture `f` touches.
     pub fn fixture_touches(&self, f: usize) -> bool {
-        self.contacts.iter().any(|c| c.touching && (c.fixture_a == f || c.fixture_b == f))
+        self.contacts
+            .iter()
+            .any(|c| c.touching && (c.fixture_a == f || c.fixture_b == f))
     }
 }

@@ -2,7 +2,7 @@
 //! joints in Gymnasium's creation order (terrain obstacles, surface edges one static body each,
 //! hull, then per leg upper, lower, hip, knee), stepped with `Step(1/FPS, 6·30, 2·30)`.
 
-use super::{BodyState, BipedalWalkerParams, HIP_LIMITS, HIP_REFERENCE, HULL_POLY, KNEE_LIMITS, Terrain, size};
+use super::{BipedalWalkerParams, BodyState, HIP_LIMITS, HIP_REFERENCE, HULL_POLY, KNEE_LIMITS, Terrain, size};
 use crate::physics2d::{
     BodyKind, Filter, FixtureDef, Polygon, RevoluteDef, Shape, V2, World as B2World, shapes::PolygonError, v2,
 };
@@ -11,8 +11,14 @@ use crate::physics2d::{
 pub const VELOCITY_ITERATIONS: usize = 6 * 30;
 pub const POSITION_ITERATIONS: usize = 2 * 30;
 
-const TERRAIN: Filter = Filter { category: 0x0001, mask: 0xFFFF };
-const WALKER: Filter = Filter { category: 0x0020, mask: 0x0001 };
+const TERRAIN: Filter = Filter {
+    category: 0x0001,
+    mask: 0xFFFF,
+};
+const WALKER: Filter = Filter {
+    category: 0x0020,
+    mask: 0x0001,
+};
 
 #[derive(Debug, Clone)]
 pub(super) struct Box2dWalker {
@@ -29,11 +35,24 @@ pub(super) struct Box2dWalker {
 /// pulls them onto their anchors in the first steps).
 pub(super) fn gymnasium_start(p: &BipedalWalkerParams) -> [BodyState; 5] {
     let (x, y) = (p.init_x(), p.terrain_height + 2.0 * p.leg_h);
-    let mut out = [BodyState { x, y, ..Default::default() }; 5];
+    let mut out = [BodyState {
+        x,
+        y,
+        ..Default::default()
+    }; 5];
     for (leg, i) in [-1.0, 1.0].into_iter().enumerate() {
-        out[1 + 2 * leg] = BodyState { x, y: y - p.leg_h / 2.0 - p.leg_down, angle: i * 0.05, ..Default::default() };
-        out[2 + 2 * leg] =
-            BodyState { x, y: y - p.leg_h * 3.0 / 2.0 - p.leg_down, angle: i * 0.05, ..Default::default() };
+        out[1 + 2 * leg] = BodyState {
+            x,
+            y: y - p.leg_h / 2.0 - p.leg_down,
+            angle: i * 0.05,
+            ..Default::default()
+        };
+        out[2 + 2 * leg] = BodyState {
+            x,
+            y: y - p.leg_h * 3.0 / 2.0 - p.leg_down,
+            angle: i * 0.05,
+            ..Default::default()
+        };
     }
     out
 }
@@ -47,7 +66,13 @@ impl Box2dWalker {
     pub fn build(p: &BipedalWalkerParams, terrain: &Terrain, bodies: &[BodyState; 5]) -> Box2dWalker {
         let mut world = B2World::new(v2(p.gravity_x, p.gravity_y));
         let friction = p.friction.max(0.0);
-        let ground = |shape| FixtureDef { shape, density: 0.0, friction, restitution: 0.0, filter: TERRAIN };
+        let ground = |shape| FixtureDef {
+            shape,
+            density: 0.0,
+            friction,
+            restitution: 0.0,
+            filter: TERRAIN,
+        };
         for q in &terrain.quads {
             let pts: Vec<V2> = q.iter().map(|&(x, y)| v2(x, y)).collect();
             if let Ok(poly) = Polygon::from_points(&pts) {
@@ -62,8 +87,16 @@ impl Box2dWalker {
         }
         let dynamic = |world: &mut B2World, s: &BodyState, shape: Shape, density: f64, friction: f64| {
             let b = world.add_body(BodyKind::Dynamic, v2(s.x, s.y), s.angle);
-            let f =
-                world.add_fixture(b, FixtureDef { shape, density, friction, restitution: 0.0, filter: WALKER });
+            let f = world.add_fixture(
+                b,
+                FixtureDef {
+                    shape,
+                    density,
+                    friction,
+                    restitution: 0.0,
+                    filter: WALKER,
+                },
+            );
             world.bodies[b].v = v2(s.vx, s.vy);
             world.bodies[b].w = s.w;
             (b, f)
@@ -101,19 +134,38 @@ impl Box2dWalker {
                 HIP_REFERENCE[leg],
                 HIP_LIMITS,
             ));
-            joints[2 * leg + 1] =
-                world.add_revolute(joint(upper, lower, v2(0.0, -lh / 2.0), v2(0.0, lh / 2.0), 0.0, KNEE_LIMITS));
+            joints[2 * leg + 1] = world.add_revolute(joint(
+                upper,
+                lower,
+                v2(0.0, -lh / 2.0),
+                v2(0.0, lh / 2.0),
+                0.0,
+                KNEE_LIMITS,
+            ));
             handles[1 + 2 * leg] = upper;
             handles[2 + 2 * leg] = lower;
             lower_fixtures[leg] = lower_f;
         }
-        Box2dWalker { world, bodies: handles, joints, hull_fixture, lower_fixtures }
+        Box2dWalker {
+            world,
+            bodies: handles,
+            joints,
+            hull_fixture,
+            lower_fixtures,
+        }
     }
 
     pub fn body_state(&self, k: usize) -> BodyState {
         let b = &self.world.bodies[self.bodies[k]];
         let pos = b.position();
-        BodyState { x: pos.x, y: pos.y, angle: b.angle(), vx: b.v.x, vy: b.v.y, w: b.w }
+        BodyState {
+            x: pos.x,
+            y: pos.y,
+            angle: b.angle(),
+            vx: b.v.x,
+            vy: b.v.y,
+            w: b.w,
+        }
     }
 
     pub fn set_motor(&mut self, j: usize, speed: f64, torque: f64) {

@@ -1194,11 +1194,17 @@ impl BipedalWalker {
     fn physics_step_box2d(&mut self, a: &[f64; 4]) {
         let motors: [(f64, f64); 4] = std::array::from_fn(|j| self.motor(j, a[j]));
         let p = self.params;
-        let Some(Physics::Box2d(w)) = self.world.as_mut() else { return };
+        let Some(Physics::Box2d(w)) = self.world.as_mut() else {
+            return;
+        };
         for (j, (speed, torque)) in motors.into_iter().enumerate() {
             w.set_motor(j, speed, torque);
         }
-        let dt = if p.fps > 0.0 && p.fps.is_finite() { 1.0 / p.fps } else { 0.0 };
+        let dt = if p.fps > 0.0 && p.fps.is_finite() {
+            1.0 / p.fps
+        } else {
+            0.0
+        };
         w.world.step(dt, b2::VELOCITY_ITERATIONS, b2::POSITION_ITERATIONS);
         self.pending_force = false;
         for e in &w.world.events {
@@ -1222,7 +1228,9 @@ impl BipedalWalker {
     fn physics_step_rapier(&mut self, a: &[f64; 4]) {
         let p = self.params;
         let motors: [(f64, f64); 4] = std::array::from_fn(|j| self.motor(j, a[j]));
-        let Some(Physics::Rapier(world)) = self.world.as_mut() else { return };
+        let Some(Physics::Rapier(world)) = self.world.as_mut() else {
+            return;
+        };
         for (j, (speed, torque)) in motors.into_iter().enumerate() {
             if let Some(joint) = world.pw.impulse_joints.get_mut(world.joints[j], false) {
                 joint
