@@ -48,7 +48,38 @@ pub struct RevoluteJoint {
     rb: V2,
     /// Rows of the symmetric 3×3 effective mass matrix.
     k: [[f64; 3]; 3],
+    /// Inverses of `k` and of its upper-left 2×2 block, fixed for the step (the velocity
+    /// iterations then multiply instead of solving: Box2D's `Solve33` / `Solve22` by Cramer's
+    /// rule, computed once).
+    k_inv: [[f64; 3]; 3],
+    k_inv22: [[f64; 2]; 2],
     motor_mass: f64,
+}
+
+fn inverse22(k: &[[f64; 3]; 3]) -> [[f64; 2]; 2] {
+    let c0 = solve22(k, V2 { x: 1.0, y: 0.0 });
+    let c1 = solve22(k, V2 { x: 0.0, y: 1.0 });
+    [[c0.x, c1.x], [c0.y, c1.y]]
+}
+
+fn inverse33(k: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    let c: [[f64; 3]; 3] = std::array::from_fn(|i| {
+        let mut e = [0.0; 3];
+        e[i] = 1.0;
+        solve33(k, e)
+    });
+    std::array::from_fn(|r| std::array::from_fn(|col| c[col][r]))
+}
+
+fn mul22(m: &[[f64; 2]; 2], b: V2) -> V2 {
+    V2 {
+        x: m[0][0] * b.x + m[0][1] * b.y,
+        y: m[1][0] * b.x + m[1][1] * b.y,
+    }
+}
+
+fn mul33(m: &[[f64; 3]; 3], b: [f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|r| m[r][0] * b[0] + m[r][1] * b[1] + m[r][2] * b[2])
 }
 
 fn solve22(k: &[[f64; 3]; 3], b: V2) -> V2 {
@@ -102,6 +133,8 @@ impl RevoluteJoint {
             ra: V2::ZERO,
             rb: V2::ZERO,
             k: [[0.0; 3]; 3],
+            k_inv: [[0.0; 3]; 3],
+            k_inv22: [[0.0; 2]; 2],
             motor_mass: 0.0,
         }
     }
@@ -137,6 +170,7 @@ impl RevoluteJoint {
         let k12 = ra.x * ia + rb.x * ib;
         let k22 = ia + ib;
         self.k = [[k00, k01, k02], [k01, k11, k12], [k02, k12, k22]];
+        self.k_inv22 = inverse22(&self.k);
         self.motor_mass = if k22 > 0.0 { 1.0 / k22 } else { 0.0 };
         if !self.def.enable_motor || fixed_rotation {
             self.motor_impulse = 0.0;
@@ -162,6 +196,9 @@ impl RevoluteJoint {
             }
         } else {
             self.limit_state = LimitState::Inactive;
+        }
+        if self.limit_state != LimitState::Inactive {
+            self.k_inv = inverse33(&self.k);
         }
         if warm_start {
             for i in &mut self.impulse {
@@ -205,7 +242,7 @@ impl RevoluteJoint {
         if self.def.enable_limit && self.limit_state != LimitState::Inactive && !fixed_rotation {
             let cdot1 = vb + cross_sv(wb, rb) - va - cross_sv(wa, ra);
             let cdot2 = wb - wa;
-            let s = solve33(&self.k, [cdot1.x, cdot1.y, cdot2]);
+            let s = mul33(&self.k_inv, [cdot1.x, cdot1.y, cdot2]);
             let mut imp = [-s[0], -s[1], -s[2]];
             let reduced = |acc: &[f64; 3]| {
                 let rhs = -cdot1
@@ -214,7 +251,7 @@ impl RevoluteJoint {
                             x: self.k[2][0],
                             y: self.k[2][1],
                         };
-                solve22(&self.k, rhs)
+                mul22(&self.k_inv22, rhs)
             };
             match self.limit_state {
                 LimitState::Equal => {
@@ -250,7 +287,7 @@ impl RevoluteJoint {
             wb += ib * (rb.cross(p) + imp[2]);
         } else {
             let cdot = vb + cross_sv(wb, rb) - va - cross_sv(wa, ra);
-            let imp = solve22(&self.k, -cdot);
+            let imp = mul22(&self.k_inv22, -cdot);
             self.impulse[0] += imp.x;
             self.impulse[1] += imp.y;
             va -= ma * imp;
