@@ -1,4 +1,17 @@
-//! BipedalWalker-v3 (Gymnasium 1.4 `BipedalWalker`) on rapier2d, with CARL's 20 context features.
+//! BipedalWalker-v3 (Gymnasium 1.4 `BipedalWalker`) with CARL's 20 context features, on
+//! [`crate::physics2d`] (Box2D 2.3's solver semantics, [`WalkerEngine::Box2d`], the default) or on
+//! rapier2d ([`WalkerEngine::Rapier`], the former engine).
+//!
+//! **Box2D engine** (`b2`): the world is built as Gymnasium builds it (terrain obstacles, one
+//! static body per surface edge, hull, then per leg upper leg, lower leg, hip, knee; the legs
+//! created apart from their anchors, as Gymnasium's `reset` does, and reassembled by the position
+//! solver in the first steps) and stepped with `Step(1/FPS, 6·30, 2·30)`. The contact flags and
+//! game over follow Box2D's begin/end contact events in Box2D's order, including those of
+//! continuous collision. After `set_state` the contacts touching at the loaded pose are the
+//! baseline (no events); the warm-start impulses are not part of the state. Not modelled: Box2D's
+//! sleeping (Gymnasium wakes the walker every step by setting its motors) and f32 arithmetic.
+//! The "deviations" below (solver substeps, limits, landings, start pose, skins, speed caps) are
+//! the rapier engine's emulations of what the Box2D engine does natively.
 //!
 //! Same as Gymnasium (CARL overrides the module constants; here each instance has its own
 //! [`BipedalWalkerParams`]):
@@ -25,7 +38,7 @@
 //!   `x < 0` (terminated). Reaching `x > (TERRAIN_LENGTH − TERRAIN_GRASS)·TERRAIN_STEP` terminates.
 //!   The time limit (1600 steps) is the registry's `TimeLimit`.
 //!
-//! Where this is not Box2D (documented deviations):
+//! Where the rapier engine is not Box2D (documented deviations):
 //! * **Solver.** rapier's TGS-soft solver with [`BipedalWalkerOptions::solver_iterations`]
 //!   substeps (16) replaces Box2D's sequential impulses with 6·30 velocity and 2·30 position
 //!   iterations. Measured by replaying Gymnasium's states one step at a time (scripted gait, seed
