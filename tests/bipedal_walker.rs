@@ -2,9 +2,7 @@
 //! instances and seeds, falling, lidar against flat ground and stumps, the scripted gait,
 //! context sensitivity, bad input and rendering.
 
-use carl_spec::envs::box2d::bipedal_walker::{
-    ANGULAR_SLOP, HIP_LIMITS, HIP_REFERENCE, Obstacle, START_JOINTS, STATE_DIM,
-};
+use carl_spec::envs::box2d::bipedal_walker::{ANGULAR_SLOP, HIP_LIMITS, HIP_REFERENCE, Obstacle, STATE_DIM};
 use carl_spec::envs::box2d::{BipedalWalker, BipedalWalkerOptions, BipedalWalkerParams, WalkerEngine, WalkerHeuristic};
 use carl_spec::envs::registry::{Context, make};
 use carl_spec::envs::{Action, Env, EnvError};

@@ -222,7 +222,6 @@ pub fn collide_edge_polygon(m: &mut Manifold, e1: V2, e2: V2, xfa: &Xf, poly: &P
         return;
     }
     // Polygon axes.
-    let perp = v2(-normal.y, normal.x);
     let mut poly_axis: Option<(usize, f64)> = None;
     for i in 0..nb {
         let n = -norms[i];
@@ -232,11 +231,9 @@ pub fn collide_edge_polygon(m: &mut Manifold, e1: V2, e2: V2, xfa: &Xf, poly: &P
             return;
         }
         // Adjacency: only normals within the admissible cone.
-        let admissible = if n.dot(perp) >= 0.0 {
-            (n - limit).dot(normal) >= -ANGULAR_SLOP
-        } else {
-            (n - limit).dot(normal) >= -ANGULAR_SLOP
-        };
+        // Box2D tests the normal against the upper or lower adjacency limit depending on its
+        // side of `perp`; a lone edge has one limit for both.
+        let admissible = (n - limit).dot(normal) >= -ANGULAR_SLOP;
         if !admissible {
             continue;
         }

@@ -86,10 +86,9 @@ pub fn init_velocity(cs: &mut [ContactConstraint], bodies: &[Body]) {
         let (normal, pts, _) = world_manifold(&c.manifold, &xf_of(ba), c.radius_a, &xf_of(bb), c.radius_b);
         c.normal = normal;
         let tangent = normal.cross_s(1.0);
-        for j in 0..c.manifold.count {
-            let vp = &mut c.points[j];
-            vp.ra = pts[j] - ba.sweep.c;
-            vp.rb = pts[j] - bb.sweep.c;
+        for (vp, &pt) in c.points.iter_mut().zip(&pts).take(c.manifold.count) {
+            vp.ra = pt - ba.sweep.c;
+            vp.rb = pt - bb.sweep.c;
             let rna = vp.ra.cross(normal);
             let rnb = vp.rb.cross(normal);
             let kn = ma + mb + ia * rna * rna + ib * rnb * rnb;

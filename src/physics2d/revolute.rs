@@ -255,8 +255,8 @@ impl RevoluteJoint {
             };
             match self.limit_state {
                 LimitState::Equal => {
-                    for i in 0..3 {
-                        self.impulse[i] += imp[i];
+                    for (acc, d) in self.impulse.iter_mut().zip(imp) {
+                        *acc += d;
                     }
                 }
                 LimitState::AtLower | LimitState::AtUpper => {
@@ -273,8 +273,8 @@ impl RevoluteJoint {
                         self.impulse[1] += r.y;
                         self.impulse[2] = 0.0;
                     } else {
-                        for i in 0..3 {
-                            self.impulse[i] += imp[i];
+                        for (acc, d) in self.impulse.iter_mut().zip(imp) {
+                            *acc += d;
                         }
                     }
                 }

@@ -148,7 +148,9 @@ impl Polygon {
     }
 }
 
-/// A shape of a fixture, in body coordinates.
+/// A shape of a fixture, in body coordinates. Stored inline (one per fixture): the collision
+/// routines read it every step, so it is not boxed.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Shape {
     Polygon(Polygon),

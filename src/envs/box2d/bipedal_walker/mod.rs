@@ -799,7 +799,7 @@ impl World {
 /// The walker's world on one of the engines.
 #[derive(Debug)]
 enum Physics {
-    Rapier(World),
+    Rapier(Box<World>),
     Box2d(Box<b2::Box2dWalker>),
 }
 
@@ -1120,7 +1120,7 @@ impl BipedalWalker {
         self.world = Some(match self.opts.engine {
             WalkerEngine::Rapier => {
                 let ground = self.ground.as_ref().expect("place needs a terrain");
-                Physics::Rapier(World::build(&self.params, &self.opts, ground, bodies))
+                Physics::Rapier(Box::new(World::build(&self.params, &self.opts, ground, bodies)))
             }
             WalkerEngine::Box2d => {
                 let terrain = self.terrain.as_ref().expect("place needs a terrain");
