@@ -1,7 +1,9 @@
 //! The patched rapier3d (vendor/rapier3d): its tree-sparse body Jacobians and multibody mass
 //! matrices equal upstream's dense `Σ Jᵀ·M·J` (kept in the patch as the reference) up to f32
 //! rounding, and its tree-sparse factorizations solve like upstream's dense LU, on random
-//! configurations and velocities of every robot model.
+//! configurations and velocities of every robot model. The pipeline's start-of-step forward
+//! kinematics, skipped when nothing changed, changes nothing when it runs, and runs when the
+//! user changed the joints.
 
 use carl_spec::envs::rng::EnvRng;
 use carl_spec::envs::robots::world::{Configuration, RobotWorld};
@@ -132,6 +134,85 @@ fn sparse_mass_matrix_equals_dense_reference_on_every_robot() {
             "{id}: worst relative difference to the dense reference {worst_all:.1e} \
              (implicit terms alone {worst_implicit:.1e})"
         );
+    }
+}
+
+/// Every link pose and generalized velocity, bit for bit.
+fn exact_state(w: &RobotWorld) -> Vec<u32> {
+    let mut bits: Vec<u32> = Vec::new();
+    for i in 0..w.links.len() {
+        let p = w.link_pose(i);
+        let (t, r) = (p.translation, p.rotation);
+        bits.extend([t.x, t.y, t.z, r.x, r.y, r.z, r.w].map(f32::to_bits));
+    }
+    bits.extend(w.multibody().generalized_velocity().iter().map(|v| v.to_bits()));
+    bits
+}
+
+/// The patch skips the pipeline's start-of-step forward kinematics when the multibody and its
+/// bodies are as the last substep left them; forcing it (a `&mut` access to a link marks the
+/// kinematics stale) must give the same trajectory bit for bit, on every robot.
+#[test]
+fn skipped_start_of_step_kinematics_changes_nothing() {
+    for &(id, robot) in ROBOTS {
+        let model = RobotModel::load(robot).unwrap();
+        let params = default_params(id).unwrap();
+        let root_dofs = root_dofs(&model, &params);
+        let mut rng = EnvRng::from_seed(16);
+        let q = random_configuration(&model, root_dofs, &mut rng);
+        let mut skipping = RobotWorld::build(&model, &params, &q);
+        let mut forced = RobotWorld::build(&model, &params, &q);
+        for step in 0..40 {
+            let ctrl: Vec<f32> = (0..model.num_actuators())
+                .map(|_| uniform(&mut rng, 1.0) as f32)
+                .collect();
+            forced.multibody_mut().link_mut(0).expect("root link");
+            skipping.step(&ctrl);
+            forced.step(&ctrl);
+            assert_eq!(exact_state(&skipping), exact_state(&forced), "{id} step {step}");
+        }
+    }
+}
+
+/// User changes between steps reach the physics as they do upstream (which runs the
+/// start-of-step forward kinematics every step; emulated by marking the kinematics stale
+/// before every step): joint coordinates moved without forward kinematics
+/// (`apply_displacements`), and the root body moved by the user.
+#[test]
+fn user_changes_rerun_the_skipped_kinematics() {
+    for &(id, robot) in ROBOTS {
+        let model = RobotModel::load(robot).unwrap();
+        let params = default_params(id).unwrap();
+        let root_dofs = root_dofs(&model, &params);
+        let mut rng = EnvRng::from_seed(17);
+        let q = random_configuration(&model, root_dofs, &mut rng);
+        let mut skipping = RobotWorld::build(&model, &params, &q);
+        let mut forced = RobotWorld::build(&model, &params, &q);
+        let ndofs = skipping.multibody().ndofs();
+        let disp: Vec<f32> = (0..ndofs).map(|k| if k >= root_dofs { 0.2 } else { 0.0 }).collect();
+        for step in 0..12 {
+            for w in [&mut skipping, &mut forced] {
+                match step {
+                    4 => w.multibody_mut().apply_displacements(&disp),
+                    8 => {
+                        let root = w.links[0];
+                        let mut pose = *w.pw.bodies[root].position();
+                        pose.translation.z += 0.05;
+                        w.pw.bodies[root].set_position(pose, true);
+                    }
+                    _ => {}
+                }
+            }
+            let ctrl: Vec<f32> = (0..model.num_actuators())
+                .map(|_| uniform(&mut rng, 1.0) as f32)
+                .collect();
+            let before = exact_state(&skipping);
+            forced.multibody_mut().link_mut(0).expect("root link");
+            skipping.step(&ctrl);
+            forced.step(&ctrl);
+            assert_eq!(exact_state(&skipping), exact_state(&forced), "{id} step {step}");
+            assert_ne!(exact_state(&skipping), before, "{id} step {step}: nothing moved");
+        }
     }
 }
 

@@ -433,9 +433,14 @@ impl PhysicsPipeline {
         soft_bodies.island_events = sb_events;
         self.counters.stages.user_changes.pause();
 
-        // TODO: do this only on user-change.
         // TODO: do we want some kind of automatic inverse kinematics?
+        // carl-spec patch: only where the user changed something since the last step's final
+        // forward kinematics (which left every link body at its link's pose); otherwise this
+        // pass recomputes the same poses, Jacobians and mass properties.
         for multibody in &mut multibody_joints.multibodies {
+            if multibody.1.kinematics_up_to_date(bodies) {
+                continue;
+            }
             multibody.1.forward_kinematics(bodies, true);
             multibody
                 .1

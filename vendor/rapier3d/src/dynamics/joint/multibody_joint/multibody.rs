@@ -5,7 +5,8 @@ use crate::alloc_prelude::*;
 use crate::dynamics::integration_parameters::SpringCoefficients;
 use crate::dynamics::solver::{GenericJointConstraint, WritebackId};
 use crate::dynamics::{
-    IntegrationParameters, RigidBodyHandle, RigidBodySet, RigidBodyType, RigidBodyVelocity,
+    IntegrationParameters, RigidBodyChanges, RigidBodyHandle, RigidBodySet, RigidBodyType,
+    RigidBodyVelocity,
 };
 use crate::math::{
     ANG_DIM, AngDim, AngVector, DIM, DVector, Dim, Jacobian, Pose, Real, SPATIAL_DIM,
@@ -155,6 +156,15 @@ pub struct Multibody {
     coriolis_v: Vec<OMatrix<Real, Dim, Dyn>>,
     coriolis_w: Vec<OMatrix<Real, AngDim, Dyn>>,
     i_coriolis_dt: Jacobian<Real>,
+    // carl-spec patch: whether the link poses and Jacobians may be out of date with the joint
+    // coordinates or the links' data (set by every `&mut` access to them, cleared by
+    // `forward_kinematics`); lets the pipeline skip its start-of-step forward kinematics.
+    kinematics_stale: bool,
+    // carl-spec patch: per link, 6 × ndofs column-major, the wrenches (at the link's centre of
+    // mass) `Σ_{k in subtree} Mₖ·Jₖ[:, b]` of the mass matrix and of the accelerated one
+    // (`M̃ₖ·Jₖ + Mₖ·Cₖ·dt`), on the link's own and ancestors' DoF columns b.
+    subtree_wrenches: Vec<Real>,
+    subtree_wrenches_acc: Vec<Real>,
 }
 impl Default for Multibody {
     fn default() -> Self {
@@ -191,6 +201,9 @@ impl Multibody {
             coriolis_v: Vec::new(),
             coriolis_w: Vec::new(),
             i_coriolis_dt: Jacobian::zeros(0),
+            kinematics_stale: true,
+            subtree_wrenches: Vec::new(),
+            subtree_wrenches_acc: Vec::new(),
             root_is_dynamic: false,
             self_contacts_enabled,
             couplings: Vec::new(),
@@ -299,6 +312,7 @@ impl Multibody {
     }
 
     pub(crate) fn append(&mut self, mut rhs: Multibody, parent: usize, joint: MultibodyJoint) {
+        self.kinematics_stale = true;
         let joint_ndofs = joint.ndofs();
         let rhs_root_ndofs = rhs.links[0].joint.ndofs();
         let ndofs_before_append = self.velocities.len();
@@ -407,6 +421,7 @@ impl Multibody {
     /// Mutable reference to the first link of this multibody.
     #[inline]
     pub fn root_mut(&mut self) -> &mut MultibodyLink {
+        self.kinematics_stale = true;
         &mut self.links[0]
     }
 
@@ -423,6 +438,7 @@ impl Multibody {
     /// Return `None` if the given id does not identifies a multibody link part of `self`.
     #[inline]
     pub fn link_mut(&mut self, id: usize) -> Option<&mut MultibodyLink> {
+        self.kinematics_stale = true;
         self.links.get_mut(id)
     }
 
@@ -442,6 +458,7 @@ impl Multibody {
     ///
     /// All link are guaranteed to be yielded before its descendant.
     pub fn links_mut(&mut self) -> impl Iterator<Item = &mut MultibodyLink> {
+        self.kinematics_stale = true;
         self.links.iter_mut()
     }
 
@@ -490,6 +507,7 @@ impl Multibody {
         dof: MultibodyJoint,
         body: RigidBodyHandle,
     ) -> &mut MultibodyLink {
+        self.kinematics_stale = true;
         assert!(
             parent.is_none() || !self.links.is_empty(),
             "Multibody::build_body: invalid parent id."
@@ -638,25 +656,21 @@ impl Multibody {
             } else {
                 &full
             };
-            for &(r, m) in segments {
-                self.accelerations.rows_mut(r, m).gemv_tr(
-                    1.0,
-                    &self.body_jacobians[i].columns(r, m),
-                    external_forces.as_vector(),
-                    1.0,
-                );
-            }
+            // (Column dots on plain slices; upstream: nalgebra `gemv_tr` on views.)
+            let js = self.body_jacobians[i].as_slice();
+            let add_dots = |out: &mut [Real], w: &SVector<Real, SPATIAL_DIM>| {
+                for &(r, m) in segments {
+                    let cols = js[SPATIAL_DIM * r..SPATIAL_DIM * (r + m)].chunks_exact(SPATIAL_DIM);
+                    for (o, a) in out[r..r + m].iter_mut().zip(cols) {
+                        *o += a[0] * w[0] + a[1] * w[1] + a[2] * w[2] + a[3] * w[3] + a[4] * w[4] + a[5] * w[5];
+                    }
+                }
+            };
+            add_dots(self.accelerations.as_mut_slice(), external_forces.as_vector());
 
             if check_implicit_coriolis_divergence {
                 let applied_forces = Force::new(rb.forces.force, rb.forces.torque);
-                for &(r, m) in segments {
-                    pos_forces.rows_mut(r, m).gemv_tr(
-                        1.0,
-                        &self.body_jacobians[i].columns(r, m),
-                        applied_forces.as_vector(),
-                        1.0,
-                    );
-                }
+                add_dots(pos_forces.as_mut_slice(), applied_forces.as_vector());
             }
         }
 
@@ -936,25 +950,6 @@ impl Multibody {
         }
     }
 
-    /// `out[r] += J[:, r] · w` for the rows `r ≥ min_row` in `segments`.
-    #[inline]
-    fn add_column_dots(
-        out_col: &mut [Real],
-        js: &[Real],
-        w: &[Real; SPATIAL_DIM],
-        segments: &[(usize, usize)],
-        min_row: usize,
-    ) {
-        for &(r0, rn) in segments {
-            for row in r0.max(min_row)..r0 + rn {
-                let a = &js[SPATIAL_DIM * row..SPATIAL_DIM * (row + 1)];
-                let lin = a[0] * w[0] + a[1] * w[1] + a[2] * w[2];
-                let ang = a[3] * w[3] + a[4] * w[4] + a[5] * w[5];
-                out_col[row] += lin + ang;
-            }
-        }
-    }
-
     /// `mid·x` for a rigid-body `mid` (diagonal mass block, angular block, zero coupling:
     /// `concat_rb_mass_matrix`).
     #[inline]
@@ -967,49 +962,6 @@ impl Multibody {
             w[r] = mid[(r, DIM)] * x[DIM] + mid[(r, DIM + 1)] * x[DIM + 1] + mid[(r, DIM + 2)] * x[DIM + 2];
         }
         w
-    }
-
-    /// `out += Jᵀ·mid·J` on the rows and columns `segments`, lower triangle only (`mid`
-    /// symmetric; the caller mirrors).
-    fn sparse_quadform_lower(
-        out: &mut DMatrix<Real>,
-        mid: &SMatrix<Real, SPATIAL_DIM, SPATIAL_DIM>,
-        j: &Jacobian<Real>,
-        segments: &[(usize, usize)],
-    ) {
-        let n = out.nrows();
-        let js = j.as_slice();
-        let os = out.as_mut_slice();
-        for &(c, cn) in segments {
-            for col in c..c + cn {
-                let w = Self::rb_mass_times(mid, &js[SPATIAL_DIM * col..SPATIAL_DIM * (col + 1)]);
-                Self::add_column_dots(&mut os[n * col..n * (col + 1)], js, &w, segments, col);
-            }
-        }
-    }
-
-    /// `out += Jᵀ·(mid·J + extra)` on the rows and columns `segments` (`extra`: a 6 × ndofs
-    /// column-major matrix).
-    fn sparse_quadform_plus(
-        out: &mut DMatrix<Real>,
-        mid: &SMatrix<Real, SPATIAL_DIM, SPATIAL_DIM>,
-        extra: &[Real],
-        j: &Jacobian<Real>,
-        segments: &[(usize, usize)],
-    ) {
-        let n = out.nrows();
-        let js = j.as_slice();
-        let os = out.as_mut_slice();
-        for &(c, cn) in segments {
-            for col in c..c + cn {
-                let range = SPATIAL_DIM * col..SPATIAL_DIM * (col + 1);
-                let mut w = Self::rb_mass_times(mid, &js[range.clone()]);
-                for (w, e) in w.iter_mut().zip(&extra[range]) {
-                    *w += *e;
-                }
-                Self::add_column_dots(&mut os[n * col..n * (col + 1)], js, &w, segments, 0);
-            }
-        }
     }
 
     pub(crate) fn update_mass_matrix(&mut self, dt: Real, bodies: &RigidBodySet) {
@@ -1062,13 +1014,19 @@ impl Multibody {
             let rb_mass_matrix_wo_gyro = concat_rb_mass_matrix(rb_mass, rb_inertia.into());
             #[allow(clippy::useless_conversion)] // Needed in 3D, no-op in 2D
             let rb_mass_matrix = concat_rb_mass_matrix(rb_mass, augmented_inertia.into());
-            // M += Jᵀ·Mᵢ·J, lower triangle only (mirrored after the loop).
-            Self::sparse_quadform_lower(
-                &mut self.augmented_mass,
-                &rb_mass_matrix_wo_gyro,
-                body_jacobian,
-                segments,
-            );
+            // The link's own wrenches Mᵢ·Jᵢ[:, b] (summed over subtrees after the loop).
+            {
+                let stride = SPATIAL_DIM * self.ndofs;
+                let js = body_jacobian.as_slice();
+                let ws = &mut self.subtree_wrenches[stride * i..stride * (i + 1)];
+                for &(c, cn) in segments {
+                    for col in c..c + cn {
+                        let range = SPATIAL_DIM * col..SPATIAL_DIM * (col + 1);
+                        let w = Self::rb_mass_times(&rb_mass_matrix_wo_gyro, &js[range.clone()]);
+                        ws[range].copy_from_slice(&w);
+                    }
+                }
+            }
 
             /*
              * Coriolis matrix (see `update_mass_matrix_dense`), on the link's columns only,
@@ -1173,27 +1131,102 @@ impl Multibody {
                 }
             }
 
-            // acc_augmented_mass += Jᵀ·(M̃ᵢ·J + i_coriolis_dt): the implicit gyroscopic and
-            // Coriolis terms in one pass (upstream: a quadform, then a `gemm_tr`).
-            Self::sparse_quadform_plus(
-                &mut self.acc_augmented_mass,
-                &rb_mass_matrix,
-                self.i_coriolis_dt.as_slice(),
-                rb_j,
-                segments,
-            );
-        }
-
-        // The mass matrix is symmetric: mirror the lower triangle.
-        let n = self.augmented_mass.nrows();
-        let m = self.augmented_mass.as_mut_slice();
-        for col in 0..n {
-            for row in col + 1..n {
-                m[n * row + col] = m[n * col + row];
+            // The accelerated matrix's wrenches M̃ᵢ·Jᵢ[:, b] + i_coriolis_dt[:, b]: the implicit
+            // gyroscopic and Coriolis terms (upstream: a quadform, then a `gemm_tr`).
+            {
+                let stride = SPATIAL_DIM * self.ndofs;
+                let js = rb_j.as_slice();
+                let icd = self.i_coriolis_dt.as_slice();
+                let ws = &mut self.subtree_wrenches_acc[stride * i..stride * (i + 1)];
+                for &(c, cn) in segments {
+                    for col in c..c + cn {
+                        let range = SPATIAL_DIM * col..SPATIAL_DIM * (col + 1);
+                        let mut w = Self::rb_mass_times(&rb_mass_matrix, &js[range.clone()]);
+                        for (w, e) in w.iter_mut().zip(&icd[range.clone()]) {
+                            *w += *e;
+                        }
+                        ws[range].copy_from_slice(&w);
+                    }
+                }
             }
         }
 
+        self.assemble_from_subtree_wrenches();
         self.finish_mass_matrix(dt);
+    }
+
+    /// Both mass matrices from the links' own wrenches (composite-rigid-body style; carl-spec
+    /// patch). Link `k`'s Jacobian column `b` is the rigid-body motion of DoF `b` seen at `k`'s
+    /// centre of mass `cₖ` whenever `b` is one of `k`'s own or ancestors' DoFs, so
+    /// `Jₖ[:, b] = Tₖₗᵀ·Jₗ[:, b]` for any link `l` between `b`'s link and `k`, where `Tₖₗ`
+    /// moves a wrench `(f, τ)` from `cₖ` to `cₗ`: `(f, τ + (cₖ − cₗ) × f)`. Hence, with `l` the
+    /// deeper of the links of DoFs `a` and `b` (the other is its ancestor or itself),
+    /// `A[a, b] = Σₖ Jₖ[:, a]ᵀ·Wₖ[:, b] = Jₗ[:, a]ᵀ·Σ_{k in subtree(l)} Tₖₗ·Wₖ[:, b]`:
+    /// the subtree sums are accumulated leaves first, O(Σ depth) work instead of the
+    /// O(Σ depth²) of the per-link quadratic forms `Σₖ Jₖᵀ·Wₖ`.
+    fn assemble_from_subtree_wrenches(&mut self) {
+        let n = self.ndofs;
+        let stride = SPATIAL_DIM * n;
+        // Leaves first: add each link's subtree sums, moved to its parent's centre of mass,
+        // to the parent's (on the parent's columns, its own and its ancestors' DoFs).
+        for i in (1..self.links.len()).rev() {
+            let link = &self.links[i];
+            let p = link.parent_internal_id;
+            let s = link.shift02 + link.shift23; // c_i − c_parent
+            let (s0, s1, s2) = (s.x, s.y, s.z);
+            for ws in [&mut self.subtree_wrenches, &mut self.subtree_wrenches_acc] {
+                let (before, after) = ws.split_at_mut(stride * i);
+                let child = &after[..stride];
+                let parent = &mut before[stride * p..stride * (p + 1)];
+                for &(c, cn) in &self.tree_segments[p] {
+                    let range = SPATIAL_DIM * c..SPATIAL_DIM * (c + cn);
+                    for (pw, cw) in parent[range.clone()]
+                        .chunks_exact_mut(SPATIAL_DIM)
+                        .zip(child[range].chunks_exact(SPATIAL_DIM))
+                    {
+                        let (f0, f1, f2) = (cw[0], cw[1], cw[2]);
+                        pw[0] += f0;
+                        pw[1] += f1;
+                        pw[2] += f2;
+                        pw[3] += cw[3] + (s1 * f2 - s2 * f1);
+                        pw[4] += cw[4] + (s2 * f0 - s0 * f2);
+                        pw[5] += cw[5] + (s0 * f1 - s1 * f0);
+                    }
+                }
+            }
+        }
+
+        #[inline]
+        fn dot6(a: &[Real], w: &[Real]) -> Real {
+            let lin = a[0] * w[0] + a[1] * w[1] + a[2] * w[2];
+            let ang = a[3] * w[3] + a[4] * w[4] + a[5] * w[5];
+            lin + ang
+        }
+
+        let m = self.augmented_mass.as_mut_slice();
+        let macc = self.acc_augmented_mass.as_mut_slice();
+        for (l, link) in self.links.iter().enumerate() {
+            let js = self.body_jacobians[l].as_slice();
+            let ws = &self.subtree_wrenches[stride * l..stride * (l + 1)];
+            let ws_acc = &self.subtree_wrenches_acc[stride * l..stride * (l + 1)];
+            for a in link.assembly_id..link.assembly_id + link.joint.ndofs() {
+                let ja = &js[SPATIAL_DIM * a..SPATIAL_DIM * (a + 1)];
+                let wa_acc = &ws_acc[SPATIAL_DIM * a..SPATIAL_DIM * (a + 1)];
+                for &(c, cn) in &self.tree_segments[l] {
+                    for b in c..(c + cn).min(a + 1) {
+                        let cols = SPATIAL_DIM * b..SPATIAL_DIM * (b + 1);
+                        // Column-major: entry (row, col) at n·col + row.
+                        let v = dot6(ja, &ws[cols.clone()]);
+                        m[n * b + a] = v;
+                        m[n * a + b] = v;
+                        macc[n * b + a] = dot6(ja, &ws_acc[cols.clone()]);
+                        if b != a {
+                            macc[n * a + b] = dot6(&js[cols], wa_acc);
+                        }
+                    }
+                }
+            }
+        }
     }
 
     /// Upstream's dense body Jacobians and mass matrices, for checking the sparse ones:
@@ -1474,6 +1507,9 @@ impl Multibody {
         }
 
         self.augmented_mass_indices.clear();
+        let wrench_len = self.links.len() * SPATIAL_DIM * self.ndofs;
+        self.subtree_wrenches.resize(wrench_len, 0.0);
+        self.subtree_wrenches_acc.resize(wrench_len, 0.0);
 
         // Resize coriolis workspaces if the link count or number of DOFs change.
         let coriolis_ndofs = self.coriolis_v.first().map(|m| m.ncols());
@@ -1735,6 +1771,7 @@ impl Multibody {
 
     #[inline]
     pub(crate) fn integrate(&mut self, dt: Real) {
+        self.kinematics_stale = true;
         for rb in self.links.iter_mut() {
             rb.joint
                 .integrate(dt, &self.velocities.as_slice()[rb.assembly_id..])
@@ -1746,6 +1783,7 @@ impl Multibody {
     /// Note this does **not** updates the link poses, only their generalized coordinates.
     /// To update the link poses and associated rigid-bodies, call [`Self::forward_kinematics`].
     pub fn apply_displacements(&mut self, disp: &[Real]) {
+        self.kinematics_stale = true;
         for link in self.links.iter_mut() {
             link.joint.apply_displacement(&disp[link.assembly_id..])
         }
@@ -1929,6 +1967,24 @@ impl Multibody {
          * Compute body jacobians.
          */
         self.update_body_jacobians();
+        self.kinematics_stale = false;
+    }
+
+    /// carl-spec patch: whether [`Self::forward_kinematics`] (reading the root pose from its
+    /// rigid body) followed by writing the link poses and world mass properties to the rigid
+    /// bodies would change nothing: no `&mut` access to the joints or links since the last
+    /// forward kinematics, no user change to any link's rigid body (other than waking it up),
+    /// and every link's rigid body (position and next position) at the link's pose.
+    pub(crate) fn kinematics_up_to_date(&self, bodies: &RigidBodySet) -> bool {
+        let ignored = RigidBodyChanges::IN_MODIFIED_SET | RigidBodyChanges::SLEEP;
+        !self.kinematics_stale
+            && self.links.iter().all(|link| {
+                bodies.get(link.rigid_body).is_some_and(|rb| {
+                    (rb.changes - ignored).is_empty()
+                        && rb.pos.position == link.local_to_world
+                        && rb.pos.next_position == link.local_to_world
+                })
+            })
     }
 
     /// Computes the ids of all the links between the root and the link identified by `link_id`.
