@@ -79,7 +79,7 @@ pub struct Sweep {
 }
 
 impl Sweep {
-    /// A body that does not move: at `p` (body origin, world) with angle `angle`.
+    /// A body that does not move: body origin at `origin` (world), angle `angle`.
     pub fn stationary(local_center: Vec2, origin: Vec2, angle: f64) -> Sweep {
         let center = Transform::new(origin, angle).apply(local_center);
         Sweep {
@@ -708,6 +708,12 @@ mod tests {
         // Advancing again is relative to alpha0: time-step fraction 0.5 is beta 1/3 of the rest.
         advanced.advance(0.5);
         assert!(v2::length(v2::sub(advanced.transform_at(0.0).p, s.transform_at(0.5).p)) < 1e-14);
+
+        let resting = Sweep::stationary((0.2, -0.1), (4.0, 5.0), 0.7);
+        for beta in [0.0, 0.5, 1.0] {
+            let xf = resting.transform_at(beta);
+            assert!(v2::length(v2::sub(xf.p, (4.0, 5.0))) < 1e-15 && (xf.q.angle() - 0.7).abs() < 1e-15);
+        }
 
         let mut wound = Sweep { a0: 13.0, a: 15.0, ..s };
         let before = wound.transform_at(0.3);
