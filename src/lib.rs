@@ -8,7 +8,8 @@
 //! `envs` (the environment table, runtimes, policies, contextual wrapper, VecEnv), `episode` (one
 //! episode loop, the JSON Lines protocol), `bench` (speed measurements), `audit` (checks each
 //! feature's `affects` claim against the runtime), `plot` (figures of instance sets), `render`
-//! (environment pictures to files), `experiments` (the paper's experiments end to end), `cli`
+//! (environment pictures to files), `physics2d` (Box2D-semantics 2-D collision: GJK distance, time
+//! of impact), `experiments` (the paper's experiments end to end), `cli`
 //! (argument parsing and printing, one module per subcommand). Two low modules depend on nothing
 //! above them: `pixels` (canvas, colours, font, PNG/GIF encoders; used by the environments'
 //! renderers and by `plot`) and `output` (the one rule for writing output files).
