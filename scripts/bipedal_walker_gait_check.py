@@ -21,8 +21,9 @@ Usage (Gymnasium installed outside the repository, carl-spec built):
     cargo build --release
     /work/venvs/peers/bin/python scripts/bipedal_walker_gait_check.py --seeds 30 \
         --carl-spec target/release/carl-spec --out bipedal_walker_gait.json --markdown
-    # Box2D's contact model (skins, continuous collision at foot landings):
-    ... scripts/bipedal_walker_gait_check.py --seeds 30 --markdown --option box2d_contacts=true
+    # The former rapier2d engine (and its emulation of Box2D's landings):
+    ... scripts/bipedal_walker_gait_check.py --seeds 30 --markdown --option rapier=true
+    ... scripts/bipedal_walker_gait_check.py --seeds 30 --markdown --option rapier=true --option box2d_contacts=true
 """
 import argparse
 import json

@@ -8,7 +8,9 @@
 //! `envs` (the environment table, runtimes, policies, contextual wrapper, VecEnv), `episode` (one
 //! episode loop, the JSON Lines protocol), `bench` (speed measurements), `audit` (checks each
 //! feature's `affects` claim against the runtime), `plot` (figures of instance sets), `render`
-//! (environment pictures to files), `experiments` (the paper's experiments end to end), `cli`
+//! (environment pictures to files), `physics2d` (a 2-D rigid-body engine with Box2D 2.3's
+//! semantics: solver, joints, manifolds, GJK distance, time of impact; BipedalWalker runs on
+//! it), `experiments` (the paper's experiments end to end), `cli`
 //! (argument parsing and printing, one module per subcommand). Two low modules depend on nothing
 //! above them: `pixels` (canvas, colours, font, PNG/GIF encoders; used by the environments'
 //! renderers and by `plot`) and `output` (the one rule for writing output files).
@@ -23,6 +25,7 @@ pub mod experiments;
 pub mod instances;
 pub mod json;
 pub mod output;
+pub mod physics2d;
 pub mod pixels;
 pub mod plot;
 pub mod render;

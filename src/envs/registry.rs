@@ -15,7 +15,7 @@
 use super::api::{Action, Space, TimeLimit};
 use super::box2d::{
     BipedalWalker, BipedalWalkerOptions, BipedalWalkerParams, LunarLander, LunarLanderOptions, LunarLanderParams,
-    VehicleRacing, VehicleRacingOptions, VehicleRacingParams, WalkerHeuristic,
+    VehicleRacing, VehicleRacingOptions, VehicleRacingParams, WalkerEngine, WalkerHeuristic,
 };
 use super::classic::{
     Acrobot, AcrobotParams, CartPole, CartPoleParams, MountainCar, MountainCarContinuous, MountainCarContinuousParams,
@@ -266,6 +266,11 @@ pub static REGISTRY: &[Registration] = &[
             let opts = BipedalWalkerOptions {
                 hardcore: o.flag("hardcore"),
                 box2d_contacts: o.flag("box2d_contacts"),
+                engine: if o.flag("rapier") {
+                    WalkerEngine::Rapier
+                } else {
+                    WalkerEngine::Box2d
+                },
                 ..BipedalWalkerOptions::default()
             };
             Ok(AnyEnv::new(BipedalWalker::with_options(p, opts)))
@@ -278,7 +283,12 @@ pub static REGISTRY: &[Registration] = &[
             },
             OptionSpec {
                 name: "box2d_contacts",
-                help: "Box2D's contact model: 0.015 m skins and continuous collision at foot landings",
+                help: "with rapier=true: emulated Box2D skins and continuous collision at foot landings",
+                kind: OptionKind::Bool { default: false },
+            },
+            OptionSpec {
+                name: "rapier",
+                help: "the former rapier2d engine instead of the Box2D-semantics solver (src/physics2d)",
                 kind: OptionKind::Bool { default: false },
             },
         ],

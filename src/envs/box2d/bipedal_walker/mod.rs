@@ -1,4 +1,17 @@
-//! BipedalWalker-v3 (Gymnasium 1.4 `BipedalWalker`) on rapier2d, with CARL's 20 context features.
+//! BipedalWalker-v3 (Gymnasium 1.4 `BipedalWalker`) with CARL's 20 context features, on
+//! [`crate::physics2d`] (Box2D 2.3's solver semantics, [`WalkerEngine::Box2d`], the default) or on
+//! rapier2d ([`WalkerEngine::Rapier`], the former engine).
+//!
+//! **Box2D engine** (`b2`): the world is built as Gymnasium builds it (terrain obstacles, one
+//! static body per surface edge, hull, then per leg upper leg, lower leg, hip, knee; the legs
+//! created apart from their anchors, as Gymnasium's `reset` does, and reassembled by the position
+//! solver in the first steps) and stepped with `Step(1/FPS, 6·30, 2·30)`. The contact flags and
+//! game over follow Box2D's begin/end contact events in Box2D's order, including those of
+//! continuous collision. After `set_state` the contacts touching at the loaded pose are the
+//! baseline (no events); the warm-start impulses are not part of the state. Not modelled: Box2D's
+//! sleeping (Gymnasium wakes the walker every step by setting its motors) and f32 arithmetic.
+//! The "deviations" below (solver substeps, limits, landings, start pose, skins, speed caps) are
+//! the rapier engine's emulations of what the Box2D engine does natively.
 //!
 //! Same as Gymnasium (CARL overrides the module constants; here each instance has its own
 //! [`BipedalWalkerParams`]):
@@ -25,7 +38,7 @@
 //!   `x < 0` (terminated). Reaching `x > (TERRAIN_LENGTH − TERRAIN_GRASS)·TERRAIN_STEP` terminates.
 //!   The time limit (1600 steps) is the registry's `TimeLimit`.
 //!
-//! Where this is not Box2D (documented deviations):
+//! Where the rapier engine is not Box2D (documented deviations):
 //! * **Solver.** rapier's TGS-soft solver with [`BipedalWalkerOptions::solver_iterations`]
 //!   substeps (16) replaces Box2D's sequential impulses with 6·30 velocity and 2·30 position
 //!   iterations. Measured by replaying Gymnasium's states one step at a time (scripted gait, seed
@@ -87,6 +100,7 @@
 //! joint angles: the small joint stretch of
 //! rapier's soft joints and the solver's warm-start caches are not part of the state.
 
+mod b2;
 pub mod heuristic;
 mod landing;
 mod render;
@@ -236,9 +250,21 @@ impl BipedalWalkerParams {
     }
 }
 
+/// The physics engine under the walker.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WalkerEngine {
+    /// [`crate::physics2d`]: Box2D 2.3's solver semantics, stepped as Gymnasium steps Box2D
+    /// (`Step(1/FPS, 6·30, 2·30)`), the walker created as Gymnasium creates it.
+    Box2d,
+    /// rapier2d with the emulations described in the module docs.
+    Rapier,
+}
+
 /// Options that are not context features.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BipedalWalkerOptions {
+    /// Physics engine.
+    pub engine: WalkerEngine,
     /// `BipedalWalkerHardcore`: stumps, stairs and pits between grass stretches.
     pub hardcore: bool,
     /// rapier solver substeps per step.
@@ -267,6 +293,7 @@ pub struct BipedalWalkerOptions {
 impl Default for BipedalWalkerOptions {
     fn default() -> Self {
         BipedalWalkerOptions {
+            engine: WalkerEngine::Box2d,
             hardcore: false,
             solver_iterations: 16,
             pgs_iterations: 2,
@@ -708,6 +735,18 @@ impl World {
     fn angle(&self, k: usize) -> f64 {
         self.pw.bodies[self.bodies[k]].rotation().angle() as f64
     }
+    fn body_state(&self, k: usize) -> BodyState {
+        let b = &self.pw.bodies[self.bodies[k]];
+        let (t, v) = (b.translation(), b.linvel());
+        BodyState {
+            x: t.x as f64,
+            y: t.y as f64,
+            angle: b.rotation().angle() as f64,
+            vx: v.x as f64,
+            vy: v.y as f64,
+            w: b.angvel() as f64,
+        }
+    }
     fn angvel(&self, k: usize) -> f64 {
         self.pw.bodies[self.bodies[k]].angvel() as f64
     }
@@ -757,12 +796,49 @@ impl World {
     }
 }
 
-/// Gymnasium's `BipedalWalker` with an explicit context; each instance owns its rapier world.
+/// The walker's world on one of the engines.
+#[derive(Debug)]
+enum Physics {
+    Rapier(Box<World>),
+    Box2d(Box<b2::Box2dWalker>),
+}
+
+impl Physics {
+    /// Body `k` (hull, upper 0, lower 0, upper 1, lower 1): origin, engine angle, centre-of-mass
+    /// velocity.
+    fn body(&self, k: usize) -> BodyState {
+        match self {
+            Physics::Rapier(w) => w.body_state(k),
+            Physics::Box2d(w) => w.body_state(k),
+        }
+    }
+    /// Joint angles (wrapped to ±π) and speeds: Box2D's `angle = angleB − angleA −
+    /// referenceAngle`, `speed = ωB − ωA`.
+    fn joints(&self) -> ([f64; 4], [f64; 4]) {
+        match self {
+            Physics::Rapier(w) => w.joints(),
+            Physics::Box2d(w) => {
+                let pairs = [(0, 1), (1, 2), (0, 3), (3, 4)];
+                let reference = [HIP_REFERENCE[0], 0.0, HIP_REFERENCE[1], 0.0];
+                let mut q = [0.0; 4];
+                let mut dq = [0.0; 4];
+                for (j, (a, b)) in pairs.into_iter().enumerate() {
+                    let (a, b) = (w.body_state(a), w.body_state(b));
+                    q[j] = wrap_pi(b.angle - a.angle - reference[j]);
+                    dq[j] = b.w - a.w;
+                }
+                (q, dq)
+            }
+        }
+    }
+}
+
+/// Gymnasium's `BipedalWalker` with an explicit context; each instance owns its physics world.
 #[derive(Debug)]
 pub struct BipedalWalker {
     params: BipedalWalkerParams,
     opts: BipedalWalkerOptions,
-    world: Option<World>,
+    world: Option<Physics>,
     terrain: Option<Terrain>,
     /// Collision shapes of `terrain`.
     ground: Option<GroundShapes>,
@@ -792,8 +868,19 @@ impl Clone for BipedalWalker {
         c.rng = self.rng.clone();
         c.terrain = self.terrain.clone();
         c.ground = self.ground.clone();
-        if self.world.is_some() {
-            c.load_state(&self.state_array());
+        match &self.world {
+            // The Box2D world is a plain value: the clone continues exactly as the original.
+            Some(Physics::Box2d(w)) => {
+                c.world = Some(Physics::Box2d(w.clone()));
+                c.hull_angle = self.hull_angle;
+                c.ground_contact = self.ground_contact;
+                c.listeners = self.listeners.clone();
+                c.game_over = self.game_over;
+                c.prev_shaping = self.prev_shaping;
+                c.pending_force = self.pending_force;
+            }
+            Some(Physics::Rapier(_)) => c.load_state(&self.state_array()),
+            None => {}
         }
         c
     }
@@ -862,34 +949,26 @@ impl BipedalWalker {
     pub fn body_states(&self) -> Option<[BodyState; 5]> {
         let w = self.world.as_ref()?;
         Some(std::array::from_fn(|k| {
-            let b = &w.pw.bodies[w.bodies[k]];
-            let t = b.translation();
-            let v = b.linvel();
-            BodyState {
-                x: t.x as f64,
-                y: t.y as f64,
-                angle: if k == 0 {
-                    self.hull_angle
-                } else {
-                    b.rotation().angle() as f64
-                },
-                vx: v.x as f64,
-                vy: v.y as f64,
-                w: b.angvel() as f64,
+            let mut b = w.body(k);
+            if k == 0 {
+                b.angle = self.hull_angle;
             }
+            b
         }))
     }
     /// Hull mass (kg) as the physics engine computed it.
     pub fn hull_mass(&self) -> Option<f64> {
-        let w = self.world.as_ref()?;
-        Some(w.pw.bodies[w.bodies[0]].mass() as f64)
+        Some(match self.world.as_ref()? {
+            Physics::Rapier(w) => w.pw.bodies[w.bodies[0]].mass() as f64,
+            Physics::Box2d(w) => w.mass(0),
+        })
     }
 
     /// The lidar's end points `(p1, p2)` and fractions for the current hull position.
     pub fn lidar(&self) -> Option<[LidarRay; LIDAR_RAYS]> {
         let (w, t) = (self.world.as_ref()?, self.terrain.as_ref()?);
-        let pos = w.pw.bodies[w.bodies[0]].translation();
-        let p1 = (pos.x as f64, pos.y as f64);
+        let hull = w.body(0);
+        let p1 = (hull.x, hull.y);
         let r = self.params.lidar_range;
         Some(std::array::from_fn(|i| {
             let a = 1.5 * i as f64 / 10.0;
@@ -944,17 +1023,11 @@ impl BipedalWalker {
 
     fn current_pose(&self) -> Pose {
         let Some(w) = &self.world else { return Pose::default() };
-        let b = &w.pw.bodies[w.bodies[0]];
-        let (t, v) = (b.translation(), b.linvel());
         let (q, dq) = w.joints();
         Pose {
             hull: BodyState {
-                x: t.x as f64,
-                y: t.y as f64,
                 angle: self.hull_angle,
-                vx: v.x as f64,
-                vy: v.y as f64,
-                w: b.angvel() as f64,
+                ..w.body(0)
             },
             q,
             dq,
@@ -1035,9 +1108,26 @@ impl BipedalWalker {
     /// Build the world with the walker at `pose` on the current terrain.
     fn place(&mut self, pose: &Pose) {
         let bodies = pose.bodies(&self.params);
-        let ground = self.ground.as_ref().expect("place needs a terrain");
-        self.world = Some(World::build(&self.params, &self.opts, ground, &bodies));
+        self.place_bodies(&bodies);
+        if let Some(Physics::Box2d(w)) = &mut self.world {
+            w.world.prime_contacts();
+        }
         self.hull_angle = pose.hull.angle;
+    }
+
+    /// Build the world with the five bodies at `bodies` on the current terrain.
+    fn place_bodies(&mut self, bodies: &[BodyState; 5]) {
+        self.world = Some(match self.opts.engine {
+            WalkerEngine::Rapier => {
+                let ground = self.ground.as_ref().expect("place needs a terrain");
+                Physics::Rapier(Box::new(World::build(&self.params, &self.opts, ground, bodies)))
+            }
+            WalkerEngine::Box2d => {
+                let terrain = self.terrain.as_ref().expect("place needs a terrain");
+                Physics::Box2d(Box::new(b2::Box2dWalker::build(&self.params, terrain, bodies)))
+            }
+        });
+        self.hull_angle = bodies[0].angle;
     }
 
     /// The observation of the current state in f64 (Gymnasium's `state` list).
@@ -1045,13 +1135,12 @@ impl BipedalWalker {
         let mut s = [0.0; OBS_DIM];
         let Some(w) = &self.world else { return s };
         let p = &self.params;
-        let b = &w.pw.bodies[w.bodies[0]];
-        let v = b.linvel();
+        let b = w.body(0);
         let (q, dq) = w.joints();
         s[0] = self.hull_angle;
-        s[1] = 2.0 * b.angvel() as f64 / p.fps;
-        s[2] = 0.3 * v.x as f64 * (p.viewport_w / p.scale) / p.fps;
-        s[3] = 0.3 * v.y as f64 * (p.viewport_h / p.scale) / p.fps;
+        s[1] = 2.0 * b.w / p.fps;
+        s[2] = 0.3 * b.vx * (p.viewport_w / p.scale) / p.fps;
+        s[3] = 0.3 * b.vy * (p.viewport_h / p.scale) / p.fps;
         for leg in 0..2 {
             let o = 4 + 5 * leg;
             s[o] = q[2 * leg];
@@ -1091,22 +1180,75 @@ impl BipedalWalker {
     /// One Gymnasium step with a validated action, writing the observation (f64) to `obs`.
     /// Requires a world.
     fn advance(&mut self, a: &[f64; 4], obs: &mut [f64; OBS_DIM]) -> StepOutcome {
+        match self.world.as_mut().expect("advance needs a world") {
+            Physics::Rapier(_) => self.physics_step_rapier(a),
+            Physics::Box2d(_) => self.physics_step_box2d(a),
+        }
+        self.finish_step(a, obs)
+    }
+
+    /// Gymnasium's motor settings: `motorSpeed = SPEED·sign(a)`, `maxMotorTorque =
+    /// MOTORS_TORQUE·clip(|a|, 0, 1)`.
+    fn motor(&self, j: usize, aj: f64) -> (f64, f64) {
+        let p = &self.params;
+        let speed = if j % 2 == 0 { p.speed_hip } else { p.speed_knee };
+        let sign = if aj > 0.0 {
+            1.0
+        } else if aj < 0.0 {
+            -1.0
+        } else {
+            0.0
+        };
+        (speed * sign, (p.motors_torque * aj.abs().clamp(0.0, 1.0)).max(0.0))
+    }
+
+    /// One `world.Step` on the Box2D engine; contact flags from its begin/end events in Box2D's
+    /// order (Gymnasium's `ContactDetector`).
+    fn physics_step_box2d(&mut self, a: &[f64; 4]) {
+        let motors: [(f64, f64); 4] = std::array::from_fn(|j| self.motor(j, a[j]));
         let p = self.params;
-        let world = self.world.as_mut().expect("advance needs a world");
-        for (j, &aj) in a.iter().enumerate() {
-            let speed = if j % 2 == 0 { p.speed_hip } else { p.speed_knee };
-            let sign = if aj > 0.0 {
-                1.0
-            } else if aj < 0.0 {
-                -1.0
-            } else {
-                0.0
-            };
-            let torque = (p.motors_torque * aj.abs().clamp(0.0, 1.0)).max(0.0);
+        let Some(Physics::Box2d(w)) = self.world.as_mut() else {
+            return;
+        };
+        for (j, (speed, torque)) in motors.into_iter().enumerate() {
+            w.set_motor(j, speed, torque);
+        }
+        let dt = if p.fps > 0.0 && p.fps.is_finite() {
+            1.0 / p.fps
+        } else {
+            0.0
+        };
+        w.world.step(dt, b2::VELOCITY_ITERATIONS, b2::POSITION_ITERATIONS);
+        self.pending_force = false;
+        for e in &w.world.events {
+            if e.begin && (e.fixture_a == w.hull_fixture || e.fixture_b == w.hull_fixture) {
+                self.game_over = true;
+            }
+            for leg in 0..2 {
+                let f = w.lower_fixtures[leg];
+                if e.fixture_a == f || e.fixture_b == f {
+                    self.ground_contact[leg] = e.begin;
+                }
+            }
+        }
+        // A hull resting on the ground in a state loaded by `set_state` (no begin event).
+        if w.world.fixture_touches(w.hull_fixture) {
+            self.game_over = true;
+        }
+        self.hull_angle = w.body_state(0).angle;
+    }
+
+    fn physics_step_rapier(&mut self, a: &[f64; 4]) {
+        let p = self.params;
+        let motors: [(f64, f64); 4] = std::array::from_fn(|j| self.motor(j, a[j]));
+        let Some(Physics::Rapier(world)) = self.world.as_mut() else {
+            return;
+        };
+        for (j, (speed, torque)) in motors.into_iter().enumerate() {
             if let Some(joint) = world.pw.impulse_joints.get_mut(world.joints[j], false) {
                 joint
                     .data
-                    .set_motor_velocity(JointAxis::AngX, (speed * sign) as f32, MOTOR_DAMPING)
+                    .set_motor_velocity(JointAxis::AngX, speed as f32, MOTOR_DAMPING)
                     .set_motor_max_force(JointAxis::AngX, torque as f32);
             }
         }
@@ -1153,7 +1295,11 @@ impl BipedalWalker {
             // Box2D's TOI contact begins after the step's regular contact events.
             self.ground_contact[leg] |= landed;
         }
+    }
 
+    /// Observation, reward and termination after the physics step.
+    fn finish_step(&mut self, a: &[f64; 4], obs: &mut [f64; OBS_DIM]) -> StepOutcome {
+        let p = self.params;
         *obs = self.state_f64();
         let x = world_x(self.world.as_ref());
         let shaping = 130.0 * x / p.scale - 5.0 * obs[0].abs();
@@ -1195,8 +1341,8 @@ fn write_f32(obs: &mut [f32], s: &[f64; OBS_DIM]) {
     }
 }
 
-fn world_x(w: Option<&World>) -> f64 {
-    w.map_or(0.0, |w| w.pw.bodies[w.bodies[0]].translation().x as f64)
+fn world_x(w: Option<&Physics>) -> f64 {
+    w.map_or(0.0, |w| w.body(0).x)
 }
 
 impl crate::envs::runtime::Runtime for BipedalWalker {}
@@ -1245,16 +1391,27 @@ impl Env for BipedalWalker {
         let terrain = Terrain::generate(spec);
         let ground = terrain.height_at(self.params.init_x());
         self.set_terrain(terrain);
-        let pose = self.start_pose(ground);
-        self.place(&pose);
+        match self.opts.engine {
+            WalkerEngine::Rapier => {
+                let pose = self.start_pose(ground);
+                self.place(&pose);
+            }
+            // Created where Gymnasium creates it: Box2D reassembles the legs.
+            WalkerEngine::Box2d => self.place_bodies(&b2::gymnasium_start(&self.params)),
+        }
         self.ground_contact = [false; 2];
         self.listeners = Default::default();
         self.game_over = false;
         self.prev_shaping = None;
         let ir = self.params.initial_random;
         let fx = self.uniform(-ir, ir);
-        if let Some(w) = self.world.as_mut() {
-            w.pw.bodies[w.bodies[0]].add_force(v2(fx, 0.0), true);
+        match self.world.as_mut() {
+            Some(Physics::Rapier(w)) => w.pw.bodies[w.bodies[0]].add_force(v2(fx, 0.0), true),
+            Some(Physics::Box2d(w)) => {
+                let hull = w.bodies[0];
+                w.world.bodies[hull].force.x += fx;
+            }
+            None => {}
         }
         self.pending_force = true;
         // Gymnasium's reset returns the observation of `step([0, 0, 0, 0])`.
