@@ -62,15 +62,6 @@ def test_check_env_frozen_set_with_visible_context(env_id: str) -> None:
     checked(env)
 
 
-# LunarLander's space bounds the angle to ±2π as Gymnasium 1.4's does, and neither wraps it. Yet
-# Gymnasium's lander stays inside (0 of 20,000 random-action steps from seed 0) while ours rolls on
-# the ground spinning in some episodes (19 of 185) instead of ending them on body contact: a
-# deviation of the runtime (src/envs/box2d/lunar_lander.rs), reported; strict, so a fix shows.
-SPINS = pytest.mark.xfail(
-    strict=True, reason="LunarLander rolls on the ground spinning past ±2π where Gymnasium's episode ends"
-)
-
-
 # BipedalWalker's hull can flip past ±π in the air without touching the ground (2 of 68 random-action
 # episodes from seed 0, 8 of 30,000 steps; Gymnasium 1.4's Box2D walker: 0 of 51 episodes, largest
 # |angle| 2.53), where Box2D's walker ends the episode on hull contact first. Seen since the walker's
@@ -80,7 +71,7 @@ SPINS = pytest.mark.xfail(
 FLIPS = pytest.mark.xfail(
     strict=True, reason="BipedalWalker's hull flips past ±π in the air in rare random-action episodes"
 )
-KNOWN = {"lunar_lander": SPINS, "bipedal_walker": FLIPS}
+KNOWN = {"bipedal_walker": FLIPS}
 
 
 @pytest.mark.parametrize("env_id", [pytest.param(e, marks=KNOWN[e]) if e in KNOWN else e for e in RUNTIMES])

@@ -1,68 +1,50 @@
-//! LunarLander-v3 (Gymnasium 1.4 `LunarLander`) on rapier2d, with CARL's 16 context features.
+//! LunarLander-v3 (Gymnasium 1.4 `LunarLander`) on Box2D's semantics, with CARL's 16 context
+//! features.
 //!
 //! Same as Gymnasium: the lander polygon, leg boxes, densities (5 and 1), friction (0.1 lander
 //! and terrain, 0.2 legs and the bottom edge, combined as Box2D does with the geometric mean),
 //! restitution 0, collision filtering (lander and legs collide only with the ground), the leg
-//! revolute joints (anchors, limits, motor speed ±0.3, max torque `LEG_SPRING_TORQUE`), random
-//! terrain of 11 chunks with a flat helipad (including Python's `height[-1]` wrap in the
-//! smoothing), the random initial force `±INITIAL_RANDOM`, the engine impulses applied at points
-//! with the two dispersion draws per step, the 8-dimensional observation and its normalisation,
-//! the potential-based shaping reward with fuel costs 0.3/0.03, and termination by crash
-//! (lander body touches the ground), out-of-view (`|x| >= 1`) or rest ("not awake", +100).
-//! Like Gymnasium's `reset`, ours ends with one `step(noop)` whose observation it returns.
+//! revolute joints (anchors, reference angle, limits, motor speed ±0.3, max torque
+//! `LEG_SPRING_TORQUE`), random terrain of 11 chunks with a flat helipad (including Python's
+//! `height[-1]` wrap in the smoothing), the random initial force `±INITIAL_RANDOM`, the engine
+//! impulses applied at points with the two dispersion draws per step, the 8-dimensional
+//! observation and its normalisation, the potential-based shaping reward with fuel costs
+//! 0.3/0.03, and termination by crash (a contact of the lander body begins), out-of-view
+//! (`|x| >= 1`) or rest ("not awake", +100). Like Gymnasium's `reset`, ours ends with one
+//! `step(noop)` whose observation it returns.
 //!
-//! **Box2D where the lander is one rigid body** ([`rigid`]). Gymnasium creates the legs
-//! unassembled (beside the lander, turned 0.05 rad, their anchors `LEG_DOWN` too high); Box2D's
-//! first step moves lander and legs as one rigid body at the legs' creation geometry (so the
-//! random push spins the lander about −0.113 rad/s per m/s of sideways push) and then snaps the
-//! legs onto their joints ~0.14 rad wide, from where the motors swing them in at 0.3 rad/s. That
-//! step and all free flight (every step in which no body can reach the ground within two steps'
-//! travel) are computed in closed form, as Box2D's converged solver has them: lander and legs
-//! keep their total momentum, the legs turn at their motors' speed. Gymnasium's heuristic flies
-//! the same trajectory as in Box2D to 1e-3 until the touchdown (`tests/lunar_lander.rs`,
-//! against `tests/fixtures/lunar_lander_flight_box2d.json`). rapier takes over near the ground.
+//! **Two ways to step, both Box2D's.**
+//! * *Where the lander is one rigid body* ([`rigid`]), in closed form. Gymnasium creates the legs
+//!   unassembled (beside the lander, turned 0.05 rad, their anchors `LEG_DOWN` too high); Box2D's
+//!   first step moves lander and legs as one rigid body at the legs' creation geometry (so the
+//!   random push spins the lander about −0.113 rad/s per m/s of sideways push) and then snaps the
+//!   legs onto their joints ~0.14 rad wide, from where the motors swing them in at 0.3 rad/s.
+//!   That step and all free flight (every step in which no body can reach the ground within two
+//!   steps' travel) are computed as Box2D's converged solver has them: lander and legs keep their
+//!   total momentum, the legs turn at their motors' speed. This is what makes 64 landers several
+//!   times faster than envpool's Box2D.
+//! * *Near the ground*, [`crate::physics2d`]: sequential impulses with Gymnasium's
+//!   `world.Step(1/FPS, 6*30, 2*30)`, Box2D's contact manifolds, skins, block solver, leg motors
+//!   pressed into their limits, position correction and per-step motion caps. The contact
+//!   flags and the crash follow the solver's begin/end contact events in Box2D's order, as
+//!   Gymnasium's `ContactDetector` sees them. Joint warm-start impulses start from zero when the
+//!   solver takes over from a flight (a world rebuilt from the state would do the same).
 //!
-//! Where this is not Box2D (documented deviations, near the ground):
-//! * **Solver.** rapier's TGS-soft solver with [`LunarLanderOptions::solver_iterations`] (8)
-//!   substeps replaces Box2D's sequential impulses with 6·30 velocity and 2·30 position
-//!   iterations; 4 substeps on the ground leave the 68:1 lander/leg mass ratio too soft (legs
-//!   fold).
-//! * **Leg springs.** Box2D's leg motor (speed ±0.3 rad/s towards the inner limit, max torque
-//!   `LEG_SPRING_TORQUE`) ends up pressed into that limit, where Box2D's 180 warm-started
-//!   iterations saturate it: a leg pushed away by the ground is resisted with the full torque.
-//!   rapier's motors get a few iterations per step and never build that preload against a
-//!   limit (the legs folded on touchdown), so near the ground the spring is a stiff position
-//!   motor at the rest angle (saturating at `LEG_SPRING_TORQUE` within 0.004 rad). A leg freed
-//!   by a bounce near the ground therefore springs back at once instead of at 0.3 rad/s.
-//! * **Leg angles.** Gymnasium's joint limits (0.4, 0.9) count from the joints' reference angle,
-//!   the legs' creation angle 0.05 rad: 0.35 and 0.85 rad between leg and lander. A swing ends
-//!   up to one step's turn past the inner limit (Box2D decides at the start of a step whether a
-//!   limit is active and corrects only errors beyond its 2° slop; measured in Gymnasium 1.4:
-//!   0.344–0.35 rad at 50 FPS); the spring holds 0.345 rad.
-//! * **Rest ("not awake").** Box2D's island sleep test is reproduced explicitly rather than via
-//!   rapier's sleeping (disabled): the lander is at rest once the lander and both legs have
-//!   moved less than 0.01·F m/s and turned less than 2 °/s for 0.5 s (`b2_linearSleepTolerance`,
-//!   `b2_angularSleepTolerance`, `b2_timeToSleep`, F = [`REST_TOLERANCE_FACTOR`]). Speeds are
-//!   measured as displacement per step, not from rapier's velocities, which keep the soft
-//!   constraints' correction terms of a body at rest.
-//! * **Contact skin.** Box2D keeps polygons and edges its polygon radius (0.01 m each) apart;
-//!   rapier's contact skin does the same here ([`CONTACT_SKIN`]).
-//! * **Landing rates.** With these, Gymnasium's heuristic controller (seeds 0–49 per body, the
-//!   same terrains as Gymnasium's, see `tests/lunar_lander.rs`) lands 88 % on Earth (Gymnasium:
-//!   92 %), 96 % on Mars (96 %), 78 % on the Moon (78 %), 42 % on Pluto (34 %) and crashes 100 %
-//!   on Jupiter (100 %); on Neptune it lands 68 % (80 %) and crashes 18 % (12 %). The flight is
-//!   Box2D's; the remaining Neptune gap is hard, tilted touchdowns (6 seeds land in Box2D and
-//!   crash here).
-//! * **Touching.** Box2D polygons carry a 0.01 m skin, so shapes "touch" (contact begins, leg
-//!   flag set, crash) when closer than 0.02 m. We use rapier's contact manifolds with the same
-//!   0.02 m threshold on the signed distance. A leg's flag is "touches any terrain segment" (Box2D
-//!   clears it when contact with *one* segment ends even if another still touches).
-//! * **Speed limits.** Box2D caps the motion per step at 2 m and π/2 rad inside its solver; we
-//!   cap the velocities after each step (only matters at very low FPS or extreme impulses).
-//! * **Continuous collision.** Box2D sub-steps dynamic-vs-static time of impact; rapier sweeps
-//!   fast dynamic bodies against fixed colliders (one CCD substep), which serves the same
-//!   purpose. Lander and legs collide only with the ground, so rapier's "bullet" mode (sweeps
-//!   against moving bodies) would find nothing; the sweeps run only near the ground.
+//! Gymnasium's heuristic flies the same trajectory as in Box2D to 3 mm until the touchdown
+//! (`tests/lunar_lander.rs`, against `tests/fixtures/lunar_lander_flight_box2d.json`) and,
+//! seeds 0–49 per body with Gymnasium's own terrains, lands 94 % on Earth (Gymnasium: 92 %),
+//! 96 % on Mars (96 %), 76 % on the Moon (78 %), 32 % on Pluto (34 %), 74 % on Neptune (80 %,
+//! crashing 18 % against 12 %) and crashes 100 % on Jupiter (100 %); 289 of those 300 episodes
+//! end as in Box2D.
+//!
+//! **Rest ("not awake").** Box2D's island sleep test, evaluated here (the solver does not
+//! sleep): the lander is at rest once the lander and both legs have been slower than 0.01 m/s
+//! and 2 °/s for 0.5 s (`b2_linearSleepTolerance`, `b2_angularSleepTolerance`,
+//! `b2_timeToSleep`).
+//!
+//! A flight step clears the legs' ground flags: its bodies start more than 5 cm from the ground,
+//! where Box2D's contact update at the start of the step ends every contact too. Where this is
+//! not Box2D: Box2D computes in `f32`, this in `f64`.
 
 mod render;
 mod rigid;
@@ -539,7 +521,7 @@ fn creation_bodies(p: &LunarLanderParams) -> [BodyState; 3] {
     out
 }
 
-/// Gymnasium's `LunarLander` with an explicit context; each instance owns its rapier world.
+/// Gymnasium's `LunarLander` with an explicit context; each instance owns its world.
 #[derive(Debug)]
 pub struct LunarLander {
     params: LunarLanderParams,
@@ -569,7 +551,7 @@ fn rng_for(seed: u64) -> EnvRng {
 
 impl Clone for LunarLander {
     /// The clone gets a world rebuilt from the full [`Env::state`]: bodies, terrain and episode
-    /// bookkeeping are equal, rapier's solver caches (warm-start impulses) start empty.
+    /// bookkeeping are equal, the solver's warm-start impulses start empty.
     fn clone(&self) -> Self {
         let mut c = LunarLander::with_options(self.params, self.opts);
         c.rng = self.rng.clone();
