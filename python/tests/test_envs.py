@@ -62,23 +62,14 @@ def test_check_env_frozen_set_with_visible_context(env_id: str) -> None:
     checked(env)
 
 
-# LunarLander's space bounds the angle to ±2π as Gymnasium 1.4's does, and neither wraps it. Yet
-# Gymnasium's lander stays inside (0 of 20,000 random-action steps from seed 0) while ours rolls on
-# the ground spinning in some episodes (19 of 185) instead of ending them on body contact: a
-# deviation of the runtime (src/envs/box2d/lunar_lander.rs), reported; strict, so a fix shows.
-SPINS = pytest.mark.xfail(
-    strict=True, reason="LunarLander rolls on the ground spinning past ±2π where Gymnasium's episode ends"
-)
-
-
-# BipedalWalker: on rapier2d the hull flipped past ±π in the air in rare random-action episodes
-# (rapier's contact warm start threw hard landings up); the Box2D-semantics engine (src/physics2d,
-# the default) keeps this run in the space (examples/bipedal_walker_flips.rs: 1 of 300 episodes
-# reaches |angle| 3.21, against 8 of 300 up to 10.0 on rapier).
-KNOWN = {"lunar_lander": SPINS}
-
-
-@pytest.mark.parametrize("env_id", [pytest.param(e, marks=KNOWN[e]) if e in KNOWN else e for e in RUNTIMES])
+# Every runtime stays in its space. Neither Box2D runtime leaves it in random-action runs any more. LunarLander: on rapier2d it rolled
+# on the ground spinning past ±2π (19 of 185 episodes); on the Box2D-semantics engine
+# (src/physics2d) a lander body contact ends the episode first, as in Gymnasium. BipedalWalker: on
+# rapier2d the hull flipped past ±π in the air in rare episodes (rapier's contact warm start threw
+# hard landings up); on the Box2D-semantics engine this run stays in the space
+# (examples/bipedal_walker_flips.rs: 1 of 300 episodes reaches |angle| 3.21, against 8 of 300 up to
+# 10.0 on rapier).
+@pytest.mark.parametrize("env_id", RUNTIMES)
 def test_observations_stay_in_space_and_dtypes_as_declared(env_id: str) -> None:
     env = cs.make(env_id)
     space = env.observation_space

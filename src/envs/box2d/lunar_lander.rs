@@ -1,73 +1,55 @@
-//! LunarLander-v3 (Gymnasium 1.4 `LunarLander`) on rapier2d, with CARL's 16 context features.
+//! LunarLander-v3 (Gymnasium 1.4 `LunarLander`) on Box2D's semantics, with CARL's 16 context
+//! features.
 //!
 //! Same as Gymnasium: the lander polygon, leg boxes, densities (5 and 1), friction (0.1 lander
 //! and terrain, 0.2 legs and the bottom edge, combined as Box2D does with the geometric mean),
 //! restitution 0, collision filtering (lander and legs collide only with the ground), the leg
-//! revolute joints (anchors, limits, motor speed ±0.3, max torque `LEG_SPRING_TORQUE`), random
-//! terrain of 11 chunks with a flat helipad (including Python's `height[-1]` wrap in the
-//! smoothing), the random initial force `±INITIAL_RANDOM`, the engine impulses applied at points
-//! with the two dispersion draws per step, the 8-dimensional observation and its normalisation,
-//! the potential-based shaping reward with fuel costs 0.3/0.03, and termination by crash
-//! (lander body touches the ground), out-of-view (`|x| >= 1`) or rest ("not awake", +100).
-//! Like Gymnasium's `reset`, ours ends with one `step(noop)` whose observation it returns.
+//! revolute joints (anchors, reference angle, limits, motor speed ±0.3, max torque
+//! `LEG_SPRING_TORQUE`), random terrain of 11 chunks with a flat helipad (including Python's
+//! `height[-1]` wrap in the smoothing), the random initial force `±INITIAL_RANDOM`, the engine
+//! impulses applied at points with the two dispersion draws per step, the 8-dimensional
+//! observation and its normalisation, the potential-based shaping reward with fuel costs
+//! 0.3/0.03, and termination by crash (a contact of the lander body begins), out-of-view
+//! (`|x| >= 1`) or rest ("not awake", +100). Like Gymnasium's `reset`, ours ends with one
+//! `step(noop)` whose observation it returns.
 //!
-//! **Box2D where the lander is one rigid body** ([`rigid`]). Gymnasium creates the legs
-//! unassembled (beside the lander, turned 0.05 rad, their anchors `LEG_DOWN` too high); Box2D's
-//! first step moves lander and legs as one rigid body at the legs' creation geometry (so the
-//! random push spins the lander about −0.113 rad/s per m/s of sideways push) and then snaps the
-//! legs onto their joints ~0.14 rad wide, from where the motors swing them in at 0.3 rad/s. That
-//! step and all free flight (every step in which no body can reach the ground within two steps'
-//! travel) are computed in closed form, as Box2D's converged solver has them: lander and legs
-//! keep their total momentum, the legs turn at their motors' speed. Gymnasium's heuristic flies
-//! the same trajectory as in Box2D to 1e-3 until the touchdown (`tests/lunar_lander.rs`,
-//! against `tests/fixtures/lunar_lander_flight_box2d.json`). rapier takes over near the ground.
+//! **Two ways to step, both Box2D's.**
+//! * *Where the lander is one rigid body* ([`rigid`]), in closed form. Gymnasium creates the legs
+//!   unassembled (beside the lander, turned 0.05 rad, their anchors `LEG_DOWN` too high); Box2D's
+//!   first step moves lander and legs as one rigid body at the legs' creation geometry (so the
+//!   random push spins the lander about −0.113 rad/s per m/s of sideways push) and then snaps the
+//!   legs onto their joints ~0.14 rad wide, from where the motors swing them in at 0.3 rad/s.
+//!   That step and all free flight (every step in which no body can reach the ground within two
+//!   steps' travel) are computed as Box2D's converged solver has them: lander and legs keep their
+//!   total momentum, the legs turn at their motors' speed. This is what makes 64 landers several
+//!   times faster than envpool's Box2D.
+//! * *Near the ground*, [`crate::physics2d`]: sequential impulses with Gymnasium's
+//!   `world.Step(1/FPS, 6*30, 2*30)`, Box2D's contact manifolds, skins, block solver, leg motors
+//!   pressed into their limits, position correction and per-step motion caps. The contact
+//!   flags and the crash follow the solver's begin/end contact events in Box2D's order, as
+//!   Gymnasium's `ContactDetector` sees them. Joint warm-start impulses start from zero when the
+//!   solver takes over from a flight (a world rebuilt from the state would do the same).
 //!
-//! Where this is not Box2D (documented deviations, near the ground):
-//! * **Solver.** rapier's TGS-soft solver with [`LunarLanderOptions::solver_iterations`] (8)
-//!   substeps replaces Box2D's sequential impulses with 6·30 velocity and 2·30 position
-//!   iterations; 4 substeps on the ground leave the 68:1 lander/leg mass ratio too soft (legs
-//!   fold).
-//! * **Leg springs.** Box2D's leg motor (speed ±0.3 rad/s towards the inner limit, max torque
-//!   `LEG_SPRING_TORQUE`) ends up pressed into that limit, where Box2D's 180 warm-started
-//!   iterations saturate it: a leg pushed away by the ground is resisted with the full torque.
-//!   rapier's motors get a few iterations per step and never build that preload against a
-//!   limit (the legs folded on touchdown), so near the ground the spring is a stiff position
-//!   motor at the rest angle (saturating at `LEG_SPRING_TORQUE` within 0.004 rad). A leg freed
-//!   by a bounce near the ground therefore springs back at once instead of at 0.3 rad/s.
-//! * **Leg angles.** Gymnasium's joint limits (0.4, 0.9) count from the joints' reference angle,
-//!   the legs' creation angle 0.05 rad: 0.35 and 0.85 rad between leg and lander. A swing ends
-//!   up to one step's turn past the inner limit (Box2D decides at the start of a step whether a
-//!   limit is active and corrects only errors beyond its 2° slop; measured in Gymnasium 1.4:
-//!   0.344–0.35 rad at 50 FPS); the spring holds 0.345 rad.
-//! * **Rest ("not awake").** Box2D's island sleep test is reproduced explicitly rather than via
-//!   rapier's sleeping (disabled): the lander is at rest once the lander and both legs have
-//!   moved less than 0.01·F m/s and turned less than 2 °/s for 0.5 s (`b2_linearSleepTolerance`,
-//!   `b2_angularSleepTolerance`, `b2_timeToSleep`, F = [`REST_TOLERANCE_FACTOR`]). Speeds are
-//!   measured as displacement per step, not from rapier's velocities, which keep the soft
-//!   constraints' correction terms of a body at rest.
-//! * **Contact skin.** Box2D keeps polygons and edges its polygon radius (0.01 m each) apart;
-//!   rapier's contact skin does the same here ([`CONTACT_SKIN`]).
-//! * **Landing rates.** With these, Gymnasium's heuristic controller (seeds 0–49 per body, the
-//!   same terrains as Gymnasium's, see `tests/lunar_lander.rs`) lands 88 % on Earth (Gymnasium:
-//!   92 %), 96 % on Mars (96 %), 78 % on the Moon (78 %), 42 % on Pluto (34 %) and crashes 100 %
-//!   on Jupiter (100 %); on Neptune it lands 68 % (80 %) and crashes 18 % (12 %). The flight is
-//!   Box2D's; the remaining Neptune gap is hard, tilted touchdowns (6 seeds land in Box2D and
-//!   crash here).
-//! * **Touching.** Box2D polygons carry a 0.01 m skin, so shapes "touch" (contact begins, leg
-//!   flag set, crash) when closer than 0.02 m. We use rapier's contact manifolds with the same
-//!   0.02 m threshold on the signed distance. A leg's flag is "touches any terrain segment" (Box2D
-//!   clears it when contact with *one* segment ends even if another still touches).
-//! * **Speed limits.** Box2D caps the motion per step at 2 m and π/2 rad inside its solver; we
-//!   cap the velocities after each step (only matters at very low FPS or extreme impulses).
-//! * **Continuous collision.** Box2D sub-steps dynamic-vs-static time of impact; rapier sweeps
-//!   fast dynamic bodies against fixed colliders (one CCD substep), which serves the same
-//!   purpose. Lander and legs collide only with the ground, so rapier's "bullet" mode (sweeps
-//!   against moving bodies) would find nothing; the sweeps run only near the ground.
+//! Gymnasium's heuristic flies the same trajectory as in Box2D to 3 mm until the touchdown
+//! (`tests/lunar_lander.rs`, against `tests/fixtures/lunar_lander_flight_box2d.json`) and,
+//! seeds 0–49 per body with Gymnasium's own terrains, lands 94 % on Earth (Gymnasium: 92 %),
+//! 96 % on Mars (96 %), 76 % on the Moon (78 %), 32 % on Pluto (34 %), 74 % on Neptune (80 %,
+//! crashing 18 % against 12 %) and crashes 100 % on Jupiter (100 %); 289 of those 300 episodes
+//! end as in Box2D.
+//!
+//! **Rest ("not awake").** Box2D's island sleep test, evaluated here (the solver does not
+//! sleep): the lander is at rest once the lander and both legs have been slower than 0.01 m/s
+//! and 2 °/s for 0.5 s (`b2_linearSleepTolerance`, `b2_angularSleepTolerance`,
+//! `b2_timeToSleep`).
+//!
+//! A flight step clears the legs' ground flags: its bodies start more than 5 cm from the ground,
+//! where Box2D's contact update at the start of the step ends every contact too. Where this is
+//! not Box2D: Box2D computes in `f32`, this in `f64`.
 
 mod render;
 mod rigid;
 
-use rapier2d::prelude::*;
+use crate::physics2d::{self as b2, BodyKind, Filter, FixtureDef, Polygon, RevoluteDef, Shape, V2, v2};
 
 use crate::envs::api::{
     Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features,
@@ -89,26 +71,11 @@ pub const LANDER_POLY: [(f64, f64); 6] = [
 pub const MAIN_ENGINE_Y_LOCATION: f64 = 4.0;
 /// Terrain chunks (`CHUNKS`).
 pub const CHUNKS: usize = 11;
-/// Box2D's sleep criterion (b2Settings.h, 2.3).
-pub const LINEAR_SLEEP_TOLERANCE: f32 = 0.01;
-pub const ANGULAR_SLEEP_TOLERANCE: f32 = 2.0 / 180.0 * std::f32::consts::PI;
-/// Rest tolerance used here (see module docs): rapier's soft contacts let a resting lander
-/// creep where Box2D's 180 velocity iterations hold it still, so Box2D's *linear* tolerance is
-/// widened by this factor (its angular one is kept: widening it too lets a lander still rocking
-/// on its legs count as landed, 0.48 instead of Box2D's 0.34 on Pluto).
-pub const REST_TOLERANCE_FACTOR: f32 = 10.0;
-pub const TIME_TO_SLEEP: f32 = 0.5;
-/// Two Box2D polygon skins (`2 * b2_polygonRadius`): closer than this counts as touching.
-pub const TOUCH_DISTANCE: f32 = 0.02;
-/// Box2D's polygon radius (`b2_polygonRadius`, 0.01 m) as rapier's contact skin on every
-/// collider: Box2D's solver holds polygons and edges this skin apart, so a lander standing on
-/// its legs is 2 cm higher than with bare shapes, 2 cm that a hard touchdown needs before the
-/// lander body touches (Neptune's crash rate from Box2D's own pre-touchdown states: 0.28 without
-/// the skin, 0.18 with it; Box2D 0.12).
-pub const CONTACT_SKIN: f32 = 0.01;
-/// Box2D's per-step motion caps (`b2_maxTranslation`, `b2_maxRotation`).
-pub const MAX_TRANSLATION: f32 = 2.0;
-pub const MAX_ROTATION: f32 = 0.5 * std::f32::consts::PI;
+/// Box2D's sleep criterion (b2Settings.h, 2.3): a body is still below these speeds.
+pub const LINEAR_SLEEP_TOLERANCE: f64 = 0.01;
+pub const ANGULAR_SLEEP_TOLERANCE: f64 = 2.0 / 180.0 * std::f64::consts::PI;
+/// Box2D's `b2_timeToSleep`: how long an island must be still before it sleeps.
+pub const TIME_TO_SLEEP: f64 = 0.5;
 /// Length of [`LunarLander::state`]: 11 terrain heights, 3 bodies × (x, y, angle, vx, vy, ω),
 /// 2 leg contacts, game-over flag, rest time, has-previous-shaping flag, previous shaping.
 pub const STATE_DIM: usize = CHUNKS + 18 + 6;
@@ -200,16 +167,6 @@ pub struct LunarLanderOptions {
     /// Reward on crash / out of view is `-crash_penalty` (Gymnasium: 100; CARL's evaluation
     /// in the paper: 10000).
     pub crash_penalty: f64,
-    /// rapier solver substeps per step while the lander is near the ground (legs can touch).
-    pub solver_iterations: usize,
-    /// Substeps when rapier steps away from the ground: only where the closed-form flight does
-    /// not apply (a `LEG_SPRING_TORQUE` too weak to hold the legs), where only the two leg joints
-    /// are solved.
-    pub flight_solver_iterations: usize,
-    /// rapier PGS iterations inside each substep.
-    pub pgs_iterations: usize,
-    /// Warm-start joint impulses across substeps and steps (Box2D warm-starts joints).
-    pub warmstart_joints: bool,
 }
 
 impl Default for LunarLanderOptions {
@@ -217,10 +174,6 @@ impl Default for LunarLanderOptions {
         LunarLanderOptions {
             continuous: false,
             crash_penalty: 100.0,
-            solver_iterations: 8,
-            flight_solver_iterations: 4,
-            pgs_iterations: 1,
-            warmstart_joints: true,
         }
     }
 }
@@ -240,379 +193,311 @@ pub enum Outcome {
 /// Kinematic state of one body: origin position, (unwrapped) angle, COM velocity, ω.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 struct BodyState {
-    x: f32,
-    y: f32,
-    angle: f32,
-    vx: f32,
-    vy: f32,
-    w: f32,
+    x: f64,
+    y: f64,
+    angle: f64,
+    vx: f64,
+    vy: f64,
+    w: f64,
 }
 
+/// Gymnasium's `world.Step(1/FPS, 6*30, 2*30)`.
+const VELOCITY_ITERATIONS: usize = 180;
+const POSITION_ITERATIONS: usize = 60;
+
+#[derive(Debug, Clone)]
 struct World {
-    pw: PhysicsWorld,
-    lander: RigidBodyHandle,
-    legs: [RigidBodyHandle; 2],
-    lander_col: ColliderHandle,
-    leg_cols: [ColliderHandle; 2],
-    joints: [ImpulseJointHandle; 2],
+    b2: b2::World,
+    dt: f64,
+    /// Body indices: lander, leg 0, leg 1 (Gymnasium's creation order after the ground).
+    bodies: [usize; 3],
+    lander_fixture: usize,
+    leg_fixtures: [usize; 2],
+    joints: [usize; 2],
     /// The legs' joints and how their motors drive them, for [`rigid`]'s steps.
     leg_joints: [rigid::LegJoint; 2],
     leg_drive: rigid::LegDrive,
-    /// Whether the last step was rapier's (its joint and contact caches are current).
-    rapier_stepped: bool,
+    /// Whether the last step was the solver's (its contacts and warm-start impulses are current).
+    solver_stepped: bool,
     /// The ground as segments `[x1, y1, x2, y2]` (bottom edge and terrain chunks).
     ground: [[f64; 4]; CHUNKS],
-    /// Radius of each body (lander, legs) around its centre of mass, contact skin included.
+    /// Radius of each body (lander, legs) around its centre of mass, skin included.
     radii: [f64; 3],
 }
 
-impl std::fmt::Debug for World {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("World").finish_non_exhaustive()
-    }
-}
-
-/// Where Box2D holds a leg pressed into its inner joint limit, as the angle between leg and
-/// lander. Gymnasium's limit is 0.4 rad of *joint* angle, measured from the creation angle
-/// (`LEG_CREATION_ANGLE`, the joint's reference angle), i.e. 0.35 rad between the bodies; the
-/// motor presses the leg a little past it. Measured in Gymnasium 1.4: 0.349 rad at 50 FPS, 0.340
-/// at 25 FPS, whatever the gravity or spring torque.
-const LEG_REST_ANGLE: f32 = 0.345;
+/// Where the closed-form flight holds a leg pressed into its inner joint limit, as the angle
+/// between leg and lander. Gymnasium's limit is 0.4 rad of *joint* angle, measured from the
+/// creation angle (`LEG_CREATION_ANGLE`, the joint's reference angle), i.e. 0.35 rad between
+/// the bodies; the motor presses the leg a little past it. Measured in Gymnasium 1.4: 0.349 rad
+/// at 50 FPS, 0.340 at 25 FPS, whatever the gravity or spring torque.
+const LEG_REST_ANGLE: f64 = 0.345;
 /// Gymnasium creates leg `i` (−1, +1) turned `i · 0.05` rad from the lander; the joint's
 /// reference angle.
 const LEG_CREATION_ANGLE: f64 = 0.05;
-/// Gymnasium's inner joint limit (0.4 rad of joint angle) as the angle between leg and lander.
-const LEG_INNER_LIMIT: f64 = 0.4 - LEG_CREATION_ANGLE;
-/// Gymnasium's outer joint limit (0.9 rad of joint angle) as the angle between leg and lander.
-const LEG_OUTER_LIMIT: f32 = 0.9 - LEG_CREATION_ANGLE as f32;
-/// Leg `i`'s (−1, +1) joint limits as angles between leg and lander: Gymnasium's, with the
-/// inner one where Box2D holds the leg (see [`LEG_REST_ANGLE`]).
-fn leg_limits(i: f32) -> (f32, f32) {
+/// Gymnasium's joint limits for leg `i` (−1, +1), in joint angle (from the reference angle).
+fn joint_limits(i: f64) -> (f64, f64) {
+    if i < 0.0 { (0.4, 0.9) } else { (-0.9, -0.4) }
+}
+/// Leg `i`'s limits as angles between leg and lander for the closed-form flight: Gymnasium's,
+/// with the inner one where Box2D holds the leg (see [`LEG_REST_ANGLE`]).
+fn leg_limits(i: f64) -> (f64, f64) {
+    let outer = 0.9 - LEG_CREATION_ANGLE;
     if i < 0.0 {
-        (LEG_REST_ANGLE, LEG_OUTER_LIMIT)
+        (LEG_REST_ANGLE, outer)
     } else {
-        (-LEG_OUTER_LIMIT, -LEG_REST_ANGLE)
+        (-outer, -LEG_REST_ANGLE)
     }
 }
 
 /// Gymnasium's leg motor speed (`motorSpeed = +0.3 * i`), rad/s: in flight, a leg wider than its
 /// rest angle swings in at this speed (after the first step, or after a bounce).
 const LEG_SWING_SPEED: f64 = 0.3;
-/// Stiffness of the leg spring (N·m/rad): stiff enough that it saturates at
-/// `LEG_SPRING_TORQUE` within 0.004 rad, as Box2D's saturated motor does.
-const LEG_SPRING_STIFFNESS: f32 = 1.0e4;
-const GROUND_GROUP: u32 = 0x0001;
-const LANDER_GROUP: u32 = 0x0010;
-const LEG_GROUP: u32 = 0x0020;
-
-fn groups(category: u32, mask: u32) -> InteractionGroups {
-    InteractionGroups::new(
-        Group::from_bits_truncate(category),
-        Group::from_bits_truncate(mask),
-        InteractionTestMode::And,
-    )
-}
+const GROUND_CATEGORY: u16 = 0x0001;
+const LANDER_CATEGORY: u16 = 0x0010;
+const LEG_CATEGORY: u16 = 0x0020;
 
 /// Shape sizes are floored at 1e-4 m so that out-of-bounds contexts cannot make degenerate shapes.
-fn size(x: f64) -> f32 {
-    (x as f32).max(1e-4)
-}
-
-fn wrap_pi(a: f32) -> f32 {
-    let tau = std::f32::consts::TAU;
-    a - tau * (a / tau).round()
+fn size(x: f64) -> f64 {
+    x.max(1e-4)
 }
 
 impl World {
-    /// Build the world for `params` with terrain `smooth_y` and the three bodies' states.
-    fn build(
-        p: &LunarLanderParams,
-        opts: &LunarLanderOptions,
-        smooth_y: &[f64; CHUNKS],
-        bodies: &[BodyState; 3],
-    ) -> World {
-        let mut pw = PhysicsWorld::new();
-        // A dozen colliders: the broad phase's per-step incremental tree re-optimisation (10 % of
-        // a step) buys nothing here.
-        pw.broad_phase = BroadPhaseBvh::with_optimization_strategy(BvhOptimizationStrategy::None);
-        pw.gravity = Vector::new(p.gravity_x as f32, p.gravity_y as f32);
-        let ip = &mut pw.integration_parameters;
-        ip.dt = if p.fps > 0.0 && p.fps.is_finite() {
-            (1.0 / p.fps) as f32
+    /// Build the world for `params` with terrain `smooth_y` and the three bodies' states, in
+    /// Gymnasium's creation order (ground, lander, leg −1 and its joint, leg +1 and its joint).
+    fn build(p: &LunarLanderParams, smooth_y: &[f64; CHUNKS], bodies: &[BodyState; 3]) -> World {
+        let mut b2 = b2::World::new(v2(p.gravity_x, p.gravity_y));
+        let dt = if p.fps > 0.0 && p.fps.is_finite() {
+            1.0 / p.fps
         } else {
             0.0
         };
-        ip.num_solver_iterations = opts.solver_iterations.max(1);
-        ip.num_internal_pgs_iterations = opts.pgs_iterations.max(1);
-        ip.warmstart_joints = opts.warmstart_joints;
-        ip.max_ccd_substeps = 1;
-
-        let scale = p.scale;
         let w = p.world_w();
-        let mut ground_segments = [[0.0, 0.0, w, 0.0]; CHUNKS];
+        let mut ground = [[0.0, 0.0, w, 0.0]; CHUNKS];
         for i in 0..CHUNKS - 1 {
             let x = |j: usize| w / (CHUNKS - 1) as f64 * j as f64;
-            ground_segments[1 + i] = [x(i), smooth_y[i], x(i + 1), smooth_y[i + 1]];
+            ground[1 + i] = [x(i), smooth_y[i], x(i + 1), smooth_y[i + 1]];
         }
-        // Terrain: a static body with the bottom edge and the 10 chunk segments.
-        let (ground, _) = pw.insert(
-            RigidBodyBuilder::fixed(),
-            ColliderBuilder::segment(Vector::new(0.0, 0.0), Vector::new(w as f32, 0.0))
-                .friction(0.2)
-                .friction_combine_rule(CoefficientCombineRule::GeometricMean)
-                .collision_groups(groups(GROUND_GROUP, 0xFFFF)),
-        );
-        for i in 0..CHUNKS - 1 {
-            let x1 = w / (CHUNKS - 1) as f64 * i as f64;
-            let x2 = w / (CHUNKS - 1) as f64 * (i + 1) as f64;
-            let c = ColliderBuilder::segment(
-                Vector::new(x1 as f32, smooth_y[i] as f32),
-                Vector::new(x2 as f32, smooth_y[i + 1] as f32),
-            )
-            .friction(0.1)
-            .contact_skin(CONTACT_SKIN)
-            .friction_combine_rule(CoefficientCombineRule::GeometricMean)
-            .collision_groups(groups(GROUND_GROUP, 0xFFFF));
-            pw.insert_collider(c, Some(ground));
-        }
-
-        let dynamic = |b: &BodyState| {
-            RigidBodyBuilder::dynamic()
-                .translation(Vector::new(b.x, b.y))
-                .rotation(b.angle)
-                .linvel(Vector::new(b.vx, b.vy))
-                .angvel(b.w)
-                .can_sleep(false)
-        };
-        let s = size(scale) as f64;
-        let pts: Vec<Vector> = LANDER_POLY
-            .iter()
-            .map(|(x, y)| Vector::new((x / s) as f32, (y / s) as f32))
-            .collect();
-        let lander_shape = ColliderBuilder::convex_hull(&pts).unwrap_or_else(|| ColliderBuilder::cuboid(0.5, 0.5));
-        let (lander, lander_col) = pw.insert(
-            dynamic(&bodies[0]),
-            lander_shape
-                .density(5.0)
-                .contact_skin(CONTACT_SKIN)
-                .friction(0.1)
-                .restitution(0.0)
-                .friction_combine_rule(CoefficientCombineRule::GeometricMean)
-                .collision_groups(groups(LANDER_GROUP, GROUND_GROUP)),
-        );
-        let mut legs = [lander; 2];
-        let mut leg_cols = [lander_col; 2];
-        let mut joints = [ImpulseJointHandle::invalid(); 2];
-        for (k, i) in [-1.0f64, 1.0].into_iter().enumerate() {
-            let (leg, col) = pw.insert(
-                dynamic(&bodies[1 + k]),
-                ColliderBuilder::cuboid(size(p.leg_w / s), size(p.leg_h / s))
-                    .density(1.0)
-                    .contact_skin(CONTACT_SKIN)
-                    .friction(0.2)
-                    .restitution(0.0)
-                    .friction_combine_rule(CoefficientCombineRule::GeometricMean)
-                    .collision_groups(groups(LEG_GROUP, GROUND_GROUP)),
+        // The moon: a static body with the bottom edge (Box2D's default friction 0.2) and the
+        // ten chunk edges (friction 0.1).
+        let moon = b2.add_body(BodyKind::Static, V2::ZERO, 0.0);
+        for (k, &[x1, y1, x2, y2]) in ground.iter().enumerate() {
+            b2.add_fixture(
+                moon,
+                FixtureDef {
+                    shape: Shape::Edge(v2(x1, y1), v2(x2, y2)),
+                    density: 0.0,
+                    friction: if k == 0 { 0.2 } else { 0.1 },
+                    restitution: 0.0,
+                    filter: Filter {
+                        category: GROUND_CATEGORY,
+                        mask: 0xFFFF,
+                    },
+                },
             );
-            let (lo, hi) = leg_limits(i as f32);
-            let joint = RevoluteJointBuilder::new()
-                .local_anchor1(Vector::new(0.0, 0.0))
-                .local_anchor2(Vector::new((i * p.leg_away / s) as f32, (p.leg_down / s) as f32))
-                .limits([lo, hi])
-                .motor_model(MotorModel::ForceBased)
-                .motor_max_force(p.leg_spring_torque.max(0.0) as f32)
-                .contacts_enabled(false);
-            joints[k] = pw.insert_impulse_joint(lander, leg, joint);
-            legs[k] = leg;
-            leg_cols[k] = col;
         }
-        let mut world = World {
-            pw,
-            lander,
-            legs,
-            lander_col,
-            leg_cols,
+        let s = size(p.scale);
+        let pts: Vec<V2> = LANDER_POLY.iter().map(|&(x, y)| v2(x / s, y / s)).collect();
+        let hull = Polygon::from_points(&pts).unwrap_or_else(|_| Polygon::new_box(0.5, 0.5));
+        let dynamic =
+            |b2: &mut b2::World, st: &BodyState, shape: Polygon, density: f64, friction: f64, category: u16| {
+                let body = b2.add_body(BodyKind::Dynamic, v2(st.x, st.y), st.angle);
+                let fixture = b2.add_fixture(
+                    body,
+                    FixtureDef {
+                        shape: Shape::Polygon(shape),
+                        density,
+                        friction,
+                        restitution: 0.0,
+                        filter: Filter {
+                            category,
+                            mask: GROUND_CATEGORY,
+                        },
+                    },
+                );
+                let b = &mut b2.bodies[body];
+                b.v = v2(st.vx, st.vy);
+                b.w = st.w;
+                (body, fixture)
+            };
+        let (lander, lander_fixture) = dynamic(&mut b2, &bodies[0], hull, 5.0, 0.1, LANDER_CATEGORY);
+        let leg_box = Polygon::new_box(size(p.leg_w / s), size(p.leg_h / s));
+        let mut legs = [lander; 2];
+        let mut leg_fixtures = [lander_fixture; 2];
+        let mut joints = [0; 2];
+        for (k, i) in [-1.0f64, 1.0].into_iter().enumerate() {
+            (legs[k], leg_fixtures[k]) = dynamic(&mut b2, &bodies[1 + k], leg_box, 1.0, 0.2, LEG_CATEGORY);
+            let (lower, upper) = joint_limits(i);
+            joints[k] = b2.add_revolute(RevoluteDef {
+                body_a: lander,
+                body_b: legs[k],
+                local_anchor_a: V2::ZERO,
+                local_anchor_b: v2(i * p.leg_away / s, p.leg_down / s),
+                reference_angle: i * LEG_CREATION_ANGLE,
+                enable_limit: true,
+                lower,
+                upper,
+                enable_motor: true,
+                motor_speed: LEG_SWING_SPEED * i,
+                max_motor_torque: p.leg_spring_torque.max(0.0),
+            });
+        }
+        let bodies_ix = [lander, legs[0], legs[1]];
+        let radii = [lander_fixture, leg_fixtures[0], leg_fixtures[1]].map(|f| {
+            let fx = &b2.fixtures[f];
+            let c = b2.bodies[fx.body].sweep.local_center;
+            let r = match fx.def.shape {
+                Shape::Polygon(poly) => poly.vertices().iter().map(|v| (*v - c).length()).fold(0.0, f64::max),
+                Shape::Edge(..) => 0.0,
+            };
+            r + fx.def.shape.radius()
+        });
+        World {
+            b2,
+            dt,
+            bodies: bodies_ix,
+            lander_fixture,
+            leg_fixtures,
             joints,
             leg_joints: [-1.0f64, 1.0].map(|i| rigid::LegJoint {
                 anchor_lander: [0.0, 0.0],
                 anchor_leg: [i * p.leg_away / s, p.leg_down / s],
-                limits: {
-                    let (lo, hi) = leg_limits(i as f32);
-                    (f64::from(lo), f64::from(hi))
-                },
+                limits: leg_limits(i),
             }),
             leg_drive: rigid::LegDrive {
-                limit: [LEG_INNER_LIMIT, -LEG_INNER_LIMIT],
+                limit: [
+                    joint_limits(-1.0).0 - LEG_CREATION_ANGLE,
+                    joint_limits(1.0).1 + LEG_CREATION_ANGLE,
+                ],
                 swing_speed: LEG_SWING_SPEED,
                 max_torque: p.leg_spring_torque.max(0.0),
             },
-            rapier_stepped: false,
-            ground: ground_segments,
-            radii: [0.0; 3],
-        };
-        for (k, h) in [lander, legs[0], legs[1]].into_iter().enumerate() {
-            let b = &world.pw.bodies[h];
-            let com = b.mass_properties().local_mprops.local_com;
-            let col = &world.pw.colliders[b.colliders()[0]];
-            let aabb = col.shape().compute_local_aabb();
-            // Farthest corner of the shape's box from the centre of mass.
-            let r = [aabb.mins, aabb.maxs]
-                .iter()
-                .flat_map(|a| [aabb.mins, aabb.maxs].map(|b| Vector::new(a.x, b.y)))
-                .map(|c| f64::from((c - com).length()))
-                .fold(0.0, f64::max);
-            world.radii[k] = r + f64::from(CONTACT_SKIN);
+            solver_stepped: false,
+            ground,
+            radii,
         }
-        for k in 0..2 {
-            world.set_leg_spring(k);
-        }
-        world
     }
 
-    /// Leg `k`'s spring (see the module docs): a stiff position motor at the rest angle, capped
-    /// at `LEG_SPRING_TORQUE`.
-    fn set_leg_spring(&mut self, k: usize) {
-        let i = [-1.0f32, 1.0][k];
-        if let Some(j) = self.pw.impulse_joints.get_mut(self.joints[k], false) {
-            j.data
-                .set_motor(JointAxis::AngX, -LEG_REST_ANGLE * i, 0.0, LEG_SPRING_STIFFNESS, 0.0);
-        }
+    fn body(&self, k: usize) -> &b2::Body {
+        &self.b2.bodies[self.bodies[k]]
     }
 
     /// Lander, leg 0 and leg 1 as plain rigid bodies (for [`rigid`]).
     fn rigid_bodies(&self) -> [rigid::Body; 3] {
-        [self.lander, self.legs[0], self.legs[1]].map(|h| {
-            let b = &self.pw.bodies[h];
-            let mp = &b.mass_properties().local_mprops;
-            let (c, v) = (b.center_of_mass(), b.linvel());
+        [0, 1, 2].map(|k| {
+            let b = self.body(k);
+            let lc = b.sweep.local_center;
             rigid::Body {
-                com: [f64::from(c.x), f64::from(c.y)],
-                angle: f64::from(b.rotation().angle()),
-                mass: f64::from(b.mass()),
-                inertia: f64::from(mp.principal_inertia()),
-                local_com: [f64::from(mp.local_com.x), f64::from(mp.local_com.y)],
-                vel: [f64::from(v.x), f64::from(v.y)],
-                w: f64::from(b.angvel()),
+                com: [b.sweep.c.x, b.sweep.c.y],
+                angle: b.sweep.a,
+                mass: b.mass,
+                inertia: b.inertia,
+                local_com: [lc.x, lc.y],
+                vel: [b.v.x, b.v.y],
+                w: b.w,
             }
         })
     }
 
-    /// Writes [`rigid`]'s results back into rapier's bodies.
+    /// Writes [`rigid`]'s results back into the bodies and their broad-phase boxes.
     fn set_rigid_bodies(&mut self, bodies: &[rigid::Body; 3]) {
-        for (h, b) in [self.lander, self.legs[0], self.legs[1]].into_iter().zip(bodies) {
-            let rb = &mut self.pw.bodies[h];
+        for (k, b) in bodies.iter().enumerate() {
+            let ix = self.bodies[k];
+            let body = &mut self.b2.bodies[ix];
             let (sn, cs) = b.angle.sin_cos();
             let lc = b.local_com;
-            let origin = [
+            let origin = v2(
                 b.com[0] - (cs * lc[0] - sn * lc[1]),
                 b.com[1] - (sn * lc[0] + cs * lc[1]),
-            ];
-            rb.set_position(
-                Pose::new(Vector::new(origin[0] as f32, origin[1] as f32), b.angle as f32),
-                false,
             );
-            rb.set_linvel(Vector::new(b.vel[0] as f32, b.vel[1] as f32), false);
-            rb.set_angvel(b.w as f32, false);
+            body.set_transform(origin, b.angle);
+            body.v = v2(b.vel[0], b.vel[1]);
+            body.w = b.w;
+            self.b2.synchronize_fixtures(ix);
         }
+        self.b2.find_new_contacts();
     }
 
     /// Whether no body can reach the ground within two steps: each body's bounding circle is
     /// farther from every ground segment than twice its fastest point moves in a step, plus a
-    /// margin for rapier's contact prediction. Then nothing touches, and free flight applies.
+    /// margin. Then nothing touches, and free flight applies.
     fn airborne(&self) -> bool {
-        let dt = f64::from(self.pw.integration_parameters.dt);
-        [self.lander, self.legs[0], self.legs[1]]
-            .into_iter()
-            .zip(self.radii)
-            .all(|(h, r)| {
-                let b = &self.pw.bodies[h];
-                let (c, v) = (b.center_of_mass(), b.linvel());
-                let (cx, cy) = (f64::from(c.x), f64::from(c.y));
-                let speed = f64::from(v.length()) + f64::from(b.angvel().abs()) * r;
-                let margin = r + 2.0 * speed * dt + 0.05;
-                self.ground.iter().all(|&[x1, y1, x2, y2]| {
-                    let (dx, dy) = (x2 - x1, y2 - y1);
-                    let len2 = dx * dx + dy * dy;
-                    let t = if len2 > 0.0 {
-                        (((cx - x1) * dx + (cy - y1) * dy) / len2).clamp(0.0, 1.0)
-                    } else {
-                        0.0
-                    };
-                    let (ex, ey) = (cx - x1 - t * dx, cy - y1 - t * dy);
-                    ex * ex + ey * ey > margin * margin
-                })
+        (0..3).all(|k| {
+            let (b, r) = (self.body(k), self.radii[k]);
+            let (cx, cy) = (b.sweep.c.x, b.sweep.c.y);
+            let speed = b.v.length() + b.w.abs() * r;
+            let margin = r + 2.0 * speed * self.dt + 0.05;
+            self.ground.iter().all(|&[x1, y1, x2, y2]| {
+                let (dx, dy) = (x2 - x1, y2 - y1);
+                let len2 = dx * dx + dy * dy;
+                let t = if len2 > 0.0 {
+                    (((cx - x1) * dx + (cy - y1) * dy) / len2).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                let (ex, ey) = (cx - x1 - t * dx, cy - y1 - t * dy);
+                ex * ex + ey * ey > margin * margin
             })
+        })
     }
 
     /// One step: Box2D's first step when `initial_force` is given, free flight in closed form
-    /// where it applies (see [`rigid`]), rapier's solver otherwise. Returns whether rapier
-    /// stepped (contacts are only current then; in flight there are none).
+    /// where it applies (see [`rigid`]), the Box2D-semantics solver otherwise. Returns whether
+    /// the solver stepped (its contact events are only current then; in flight there are none).
     fn step(&mut self, initial_force: Option<[f64; 2]>) -> bool {
         let mut bodies = self.rigid_bodies();
-        let g = self.pw.gravity;
-        let gravity = [f64::from(g.x), f64::from(g.y)];
-        let dt = f64::from(self.pw.integration_parameters.dt);
+        let gravity = [self.b2.gravity.x, self.b2.gravity.y];
         let closed_form = match initial_force {
             Some(force) => {
-                rigid::first_step(&mut bodies, &self.leg_joints, &self.leg_drive, force, gravity, dt);
+                rigid::first_step(&mut bodies, &self.leg_joints, &self.leg_drive, force, gravity, self.dt);
                 true
             }
-            None => self.airborne() && rigid::flight_step(&mut bodies, &self.leg_joints, &self.leg_drive, gravity, dt),
+            None => {
+                self.airborne() && rigid::flight_step(&mut bodies, &self.leg_joints, &self.leg_drive, gravity, self.dt)
+            }
         };
         if closed_form {
             self.set_rigid_bodies(&bodies);
-            self.rapier_stepped = false;
+            // In flight nothing touches: contacts Box2D would have ended (without events here:
+            // the legs' flags are cleared by the caller).
+            for c in &mut self.b2.contacts {
+                c.touching = false;
+                c.manifold = Default::default();
+            }
+            self.solver_stepped = false;
             return false;
         }
-        if !self.rapier_stepped {
+        if !self.solver_stepped {
             // The joints' warm-start impulses are from before the flight: start afresh, as a
             // world rebuilt from this state would.
-            for h in self.joints {
-                if let Some(j) = self.pw.impulse_joints.get_mut(h, false) {
-                    j.impulses = Default::default();
-                }
+            for &j in &self.joints {
+                let joint = &mut self.b2.joints[j];
+                joint.impulse = [0.0; 3];
+                joint.motor_impulse = 0.0;
             }
         }
-        self.pw.step();
-        self.rapier_stepped = true;
+        self.b2.step(self.dt, VELOCITY_ITERATIONS, POSITION_ITERATIONS);
+        self.solver_stepped = true;
         true
     }
 
-    fn body_state(&self, h: RigidBodyHandle, angle: f32) -> BodyState {
-        let b = &self.pw.bodies[h];
-        let t = b.translation();
-        let v = b.linvel();
+    fn body_state(&self, k: usize) -> BodyState {
+        let b = self.body(k);
         BodyState {
-            x: t.x,
-            y: t.y,
-            angle,
-            vx: v.x,
-            vy: v.y,
-            w: b.angvel(),
+            x: b.xf.p.x,
+            y: b.xf.p.y,
+            angle: b.sweep.a,
+            vx: b.v.x,
+            vy: b.v.y,
+            w: b.w,
         }
     }
 
-    fn touching(&self, c: ColliderHandle) -> bool {
-        self.pw.narrow_phase.contact_pairs_with(c).any(|pair| {
-            pair.manifolds()
-                .iter()
-                .any(|m| m.points.iter().any(|pt| pt.dist < TOUCH_DISTANCE))
-        })
+    /// Applies Gymnasium's `ApplyLinearImpulse(impulse, point)` to the lander.
+    fn lander_impulse(&mut self, impulse: V2, point: V2) {
+        let b = &mut self.b2.bodies[self.bodies[0]];
+        b.v += b.inv_mass * impulse;
+        b.w += b.inv_inertia * (point - b.sweep.c).cross(impulse);
     }
-}
-
-/// Highest terrain point within ±1 chunk of `x` (a conservative ground height for the
-/// near-ground test; outside the terrain the nearest end counts).
-fn terrain_height(smooth_y: &[f64; CHUNKS], world_w: f64, x: f64) -> f64 {
-    let chunk = world_w / (CHUNKS - 1) as f64;
-    let i = if chunk > 0.0 && x.is_finite() {
-        (x / chunk).floor().clamp(0.0, (CHUNKS - 1) as f64) as usize
-    } else {
-        0
-    };
-    let lo = i.saturating_sub(1);
-    let hi = (i + 2).min(CHUNKS - 1);
-    smooth_y[lo..=hi].iter().copied().fold(f64::MIN, f64::max)
 }
 
 /// The bodies as Gymnasium's `reset` creates them: lander at `(W/2, H)`, each leg at the
@@ -621,33 +506,31 @@ fn terrain_height(smooth_y: &[f64; CHUNKS], world_w: f64, x: f64) -> f64 {
 fn creation_bodies(p: &LunarLanderParams) -> [BodyState; 3] {
     let (x0, y0) = (p.world_w() / 2.0, p.world_h());
     let mut out = [BodyState {
-        x: x0 as f32,
-        y: y0 as f32,
+        x: x0,
+        y: y0,
         ..Default::default()
     }; 3];
     for (k, i) in [-1.0f64, 1.0].into_iter().enumerate() {
         out[1 + k] = BodyState {
-            x: (x0 - i * p.leg_away / p.scale) as f32,
-            y: y0 as f32,
-            angle: (i * LEG_CREATION_ANGLE) as f32,
+            x: x0 - i * p.leg_away / p.scale,
+            y: y0,
+            angle: i * LEG_CREATION_ANGLE,
             ..Default::default()
         };
     }
     out
 }
 
-/// Gymnasium's `LunarLander` with an explicit context; each instance owns its rapier world.
+/// Gymnasium's `LunarLander` with an explicit context; each instance owns its world.
 #[derive(Debug)]
 pub struct LunarLander {
     params: LunarLanderParams,
     opts: LunarLanderOptions,
     world: Option<World>,
     smooth_y: [f64; CHUNKS],
-    /// Unwrapped angles of the lander and legs (Box2D keeps angles continuous).
-    angles: [f32; 3],
     leg_contact: [bool; 2],
     game_over: bool,
-    rest_time: f32,
+    rest_time: f64,
     prev_shaping: Option<f64>,
     /// Gymnasium's random push at reset, acting during the first step only (Box2D clears
     /// forces); that step assembles the legs ([`rigid::first_step`]).
@@ -668,7 +551,7 @@ fn rng_for(seed: u64) -> EnvRng {
 
 impl Clone for LunarLander {
     /// The clone gets a world rebuilt from the full [`Env::state`]: bodies, terrain and episode
-    /// bookkeeping are equal, rapier's solver caches (warm-start impulses) start empty.
+    /// bookkeeping are equal, the solver's warm-start impulses start empty.
     fn clone(&self) -> Self {
         let mut c = LunarLander::with_options(self.params, self.opts);
         c.rng = self.rng.clone();
@@ -698,7 +581,6 @@ impl LunarLander {
             opts,
             world: None,
             smooth_y: [0.0; CHUNKS],
-            angles: [0.0; 3],
             leg_contact: [false; 2],
             game_over: false,
             rest_time: 0.0,
@@ -734,19 +616,17 @@ impl LunarLander {
     }
     /// Lander origin `(x, y)` in metres and its (unwrapped) angle, or `None` before reset.
     pub fn lander_pose(&self) -> Option<(f64, f64, f64)> {
-        let w = self.world.as_ref()?;
-        let t = w.pw.bodies[w.lander].translation();
-        Some((t.x as f64, t.y as f64, self.angles[0] as f64))
+        let b = self.world.as_ref()?.body_state(0);
+        Some((b.x, b.y, b.angle))
     }
     /// Poses `(x, y, angle)` of the lander, leg 0 and leg 1 (body origins, metres), or `None`
     /// before reset.
     pub fn body_poses(&self) -> Option<[(f64, f64, f64); 3]> {
         let w = self.world.as_ref()?;
-        let pose = |k: usize, h: RigidBodyHandle| {
-            let t = w.pw.bodies[h].translation();
-            (t.x as f64, t.y as f64, self.angles[k] as f64)
-        };
-        Some([pose(0, w.lander), pose(1, w.legs[0]), pose(2, w.legs[1])])
+        Some([0, 1, 2].map(|k| {
+            let b = w.body_state(k);
+            (b.x, b.y, b.angle)
+        }))
     }
     /// Leg ground contacts as in the observation.
     pub fn leg_contacts(&self) -> [bool; 2] {
@@ -758,14 +638,12 @@ impl LunarLander {
     }
     /// Lander COM velocity `(vx, vy)` and angular velocity, or `None` before reset.
     pub fn lander_velocity(&self) -> Option<(f64, f64, f64)> {
-        let w = self.world.as_ref()?;
-        let b = &w.pw.bodies[w.lander];
-        Some((b.linvel().x as f64, b.linvel().y as f64, b.angvel() as f64))
+        let b = self.world.as_ref()?.body_state(0);
+        Some((b.vx, b.vy, b.w))
     }
     /// Lander mass (kg) as the physics engine computed it.
     pub fn lander_mass(&self) -> Option<f64> {
-        let w = self.world.as_ref()?;
-        Some(w.pw.bodies[w.lander].mass() as f64)
+        Some(self.world.as_ref()?.body(0).mass)
     }
 
     fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
@@ -796,18 +674,17 @@ impl LunarLander {
         let mut s = [0.0; STATE_DIM];
         s[..CHUNKS].copy_from_slice(&self.smooth_y);
         if let Some(w) = &self.world {
-            let hs = [w.lander, w.legs[0], w.legs[1]];
-            for (k, h) in hs.into_iter().enumerate() {
-                let b = w.body_state(h, self.angles[k]);
+            for k in 0..3 {
+                let b = w.body_state(k);
                 let o = CHUNKS + 6 * k;
-                s[o..o + 6].copy_from_slice(&[b.x, b.y, b.angle, b.vx, b.vy, b.w].map(f64::from));
+                s[o..o + 6].copy_from_slice(&[b.x, b.y, b.angle, b.vx, b.vy, b.w]);
             }
         }
         let o = CHUNKS + 18;
         s[o] = f64::from(u8::from(self.leg_contact[0]));
         s[o + 1] = f64::from(u8::from(self.leg_contact[1]));
         s[o + 2] = f64::from(u8::from(self.game_over));
-        s[o + 3] = f64::from(self.rest_time);
+        s[o + 3] = self.rest_time;
         s[o + 4] = f64::from(u8::from(self.prev_shaping.is_some()));
         s[o + 5] = self.prev_shaping.unwrap_or(0.0);
         s
@@ -818,7 +695,7 @@ impl LunarLander {
         let mut bodies = [BodyState::default(); 3];
         for (k, b) in bodies.iter_mut().enumerate() {
             let o = CHUNKS + 6 * k;
-            let v = |j: usize| s[o + j] as f32;
+            let v = |j: usize| s[o + j];
             *b = BodyState {
                 x: v(0),
                 y: v(1),
@@ -827,13 +704,12 @@ impl LunarLander {
                 vy: v(4),
                 w: v(5),
             };
-            self.angles[k] = b.angle;
         }
         let o = CHUNKS + 18;
         self.leg_contact = [s[o] != 0.0, s[o + 1] != 0.0];
-        self.world = Some(World::build(&self.params, &self.opts, &self.smooth_y, &bodies));
+        self.world = Some(World::build(&self.params, &self.smooth_y, &bodies));
         self.game_over = s[o + 2] != 0.0;
-        self.rest_time = s[o + 3] as f32;
+        self.rest_time = s[o + 3];
         self.prev_shaping = (s[o + 4] != 0.0).then_some(s[o + 5]);
         self.initial_force = None;
         self.outcome = Outcome::Running;
@@ -844,17 +720,15 @@ impl LunarLander {
     fn state_f64(&self) -> [f64; 8] {
         let Some(w) = &self.world else { return [0.0; 8] };
         let p = &self.params;
-        let b = &w.pw.bodies[w.lander];
-        let pos = b.translation();
-        let vel = b.linvel();
+        let b = w.body_state(0);
         let (hw, hh) = (p.world_w() / 2.0, p.world_h() / 2.0);
         [
-            (pos.x as f64 - hw) / hw,
-            (pos.y as f64 - (p.helipad_y() + p.leg_down / p.scale)) / hh,
-            vel.x as f64 * hw / p.fps,
-            vel.y as f64 * hh / p.fps,
-            self.angles[0] as f64,
-            20.0 * b.angvel() as f64 / p.fps,
+            (b.x - hw) / hw,
+            (b.y - (p.helipad_y() + p.leg_down / p.scale)) / hh,
+            b.vx * hw / p.fps,
+            b.vy * hh / p.fps,
+            b.angle,
+            20.0 * b.w / p.fps,
             f64::from(u8::from(self.leg_contact[0])),
             f64::from(u8::from(self.leg_contact[1])),
         ]
@@ -909,106 +783,61 @@ impl LunarLander {
         let p = self.params;
         self.last_engines = (m_power, direction, s_power);
         let scale = p.scale;
-        let angle = self.angles[0] as f64;
-        let tip = (angle.sin(), angle.cos());
-        let side = (-tip.1, tip.0);
-        let d0 = self.uniform(-1.0, 1.0) / scale;
-        let d1 = self.uniform(-1.0, 1.0) / scale;
         let world = self.world.as_mut().expect("advance needs a world");
-        {
-            let lander = &mut world.pw.bodies[world.lander];
-            let t = lander.translation();
-            let (px, py) = (t.x as f64, t.y as f64);
-            if m_power > 0.0 {
-                let ox = tip.0 * (MAIN_ENGINE_Y_LOCATION / scale + 2.0 * d0) + side.0 * d1;
-                let oy = -tip.1 * (MAIN_ENGINE_Y_LOCATION / scale + 2.0 * d0) - side.1 * d1;
-                let at = Vector::new((px + ox) as f32, (py + oy) as f32);
-                let imp = Vector::new(
-                    (-ox * p.main_engine_power * m_power) as f32,
-                    (-oy * p.main_engine_power * m_power) as f32,
-                );
-                lander.apply_impulse_at_point(imp, at, true);
-            }
-            if s_power > 0.0 {
-                let lever = 3.0 * d1 + direction * p.side_engine_away / scale;
-                let ox = tip.0 * d0 + side.0 * lever;
-                let oy = -tip.1 * d0 - side.1 * lever;
-                let at = Vector::new(
-                    (px + ox - tip.0 * 17.0 / scale) as f32,
-                    (py + oy + tip.1 * p.side_engine_height / scale) as f32,
-                );
-                let imp = Vector::new(
-                    (-ox * p.side_engine_power * s_power) as f32,
-                    (-oy * p.side_engine_power * s_power) as f32,
-                );
-                lander.apply_impulse_at_point(imp, at, true);
-            }
+        let lander = world.body_state(0);
+        let tip = (lander.angle.sin(), lander.angle.cos());
+        let side = (-tip.1, tip.0);
+        let d0 = rng::uniform(&mut self.rng, -1.0, 1.0) / scale;
+        let d1 = rng::uniform(&mut self.rng, -1.0, 1.0) / scale;
+        let (px, py) = (lander.x, lander.y);
+        if m_power > 0.0 {
+            let ox = tip.0 * (MAIN_ENGINE_Y_LOCATION / scale + 2.0 * d0) + side.0 * d1;
+            let oy = -tip.1 * (MAIN_ENGINE_Y_LOCATION / scale + 2.0 * d0) - side.1 * d1;
+            let impulse = v2(-ox * p.main_engine_power * m_power, -oy * p.main_engine_power * m_power);
+            world.lander_impulse(impulse, v2(px + ox, py + oy));
+        }
+        if s_power > 0.0 {
+            let lever = 3.0 * d1 + direction * p.side_engine_away / scale;
+            let ox = tip.0 * d0 + side.0 * lever;
+            let oy = -tip.1 * d0 - side.1 * lever;
+            let at = v2(
+                px + ox - tip.0 * 17.0 / scale,
+                py + oy + tip.1 * p.side_engine_height / scale,
+            );
+            let impulse = v2(-ox * p.side_engine_power * s_power, -oy * p.side_engine_power * s_power);
+            world.lander_impulse(impulse, at);
         }
 
-        let before = [world.lander, world.legs[0], world.legs[1]].map(|h| world.pw.bodies[h].translation());
-        let angles_before = self.angles;
-        // Contacts need the full substeps (the 68:1 lander/leg mass ratio); free flight does
-        // not. "Near" leaves a margin of two steps of travel plus the leg reach.
-        let near = {
-            let b = &world.pw.bodies[world.lander];
-            let (t, v) = (b.translation(), b.linvel());
-            let reach = (p.leg_down + p.leg_h + p.leg_w) / scale + 0.5;
-            let travel = 2.0 * f64::from(v.length()) * f64::from(world.pw.integration_parameters.dt);
-            f64::from(t.y) - terrain_height(&self.smooth_y, p.world_w(), f64::from(t.x)) < reach + travel
-        };
-        // Continuous collision (rapier sweeps fast dynamic bodies against fixed colliders)
-        // only matters where there is something to hit within two steps' travel; its sweeps
-        // cost ~4 % of a step in free flight, where they find nothing.
-        world.pw.integration_parameters.max_ccd_substeps = usize::from(near);
-        world.pw.integration_parameters.num_solver_iterations = if near {
-            self.opts.solver_iterations.max(1)
-        } else {
-            self.opts.flight_solver_iterations.max(1)
-        };
-        let rapier_stepped = world.step(self.initial_force.take());
-        let dt = world.pw.integration_parameters.dt;
+        let solver_stepped = world.step(self.initial_force.take());
+        let dt = world.dt;
 
-        // Box2D's motion caps, unwrapped angles and the rest criterion.
-        let hs = [world.lander, world.legs[0], world.legs[1]];
-        let mut resting = true;
-        for (k, h) in hs.into_iter().enumerate() {
-            let b = &mut world.pw.bodies[h];
-            let mut v = b.linvel();
-            let mut w = b.angvel();
-            let tr = v.length() * dt;
-            if tr > MAX_TRANSLATION && tr.is_finite() {
-                v *= MAX_TRANSLATION / tr;
-                b.set_linvel(v, false);
-            }
-            let rot = w.abs() * dt;
-            if rot > MAX_ROTATION && rot.is_finite() {
-                w *= MAX_ROTATION / rot;
-                b.set_angvel(w, false);
-            }
-            let a = b.rotation().angle();
-            self.angles[k] += wrap_pi(a - wrap_pi(self.angles[k]));
-            // Rest is judged on how far each body actually moved during the step: rapier's
-            // velocities carry the soft constraints' correction terms, which do not move a
-            // body at rest but would keep it "awake" forever.
-            let (lt, at) = (LINEAR_SLEEP_TOLERANCE * REST_TOLERANCE_FACTOR, ANGULAR_SLEEP_TOLERANCE);
-            let moved = b.translation() - before[k];
-            let turned = self.angles[k] - angles_before[k];
-            if moved.length_squared() > (lt * dt) * (lt * dt) || turned * turned > (at * dt) * (at * dt) {
-                resting = false;
-            }
-        }
+        // Box2D's island sleep test: lander and legs (one island through the joints) all slower
+        // than the sleep tolerances for `TIME_TO_SLEEP`; then the lander is "not awake".
+        let resting = (0..3).all(|k| {
+            let b = world.body(k);
+            b.v.length_squared() <= LINEAR_SLEEP_TOLERANCE * LINEAR_SLEEP_TOLERANCE
+                && b.w * b.w <= ANGULAR_SLEEP_TOLERANCE * ANGULAR_SLEEP_TOLERANCE
+        });
         self.rest_time = if resting { self.rest_time + dt } else { 0.0 };
         let awake = self.rest_time < TIME_TO_SLEEP;
 
-        // In flight nothing touches (rapier's contacts are from its last step).
-        if rapier_stepped && world.touching(world.lander_col) {
-            self.game_over = true;
-        }
-        self.leg_contact = if rapier_stepped {
-            [world.touching(world.leg_cols[0]), world.touching(world.leg_cols[1])]
+        // Gymnasium's contact listener: a lander contact beginning ends the game, a leg's flag
+        // follows its contacts beginning and ending, in Box2D's event order. In flight nothing
+        // touches.
+        if solver_stepped {
+            for e in &world.b2.events {
+                for f in [e.fixture_a, e.fixture_b] {
+                    if f == world.lander_fixture && e.begin {
+                        self.game_over = true;
+                    }
+                    if let Some(k) = world.leg_fixtures.iter().position(|&l| l == f) {
+                        self.leg_contact[k] = e.begin;
+                    }
+                }
+            }
         } else {
-            [false; 2]
-        };
+            self.leg_contact = [false; 2];
+        }
 
         let s = self.state_f64();
         let shaping = -100.0 * (s[0] * s[0] + s[1] * s[1]).sqrt()
@@ -1094,8 +923,7 @@ impl Env for LunarLander {
         }
         self.generate_terrain();
         let bodies = creation_bodies(&self.params);
-        self.world = Some(World::build(&self.params, &self.opts, &self.smooth_y, &bodies));
-        self.angles = [bodies[0].angle, bodies[1].angle, bodies[2].angle];
+        self.world = Some(World::build(&self.params, &self.smooth_y, &bodies));
         self.leg_contact = [false; 2];
         self.game_over = false;
         self.rest_time = 0.0;

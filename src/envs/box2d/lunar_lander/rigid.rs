@@ -1,6 +1,6 @@
 //! Box2D's lander where it moves as one rigid body: its first step, which assembles the legs, and
 //! free flight. Both in closed form on plain numbers; [`super::World`] writes the results into
-//! rapier, which takes over near the ground.
+//! the Box2D-semantics solver ([`crate::physics2d`]), which takes over near the ground.
 //!
 //! **First step.** Gymnasium's `reset` creates the legs *unassembled*: each at the lander's
 //! height, `LEG_AWAY` to the side and turned `±0.05` rad, its joint anchor `LEG_DOWN` above the
@@ -25,7 +25,7 @@
 //! whose legs turn at a prescribed rate. [`flight_step`] solves that: engine impulses and gravity
 //! change the momenta, the joints only exchange them, so the lander's new velocity is the one that
 //! keeps total linear and angular momentum with the legs moving as prescribed. When a motor could
-//! not supply the torque (tiny `LEG_SPRING_TORQUE` contexts) it declines and rapier steps instead;
+//! not supply the torque (tiny `LEG_SPRING_TORQUE` contexts) it declines and the solver steps instead;
 //! in the first step such a leg turns freely under the motor's full torque, as in Box2D (below
 //! ~20 N·m at the defaults the push swings a leg out: unit tests against Gymnasium).
 
@@ -360,7 +360,7 @@ pub(super) fn flight_step(
         }
     }
     let anchors = [anchor_world(&b[0], &joints[0]), anchor_world(&b[0], &joints[1])];
-    // A motor too weak to hold its leg: rapier's step instead.
+    // A motor too weak to hold its leg: the solver's step instead.
     let Some((new, _)) = solve_velocities(&b, anchors, speed, drive, dt, false) else {
         return false;
     };
@@ -548,7 +548,7 @@ mod tests {
         }
         // 0.49 → 0.35 at 0.3 rad/s.
         assert!((22..=25).contains(&steps), "{steps}");
-        // A motor with no torque cannot hold a swinging leg: rapier's turn.
+        // A motor with no torque cannot hold a swinging leg: the solver's turn.
         let weak = LegDrive {
             max_torque: 0.0,
             ..drive
