@@ -233,7 +233,6 @@ pub static REGISTRY: &[Registration] = &[
             let opts = LunarLanderOptions {
                 continuous: o.flag("continuous"),
                 crash_penalty: o.get("crash_penalty"),
-                ..LunarLanderOptions::default()
             };
             Ok(AnyEnv::new(LunarLander::with_options(p, opts)))
         },
