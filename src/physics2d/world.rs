@@ -517,7 +517,9 @@ impl World {
         (self.fixtures[c.fixture_a].body, self.fixtures[c.fixture_b].body)
     }
 
-    fn solve_toi_island(&mut self, s: &mut Scratch, h: f64, vel_iters: usize, toi_pair: (usize, usize)) {
+    /// The island's contact constraints into `s.constraints`; `dt_ratio` scales the warm start
+    /// (`None`: a TOI sub-step, which Box2D solves without warm starting).
+    fn contact_constraints(&self, s: &mut Scratch, dt_ratio: Option<f64>) {
         s.constraints.clear();
         for &k in &s.contacts {
             let c = &self.contacts[k];
@@ -529,9 +531,13 @@ impl World {
                 c.friction,
                 c.restitution,
                 (fa.def.shape.radius(), fb.def.shape.radius()),
-                None,
+                dt_ratio,
             ));
         }
+    }
+
+    fn solve_toi_island(&mut self, s: &mut Scratch, h: f64, vel_iters: usize, toi_pair: (usize, usize)) {
+        self.contact_constraints(s, None);
         for _ in 0..20 {
             if cs::solve_position(&s.constraints, &mut self.bodies, TOI_BAUMGARTE, Some(toi_pair), 1.5) {
                 break;
@@ -636,20 +642,7 @@ impl World {
             body.v += h * (g + body.inv_mass * body.force);
             body.w += h * body.inv_inertia * body.torque;
         }
-        s.constraints.clear();
-        for &k in &s.contacts {
-            let c = &self.contacts[k];
-            let (fa, fb) = (&self.fixtures[c.fixture_a], &self.fixtures[c.fixture_b]);
-            s.constraints.push(ContactConstraint::new(
-                k,
-                (fa.body, fb.body),
-                &c.manifold,
-                c.friction,
-                c.restitution,
-                (fa.def.shape.radius(), fb.def.shape.radius()),
-                Some(dt_ratio),
-            ));
-        }
+        self.contact_constraints(s, Some(dt_ratio));
         cs::init_velocity(&mut s.constraints, &self.bodies);
         cs::warm_start(&s.constraints, &mut self.bodies);
         for &j in &s.joints {
