@@ -521,8 +521,9 @@ fn creation_bodies(p: &LunarLanderParams) -> [BodyState; 3] {
     out
 }
 
-/// Gymnasium's `LunarLander` with an explicit context; each instance owns its world.
-#[derive(Debug)]
+/// Gymnasium's `LunarLander` with an explicit context; each instance owns its world (a clone
+/// copies it exactly, solver warm-start impulses included).
+#[derive(Debug, Clone)]
 pub struct LunarLander {
     params: LunarLanderParams,
     opts: LunarLanderOptions,
@@ -547,21 +548,6 @@ pub struct LunarLander {
 /// start exactly (`tests/lunar_lander.rs` checks the terrain against Box2D's).
 fn rng_for(seed: u64) -> EnvRng {
     EnvRng::from_seed(seed)
-}
-
-impl Clone for LunarLander {
-    /// The clone gets a world rebuilt from the full [`Env::state`]: bodies, terrain and episode
-    /// bookkeeping are equal, the solver's warm-start impulses start empty.
-    fn clone(&self) -> Self {
-        let mut c = LunarLander::with_options(self.params, self.opts);
-        c.rng = self.rng.clone();
-        if self.world.is_some() {
-            c.load_state(&self.state_array());
-            c.outcome = self.outcome;
-            c.last_engines = self.last_engines;
-        }
-        c
-    }
 }
 
 impl Default for LunarLander {
