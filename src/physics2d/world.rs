@@ -155,6 +155,17 @@ impl World {
         self.fixtures.len() - 1
     }
 
+    /// A dynamic body with one fixture, its origin at `position`, turned `angle`, moving with
+    /// centre-of-mass velocity `v` and angular velocity `w`: `(body, fixture)`. The velocities are
+    /// set after the mass, which the fixture determines.
+    pub fn add_dynamic(&mut self, position: V2, angle: f64, v: V2, w: f64, def: FixtureDef) -> (usize, usize) {
+        let body = self.add_body(BodyKind::Dynamic, position, angle);
+        let fixture = self.add_fixture(body, def);
+        self.bodies[body].v = v;
+        self.bodies[body].w = w;
+        (body, fixture)
+    }
+
     fn reset_mass(&mut self, body: usize) {
         let (mut mass, mut center, mut inertia) = (0.0, V2::ZERO, 0.0);
         for f in self.fixtures.iter().filter(|f| f.body == body) {

@@ -300,24 +300,17 @@ impl World {
         let hull = Polygon::from_points(&pts).unwrap_or_else(|_| Polygon::new_box(0.5, 0.5));
         let dynamic =
             |b2: &mut b2::World, st: &BodyState, shape: Polygon, density: f64, friction: f64, category: u16| {
-                let body = b2.add_body(BodyKind::Dynamic, v2(st.x, st.y), st.angle);
-                let fixture = b2.add_fixture(
-                    body,
-                    FixtureDef {
-                        shape: Shape::Polygon(shape),
-                        density,
-                        friction,
-                        restitution: 0.0,
-                        filter: Filter {
-                            category,
-                            mask: GROUND_CATEGORY,
-                        },
+                let def = FixtureDef {
+                    shape: Shape::Polygon(shape),
+                    density,
+                    friction,
+                    restitution: 0.0,
+                    filter: Filter {
+                        category,
+                        mask: GROUND_CATEGORY,
                     },
-                );
-                let b = &mut b2.bodies[body];
-                b.v = v2(st.vx, st.vy);
-                b.w = st.w;
-                (body, fixture)
+                };
+                b2.add_dynamic(v2(st.x, st.y), st.angle, v2(st.vx, st.vy), st.w, def)
             };
         let (lander, lander_fixture) = dynamic(&mut b2, &bodies[0], hull, 5.0, 0.1, LANDER_CATEGORY);
         let leg_box = Polygon::new_box(size(p.leg_w / s), size(p.leg_h / s));

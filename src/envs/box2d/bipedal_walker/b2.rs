@@ -86,20 +86,14 @@ impl Box2dWalker {
             world.add_fixture(b, ground(e));
         }
         let dynamic = |world: &mut B2World, s: &BodyState, shape: Shape, density: f64, friction: f64| {
-            let b = world.add_body(BodyKind::Dynamic, v2(s.x, s.y), s.angle);
-            let f = world.add_fixture(
-                b,
-                FixtureDef {
-                    shape,
-                    density,
-                    friction,
-                    restitution: 0.0,
-                    filter: WALKER,
-                },
-            );
-            world.bodies[b].v = v2(s.vx, s.vy);
-            world.bodies[b].w = s.w;
-            (b, f)
+            let def = FixtureDef {
+                shape,
+                density,
+                friction,
+                restitution: 0.0,
+                filter: WALKER,
+            };
+            world.add_dynamic(v2(s.x, s.y), s.angle, v2(s.vx, s.vy), s.w, def)
         };
         let sc = size(p.scale);
         let hull_shape = hull_polygon(sc).unwrap_or_else(|_| Polygon::new_box(0.5, 0.2));
