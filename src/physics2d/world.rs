@@ -79,6 +79,13 @@ pub struct ContactEvent {
     pub begin: bool,
 }
 
+impl ContactEvent {
+    /// Whether `fixture` is one of the contact's two.
+    pub fn involves(&self, fixture: usize) -> bool {
+        self.fixture_a == fixture || self.fixture_b == fixture
+    }
+}
+
 /// Reused buffers of the island solver (no allocation per step once warm).
 #[derive(Debug, Clone, Default)]
 struct Scratch {

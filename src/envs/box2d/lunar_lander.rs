@@ -805,12 +805,12 @@ impl LunarLander {
         // touches.
         if solver_stepped {
             for e in &world.b2.events {
-                for f in [e.fixture_a, e.fixture_b] {
-                    if f == world.lander_fixture && e.begin {
-                        self.game_over = true;
-                    }
-                    if let Some(k) = world.leg_fixtures.iter().position(|&l| l == f) {
-                        self.leg_contact[k] = e.begin;
+                if e.begin && e.involves(world.lander_fixture) {
+                    self.game_over = true;
+                }
+                for (flag, &leg) in self.leg_contact.iter_mut().zip(&world.leg_fixtures) {
+                    if e.involves(leg) {
+                        *flag = e.begin;
                     }
                 }
             }

@@ -1221,13 +1221,12 @@ impl BipedalWalker {
         w.world.step(dt, b2::VELOCITY_ITERATIONS, b2::POSITION_ITERATIONS);
         self.pending_force = false;
         for e in &w.world.events {
-            if e.begin && (e.fixture_a == w.hull_fixture || e.fixture_b == w.hull_fixture) {
+            if e.begin && e.involves(w.hull_fixture) {
                 self.game_over = true;
             }
-            for leg in 0..2 {
-                let f = w.lower_fixtures[leg];
-                if e.fixture_a == f || e.fixture_b == f {
-                    self.ground_contact[leg] = e.begin;
+            for (flag, &leg) in self.ground_contact.iter_mut().zip(&w.lower_fixtures) {
+                if e.involves(leg) {
+                    *flag = e.begin;
                 }
             }
         }
