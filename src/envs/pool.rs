@@ -103,14 +103,32 @@ impl Pool {
     }
 
     /// Call `job` on disjoint ranges covering `0..n` (blocks of `block` items) from all threads;
-    /// return when every range is done.
-    pub(crate) fn run(&mut self, n: usize, block: usize, job: &(dyn Fn(Range<usize>) + Sync)) {
+    /// return when every range is done. The calling thread first runs `caller` while the
+    /// workers already claim blocks: `caller` may do other work there (the Python binding makes
+    /// the step's output objects, with the GIL) before it takes its own [`CallerShare`] of the
+    /// blocks (for example with the GIL released); blocks it leaves are claimed after it returns.
+    pub(crate) fn run(
+        &mut self,
+        n: usize,
+        block: usize,
+        job: &(dyn Fn(Range<usize>) + Sync),
+        caller: impl FnOnce(&mut CallerShare<'_>),
+    ) {
         let block = block.max(1);
+        let sh = &*self.shared;
         if self.handles.is_empty() || n <= block {
-            job(0..n);
+            // One block on the calling thread; no job is opened, so no worker joins.
+            sh.next.store(0, Ordering::Relaxed);
+            let mut share = CallerShare {
+                sh,
+                job,
+                n,
+                block: n.max(1),
+            };
+            caller(&mut share);
+            share.claim_all();
             return;
         }
-        let sh = &*self.shared;
         // SAFETY: the lifetime is erased only while the job is open: `CloseGuard` closes it and
         // waits (even while unwinding) until no worker is inside it.
         let ptr: *const Job = unsafe { std::mem::transmute::<&(dyn Fn(Range<usize>) + Sync), &'static Job>(job) };
@@ -127,11 +145,29 @@ impl Pool {
             }
         }
         let guard = CloseGuard(sh);
-        drain(sh, job, n, block);
+        let mut share = CallerShare { sh, job, n, block };
+        caller(&mut share);
+        share.claim_all();
         drop(guard);
         if sh.panicked.swap(false, Ordering::AcqRel) {
             panic!("a VecEnv worker thread panicked");
         }
+    }
+}
+
+/// The calling thread's share of a job of [`Pool::run`]. It is `Send`, so the claiming may
+/// happen inside a closure that runs with the GIL released.
+pub struct CallerShare<'a> {
+    sh: &'a Shared,
+    job: &'a (dyn Fn(Range<usize>) + Sync + 'a),
+    n: usize,
+    block: usize,
+}
+
+impl CallerShare<'_> {
+    /// Claim and run blocks until none is left (the workers may still finish theirs).
+    pub fn claim_all(&mut self) {
+        drain(self.sh, self.job, self.n, self.block);
     }
 }
 

@@ -53,6 +53,7 @@ use super::classic::cartpole::{self, CartPoleConstants};
 use super::classic::{CartPole, CartPoleParams};
 use super::contextual::{ContextInfo, ContextualEnv};
 use super::pool::Pool;
+pub use super::pool::CallerShare;
 use super::registry::{Context, MakeError, MakeOptions, SpecEnv, VectorKernel, lookup, make_with};
 use super::rng::EnvRng;
 use super::runtime::AnyEnv;
@@ -616,6 +617,19 @@ impl VecEnv {
 
     /// Step every environment with its action (auto-resetting finished ones; see the module docs).
     pub fn step(&mut self, actions: VecActions<'_>) -> Result<VecStep<'_>, EnvError> {
+        self.step_with(actions, |share| share.claim_all())
+    }
+
+    /// [`VecEnv::step`], where the calling thread first runs `caller` while the worker threads
+    /// already step their blocks of environments, then steps the blocks left: `caller` may do
+    /// unrelated work there (the Python binding makes the step's output objects) and may take
+    /// its [`CallerShare`] itself (for example with Python's GIL released). With one thread,
+    /// `caller` runs before the whole batch is stepped. Not called when the actions are refused.
+    pub fn step_with(
+        &mut self,
+        actions: VecActions<'_>,
+        caller: impl FnOnce(&mut CallerShare<'_>),
+    ) -> Result<VecStep<'_>, EnvError> {
         self.check(actions)?;
         let n = self.n;
         let d = self.obs_dim;
@@ -650,7 +664,7 @@ impl VecEnv {
                     // SAFETY: every buffer has `n` rows; the pool hands out disjoint ranges.
                     unsafe { cartpole_chunk(&soa, &raw, &a[r.clone()], r, max_steps, mode) }
                 };
-                self.pool.run(n, block, &job);
+                self.pool.run(n, block, &job, caller);
             }
             (Envs::Array(envs, acts), actions) => {
                 let env = ChunkEnv {
@@ -660,7 +674,7 @@ impl VecEnv {
                     max_steps,
                     mode,
                 };
-                if let Err(e) = step_array(&mut self.pool, error, envs, acts, &env, n, block) {
+                if let Err(e) = step_array(&mut self.pool, error, envs, acts, &env, n, block, caller) {
                     self.ready = false;
                     return Err(e);
                 }
@@ -673,7 +687,7 @@ impl VecEnv {
                     max_steps,
                     mode,
                 };
-                if let Err(e) = step_array(&mut self.pool, error, envs, acts, &env, n, block) {
+                if let Err(e) = step_array(&mut self.pool, error, envs, acts, &env, n, block, caller) {
                     self.ready = false;
                     return Err(e);
                 }
@@ -876,7 +890,9 @@ struct ChunkEnv<'a, 'b> {
     mode: AutoresetMode,
 }
 
-/// Run [`array_chunk`] over the whole batch on the pool; the first error wins.
+/// Run [`array_chunk`] over the whole batch on the pool (`caller` as in [`VecEnv::step_with`]);
+/// the first error wins.
+#[allow(clippy::too_many_arguments)]
 fn step_array<E: BatchEnv>(
     pool: &mut Pool,
     error: &Mutex<Option<EnvError>>,
@@ -885,6 +901,7 @@ fn step_array<E: BatchEnv>(
     c: &ChunkEnv<'_, '_>,
     n: usize,
     block: usize,
+    caller: impl FnOnce(&mut CallerShare<'_>),
 ) -> Result<(), EnvError> {
     let envs_p = SyncPtr(envs.as_mut_ptr());
     let acts_p = SyncPtr(acts.as_mut_ptr());
@@ -897,7 +914,7 @@ fn step_array<E: BatchEnv>(
             slot.get_or_insert(e);
         }
     };
-    pool.run(n, block, &job);
+    pool.run(n, block, &job, caller);
     match error.lock().ok().and_then(|mut s| s.take()) {
         Some(e) => Err(e),
         None => Ok(()),

@@ -16,7 +16,8 @@ use numpy::ndarray::IxDyn;
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyDict, PyList, PyTuple};
+use pyo3::{PyTraverseError, PyVisit};
 
 use carl_spec::envs::contextual::{
     ContextInfo, ContextNoise, ContextSource, ContextualEnv, ContextualError, ContextualOptions, NoiseRedraw, NoiseStd,
@@ -33,9 +34,11 @@ use carl_spec::spec::SpecSet;
 use carl_spec::spec::load::{bundled_inputs, read_inputs};
 use carl_spec::validate;
 
+mod stock;
 mod user_spec;
 mod vec_infos;
 
+use stock::Stock;
 use vec_infos::{Columns, keyed, mask, read_only, set_column, set_nested};
 
 // ---------------------------------------------------------------------------------------
@@ -465,25 +468,38 @@ impl ObsLayout {
 
     /// `n` observations (`batch = Some(n)`: with a leading batch axis) from the float32 rows,
     /// or from the float64 rows for float64 spaces.
+    /// Arrays come from `stock` if given.
     fn value<'py>(
         &self,
         py: Python<'py>,
         flat: &[f32],
         wide: Option<&[f64]>,
         batch: Option<usize>,
+        stock: Option<&Stock>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let dims = |shape: &[usize]| -> Vec<usize> { batch.into_iter().chain(shape.iter().copied()).collect() };
+        fn filled<'py, T: numpy::Element + 'static>(
+            stock: Option<&Stock>,
+            py: Python<'py>,
+            dims: &[usize],
+            fill: impl FnOnce(&mut [T]),
+        ) -> Bound<'py, PyAny> {
+            match stock {
+                Some(s) => s.filled(py, dims, fill),
+                None => crate::filled(py, dims, fill),
+            }
+        }
         Ok(match self {
             ObsLayout::Array { shape, dtype } => match (dtype, wide) {
-                (DType::Float32, _) => filled(py, &dims(shape), |out: &mut [f32]| out.copy_from_slice(flat)),
-                (DType::Float64, Some(w)) => filled(py, &dims(shape), |out: &mut [f64]| out.copy_from_slice(w)),
-                (DType::Float64, None) => filled(py, &dims(shape), |out: &mut [f64]| {
+                (DType::Float32, _) => filled(stock, py, &dims(shape), |out: &mut [f32]| out.copy_from_slice(flat)),
+                (DType::Float64, Some(w)) => filled(stock, py, &dims(shape), |out: &mut [f64]| out.copy_from_slice(w)),
+                (DType::Float64, None) => filled(stock, py, &dims(shape), |out: &mut [f64]| {
                     for (o, x) in out.iter_mut().zip(flat) {
                         *o = f64::from(*x);
                     }
                 }),
                 // Pixel values are whole numbers 0..=255 held in f32.
-                (DType::UInt8, _) => filled(py, &dims(shape), |out: &mut [u8]| {
+                (DType::UInt8, _) => filled(stock, py, &dims(shape), |out: &mut [u8]| {
                     for (o, x) in out.iter_mut().zip(flat) {
                         *o = *x as u8;
                     }
@@ -491,14 +507,14 @@ impl ObsLayout {
             },
             ObsLayout::Split { shape, base, k } => {
                 let row = base + k;
-                let pixels = filled(py, &dims(shape), |out: &mut [u8]| {
+                let pixels = filled(stock, py, &dims(shape), |out: &mut [u8]| {
                     for (o, r) in out.chunks_exact_mut(*base).zip(flat.chunks_exact(row)) {
                         for (p, x) in o.iter_mut().zip(&r[..*base]) {
                             *p = *x as u8;
                         }
                     }
                 });
-                let context = filled(py, &dims(&[*k]), |out: &mut [f32]| {
+                let context = filled(stock, py, &dims(&[*k]), |out: &mut [f32]| {
                     for (o, r) in out.chunks_exact_mut(*k).zip(flat.chunks_exact(row)) {
                         o.copy_from_slice(&r[*base..]);
                     }
@@ -686,7 +702,7 @@ impl Env {
                 .map_err(|e| env_error(&e))?;
             Some(&self.obs64[..])
         };
-        self.layout.value(py, &self.obs, wide, None)
+        self.layout.value(py, &self.obs, wide, None, None)
     }
 }
 
@@ -882,15 +898,6 @@ fn autoreset_mode(name: &str) -> PyResult<AutoresetMode> {
     }
 }
 
-/// `(observations, rewards, terminated, truncated, infos)` of one batch step.
-type BatchStep<'py> = (
-    Bound<'py, PyAny>,
-    Bound<'py, PyAny>,
-    Bound<'py, PyAny>,
-    Bound<'py, PyAny>,
-    Bound<'py, PyDict>,
-);
-
 /// A batch of environments stepped by one call (`carl_spec.make_vec` wraps it in a
 /// `gymnasium.vector.VectorEnv`). The GIL is released while Rust steps.
 #[pyclass(module = "carl_spec._core")]
@@ -918,12 +925,17 @@ struct VecEnv {
     /// `_instance_id` of a contextual batch (every env has an instance id): one read-only
     /// all-true mask shared by every step's infos.
     all_envs: Py<PyAny>,
+    /// The tuples the last two steps returned, released while the workers step a later batch
+    /// (see `step`).
+    returned: [Option<Py<PyTuple>>; 2],
+    /// Arrays and dicts of the step's outputs, made while the workers step (see `step`).
+    stock: Stock,
 }
 
 impl VecEnv {
     fn batch_obs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         self.layout
-            .value(py, self.inner.obs(), self.inner.obs_f64(), Some(self.inner.num_envs()))
+            .value(py, self.inner.obs(), self.inner.obs_f64(), Some(self.inner.num_envs()), Some(&self.stock))
     }
 
     /// `observed_context` of the envs `rows` in the vector layout: the visible features' values
@@ -933,6 +945,7 @@ impl VecEnv {
         let (w, base) = (self.inner.obs_dim(), self.base_dim);
         let value = |i: usize, j: usize| f64::from(obs[i * w + base + j]);
         set_nested(
+            &self.stock,
             d,
             &keyed!(d.py(), "observed_context"),
             self.inner.num_envs(),
@@ -1023,9 +1036,9 @@ impl VecEnv {
         let py = d.py();
         let n = self.inner.num_envs();
         d.set_item(pyo3::intern!(py, "final_obs"), self.final_obs_objects(py, ended)?)?;
-        d.set_item(pyo3::intern!(py, "_final_obs"), mask(py, n, ended))?;
+        d.set_item(pyo3::intern!(py, "_final_obs"), mask(&self.stock, py, n, ended))?;
         d.set_item(pyo3::intern!(py, "final_info"), self.final_info(py, ended)?)?;
-        d.set_item(pyo3::intern!(py, "_final_info"), mask(py, n, ended))
+        d.set_item(pyo3::intern!(py, "_final_info"), mask(&self.stock, py, n, ended))
     }
 
     fn final_obs_objects<'py>(&self, py: Python<'py>, ended: &[usize]) -> PyResult<Bound<'py, PyAny>> {
@@ -1041,7 +1054,7 @@ impl VecEnv {
                 wide.map(|w| ended.iter().flat_map(|&i| &w[i * d..(i + 1) * d]).copied().collect());
             let block = self
                 .layout
-                .value(py, &gather32, gather64.as_deref(), Some(ended.len()))?;
+                .value(py, &gather32, gather64.as_deref(), Some(ended.len()), None)?;
             for (&i, row) in ended.iter().zip(block.try_iter()?) {
                 objects[i] = row?.unbind();
             }
@@ -1053,6 +1066,7 @@ impl VecEnv {
                         py,
                         &flat[i * d..(i + 1) * d],
                         wide.map(|w| &w[i * d..(i + 1) * d]),
+                        None,
                         None,
                     )?
                     .unbind();
@@ -1085,13 +1099,13 @@ impl VecEnv {
         }
         let rows: Vec<usize> = infos.iter().map(|(i, _)| *i).collect();
         let value = |i: usize, j: usize| infos[at[i]].1.context.get(j).map_or(0.0, |(_, v)| *v);
-        set_nested(&d, &keyed!(py, "context"), n, &self.feature_keys, &rows, value)?;
+        set_nested(&self.stock, &d, &keyed!(py, "context"), n, &self.feature_keys, &rows, value)?;
         let ids: Vec<(usize, i64)> = infos
             .iter()
             .filter_map(|(i, ci)| Some((*i, ci.instance_id? as i64)))
             .collect();
         if !ids.is_empty() {
-            set_column(&d, &keyed!(py, "instance_id"), n, &ids)?;
+            set_column(&self.stock, &d, &keyed!(py, "instance_id"), n, &ids)?;
         }
         if infos.iter().any(|(_, ci)| ci.instance_name.is_some()) {
             let mut names: Vec<Py<PyAny>> = (0..n).map(|_| py.None()).collect();
@@ -1103,14 +1117,14 @@ impl VecEnv {
                 }
             }
             d.set_item(pyo3::intern!(py, "instance_name"), PyArray1::from_vec(py, names))?;
-            d.set_item(pyo3::intern!(py, "_instance_name"), mask(py, n, &has))?;
+            d.set_item(pyo3::intern!(py, "_instance_name"), mask(&self.stock, py, n, &has))?;
         }
         let seeds: Vec<(usize, u64)> = infos
             .iter()
             .filter_map(|(i, ci)| Some((*i, ci.context_seed?)))
             .collect();
         if !seeds.is_empty() {
-            set_column(&d, &keyed!(py, "context_seed"), n, &seeds)?;
+            set_column(&self.stock, &d, &keyed!(py, "context_seed"), n, &seeds)?;
         }
         if self.noisy {
             self.set_observed(&d, self.inner.final_observations(), ended)?;
@@ -1207,7 +1221,7 @@ impl VecEnv {
             same_step: mode == AutoresetMode::SameStep,
             feature_keys: Columns::new(py, fixed_info.context.iter().map(|(k, _)| k.as_str()))?,
             visible_keys: Columns::new(py, proto.visible_features().iter().map(String::as_str))?,
-            all_envs: read_only(mask(py, num_envs, &(0..num_envs).collect::<Vec<_>>())).unbind(),
+            all_envs: read_only(mask(&Stock::default(), py, num_envs, &(0..num_envs).collect::<Vec<_>>())).unbind(),
             inner,
             layout,
             discrete,
@@ -1216,7 +1230,21 @@ impl VecEnv {
             base_dim: proto.base_obs_dim(),
             noisy: proto.noise().is_some(),
             fixed_info,
+            returned: [None, None],
+            stock: Stock::default(),
         })
+    }
+
+    fn __traverse__(&self, visit: PyVisit<'_>) -> Result<(), PyTraverseError> {
+        // The returned tuples hold what the user may have put into the infos (even this object).
+        for t in self.returned.iter().flatten() {
+            visit.call(t)?;
+        }
+        Ok(())
+    }
+
+    fn __clear__(&mut self) {
+        self.returned = [None, None];
     }
 
     /// Reset the environments where `mask` is true (all for None); env `i` gets `seed + i`
@@ -1253,17 +1281,36 @@ impl VecEnv {
     /// infos in Gymnasium's vector layout (same-step `final_obs` / `final_info`, `instance_id`,
     /// `observed_context`), all built here in one call. Actions: int64 `(num_envs,)` or float32
     /// `(num_envs, action_dim)` (other dtypes and layouts are converted as NumPy converts them).
-    /// The GIL is released around the whole native batch step.
-    fn step<'py>(&mut self, py: Python<'py>, actions: &Bound<'py, PyAny>) -> PyResult<BatchStep<'py>> {
+    /// The GIL is released while this thread steps its share of the batch.
+    ///
+    /// Only this thread can do the Python work of a step, while all threads share the stepping,
+    /// so the Python work that does not need the step's results is done while the worker threads
+    /// step (`VecEnv::step_with`): before this thread takes its share of the batch, the tuple
+    /// returned two steps ago is released (in a loop `obs, ... = venv.step(a)` the caller's own
+    /// references to it are gone by then, so freeing its arrays and dicts happens here rather
+    /// than after this call returns; a step's objects thus live two steps longer); after it, while
+    /// the workers finish their last environments, the next step's arrays and dicts are made
+    /// (`stock`).
+    fn step<'py>(&mut self, py: Python<'py>, actions: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyTuple>> {
         self.take_actions(actions)?;
-        let inner = &mut self.inner;
         let acts = if self.discrete {
             VecActions::Discrete(&self.discrete_actions)
         } else {
             VecActions::Continuous(&self.continuous_actions)
         };
-        py.detach(|| inner.step(acts).map(|_| ())).map_err(|e| env_error(&e))?;
-        let n = self.inner.num_envs();
+        let oldest = self.returned[0].take();
+        let (stock, n) = (&self.stock, self.inner.num_envs());
+        let nested = [&self.feature_keys, &self.visible_keys];
+        let mut restocked = Ok(());
+        self.inner
+            .step_with(acts, |share| {
+                drop(oldest);
+                py.detach(|| share.claim_all());
+                restocked = stock.restock(py, &nested);
+            })
+            .map(|_| ())
+            .map_err(|e| env_error(&e))?;
+        restocked?;
         let (term, trunc) = (self.inner.terminated(), self.inner.truncated());
         let infos = PyDict::new(py);
         if self.same_step {
@@ -1273,13 +1320,19 @@ impl VecEnv {
             }
         }
         self.context_infos(&infos)?;
-        Ok((
-            self.batch_obs(py)?,
-            filled(py, &[n], |o: &mut [f64]| o.copy_from_slice(self.inner.rewards())),
-            filled(py, &[n], |o: &mut [bool]| o.copy_from_slice(term)),
-            filled(py, &[n], |o: &mut [bool]| o.copy_from_slice(trunc)),
-            infos,
-        ))
+        let out = PyTuple::new(
+            py,
+            [
+                self.batch_obs(py)?,
+                self.stock
+                    .filled(py, &[n], |o: &mut [f64]| o.copy_from_slice(self.inner.rewards())),
+                self.stock.filled(py, &[n], |o: &mut [bool]| o.copy_from_slice(term)),
+                self.stock.filled(py, &[n], |o: &mut [bool]| o.copy_from_slice(trunc)),
+                infos.into_any(),
+            ],
+        )?;
+        self.returned = [self.returned[1].take(), Some(out.clone().unbind())];
+        Ok(out)
     }
 
     /// The infos every step and reset carry (`instance_id`, `observed_context`), for `reset`.
@@ -1297,6 +1350,7 @@ impl VecEnv {
             self.inner.final_observations(),
             self.inner.final_observations_f64(),
             Some(self.inner.num_envs()),
+            None,
         )
     }
 

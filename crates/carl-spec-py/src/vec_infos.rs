@@ -4,11 +4,12 @@
 //! ends, so every allocation per feature counts.
 
 use numpy::npyffi::{_PyArray_GET_ITEM_DATA, NPY_ARRAY_WRITEABLE};
-use numpy::{PyArrayDyn, PyUntypedArrayMethods};
+use numpy::{PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 
 use crate::filled;
+use crate::stock::Stock;
 
 /// An info key and Gymnasium's mask key beside it (`name`, `_name`).
 pub(crate) struct Keyed {
@@ -59,9 +60,42 @@ impl Columns {
     }
 }
 
+/// A nested info dict made before it is filled: `{feature: column, _feature: mask}` with every
+/// column zero and the one mask (shared by all features) false, and those arrays.
+pub(crate) struct Nested {
+    dict: Py<PyDict>,
+    columns: Vec<Py<PyAny>>,
+    mask: Py<PyAny>,
+}
+
+impl Columns {
+    /// Identifies these columns (and their [`Nested`] dicts in a [`Stock`]).
+    pub fn id(&self) -> usize {
+        self.template.as_ptr() as usize
+    }
+
+    /// A fresh [`Nested`] dict of these columns for `n` environments.
+    pub fn make_nested(&self, py: Python<'_>, n: usize) -> PyResult<Nested> {
+        let dict = self.template.bind(py).copy()?;
+        let mask = filled(py, &[n], |o: &mut [bool]| o.fill(false));
+        let mut columns = Vec::with_capacity(self.keys.len());
+        for name in &self.keys {
+            let col = filled(py, &[n], |o: &mut [f64]| o.fill(0.0));
+            dict.set_item(name.key.bind(py), &col)?;
+            dict.set_item(name.mask.bind(py), &mask)?;
+            columns.push(col.unbind());
+        }
+        Ok(Nested {
+            dict: dict.unbind(),
+            columns,
+            mask: mask.unbind(),
+        })
+    }
+}
+
 /// A fresh bool array of `n` entries, true at `rows`.
-pub(crate) fn mask<'py>(py: Python<'py>, n: usize, rows: &[usize]) -> Bound<'py, PyAny> {
-    filled(py, &[n], |o: &mut [bool]| {
+pub(crate) fn mask<'py>(stock: &Stock, py: Python<'py>, n: usize, rows: &[usize]) -> Bound<'py, PyAny> {
+    stock.filled(py, &[n], |o: &mut [bool]| {
         o.fill(false);
         for &i in rows {
             o[i] = true;
@@ -81,14 +115,15 @@ pub(crate) fn read_only(array: Bound<'_, PyAny>) -> Bound<'_, PyAny> {
 
 /// A column of numbers: `key` holds each listed env's value (zero elsewhere), `_key` the mask of
 /// the envs that have one.
-pub(crate) fn set_column<T: numpy::Element + Copy + Default>(
+pub(crate) fn set_column<T: numpy::Element + Copy + Default + 'static>(
+    stock: &Stock,
     d: &Bound<'_, PyDict>,
     key: &Keyed,
     n: usize,
     rows: &[(usize, T)],
 ) -> PyResult<()> {
     let py = d.py();
-    let col = filled(py, &[n], |o: &mut [T]| {
+    let col = stock.filled(py, &[n], |o: &mut [T]| {
         o.fill(T::default());
         for &(i, v) in rows {
             o[i] = v;
@@ -96,13 +131,14 @@ pub(crate) fn set_column<T: numpy::Element + Copy + Default>(
     });
     let at: Vec<usize> = rows.iter().map(|(i, _)| *i).collect();
     d.set_item(key.key.bind(py), col)?;
-    d.set_item(key.mask.bind(py), mask(py, n, &at))
+    d.set_item(key.mask.bind(py), mask(stock, py, n, &at))
 }
 
 /// A nested info dict (`{feature: value}` per env): one masked column per feature under `key`,
 /// and `_key`, the mask of the envs that have the dict. `value(i, j)`: env `i`'s value of
 /// `names[j]`, for the envs `rows`.
 pub(crate) fn set_nested(
+    stock: &Stock,
     d: &Bound<'_, PyDict>,
     key: &Keyed,
     n: usize,
@@ -111,19 +147,23 @@ pub(crate) fn set_nested(
     value: impl Fn(usize, usize) -> f64,
 ) -> PyResult<()> {
     let py = d.py();
-    // Every feature has the same mask: one read-only array serves them all.
-    let shared = read_only(mask(py, n, rows));
-    let inner = names.template.bind(py).copy()?;
-    for (j, name) in names.keys.iter().enumerate() {
-        let col = filled(py, &[n], |o: &mut [f64]| {
-            o.fill(0.0);
-            for &i in rows {
-                o[i] = value(i, j);
-            }
-        });
-        inner.set_item(name.key.bind(py), col)?;
-        inner.set_item(name.mask.bind(py), &shared)?;
+    let kit = stock.nested(py, names, n)?;
+    // SAFETY: the kit's arrays are fresh (made by `make_nested`, held by the kit alone, not yet
+    // seen by Python code), contiguous float64 / bool arrays of `n` entries.
+    for (j, col) in kit.columns.iter().enumerate() {
+        let col = unsafe { col.bind(py).cast_unchecked::<PyArrayDyn<f64>>() };
+        let o = unsafe { col.as_slice_mut() }.expect("a fresh array is contiguous");
+        for &i in rows {
+            o[i] = value(i, j);
+        }
     }
-    d.set_item(key.key.bind(py), inner)?;
-    d.set_item(key.mask.bind(py), mask(py, n, rows))
+    let shared = kit.mask.into_bound(py);
+    let o = unsafe { shared.cast_unchecked::<PyArrayDyn<bool>>().as_slice_mut() }.expect("a fresh array is contiguous");
+    for &i in rows {
+        o[i] = true;
+    }
+    // Every feature has the same mask: one read-only array serves them all.
+    read_only(shared);
+    d.set_item(key.key.bind(py), kit.dict.bind(py))?;
+    d.set_item(key.mask.bind(py), mask(stock, py, n, rows))
 }
