@@ -1045,22 +1045,22 @@ impl VecEnv {
         let n = self.inner.num_envs();
         let d = self.inner.obs_dim();
         let (flat, wide) = (self.inner.final_observations(), self.inner.final_observations_f64());
-        let mut objects: Vec<Py<PyAny>> = (0..n).map(|_| py.None()).collect();
+        let objects = self.stock.nones(py, n);
+        // SAFETY: a fresh object array (from the stock, not yet seen by Python code), contiguous;
+        // assigning drops the None it held.
+        let slots = unsafe { objects.as_slice_mut() }.map_err(value_error)?;
         if let ObsLayout::Array { .. } = &self.layout {
-            // One array of the finished rows, handed out as row views (NumPy's own iteration:
-            // the cheapest way to make one Python object per row).
-            let gather32: Vec<f32> = ended.iter().flat_map(|&i| &flat[i * d..(i + 1) * d]).copied().collect();
-            let gather64: Option<Vec<f64>> =
-                wide.map(|w| ended.iter().flat_map(|&i| &w[i * d..(i + 1) * d]).copied().collect());
+            // Every row's final observation in one array; the finished rows are handed out as
+            // views of it (as `block[i]` does).
             let block = self
                 .layout
-                .value(py, &gather32, gather64.as_deref(), Some(ended.len()), None)?;
-            for (&i, row) in ended.iter().zip(block.try_iter()?) {
-                objects[i] = row?.unbind();
+                .value(py, flat, wide, Some(n), Some(&self.stock))?;
+            for &i in ended {
+                slots[i] = block.get_item(i)?.unbind();
             }
         } else {
             for &i in ended {
-                objects[i] = self
+                slots[i] = self
                     .layout
                     .value(
                         py,
@@ -1072,7 +1072,7 @@ impl VecEnv {
                     .unbind();
             }
         }
-        Ok(PyArray1::from_vec(py, objects).into_any())
+        Ok(objects.into_any())
     }
 
     /// `final_info`: the finished episodes' infos (`cs.make`'s step info: `context`,

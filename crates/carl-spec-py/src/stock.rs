@@ -9,7 +9,7 @@ use std::any::TypeId;
 use std::sync::Mutex;
 
 use numpy::ndarray::IxDyn;
-use numpy::{PyArrayDyn, PyArrayMethods};
+use numpy::{PyArray1, PyArrayDyn, PyArrayMethods};
 use pyo3::prelude::*;
 
 use crate::vec_infos::{Columns, Nested};
@@ -34,6 +34,8 @@ enum Kind {
         dims: Vec<usize>,
         make: for<'py> fn(Python<'py>, &[usize]) -> Bound<'py, PyAny>,
     },
+    /// Object arrays of `n` Nones.
+    Nones { n: usize },
     /// [`Nested`] dicts of the [`Columns`] whose template is at this address, `n` rows.
     Nested { columns: usize, n: usize },
 }
@@ -52,6 +54,7 @@ impl Kind {
     fn make(&self, py: Python<'_>, nested: &[&Columns]) -> PyResult<Option<Ready>> {
         Ok(Some(match self {
             Kind::Array { dims, make, .. } => Ready::Object(make(py, dims).unbind()),
+            Kind::Nones { n } => Ready::Object(nones(py, *n).into_any().unbind()),
             Kind::Nested { columns, n } => match nested.iter().find(|c| c.id() == *columns) {
                 Some(c) => Ready::Nested(c.make_nested(py, *n)?),
                 None => return Ok(None),
@@ -69,6 +72,10 @@ pub(crate) struct Stock {
 fn uninit<'py, T: numpy::Element>(py: Python<'py>, dims: &[usize]) -> Bound<'py, PyAny> {
     // SAFETY: uninitialised until `Stock::filled` writes every element, before Python sees it.
     unsafe { PyArrayDyn::<T>::new(py, IxDyn(dims), false) }.into_any()
+}
+
+fn nones(py: Python<'_>, n: usize) -> Bound<'_, PyArray1<Py<PyAny>>> {
+    PyArray1::from_vec(py, (0..n).map(|_| py.None()).collect())
 }
 
 impl Stock {
@@ -121,6 +128,15 @@ impl Stock {
         let arr = unsafe { obj.cast_into_unchecked::<PyArrayDyn<T>>() };
         fill(unsafe { arr.as_slice_mut() }.expect("a fresh array is contiguous"));
         arr.into_any()
+    }
+
+    /// A writeable object array of `n` Nones.
+    pub fn nones<'py>(&self, py: Python<'py>, n: usize) -> Bound<'py, PyArray1<Py<PyAny>>> {
+        match self.take_object(|k| matches!(k, Kind::Nones { n: m } if *m == n), || Kind::Nones { n }) {
+            // SAFETY: a `Nones` shelf holds only arrays made by `nones`.
+            Some(obj) => unsafe { obj.into_bound(py).cast_into_unchecked() },
+            None => nones(py, n),
+        }
     }
 
     /// A nested info dict of `columns` for `n` environments, its columns zero and its mask false.
