@@ -1050,13 +1050,16 @@ impl VecEnv {
         // assigning drops the None it held.
         let slots = unsafe { objects.as_slice_mut() }.map_err(value_error)?;
         if let ObsLayout::Array { .. } = &self.layout {
-            // Every row's final observation in one array; the finished rows are handed out as
-            // views of it (as `block[i]` does).
+            // One array of the finished rows, handed out as row views (NumPy's own iteration:
+            // the cheapest way to make one Python object per row).
+            let gather32: Vec<f32> = ended.iter().flat_map(|&i| &flat[i * d..(i + 1) * d]).copied().collect();
+            let gather64: Option<Vec<f64>> =
+                wide.map(|w| ended.iter().flat_map(|&i| &w[i * d..(i + 1) * d]).copied().collect());
             let block = self
                 .layout
-                .value(py, flat, wide, Some(n), Some(&self.stock))?;
-            for &i in ended {
-                slots[i] = block.get_item(i)?.unbind();
+                .value(py, &gather32, gather64.as_deref(), Some(ended.len()), None)?;
+            for (&i, row) in ended.iter().zip(block.try_iter()?) {
+                slots[i] = row?.unbind();
             }
         } else {
             for &i in ended {
