@@ -169,6 +169,12 @@ impl CallerShare<'_> {
     pub fn claim_all(&mut self) {
         drain(self.sh, self.job, self.n, self.block);
     }
+
+    /// Whether a worker thread is still inside the job (after [`CallerShare::claim_all`]: still
+    /// stepping its last block, so the calling thread would only wait).
+    pub fn workers_busy(&self) -> bool {
+        self.sh.state.load(Ordering::Acquire) & ACTIVE_MASK != 0
+    }
 }
 
 struct CloseGuard<'a>(&'a Shared);

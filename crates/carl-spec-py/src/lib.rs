@@ -1291,9 +1291,9 @@ impl VecEnv {
     /// step (`VecEnv::step_with`): before this thread takes its share of the batch, the tuple
     /// returned two steps ago is released (in a loop `obs, ... = venv.step(a)` the caller's own
     /// references to it are gone by then, so freeing its arrays and dicts happens here rather
-    /// than after this call returns; a step's objects thus live two steps longer); after it, while
-    /// the workers finish their last environments, the next step's arrays and dicts are made
-    /// (`stock`).
+    /// than after this call returns; a step's objects thus live two steps longer); after it, for
+    /// as long as a worker still steps its last environments, the arrays and dicts of the step's
+    /// outputs are made (`stock`; what is not ready is made when needed, as with one thread).
     fn step<'py>(&mut self, py: Python<'py>, actions: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyTuple>> {
         self.take_actions(actions)?;
         let acts = if self.discrete {
@@ -1309,7 +1309,7 @@ impl VecEnv {
             .step_with(acts, |share| {
                 drop(oldest);
                 py.detach(|| share.claim_all());
-                restocked = stock.restock(py, &nested);
+                restocked = stock.restock(py, &nested, || share.workers_busy());
             })
             .map(|_| ())
             .map_err(|e| env_error(&e))?;

@@ -1,8 +1,7 @@
 //! Fresh NumPy arrays and info dicts made ahead of need. `make_vec`'s step is Python work that
 //! only the calling thread can do (it holds the GIL) around a native step that all threads
-//! share, so every object it can make before the step's results exist is made while the worker
-//! threads already step the batch (`VecEnv::step_with`): `restock` there, `filled` / `nested`
-//! after the step. What a step hands out is as fresh as before: an object leaves the stock at
+//! share, so the objects it needs are made while the worker threads still step the batch
+//! (`VecEnv::step_with`): `restock` there, `filled` / `nested` / `nones` after the step. What a step hands out is as fresh as before: an object leaves the stock at
 //! most once, and no Python code sees it before it is filled.
 
 use std::any::TypeId;
@@ -149,14 +148,20 @@ impl Stock {
         }
     }
 
-    /// Make every shelf hold as many objects as the most that one step took from it.
+    /// Make the shelves hold as many objects as the most that one step took from each, for as
+    /// long as `go()` says (checked before each object): what is left is made when it is needed.
     /// `nested`: the columns of the nested info dicts (the ones `nested` was called with).
-    pub fn restock(&self, py: Python<'_>, nested: &[&Columns]) -> PyResult<()> {
+    pub fn restock(&self, py: Python<'_>, nested: &[&Columns], go: impl Fn() -> bool) -> PyResult<()> {
         let mut shelves = self.shelves.lock().unwrap_or_else(|e| e.into_inner());
         for shelf in shelves.iter_mut() {
             shelf.want = shelf.want.max(shelf.taken).min(MAX_PER_SHELF);
             shelf.taken = 0;
+        }
+        for shelf in shelves.iter_mut() {
             while shelf.ready.len() < shelf.want {
+                if !go() {
+                    return Ok(());
+                }
                 match shelf.kind.make(py, nested)? {
                     Some(ready) => shelf.ready.push(ready),
                     None => break,
