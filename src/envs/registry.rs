@@ -346,8 +346,20 @@ pub static REGISTRY: &[Registration] = &[
     },
     Registration {
         id: "half_cheetah",
-        build: |v, _| Ok(AnyEnv::new(locomotion("half_cheetah", v)?)),
-        options: &[],
+        build: |v, o| {
+            if o.flag("rapier") {
+                let p = robot_params("half_cheetah", v)?;
+                return robots::make_robot_on_rapier("half_cheetah", p)
+                    .map(AnyEnv::new)
+                    .ok_or_else(|| missing_model("half_cheetah"));
+            }
+            Ok(AnyEnv::new(locomotion("half_cheetah", v)?))
+        },
+        options: &[OptionSpec {
+            name: "rapier",
+            help: "the rapier3d multibody engine instead of the planar reduced-coordinate engine (src/envs/robots/planar)",
+            kind: OptionKind::Bool { default: false },
+        }],
         heuristic: None,
         renders: true,
         cost: StepCost::Heavy,
