@@ -105,7 +105,11 @@ impl Rows {
         }
         self.count += 1;
         self.kind[r] = kind;
-        if gap >= 0.0 {
+        if let RowKind::Friction { .. } = kind {
+            // Friction is regularized like the contact's normal (damping only, no position).
+            self.soft[r] = soft;
+            self.bias[r] = 0.0;
+        } else if gap >= 0.0 {
             self.soft[r] = Softness::rigid(h);
             self.bias[r] = gap / h;
         } else {
@@ -143,8 +147,10 @@ impl Rows {
                         (old + imp).max(0.0)
                     }
                     RowKind::Friction { normal, mu } => {
+                        let s = self.soft[r];
                         let lim = mu * self.lambda[normal];
-                        (old - self.inv_mass[r] * cdot).clamp(-lim, lim)
+                        let imp = -self.inv_mass[r] * s.mass_scale * cdot - s.impulse_scale * old;
+                        (old + imp).clamp(-lim, lim)
                     }
                 };
                 let d = new - old;

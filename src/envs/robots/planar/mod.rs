@@ -285,7 +285,7 @@ impl PlanarWorld {
                     normal: r,
                     mu: sys.friction,
                 };
-                let Some(row) = self.rows.push(friction, 0.0, Softness::rigid(h), h) else {
+                let Some(row) = self.rows.push(friction, 0.0, sys.contact_soft, h) else {
                     return;
                 };
                 for &d in anc {
