@@ -2,36 +2,39 @@
 //! Gauss–Seidel on the rows' effective masses (`J M̃⁻¹ Jᵀ`).
 //!
 //! Each capsule meets the ground plane `z = 0` at its end spheres (the lowest point of a
-//! segment over a plane is always one of its ends): a normal row (unilateral, soft) and a
-//! friction row along x (Coulomb, `|λ_t| ≤ μ λ_n`). A joint limit is a unilateral row on its
-//! coordinate. A soft row behaves as an implicit spring–damper of natural frequency `ω` and
-//! damping ratio `ζ` on the row's effective mass (Catto's "soft step": bias rate
-//! `ω / (2ζ + hω)`, mass scale `hω(2ζ + hω) / (1 + hω(2ζ + hω))`); a row whose gap is still
-//! open is speculative: rigid, with the gap closed by the end of the step at the most.
+//! segment over a plane is always one of its ends) once they penetrate it. In the plane the
+//! Coulomb cone `|f_x| ≤ μ f_z` is exactly a pyramid of two edges, `J_z ± μ J_x`, each a
+//! unilateral row (MuJoCo's pyramidal cone): normal force `λ₊ + λ₋`, friction `μ(λ₊ − λ₋)`.
+//! A joint limit is a unilateral row on its coordinate. Every row is regularized (`J v⁺ + R λ = target`): contacts as MuJoCo's default
+//! soft contacts ([`Impedance`]), joint limits as a spring–damper of given natural frequency
+//! and damping ratio on the row's effective mass ([`Softness`]). A row whose gap is still open
+//! (a limit) is speculative: stiff, with the gap closed by the end of the step at the most.
 
 use super::dynamics::cholesky_solve;
 
-/// Constraint softness of one row for time step `h`.
+/// Constraint softness of one row for time step `h`, as a target velocity and a regularizer:
+/// a row's impulse `λ` solves `J v⁺ + R λ = target` (projected on its bounds), with
+/// `R = ratio · (J M̃⁻¹ Jᵀ)`. A stiff row has `ratio` 0.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Softness {
+    /// Target velocity per unit of constraint violation (1/s; the violation is negative).
     pub bias_rate: f64,
-    pub mass_scale: f64,
-    pub impulse_scale: f64,
+    /// `R` relative to the row's inverse effective mass.
+    pub ratio: f64,
 }
 
 impl Softness {
-    /// A spring–damper of angular frequency `omega` (rad/s) and damping ratio `zeta`.
+    /// A spring–damper of angular frequency `omega` (rad/s) and damping ratio `zeta` (Catto's
+    /// soft step: bias rate `ω / (2ζ + hω)`, regularizer `1 / (hω(2ζ + hω))`).
     pub fn new(omega: f64, zeta: f64, h: f64) -> Softness {
         let a1 = 2.0 * zeta + h * omega;
         let a2 = h * omega * a1;
-        let a3 = 1.0 / (1.0 + a2);
-        if !(omega > 0.0 && a1 > 0.0 && a2.is_finite()) {
+        if !(omega > 0.0 && a1 > 0.0 && a2.is_finite() && a2 > 0.0) {
             return Softness::rigid(h);
         }
         Softness {
             bias_rate: omega / a1,
-            mass_scale: a2 * a3,
-            impulse_scale: a3,
+            ratio: 1.0 / a2,
         }
     }
 
@@ -39,19 +42,55 @@ impl Softness {
     pub fn rigid(h: f64) -> Softness {
         Softness {
             bias_rate: 1.0 / h,
-            mass_scale: 1.0,
-            impulse_scale: 0.0,
+            ratio: 0.0,
         }
+    }
+}
+
+/// MuJoCo's soft contact for time constant `tc` and damping ratio `zeta` (its `solref`) and
+/// impedance from `d0` at zero penetration to `d_width` at `width` and beyond (its `solimp`,
+/// here a linear ramp): the row's reference acceleration is `−b·v₀ − k·r` with
+/// `b = 2 / (d_width·tc)`, `k = d / (d_width²·tc²·ζ²)`, `v₀` the row velocity at the start of
+/// the step and `r` the (negative) penetration; the regularizer is `(1 − d) / d`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Impedance {
+    pub tc: f64,
+    pub zeta: f64,
+    pub d0: f64,
+    pub d_width: f64,
+    pub width: f64,
+}
+
+impl Impedance {
+    /// MuJoCo's defaults: `solref = (0.02, 1)`, `solimp = (0.9, 0.95, 0.001)`.
+    pub const MUJOCO_DEFAULT: Impedance = Impedance {
+        tc: 0.02,
+        zeta: 1.0,
+        d0: 0.9,
+        d_width: 0.95,
+        width: 0.001,
+    };
+
+    fn d(&self, r: f64) -> f64 {
+        let x = (r.abs() / self.width).min(1.0);
+        self.d0 + (self.d_width - self.d0) * x
+    }
+
+    /// (target velocity, regularizer ratio) of a row of a contact with start velocity `v0`
+    /// along the row and penetration `r` (< 0) over a step `h`.
+    pub fn row(&self, v0: f64, r: f64, h: f64) -> (f64, f64) {
+        let d = self.d(r);
+        let b = 2.0 / (self.d_width * self.tc);
+        let k = d / (self.d_width * self.d_width * self.tc * self.tc * self.zeta * self.zeta);
+        (v0 - h * (b * v0 + k * r), (1.0 - d) / d)
     }
 }
 
 /// What a row constrains.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum RowKind {
-    /// Contact normal or joint limit: `λ ≥ 0`.
+    /// A joint limit or an edge of a contact's friction cone: `λ ≥ 0`.
     Unilateral,
-    /// Friction bounded by `mu` times the impulse of row `normal`.
-    Friction { normal: usize, mu: f64 },
 }
 
 /// The constraint rows of one step, in preallocated buffers.
@@ -64,10 +103,15 @@ pub struct Rows {
     /// `M̃⁻¹ Jᵀ` per row.
     w: Vec<f64>,
     inv_mass: Vec<f64>,
-    /// Velocity bias (`bias_rate · gap`, or `gap / h` for an open gap).
-    bias: Vec<f64>,
-    soft: Vec<Softness>,
+    /// Target velocity of each row.
+    target: Vec<f64>,
+    /// Regularizer ratio of each row (see [`Softness`]); `R` itself after [`Rows::solve`]
+    /// starts.
+    reg: Vec<f64>,
     pub kind: Vec<RowKind>,
+    /// The other edge of a contact's pyramid (both edges share one regularizer, from their
+    /// mean effective mass, as MuJoCo's: unequal ones would make a resting contact creep).
+    partner: Vec<usize>,
     /// Impulse of each row after [`Rows::solve`].
     pub lambda: Vec<f64>,
 }
@@ -85,8 +129,9 @@ impl Rows {
             jac: vec![0.0; n * capacity],
             w: vec![0.0; n * capacity],
             inv_mass: vec![0.0; capacity],
-            bias: vec![0.0; capacity],
-            soft: vec![Softness::rigid(1.0); capacity],
+            target: vec![0.0; capacity],
+            partner: vec![usize::MAX; capacity],
+            reg: vec![0.0; capacity],
             kind: vec![RowKind::Unilateral; capacity],
             lambda: vec![0.0; capacity],
         }
@@ -96,30 +141,38 @@ impl Rows {
         self.count = 0;
     }
 
-    /// Start a new row and return its Jacobian for the caller to fill (zeroed), or `None` if the
-    /// buffers are full.
-    pub fn push(&mut self, kind: RowKind, gap: f64, soft: Softness, h: f64) -> Option<&mut [f64]> {
+    /// Start a new row with its target velocity and regularizer ratio and return its
+    /// Jacobian for the caller to fill (zeroed), or `None` if the buffers are full.
+    pub fn push(&mut self, kind: RowKind, target: f64, ratio: f64) -> Option<&mut [f64]> {
         let r = self.count;
         if r >= self.inv_mass.len() {
             return None;
         }
         self.count += 1;
         self.kind[r] = kind;
-        if let RowKind::Friction { .. } = kind {
-            // Friction is regularized like the contact's normal (damping only, no position).
-            self.soft[r] = soft;
-            self.bias[r] = 0.0;
-        } else if gap >= 0.0 {
-            self.soft[r] = Softness::rigid(h);
-            self.bias[r] = gap / h;
-        } else {
-            self.soft[r] = soft;
-            self.bias[r] = soft.bias_rate * gap;
-        }
+        self.target[r] = target;
+        self.reg[r] = ratio;
+        self.partner[r] = usize::MAX;
         let n = self.n;
         let row = &mut self.jac[r * n..(r + 1) * n];
         row.fill(0.0);
         Some(row)
+    }
+
+    /// Make rows `a` and `b` share one regularizer.
+    pub fn pair(&mut self, a: usize, b: usize) {
+        self.partner[a] = b;
+        self.partner[b] = a;
+    }
+
+    /// A unilateral row at signed gap `gap` with `soft` once the gap has closed; an open gap
+    /// may close within the step but not more (speculative, stiff).
+    pub fn push_gap(&mut self, gap: f64, soft: Softness, h: f64) -> Option<&mut [f64]> {
+        if gap >= 0.0 {
+            self.push(RowKind::Unilateral, -gap / h, 0.0)
+        } else {
+            self.push(RowKind::Unilateral, -soft.bias_rate * gap, soft.ratio)
+        }
     }
 
     /// Solve for the impulses given the factor `chol` of `M̃` and update `v` (the velocity
@@ -130,9 +183,24 @@ impl Rows {
             let w = &mut self.w[r * n..(r + 1) * n];
             w.copy_from_slice(&self.jac[r * n..(r + 1) * n]);
             cholesky_solve(chol, n, w);
-            let a: f64 = w.iter().zip(&self.jac[r * n..(r + 1) * n]).map(|(x, y)| x * y).sum();
-            self.inv_mass[r] = if a > 1e-12 { 1.0 / a } else { 0.0 };
+            // `inv_mass` holds A = J M̃⁻¹ Jᵀ for now.
+            self.inv_mass[r] = w.iter().zip(&self.jac[r * n..(r + 1) * n]).map(|(x, y)| x * y).sum();
             self.lambda[r] = 0.0;
+        }
+        for r in 0..self.count {
+            let a = self.inv_mass[r];
+            let p = self.partner[r];
+            // From here on `reg` holds R itself and `inv_mass` 1 / (A + R). A partner before
+            // `r` has its 1 / (A + R) already: its A is recovered from that and its R.
+            let shared = if p == usize::MAX {
+                a
+            } else if p > r {
+                0.5 * (a + self.inv_mass[p])
+            } else {
+                0.5 * (a + 1.0 / self.inv_mass[p] - self.reg[p])
+            };
+            self.reg[r] *= shared;
+            self.inv_mass[r] = if a > 1e-12 { 1.0 / (a + self.reg[r]) } else { 0.0 };
         }
         for _ in 0..MAX_SWEEPS {
             let mut change = 0.0f64;
@@ -140,18 +208,9 @@ impl Rows {
                 let j = &self.jac[r * n..(r + 1) * n];
                 let cdot: f64 = j.iter().zip(v.iter()).map(|(a, b)| a * b).sum();
                 let old = self.lambda[r];
+                let free = old - self.inv_mass[r] * (cdot + self.reg[r] * old - self.target[r]);
                 let new = match self.kind[r] {
-                    RowKind::Unilateral => {
-                        let s = self.soft[r];
-                        let imp = -self.inv_mass[r] * s.mass_scale * (cdot + self.bias[r]) - s.impulse_scale * old;
-                        (old + imp).max(0.0)
-                    }
-                    RowKind::Friction { normal, mu } => {
-                        let s = self.soft[r];
-                        let lim = mu * self.lambda[normal];
-                        let imp = -self.inv_mass[r] * s.mass_scale * cdot - s.impulse_scale * old;
-                        (old + imp).clamp(-lim, lim)
-                    }
+                    RowKind::Unilateral => free.max(0.0),
                 };
                 let d = new - old;
                 if d != 0.0 {

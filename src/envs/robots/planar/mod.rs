@@ -24,8 +24,8 @@
 //!   (the rapier world's semantics);
 //! * `torso_mass`, `mass_<link>` → link masses (inertia scaled with them).
 //!
-//! Ground contacts are soft rows of time constant 0.02 s and damping ratio 1 (MuJoCo's default
-//! `solref`): angular frequency `1 / (0.95 · 0.02 s)` (MuJoCo's `solimp` width 0.95).
+//! Ground contacts are soft as MuJoCo's with its default `solref` and `solimp` (time constant
+//! 0.02 s, damping ratio 1, impedance 0.9–0.95), friction regularized likewise.
 
 pub mod contacts;
 pub mod dynamics;
@@ -39,15 +39,9 @@ use rapier3d::prelude::{Pose, Rotation, Vector};
 use super::model::RobotModel;
 use super::params::RobotParams;
 use super::world::Configuration;
-use contacts::{RowKind, Rows, Softness};
+use contacts::{Impedance, RowKind, Rows, Softness};
 use kinematics::{DofAxis, LinkState, point_velocity, positions, velocities};
 pub use tree::PlanarTree;
-
-/// Angular frequency of the ground contact's spring (rad/s): MuJoCo's default time constant
-/// 0.02 s at impedance 0.95.
-pub const CONTACT_OMEGA: f64 = 1.0 / (0.95 * 0.02);
-/// Damping ratio of the ground contact (MuJoCo's default `solref` damping ratio).
-pub const CONTACT_ZETA: f64 = 1.0;
 
 /// The context-dependent constants of a planar world (shared by its clones).
 #[derive(Debug)]
@@ -61,7 +55,7 @@ pub struct PlanarSystem {
     /// Multiplier of the hinge rates after each step.
     angular_decay: f64,
     limit_soft: Softness,
-    contact_soft: Softness,
+    contact: Impedance,
     /// (coordinate, torque per unit control) of each actuator.
     motors: Vec<(usize, f64)>,
     ctrl_range: [f64; 2],
@@ -102,7 +96,7 @@ impl PlanarSystem {
             damping,
             angular_decay: (finite_or(params.angular_damping, 0.0) * h).exp(),
             limit_soft: Softness::new(limit_omega, side.limit_damping_ratio, h),
-            contact_soft: Softness::new(CONTACT_OMEGA, CONTACT_ZETA, h),
+            contact: Impedance::MUJOCO_DEFAULT,
             motors,
             ctrl_range: side.ctrl_range,
             torso: model.torso,
@@ -131,8 +125,16 @@ pub struct PlanarWorld {
     /// Contact force and torque about the centre of mass of each link over the last step:
     /// `[f_x, f_z, τ_y]`.
     wrench: Vec<[f64; 3]>,
-    /// Where each contact row acts: (link, world point).
-    row_site: Vec<(usize, [f64; 2])>,
+    /// What each row stands for.
+    row_site: Vec<RowSite>,
+}
+
+/// What a constraint row stands for.
+#[derive(Debug, Clone, Copy)]
+enum RowSite {
+    /// The `sign` edge (±1) of the friction pyramid of a contact of `link` at world point `p`.
+    Contact { link: usize, p: [f64; 2], sign: f64 },
+    Limit,
 }
 
 /// Clamp a state coordinate to a finite value (as the rapier world does).
@@ -164,7 +166,7 @@ impl PlanarWorld {
             force: vec![0.0; n],
             rows: Rows::new(n, capacity),
             wrench: vec![[0.0; 3]; nl],
-            row_site: vec![(0, [0.0; 2]); capacity],
+            row_site: vec![RowSite::Limit; capacity],
             sys,
         };
         positions(&w.sys.tree, &w.q, &mut w.links, &mut w.axes);
@@ -203,11 +205,19 @@ impl PlanarWorld {
         (m, b)
     }
 
-    /// Kinetic plus potential energy of the links (J).
+    /// Mechanical energy (J): the links' kinetic and gravitational energy, the armature's
+    /// kinetic energy and the passive springs' energy.
     pub fn energy(&self) -> f64 {
+        let tree = &self.sys.tree;
         let mut links = self.links.clone();
-        velocities(&self.sys.tree, &self.v, &mut links, &self.axes);
-        dynamics::kinetic_energy(&self.sys.tree, &links) + dynamics::potential_energy(&self.sys.tree, &links, self.sys.gravity)
+        velocities(tree, &self.v, &mut links, &self.axes);
+        let joints: f64 = tree
+            .dofs
+            .iter()
+            .zip(self.q.iter().zip(&self.v))
+            .map(|(d, (q, v))| 0.5 * (d.armature * v * v + d.spring * q * q))
+            .sum();
+        dynamics::kinetic_energy(tree, &links) + dynamics::potential_energy(tree, &links, self.sys.gravity) + joints
     }
 
     fn clipped(&self, u: f32) -> f64 {
@@ -266,32 +276,28 @@ impl PlanarWorld {
             for &e in [cap.a, cap.b].iter().take(ends) {
                 let centre = kinematics::add(s.pos, tree::rotate(s.cs, e));
                 let gap = centre[1] - cap.radius;
-                let p = [centre[0], centre[1] - cap.radius];
-                // Speculative: rows for gaps that the current approach speed may close.
-                let vz = point_velocity(s, p)[1];
-                if gap > 1e-3 + h * (-vz).max(0.0) {
+                // Contacts once penetrating (MuJoCo's zero margin).
+                if gap >= 0.0 {
                     continue;
                 }
+                let p = [centre[0], centre[1] - cap.radius];
                 let anc = &tree.links[cap.link].ancestors;
+                let v0 = point_velocity(s, p);
+                let mu = sys.friction;
+                for sign in [1.0, -1.0] {
+                    let (target, ratio) = sys.contact.row(v0[1] + sign * mu * v0[0], gap, h);
+                    let r = self.rows.count;
+                    let Some(row) = self.rows.push(RowKind::Unilateral, target, ratio) else {
+                        return;
+                    };
+                    for &d in anc {
+                        let (col, _) = self.axes[d].point_column(p);
+                        row[d] = col[1] + sign * mu * col[0];
+                    }
+                    self.row_site[r] = RowSite::Contact { link: cap.link, p, sign };
+                }
                 let r = self.rows.count;
-                let Some(row) = self.rows.push(RowKind::Unilateral, gap, sys.contact_soft, h) else {
-                    return;
-                };
-                for &d in anc {
-                    row[d] = self.axes[d].point_column(p).0[1];
-                }
-                self.row_site[r] = (cap.link, p);
-                let friction = RowKind::Friction {
-                    normal: r,
-                    mu: sys.friction,
-                };
-                let Some(row) = self.rows.push(friction, 0.0, sys.contact_soft, h) else {
-                    return;
-                };
-                for &d in anc {
-                    row[d] = self.axes[d].point_column(p).0[0];
-                }
-                self.row_site[r + 1] = (cap.link, p);
+                self.rows.pair(r - 2, r - 1);
             }
         }
         let first_limit = self.rows.count;
@@ -303,14 +309,14 @@ impl PlanarWorld {
                 if gap > reach {
                     continue;
                 }
-                let Some(row) = self.rows.push(RowKind::Unilateral, gap, sys.limit_soft, h) else {
+                let Some(row) = self.rows.push_gap(gap, sys.limit_soft, h) else {
                     return;
                 };
                 row[d] = sign;
             }
         }
         for site in &mut self.row_site[first_limit..self.rows.count] {
-            *site = (usize::MAX, [0.0; 2]);
+            *site = RowSite::Limit;
         }
     }
 
@@ -318,16 +324,13 @@ impl PlanarWorld {
     fn collect_wrenches(&mut self) {
         let h = self.sys.h;
         self.wrench.iter_mut().for_each(|w| *w = [0.0; 3]);
+        let mu = self.sys.friction;
         for r in 0..self.rows.count {
-            let (link, p) = self.row_site[r];
-            if link == usize::MAX {
+            let RowSite::Contact { link, p, sign } = self.row_site[r] else {
                 continue;
-            }
-            let f = self.rows.lambda[r] / h;
-            let force = match self.rows.kind[r] {
-                RowKind::Unilateral => [0.0, f],
-                RowKind::Friction { .. } => [f, 0.0],
             };
+            let f = self.rows.lambda[r] / h;
+            let force = [sign * mu * f, f];
             let c = self.links[link].com;
             let rr = kinematics::sub(p, c);
             let w = &mut self.wrench[link];
@@ -396,6 +399,11 @@ impl PlanarWorld {
         if m > 0.0 { [c[0] / m, 0.0, c[1] / m] } else { [0.0; 3] }
     }
 
+    /// The world pose of every link's centre of mass `[x, z]` (for tests and diagnostics).
+    pub fn link_com(&self, i: usize) -> [f64; 2] {
+        self.links[i].com
+    }
+
     /// The capsules of the robot in world coordinates: (link, end a, end b, radius).
     pub fn capsules(&self) -> impl Iterator<Item = (usize, [f64; 3], [f64; 3], f64)> + '_ {
         self.sys.tree.capsules.iter().map(|c| {
@@ -407,3 +415,5 @@ impl PlanarWorld {
     }
 }
 
+#[cfg(test)]
+mod tests;
