@@ -24,8 +24,8 @@
 //!   (the rapier world's semantics);
 //! * `torso_mass`, `mass_<link>` → link masses (inertia scaled with them).
 //!
-//! Ground contacts are soft as MuJoCo's with its default `solref` and `solimp` (time constant
-//! 0.02 s, damping ratio 1, impedance 0.9–0.95), friction regularized likewise.
+//! Ground contact normals are soft as MuJoCo's with its default `solref` and `solimp` (time
+//! constant 0.02 s, damping ratio 1, impedance 0.9–0.95); friction is Coulomb's, stiff.
 
 pub mod contacts;
 pub mod dynamics;
@@ -132,8 +132,10 @@ pub struct PlanarWorld {
 /// What a constraint row stands for.
 #[derive(Debug, Clone, Copy)]
 enum RowSite {
-    /// The `sign` edge (±1) of the friction pyramid of a contact of `link` at world point `p`.
-    Contact { link: usize, p: [f64; 2], sign: f64 },
+    /// The normal of a contact of `link` at world point `p`.
+    Normal { link: usize, p: [f64; 2] },
+    /// The friction of a contact of `link` at world point `p`.
+    Friction { link: usize, p: [f64; 2] },
     Limit,
 }
 
@@ -283,21 +285,28 @@ impl PlanarWorld {
                 let p = [centre[0], centre[1] - cap.radius];
                 let anc = &tree.links[cap.link].ancestors;
                 let v0 = point_velocity(s, p);
-                let mu = sys.friction;
-                for sign in [1.0, -1.0] {
-                    let (target, ratio) = sys.contact.row(v0[1] + sign * mu * v0[0], gap, h);
-                    let r = self.rows.count;
-                    let Some(row) = self.rows.push(RowKind::Unilateral, target, ratio) else {
-                        return;
-                    };
-                    for &d in anc {
-                        let (col, _) = self.axes[d].point_column(p);
-                        row[d] = col[1] + sign * mu * col[0];
-                    }
-                    self.row_site[r] = RowSite::Contact { link: cap.link, p, sign };
-                }
+                // The normal: MuJoCo's soft contact; friction: Coulomb's box, stiff (a resting
+                // contact does not creep).
                 let r = self.rows.count;
-                self.rows.pair(r - 2, r - 1);
+                let (target, ratio) = sys.contact.row(v0[1], gap, h);
+                let Some(row) = self.rows.push(RowKind::Unilateral, target, ratio) else {
+                    return;
+                };
+                for &d in anc {
+                    row[d] = self.axes[d].point_column(p).0[1];
+                }
+                self.row_site[r] = RowSite::Normal { link: cap.link, p };
+                let friction = RowKind::Friction {
+                    normal: r,
+                    mu: sys.friction,
+                };
+                let Some(row) = self.rows.push(friction, 0.0, 0.0) else {
+                    return;
+                };
+                for &d in anc {
+                    row[d] = self.axes[d].point_column(p).0[0];
+                }
+                self.row_site[r + 1] = RowSite::Friction { link: cap.link, p };
             }
         }
         let first_limit = self.rows.count;
@@ -324,13 +333,13 @@ impl PlanarWorld {
     fn collect_wrenches(&mut self) {
         let h = self.sys.h;
         self.wrench.iter_mut().for_each(|w| *w = [0.0; 3]);
-        let mu = self.sys.friction;
         for r in 0..self.rows.count {
-            let RowSite::Contact { link, p, sign } = self.row_site[r] else {
-                continue;
-            };
             let f = self.rows.lambda[r] / h;
-            let force = [sign * mu * f, f];
+            let (link, p, force) = match self.row_site[r] {
+                RowSite::Normal { link, p } => (link, p, [0.0, f]),
+                RowSite::Friction { link, p } => (link, p, [f, 0.0]),
+                RowSite::Limit => continue,
+            };
             let c = self.links[link].com;
             let rr = kinematics::sub(p, c);
             let w = &mut self.wrench[link];
