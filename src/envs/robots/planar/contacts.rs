@@ -8,8 +8,9 @@
 //! and moved the random-policy return 29 % from MuJoCo's, the stiff box 5 %). A joint limit is
 //! a unilateral row on its coordinate. Every row is regularized (`J v⁺ + R λ = target`): contacts as MuJoCo's default
 //! soft contacts ([`Impedance`]), joint limits as a spring–damper of given natural frequency
-//! and damping ratio on the row's effective mass ([`Softness`]). A row whose gap is still open
-//! (a limit) is speculative: stiff, with the gap closed by the end of the step at the most.
+//! and damping ratio on the row's effective mass ([`Softness`]). A limit row whose gap is still
+//! open is speculative: it lets the gap close by the end of the step (softly: the limit's
+//! regularizer applies as in rapier's soft joint limits).
 
 use super::dynamics::cholesky_solve;
 
@@ -157,11 +158,12 @@ impl Rows {
         Some(row)
     }
 
-    /// A unilateral row at signed gap `gap` with `soft` once the gap has closed; an open gap
-    /// may close within the step but not more (speculative, stiff).
+    /// A unilateral row at signed gap `gap` with softness `soft`: an open gap may close within
+    /// the step (speculative) but not more, up to the row's softness; a closed one is pushed
+    /// open at the soft rate.
     pub fn push_gap(&mut self, gap: f64, soft: Softness, h: f64) -> Option<&mut [f64]> {
         if gap >= 0.0 {
-            self.push(RowKind::Unilateral, -gap / h, 0.0)
+            self.push(RowKind::Unilateral, -gap / h, soft.ratio)
         } else {
             self.push(RowKind::Unilateral, -soft.bias_rate * gap, soft.ratio)
         }
