@@ -10,13 +10,17 @@
 //! * the bodies are the URDF's links: Ant has 9 (torso with its four hip connectors, as in
 //!   Brax, then thigh and shin per leg), so its contact block has 9·6 values instead of 13·6;
 //! * `cfrc_ext` is computed from rapier's normal contact impulses (no friction part); like
-//!   MuJoCo's it is com-based (torque about the robot's centre of mass, world axes);
+//!   MuJoCo's it is com-based (torque about the robot's centre of mass, world axes); on the
+//!   planar engine (HalfCheetah's default, which does not observe it) it includes friction;
 //! * the root's generalized velocity is rapier's: world-frame linear and angular velocity;
 //! * masses, damping, gravity and actuator torques come from CARL's (Brax) context, not from
 //!   MuJoCo's geom densities and gears;
 //! * rapier's soft contacts leave a few millimetres of vertical jitter at rest, and an Ant left
 //!   alone for many seconds slowly turns about its vertical axis (its hips drift by about
 //!   0.03 rad/s with zero controls): contact solver noise that MuJoCo's does not show.
+//!
+//! The physics is the side file's engine ([`Physics`]): rapier3d, or the planar engine for a
+//! planar robot whose task observes no com-based body terms (HalfCheetah).
 //!
 //! A simulation that diverges (non-finite or faster than the side file's `max_speed`) is rolled
 //! back to the state before the step and the step terminates with `info["diverged"] = 1`.
