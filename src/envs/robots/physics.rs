@@ -13,7 +13,7 @@ use super::world::{Configuration, RobotWorld};
 #[derive(Debug)]
 pub enum Physics {
     Rapier(Box<RobotWorld>),
-    Planar(PlanarWorld),
+    Planar(Box<PlanarWorld>),
 }
 
 /// What a task builds its worlds from: the rapier world is rebuilt from model and context,
@@ -28,7 +28,7 @@ impl PhysicsBuilder {
     pub fn build(&self, model: &RobotModel, params: &RobotParams, q: &Configuration) -> Physics {
         match self {
             PhysicsBuilder::Rapier => Physics::Rapier(Box::new(RobotWorld::build(model, params, q))),
-            PhysicsBuilder::Planar(sys) => Physics::Planar(PlanarWorld::new(sys.clone(), q)),
+            PhysicsBuilder::Planar(sys) => Physics::Planar(Box::new(PlanarWorld::new(sys.clone(), q))),
         }
     }
 }
