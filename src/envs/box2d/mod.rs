@@ -17,7 +17,7 @@ pub mod heuristic;
 pub mod lunar_lander;
 pub mod vehicle_racing;
 
-pub use bipedal_walker::{BipedalWalker, BipedalWalkerOptions, BipedalWalkerParams, WalkerEngine, WalkerHeuristic};
+pub use bipedal_walker::{BipedalWalker, BipedalWalkerOptions, BipedalWalkerParams, WalkerHeuristic};
 pub use heuristic::{heuristic, heuristic_continuous};
 pub use lunar_lander::{LunarLander, LunarLanderOptions, LunarLanderParams, Outcome};
 pub use vehicle_racing::{VehicleRacing, VehicleRacingOptions, VehicleRacingParams};
