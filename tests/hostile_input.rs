@@ -235,9 +235,16 @@ fn variant_options_select_the_environment_variant() {
         assert_eq!(o.status.code(), Some(2), "{old}");
         let err = stderr(&o);
         let name = old.split('=').next().unwrap();
-        assert!(err.contains(&format!("bipedal_walker has no option \"{name}\"")), "{err}");
+        assert!(
+            err.contains(&format!("bipedal_walker has no option \"{name}\"")),
+            "{err}"
+        );
         assert!(err.contains("valid options: hardcore"), "{err}");
-        assert!(o.stdout.is_empty(), "nothing runs: {}", String::from_utf8_lossy(&o.stdout));
+        assert!(
+            o.stdout.is_empty(),
+            "nothing runs: {}",
+            String::from_utf8_lossy(&o.stdout)
+        );
     }
     let o = run(&["rollout", "lunar_lander", "--option", "continuous=maybe"]);
     assert_eq!(o.status.code(), Some(2));

@@ -268,13 +268,11 @@ pub static REGISTRY: &[Registration] = &[
             };
             Ok(AnyEnv::new(BipedalWalker::with_options(p, opts)))
         },
-        options: &[
-            OptionSpec {
-                name: "hardcore",
-                help: "BipedalWalkerHardcore: stumps, stairs and pits between grass stretches",
-                kind: OptionKind::Bool { default: false },
-            },
-        ],
+        options: &[OptionSpec {
+            name: "hardcore",
+            help: "BipedalWalkerHardcore: stumps, stairs and pits between grass stretches",
+            kind: OptionKind::Bool { default: false },
+        }],
         heuristic: Some(|_| Box::new(WalkerPolicy(WalkerHeuristic::default()))),
         renders: true,
         cost: StepCost::Heavy,

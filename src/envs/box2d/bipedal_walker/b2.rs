@@ -2,7 +2,9 @@
 //! joints in Gymnasium's creation order (terrain obstacles, surface edges one static body each,
 //! hull, then per leg upper, lower, hip, knee), stepped with `Step(1/FPS, 6·30, 2·30)`.
 
-use super::{BipedalWalkerParams, BodyState, HIP_LIMITS, HIP_REFERENCE, HULL_POLY, KNEE_LIMITS, Terrain, size, wrap_pi};
+use super::{
+    BipedalWalkerParams, BodyState, HIP_LIMITS, HIP_REFERENCE, HULL_POLY, KNEE_LIMITS, Terrain, size, wrap_pi,
+};
 use crate::physics2d::{
     BodyKind, Filter, FixtureDef, Polygon, RevoluteDef, Shape, V2, World as B2World, shapes::PolygonError, v2,
 };

@@ -79,10 +79,10 @@ pub const HULL_POLY: [(f64, f64); 5] = [(-30.0, 9.0), (6.0, 9.0), (34.0, 1.0), (
 pub const HIP_LIMITS: [f64; 2] = [-0.8, 1.1];
 /// Reference angles of the two hips (rad): Gymnasium creates the upper legs at `i·0.05` rad
 /// (`i = −1, +1`) and pybox2d's `revoluteJointDef` sets `referenceAngle = angleB − angleA` at
-/// creation, so a hip's joint angle (observation, limits) is the upper leg's
-/// angle relative to the hull minus `i·0.05`: leg 0 really stands 0.05 rad further back and leg 1
-/// 0.05 rad further forward than their joint angles say (measured with Gymnasium 1.4). The knees'
-/// reference angles are 0.
+/// creation, so a hip's joint angle (observation, limits) is the upper leg's angle relative to
+/// the hull minus `i·0.05`: leg 0 really stands 0.05 rad further back and leg 1 0.05 rad further
+/// forward than their joint angles say (measured with Gymnasium 1.4). The knees' reference angles
+/// are 0.
 pub const HIP_REFERENCE: [f64; 2] = [-0.05, 0.05];
 /// Knee joint limits (rad).
 pub const KNEE_LIMITS: [f64; 2] = [-1.6, -0.1];
