@@ -17,7 +17,7 @@
 //!
 //! Physics (see `envs::box2d::lunar_lander`): Box2D 2.3's semantics in `f64` (free flight in
 //! closed form, [`crate::physics2d`] near the ground), recorded as
-//! [`PHYSICS_ENGINE`](crate::envs::box2d::PHYSICS_ENGINE) in the results; the heuristic's landing
+//! [`crate::envs::box2d::PHYSICS_ENGINE`] in the results; the heuristic's landing
 //! and crash rates are within 0.10 of Gymnasium's on every body (README table).
 
 use serde::Serialize;

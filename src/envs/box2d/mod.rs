@@ -3,7 +3,7 @@
 //! * [`lunar_lander`]: Gymnasium's `LunarLander-v3` (discrete and continuous) with all of
 //!   CARL's 16 context features, each instance owning its own physics world: free flight in
 //!   closed form, [`crate::physics2d`] near the ground.
-//! * [`heuristic`]: Gymnasium's hand-written landing controller (same control law).
+//! * [`heuristic`](mod@heuristic): Gymnasium's hand-written landing controller (same control law).
 //! * [`bipedal_walker`]: Gymnasium's `BipedalWalker-v3` (and the hardcore terrain) with all of
 //!   CARL's 20 context features on [`crate::physics2d`], plus Gymnasium's scripted gait
 //!   ([`WalkerHeuristic`]).
