@@ -59,7 +59,8 @@ mod single {
     fn acrobot(b: Bencher) {
         run(b, "acrobot");
     }
-    /// rapier2d world per instance; random actions, so episodes (and world rebuilds) are short.
+    /// Closed-form free flight, src/physics2d near the ground (one world per instance); random
+    /// actions, so episodes (and resets) are short.
     #[divan::bench]
     fn lunar_lander(b: Bencher) {
         run(b, "lunar_lander");

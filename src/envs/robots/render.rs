@@ -218,7 +218,7 @@ fn shade(c: Color, k: f32) -> Color {
 /// Viewing distance up to which the ground grid has 1 m cells (over 4 px apart at the target).
 const GRID_1M_UP_TO: f32 = 100.0;
 
-/// Grid spacing for a camera `distance` m from its target: 1 m up to [`GRID_1M_UP_TO`], then
+/// Grid spacing for a camera `distance` m from its target: 1 m up to `GRID_1M_UP_TO`, then
 /// the next power of ten that keeps lines at least as far apart on screen. A far camera (a
 /// target 1 km away) would otherwise draw thousands of lines merging into the horizon.
 pub fn grid_step(distance: f32) -> f32 {
