@@ -1,4 +1,5 @@
-//! Articulated robots from URDF on rapier3d (reduced-coordinate multibody joints).
+//! Articulated robots from URDF on rapier3d (reduced-coordinate multibody joints), and planar
+//! ones (HalfCheetah) on a reduced-coordinate engine of their own ([`planar`]).
 //!
 //! * [`model`]: the embedded robot descriptions: `robots/<name>.urdf` (links, collision
 //!   shapes, masses, joints; authored for this project from the published geometry) and
@@ -36,7 +37,8 @@ pub use params::RobotParams;
 pub use reach::Reach;
 pub use world::RobotWorld;
 
-/// The physics engine behind these environments, pinned exactly in `Cargo.toml`.
+/// The physics engine behind the rapier-based environments, pinned exactly in `Cargo.toml`
+/// (HalfCheetah runs on [`planar`] unless its `rapier` option is set).
 pub const PHYSICS_ENGINE: &str =
     "rapier3d =0.36.1 + rapier3d-urdf =0.36.1 (features: enhanced-determinism; f32, dim3, multibody joints)";
 

@@ -136,8 +136,8 @@ impl PlanarTree {
         for l in &urdf.links {
             let what = format!("link {}", l.name);
             let inertial = &l.inertial;
-            let pitch_ok = planar_pitch(&format!("{what}'s inertial frame"), inertial.origin.rpy.0)?;
-            let _ = pitch_ok; // a rotation about y leaves the y moment of inertia unchanged
+            // Only checked: a rotation about y leaves the y moment of inertia unchanged.
+            planar_pitch(&format!("{what}'s inertial frame"), inertial.origin.rpy.0)?;
             let ine = &inertial.inertia;
             if ine.ixy.abs() > PLANAR_TOL || ine.iyz.abs() > PLANAR_TOL {
                 return Err(format!("{what}'s inertia couples y with x or z (ixy, iyz ≠ 0)"));
