@@ -236,7 +236,8 @@ impl Locomotion {
         let act = vec![0.0; if task.include_com_terms { nj } else { 0 }];
         // The planar engine has no com-based body terms (`cinert`, `cvel`, com-based
         // `cfrc_ext`): tasks that observe them run on rapier.
-        let planar_task = !task.include_com_terms && !task.com_based_cfrc && task.forward_velocity == ForwardVelocity::Root;
+        let planar_task =
+            !task.include_com_terms && !task.com_based_cfrc && task.forward_velocity == ForwardVelocity::Root;
         let builder = match model.side.engine {
             Engine::Planar if planar_task => PhysicsBuilder::Planar(Arc::new(
                 PlanarSystem::new(&model, &params).expect("a planar side file is checked when the model loads"),

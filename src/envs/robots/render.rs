@@ -310,14 +310,21 @@ pub fn render_planar(world: &PlanarWorld) -> Frame {
             (li, Capsule::new(v(a), v(b), r as f32))
         })
         .collect();
-    let shapes: Vec<(usize, &dyn Shape, Pose)> =
-        capsules.iter().map(|(li, c)| (*li, c as &dyn Shape, Pose::IDENTITY)).collect();
+    let shapes: Vec<(usize, &dyn Shape, Pose)> = capsules
+        .iter()
+        .map(|(li, c)| (*li, c as &dyn Shape, Pose::IDENTITY))
+        .collect();
     render_scene(ground_canvas(&cam), &cam, &shapes, &[])
 }
 
 /// Draw `shapes` (link index for the colour, shape, world pose) and the `extra` spheres over
 /// the ground already on `canvas`.
-fn render_scene(mut canvas: Canvas, cam: &Camera, shapes: &[(usize, &dyn Shape, Pose)], extra: &[(Vector, f32, Color)]) -> Frame {
+fn render_scene(
+    mut canvas: Canvas,
+    cam: &Camera,
+    shapes: &[(usize, &dyn Shape, Pose)],
+    extra: &[(Vector, f32, Color)],
+) -> Frame {
     // Shapes: (depth, polygon, colour), drawn far to near.
     let mut items: Vec<Silhouette> = Vec::new();
     let mut pts3 = Vec::new();

@@ -73,7 +73,11 @@ impl PlanarSystem {
         let tree = PlanarTree::from_model(model)?.with_masses(model, params);
         let h = side.timestep;
         let jd = finite_or(params.joint_angular_damping, 0.0).max(0.0);
-        let damping = tree.dofs.iter().map(|d| if d.hinge && !d.root { jd } else { 0.0 }).collect();
+        let damping = tree
+            .dofs
+            .iter()
+            .map(|d| if d.hinge && !d.root { jd } else { 0.0 })
+            .collect();
         let k = finite_or(params.joint_stiffness, 1.0).max(1e-9);
         let limit_omega = (k / side.limit_reference_inertia).sqrt();
         let strength = match params.actuator_strength {
@@ -133,9 +137,15 @@ pub struct PlanarWorld {
 #[derive(Debug, Clone, Copy)]
 enum RowSite {
     /// The normal of a contact of `link` at world point `p`.
-    Normal { link: usize, p: [f64; 2] },
+    Normal {
+        link: usize,
+        p: [f64; 2],
+    },
     /// The friction of a contact of `link` at world point `p`.
-    Friction { link: usize, p: [f64; 2] },
+    Friction {
+        link: usize,
+        p: [f64; 2],
+    },
     Limit,
 }
 
@@ -234,7 +244,14 @@ impl PlanarWorld {
         let n = sys.num_dofs();
         let h = sys.h;
         velocities(tree, &self.v, &mut self.links, &self.axes);
-        dynamics::mass_matrix_and_bias(tree, &self.links, &self.axes, sys.gravity, &mut self.mass, &mut self.bias);
+        dynamics::mass_matrix_and_bias(
+            tree,
+            &self.links,
+            &self.axes,
+            sys.gravity,
+            &mut self.mass,
+            &mut self.bias,
+        );
         for (d, dof) in tree.dofs.iter().enumerate() {
             self.mass[d * n + d] += dof.armature + h * sys.damping[d];
             self.force[d] = -self.bias[d] - sys.damping[d] * self.v[d] - dof.spring * self.q[d];

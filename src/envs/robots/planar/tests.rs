@@ -86,7 +86,11 @@ fn an_undamped_unactuated_swing_keeps_its_energy() {
     }
     // One second of motion: the joints swung (they are not at rest) and the energy stayed.
     assert!(w.v()[3..].iter().any(|v| v.abs() > 0.1));
-    assert!(w.q()[3..].iter().all(|q| q.abs() < 0.4), "stayed off the limits: {:?}", w.q());
+    assert!(
+        w.q()[3..].iter().all(|q| q.abs() < 0.4),
+        "stayed off the limits: {:?}",
+        w.q()
+    );
     assert!(worst < 1e-3 * e0.abs().max(1.0), "energy drift {worst} of {e0}");
 }
 
@@ -105,14 +109,26 @@ fn the_mass_matrix_is_symmetric_positive_definite_and_gives_the_kinetic_energy()
         }
         let mut l = m.clone();
         assert!(super::dynamics::cholesky(&mut l, 9));
-        let vmv: f64 = (0..9).map(|i| (0..9).map(|j| v[i] * m[i * 9 + j] * v[j]).sum::<f64>()).sum();
+        let vmv: f64 = (0..9)
+            .map(|i| (0..9).map(|j| v[i] * m[i * 9 + j] * v[j]).sum::<f64>())
+            .sum();
         let mut still = world(&sys, &q, &[0.0; 9]);
         let pot = still.energy();
         let w_energy = world(&sys, &q, &v).energy();
         still = world(&sys, &q, &v);
-        let armature_and_springs: f64 = sys.tree.dofs.iter().zip(&v).map(|(d, v)| 0.5 * d.armature * v * v).sum();
+        let armature_and_springs: f64 = sys
+            .tree
+            .dofs
+            .iter()
+            .zip(&v)
+            .map(|(d, v)| 0.5 * d.armature * v * v)
+            .sum();
         let kinetic = w_energy - pot - armature_and_springs;
-        assert!((0.5 * vmv - kinetic).abs() < 1e-10 * kinetic.max(1.0), "{} vs {kinetic}", 0.5 * vmv);
+        assert!(
+            (0.5 * vmv - kinetic).abs() < 1e-10 * kinetic.max(1.0),
+            "{} vs {kinetic}",
+            0.5 * vmv
+        );
         let _ = still;
     }
 }
@@ -142,11 +158,18 @@ fn the_bias_forces_are_lagranges_by_finite_differences() {
             for i in 0..n {
                 expect[i] += v[k] * (0..n).map(|j| dm[i * n + j] * v[j]).sum::<f64>();
             }
-            let quad: f64 = (0..n).map(|i| (0..n).map(|j| v[i] * dm[i * n + j] * v[j]).sum::<f64>()).sum();
+            let quad: f64 = (0..n)
+                .map(|i| (0..n).map(|j| v[i] * dm[i * n + j] * v[j]).sum::<f64>())
+                .sum();
             expect[k] += -0.5 * quad + (vp - vm) / (2.0 * eps);
         }
         for i in 0..n {
-            assert!((b[i] - expect[i]).abs() < 1e-5 * (1.0 + expect[i].abs()), "seed {seed} coordinate {i}: {} vs {}", b[i], expect[i]);
+            assert!(
+                (b[i] - expect[i]).abs() < 1e-5 * (1.0 + expect[i].abs()),
+                "seed {seed} coordinate {i}: {} vs {}",
+                b[i],
+                expect[i]
+            );
         }
     }
 }
@@ -176,7 +199,10 @@ fn it_rests_on_the_floor_without_drift() {
     w.contact_wrenches(&mut wrench);
     let support: f64 = wrench.chunks(6).map(|c| c[5]).sum();
     let weight: f64 = sys.tree.links[1..].iter().map(|l| l.mass).sum::<f64>() * -p.gravity;
-    assert!((support - weight).abs() < 1e-3 * weight, "contacts carry {support} N of {weight} N");
+    assert!(
+        (support - weight).abs() < 1e-3 * weight,
+        "contacts carry {support} N of {weight} N"
+    );
 }
 
 #[test]
@@ -212,7 +238,11 @@ fn two_worlds_stepped_alternately_equal_each_alone() {
 
 #[test]
 fn a_robot_that_is_not_planar_is_refused_with_a_reason() {
-    let (_, urdf, side) = crate::envs::robots::model::ROBOT_FILES.iter().find(|f| f.0 == "ant").copied().unwrap();
+    let (_, urdf, side) = crate::envs::robots::model::ROBOT_FILES
+        .iter()
+        .find(|f| f.0 == "ant")
+        .copied()
+        .unwrap();
     let side = side.replacen('{', "{\n  \"engine\": \"planar\",", 1);
     let err = RobotModel::parse("ant", urdf, &side).unwrap_err().to_string();
     assert!(err.contains("\"engine\": \"planar\" needs a planar robot"), "{err}");

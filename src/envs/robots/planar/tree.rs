@@ -125,7 +125,9 @@ impl PlanarTree {
         let side: &SideFile = &model.side;
         let urdf = &model.urdf;
         if side.root != RootKind::Fixed {
-            return Err("a planar robot needs \"root\": \"fixed\" (its root slides and pitch hinge are URDF joints)".into());
+            return Err(
+                "a planar robot needs \"root\": \"fixed\" (its root slides and pitch hinge are URDF joints)".into(),
+            );
         }
         if side.self_collisions {
             return Err("the planar engine has no self-collisions (\"self_collisions\": true)".into());
@@ -181,7 +183,11 @@ impl PlanarTree {
                         dir: [axis[0] / n, axis[2] / n],
                     }
                 }
-                ref other => return Err(format!("{what} is a {other:?} joint; the planar engine has hinges and slides")),
+                ref other => {
+                    return Err(format!(
+                        "{what} is a {other:?} joint; the planar engine has hinges and slides"
+                    ));
+                }
             };
             let offset = in_plane(&format!("{what}'s origin"), j.origin.xyz.0)?;
             let offset_angle = planar_pitch(&format!("{what}'s origin"), j.origin.rpy.0)?;
@@ -204,7 +210,11 @@ impl PlanarTree {
                     hinge: matches!(kind, JointKind::Hinge { .. }),
                     limits,
                     armature: if root { 0.0 } else { armature },
-                    spring: side.joint_springs.iter().find(|s| s.joint == *name).map_or(0.0, |s| s.stiffness),
+                    spring: side
+                        .joint_springs
+                        .iter()
+                        .find(|s| s.joint == *name)
+                        .map_or(0.0, |s| s.stiffness),
                     root,
                 });
                 Some(dofs.len() - 1)
