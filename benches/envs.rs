@@ -59,7 +59,8 @@ mod single {
     fn acrobot(b: Bencher) {
         run(b, "acrobot");
     }
-    /// rapier2d world per instance; random actions, so episodes (and world rebuilds) are short.
+    /// Closed-form free flight, src/physics2d near the ground (one world per instance); random
+    /// actions, so episodes (and resets) are short.
     #[divan::bench]
     fn lunar_lander(b: Bencher) {
         run(b, "lunar_lander");
@@ -68,11 +69,12 @@ mod single {
     fn bipedal_walker(b: Bencher) {
         run(b, "bipedal_walker");
     }
-    /// 3-D multibody robots on rapier3d (5 physics steps per env step).
+    /// 3-D multibody robot on rapier3d (5 physics steps per env step).
     #[divan::bench(sample_count = 20, sample_size = 20)]
     fn ant(b: Bencher) {
         run(b, "ant");
     }
+    /// The planar reduced-coordinate engine (5 physics steps per env step).
     #[divan::bench(sample_count = 20, sample_size = 20)]
     fn half_cheetah(b: Bencher) {
         run(b, "half_cheetah");

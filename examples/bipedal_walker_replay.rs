@@ -4,10 +4,10 @@
 //! flags, ground impulse of both engines) and the mean hull velocity error.
 //!
 //!     /work/venvs/peers/bin/python scripts/bipedal_walker_record_box2d.py --seed 0 --steps 400 > rec.json
-//!     cargo run --release --example bipedal_walker_replay -- rec.json [rapier] [box2d_contacts] [substeps=N] [pgs=N]
+//!     cargo run --release --example bipedal_walker_replay -- rec.json
 
 use carl_spec::envs::box2d::bipedal_walker::{Terrain, TerrainSpec};
-use carl_spec::envs::box2d::{BipedalWalker, BipedalWalkerOptions, BipedalWalkerParams, WalkerEngine};
+use carl_spec::envs::box2d::{BipedalWalker, BipedalWalkerParams};
 use carl_spec::envs::{Action, Env};
 use serde_json::Value;
 
@@ -18,29 +18,16 @@ fn floats(v: &Value) -> Vec<f64> {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
-    let usage = "usage: bipedal_walker_replay RECORDING.json [rapier] [box2d_contacts] [substeps=N] [pgs=N]";
-    let Some(path) = args.get(1) else {
+    let usage = "usage: bipedal_walker_replay RECORDING.json";
+    let (Some(path), 2) = (args.get(1), args.len()) else {
         return Err(usage.into());
     };
-    let mut opts = BipedalWalkerOptions::default();
-    for a in &args[2..] {
-        let count = |v: &str| v.parse::<usize>().map_err(|_| format!("{a}: not a count; {usage}"));
-        match a.split_once('=') {
-            None if a == "box2d_contacts" => opts.box2d_contacts = true,
-            None if a == "rapier" => opts.engine = WalkerEngine::Rapier,
-            Some(("substeps", v)) => opts.solver_iterations = count(v)?,
-            Some(("pgs", v)) => opts.pgs_iterations = count(v)?,
-            _ => return Err(format!("unknown argument {a}; {usage}").into()),
-        }
-    }
-    // rapier's bodies touch the ground; Box2D's (and physics2d's) rest on two skins.
-    let lower_start = opts.engine == WalkerEngine::Rapier && !opts.box2d_contacts;
     let rec: Value = serde_json::from_str(&std::fs::read_to_string(path)?)?;
     let p = BipedalWalkerParams {
         terrain_height: 400.0 / 30.0 / 4.0, // Gymnasium's TERRAIN_HEIGHT
         ..BipedalWalkerParams::default()
     };
-    let mut env = BipedalWalker::with_options(p, opts);
+    let mut env = BipedalWalker::new(p);
     env.reset(Some(0));
     let (x, y) = (floats(&rec["terrain_x"]), floats(&rec["terrain_y"]));
     let spec = TerrainSpec {
@@ -76,9 +63,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let (before, after) = (&r["before"], &r["after"]);
         let mut s = base.clone();
         s[..6].copy_from_slice(&floats(&before["hull"]));
-        if lower_start {
-            s[1] -= 0.015; // Box2D rests 0.015 m off the ground; rapier's bodies touch
-        }
         s[6..10].copy_from_slice(&floats(&before["q"]));
         s[10..14].copy_from_slice(&floats(&before["dq"]));
         s[14..16].copy_from_slice(&floats(&before["contact"]));

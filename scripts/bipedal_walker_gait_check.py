@@ -21,9 +21,6 @@ Usage (Gymnasium installed outside the repository, carl-spec built):
     cargo build --release
     /work/venvs/peers/bin/python scripts/bipedal_walker_gait_check.py --seeds 30 \
         --carl-spec target/release/carl-spec --out bipedal_walker_gait.json --markdown
-    # The former rapier2d engine (and its emulation of Box2D's landings):
-    ... scripts/bipedal_walker_gait_check.py --seeds 30 --markdown --option rapier=true
-    ... scripts/bipedal_walker_gait_check.py --seeds 30 --markdown --option rapier=true --option box2d_contacts=true
 """
 import argparse
 import json
@@ -150,7 +147,7 @@ def main():
     ap.add_argument("--out")
     ap.add_argument("--markdown", action="store_true")
     ap.add_argument("--option", action="append", default=[], metavar="NAME=VALUE",
-                    help="carl-spec environment option, e.g. box2d_contacts=true (repeatable)")
+                    help="carl-spec environment option (repeatable; applied to the carl-spec side only)")
     args = ap.parse_args()
     import gymnasium as gym
 

@@ -25,7 +25,9 @@ user of the benchmark gets, the second how much of the difference is the paramet
 Usage (from the repository root, with Gymnasium 1.4 and mujoco installed):
     python3 scripts/robot_mujoco_compare.py --carl-spec target/release/carl-spec \\
         --json robot_mujoco_compare.json --markdown robot_mujoco_compare.md
-`--carl-only` skips Gymnasium (prints carl-spec's side only, e.g. to refresh the test pins).
+`--carl-only` skips Gymnasium (prints carl-spec's side only, e.g. to refresh the test pins);
+`--carl-option rapier=true` runs HalfCheetah on its former rapier3d engine (the planar engine is
+its default).
 """
 import argparse
 import json
@@ -105,13 +107,15 @@ def forward_velocity(robot, obs):
 class CarlSide:
     """Runs carl-spec episodes through `carl-spec rollout` (JSON Lines on stdout)."""
 
-    def __init__(self, exe, robot, context):
-        self.exe, self.robot, self.context = exe, robot, context
+    def __init__(self, exe, robot, context, options=()):
+        self.exe, self.robot, self.context, self.options = exe, robot, context, list(options)
 
     def _cmd(self, seed):
         cmd = [self.exe, "rollout", self.robot, "--seed", str(seed), "--allow-out-of-bounds"]
         for k, v in sorted(self.context.items()):
             cmd += ["--context", f"{k}={v}"]
+        for o in self.options:
+            cmd += ["--option", o]
         return cmd
 
     @staticmethod
@@ -270,6 +274,13 @@ def main():
     ap.add_argument("--json")
     ap.add_argument("--markdown")
     ap.add_argument("--carl-only", action="store_true", help="skip Gymnasium (carl-spec's side only)")
+    ap.add_argument(
+        "--carl-option",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="an environment option for carl-spec's side, e.g. rapier=true (HalfCheetah's rapier3d engine); repeatable",
+    )
     args = ap.parse_args()
     if args.episodes < 1:
         sys.exit("--episodes must be at least 1")
@@ -277,7 +288,7 @@ def main():
     for robot in robots:
         if robot not in ROBOTS:
             sys.exit(f"unknown robot {robot!r}; choose from {', '.join(ROBOTS)}")
-    meta = {"generator": "scripts/robot_mujoco_compare.py", "episodes": args.episodes}
+    meta = {"generator": "scripts/robot_mujoco_compare.py", "episodes": args.episodes, "carl_options": args.carl_option}
     if not args.carl_only:
         import gymnasium
         import mujoco
@@ -287,8 +298,8 @@ def main():
     table = {}
     for robot in robots:
         sides = {
-            "carl": CarlSide(args.carl_spec, robot, {}),
-            "carl_matched": CarlSide(args.carl_spec, robot, MUJOCO_CONTEXT[robot]),
+            "carl": CarlSide(args.carl_spec, robot, {}, args.carl_option),
+            "carl_matched": CarlSide(args.carl_spec, robot, MUJOCO_CONTEXT[robot], args.carl_option),
         }
         if not args.carl_only:
             sides["mujoco"] = GymSide(robot)

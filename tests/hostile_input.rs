@@ -229,6 +229,23 @@ fn variant_options_select_the_environment_variant() {
     let o = run(&["rollout", "cartpole", "--option", "hardcore=true"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("takes no options"), "{}", stderr(&o));
+    // The removed rapier2d walker engine: its old option is refused like any unknown one.
+    for old in ["rapier=true", "box2d_contacts=true"] {
+        let o = run(&["rollout", "bipedal_walker", "--option", old, "--steps", "1"]);
+        assert_eq!(o.status.code(), Some(2), "{old}");
+        let err = stderr(&o);
+        let name = old.split('=').next().unwrap();
+        assert!(
+            err.contains(&format!("bipedal_walker has no option \"{name}\"")),
+            "{err}"
+        );
+        assert!(err.contains("valid options: hardcore"), "{err}");
+        assert!(
+            o.stdout.is_empty(),
+            "nothing runs: {}",
+            String::from_utf8_lossy(&o.stdout)
+        );
+    }
     let o = run(&["rollout", "lunar_lander", "--option", "continuous=maybe"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("true or false"), "{}", stderr(&o));

@@ -116,6 +116,13 @@ fn paper_crash_penalty_sinks_jupiter_and_outputs_are_written() {
     assert!(table.contains("Jupiter") && table.contains("train"), "{table}");
     let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
     assert_eq!(v["crash_penalty"], 10000.0);
+    // The physics is recorded with the results: the in-crate Box2D-semantics solver, by version.
+    let engine = carl_spec::envs::box2d::PHYSICS_ENGINE;
+    assert_eq!(v["physics_engine"], engine);
+    assert!(
+        engine.starts_with(&format!("carl-spec {} physics2d (Box2D 2.3", env!("CARGO_PKG_VERSION"))),
+        "{engine}"
+    );
     let jup = v["rows"]
         .as_array()
         .unwrap()

@@ -556,3 +556,45 @@ fn half_cheetah_motors_features_and_reward() {
     assert!((s.reward - (v - ctrl)).abs() < 1e-9, "{} vs {}", s.reward, v - ctrl);
     assert!((s.info["x_velocity"] - v).abs() < 1e-9);
 }
+
+/// HalfCheetah runs on the planar engine by default and on rapier3d with `rapier = true`; both
+/// start from the same reset state and their states round-trip through `set_state` (the planar
+/// one exactly, replay included).
+#[test]
+fn half_cheetah_engines_and_state_round_trip() {
+    use carl_spec::envs::registry::{EnvOptions, MakeOptions, make_env};
+    use carl_spec::envs::robots::Locomotion;
+    let mut on_rapier = EnvOptions::new();
+    on_rapier.insert("rapier".into(), Value::Bool(true));
+    let s = spec("half_cheetah");
+    let mut planar = env_with("half_cheetah", &[]);
+    let mut rapier = make_env(&s, &Context::new(), MakeOptions::default(), &on_rapier).unwrap();
+    planar.reset(Some(4));
+    rapier.reset(Some(4));
+    // The same reset (rapier keeps f32 coordinates).
+    for (a, b) in planar.state().iter().zip(rapier.state()) {
+        assert!((a - b).abs() < 1e-6, "{a} vs {b}");
+    }
+    let loco = |e: &SpecEnv| e.inner().downcast_ref::<Locomotion>().unwrap().planar_world().is_some();
+    assert!(loco(&planar) && !loco(&rapier));
+    for e in [&mut planar, &mut rapier] {
+        let actions = random_actions(6, 60, 9);
+        for a in &actions[..30] {
+            e.step(a).unwrap();
+        }
+        let saved = e.state();
+        let rest: Vec<_> = actions[30..].iter().map(|a| e.step(a).unwrap().obs).collect();
+        e.set_state(&saved).unwrap();
+        assert_eq!(e.state(), saved);
+        let again: Vec<_> = actions[30..].iter().map(|a| e.step(a).unwrap().obs).collect();
+        if loco(e) {
+            // The planar state is the whole state: the replay is exact.
+            assert_eq!(rest, again);
+        } else {
+            // rapier's warm-start caches are not part of the state.
+            assert_eq!(rest[0].len(), again[0].len());
+        }
+    }
+    // The engines differ (the planar engine is not rapier under another name).
+    assert_ne!(planar.state(), rapier.state());
+}

@@ -63,12 +63,12 @@ def test_check_env_frozen_set_with_visible_context(env_id: str) -> None:
 
 
 # Every runtime stays in its space. Neither Box2D runtime leaves it in random-action runs any more:
-# on rapier2d, LunarLander rolled on the ground spinning past ±2π (19 of 185 episodes) and
+# on the former rapier2d engine, LunarLander rolled on the ground spinning past ±2π (19 of 185 episodes) and
 # BipedalWalker's hull flipped past ±π in the air in rare episodes (rapier's contact warm start
 # threw hard landings up). On the Box2D-semantics engine (src/physics2d) a lander body contact ends
 # the episode first, as in Gymnasium, and the walker stays in the space here
 # (examples/bipedal_walker_flips.rs: 1 of 300 episodes reaches |angle| 3.21, against 8 of 300 up to
-# 10.0 on rapier).
+# 10.0 on rapier2d).
 @pytest.mark.parametrize("env_id", RUNTIMES)
 def test_observations_stay_in_space_and_dtypes_as_declared(env_id: str) -> None:
     env = cs.make(env_id)

@@ -95,6 +95,9 @@ def test_bad_options_are_refused_with_the_valid_ones() -> None:
         cs.make("lunar_lander", options={"continous": True})
     with pytest.raises(cs.UnknownNameError, match="takes no options"):
         cs.make_vec("cartpole", 2, options={"continuous": True})
+    # The removed rapier2d walker engine's option is refused like any unknown one.
+    with pytest.raises(cs.UnknownNameError, match='no option "rapier"; valid options: hardcore'):
+        cs.make("bipedal_walker", options={"rapier": True})
     with pytest.raises(ValueError, match="true or false"):
         cs.make("lunar_lander", options={"continuous": 3})
     with pytest.raises(ValueError, match="options must be a dict"):

@@ -61,7 +61,7 @@ pub enum MakeError {
     Runtime { env: String, message: String },
 }
 
-/// Options for [`make_with`].
+/// Options for [`make_with`](super::registry::make_with).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct MakeOptions {
     /// Accept values outside the spec's bounds (deliberate out-of-distribution runs).

@@ -8,7 +8,7 @@
 //!   instance (sets) or the distribution seed (distributions) and the runtime's reset seed.
 //! * [`ObservationNoise`]: the noise stream and the noisy measurement of the visible features.
 
-use super::contextual::{
+use super::contextual_options::{
     CONTEXT_STREAM, ContextNoise, ContextualError, ENV_STREAM, NOISE_STREAM, NoiseRedraw, NoiseStd, SELECTION_STREAM,
     Selection,
 };

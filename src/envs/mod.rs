@@ -11,7 +11,10 @@
 //! * [`runtime`]: [`AnyEnv`], any runtime behind one type.
 //! * [`policy`]: who acts (random, no-op, the table's hand-written controllers).
 //! * [`contextual`]: CARL's contextual wrapper (instance selection, context in observation/info).
-//! * [`box2d`]: LunarLander on rapier2d (each instance owns its physics world).
+//!   Its vocabulary (sources, selection, visibility, noise, errors) is [`contextual_options`]; its
+//!   per-reset rules (which instance, which seeds) are [`context_schedule`].
+//! * [`box2d`]: LunarLander and BipedalWalker on [`crate::physics2d`] (Box2D 2.3's semantics),
+//!   CarRacing on its own Box2D-style rigid bodies; each instance owns its physics world.
 //! * [`rna_design`]: LEARNA's RNA design task on carl-rna's folding (crates/carl-rna).
 //! * [`robots`]: articulated robots from URDF on rapier3d (Ant, HalfCheetah).
 
@@ -21,6 +24,7 @@ pub mod classic;
 pub mod context;
 pub mod context_schedule;
 pub mod contextual;
+pub mod contextual_options;
 pub mod mario;
 pub mod policy;
 mod pool;

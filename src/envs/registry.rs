@@ -15,7 +15,7 @@
 use super::api::{Action, Space, TimeLimit};
 use super::box2d::{
     BipedalWalker, BipedalWalkerOptions, BipedalWalkerParams, LunarLander, LunarLanderOptions, LunarLanderParams,
-    VehicleRacing, VehicleRacingOptions, VehicleRacingParams, WalkerEngine, WalkerHeuristic,
+    VehicleRacing, VehicleRacingOptions, VehicleRacingParams, WalkerHeuristic,
 };
 use super::classic::{
     Acrobot, AcrobotParams, CartPole, CartPoleParams, MountainCar, MountainCarContinuous, MountainCarContinuousParams,
@@ -264,33 +264,15 @@ pub static REGISTRY: &[Registration] = &[
             let p = params::<BipedalWalkerParams>("bipedal_walker", v, BipedalWalkerParams::set)?;
             let opts = BipedalWalkerOptions {
                 hardcore: o.flag("hardcore"),
-                box2d_contacts: o.flag("box2d_contacts"),
-                engine: if o.flag("rapier") {
-                    WalkerEngine::Rapier
-                } else {
-                    WalkerEngine::Box2d
-                },
                 ..BipedalWalkerOptions::default()
             };
             Ok(AnyEnv::new(BipedalWalker::with_options(p, opts)))
         },
-        options: &[
-            OptionSpec {
-                name: "hardcore",
-                help: "BipedalWalkerHardcore: stumps, stairs and pits between grass stretches",
-                kind: OptionKind::Bool { default: false },
-            },
-            OptionSpec {
-                name: "box2d_contacts",
-                help: "with rapier=true: emulated Box2D skins and continuous collision at foot landings",
-                kind: OptionKind::Bool { default: false },
-            },
-            OptionSpec {
-                name: "rapier",
-                help: "the former rapier2d engine instead of the Box2D-semantics solver (src/physics2d)",
-                kind: OptionKind::Bool { default: false },
-            },
-        ],
+        options: &[OptionSpec {
+            name: "hardcore",
+            help: "BipedalWalkerHardcore: stumps, stairs and pits between grass stretches",
+            kind: OptionKind::Bool { default: false },
+        }],
         heuristic: Some(|_| Box::new(WalkerPolicy(WalkerHeuristic::default()))),
         renders: true,
         cost: StepCost::Heavy,
@@ -346,8 +328,20 @@ pub static REGISTRY: &[Registration] = &[
     },
     Registration {
         id: "half_cheetah",
-        build: |v, _| Ok(AnyEnv::new(locomotion("half_cheetah", v)?)),
-        options: &[],
+        build: |v, o| {
+            if o.flag("rapier") {
+                let p = robot_params("half_cheetah", v)?;
+                return robots::make_robot_on_rapier("half_cheetah", p)
+                    .map(AnyEnv::new)
+                    .ok_or_else(|| missing_model("half_cheetah"));
+            }
+            Ok(AnyEnv::new(locomotion("half_cheetah", v)?))
+        },
+        options: &[OptionSpec {
+            name: "rapier",
+            help: "the rapier3d multibody engine instead of the planar reduced-coordinate engine (src/envs/robots/planar)",
+            kind: OptionKind::Bool { default: false },
+        }],
         heuristic: None,
         renders: true,
         cost: StepCost::Heavy,

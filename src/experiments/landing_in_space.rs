@@ -15,8 +15,10 @@
 //!   `-crash_penalty`).
 //! * **Statistics.** Mean return and population standard deviation (ddof 0, NumPy's default).
 //!
-//! Physics (see `envs::box2d::lunar_lander`): rapier2d, not Box2D; the heuristic's landing and
-//! crash rates are within 0.10 of Gymnasium's on every body but Neptune (README table).
+//! Physics (see `envs::box2d::lunar_lander`): Box2D 2.3's semantics in `f64` (free flight in
+//! closed form, [`crate::physics2d`] near the ground), recorded as
+//! [`crate::envs::box2d::PHYSICS_ENGINE`] in the results; the heuristic's landing
+//! and crash rates are within 0.10 of Gymnasium's on every body (README table).
 
 use serde::Serialize;
 use serde_json::{Map, Value, json};

@@ -1,7 +1,7 @@
 //! Instance sets: derived from a spec (sampled, explicit or grid), frozen to files with their
 //! provenance and a content hash, loaded by name (`env/set`) and verified.
 //!
-//! * [`derive`]: compute a set from its definition (the only place values are produced).
+//! * [`derive`](mod@derive): compute a set from its definition (the only place values are produced).
 //! * [`frozen`]: the frozen file format, hashing and atomic writes.
 //! * [`store`]: where frozen files live (bundled in the binary or an author's directory), loading
 //!   by name, freezing and verification.

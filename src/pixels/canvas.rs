@@ -1,5 +1,5 @@
 //! A software rasteriser: anti-aliased by 4×4 supersampling for polygons and exact area
-//! coverage for axis-aligned rectangles; text in the built-in bitmap [`font`](super::font).
+//! coverage for axis-aligned rectangles; text in the built-in bitmap `font`.
 //!
 //! Work is bounded by what lands on the canvas: shapes are scanned only over the canvas rows
 //! and, per row, only between the polygon's outermost edge crossings, so a long thin shape (a

@@ -3,7 +3,7 @@
 //! Every problem in every file is collected (never stop at the first), each as a located
 //! [`Diagnostic`] with a stable rule id. `SpecSet`'s loaders run the same pipeline, so anything the
 //! library accepts has passed validation (the bundled specs' syntactic checks at test time, see
-//! [`Syntax::TrustEmbedded`]).
+//! `Syntax::TrustEmbedded`).
 
 mod load;
 mod rules;

@@ -14,7 +14,7 @@
 //! `step(noop)` whose observation it returns.
 //!
 //! **Two ways to step, both Box2D's.**
-//! * *Where the lander is one rigid body* ([`rigid`]), in closed form. Gymnasium creates the legs
+//! * *Where the lander is one rigid body* (`rigid`), in closed form. Gymnasium creates the legs
 //!   unassembled (beside the lander, turned 0.05 rad, their anchors `LEG_DOWN` too high); Box2D's
 //!   first step moves lander and legs as one rigid body at the legs' creation geometry (so the
 //!   random push spins the lander about −0.113 rad/s per m/s of sideways push) and then snaps the

@@ -2,7 +2,7 @@
 //! `bound`ed velocities, "book" dynamics by default.
 //!
 //! The float64 arithmetic follows Gymnasium's `_dsdt` / `rk4` term by term; every `x**2` on a
-//! Python or NumPy scalar is the C library `pow(x, 2)` (see [`py_sq`]).
+//! Python or NumPy scalar is the C library `pow(x, 2)` (see `py_sq`).
 
 use std::f64::consts::PI;
 

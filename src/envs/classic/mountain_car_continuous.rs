@@ -3,7 +3,7 @@
 //! Gymnasium stores the state as a float32 array after every step (but as float64 after
 //! `reset`), so from the second step on `position`/`velocity` are NumPy float32 scalars and
 //! the arithmetic mixes float32, float64 and Python floats under NumPy 2's NEP 50 rules.
-//! [`Num`] reproduces those rules so the trajectory is bit-identical.
+//! `Num` reproduces those rules so the trajectory is bit-identical.
 
 use crate::envs::api::{
     Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features, scalar_action,

@@ -7,7 +7,7 @@
 //! (`.` 0, `(` 1, `)` 2, padding 3; r = `state_radius`) centred on the first unassigned site of
 //! the target padded by r on both sides. The reward is 0 until the last assignment, then
 //! (1 − d/n)^`reward_exponent` with d the Hamming distance between the design's MFE structure and
-//! the target after LEARNA's local improvement (see [`reward`]).
+//! the target after LEARNA's local improvement (see `reward`).
 //!
 //! Deviations from LEARNA, on purpose: the epoch order of the targets is a permutation drawn from
 //! the environment's own seeded stream (LEARNA used NumPy's global RNG, so two environments in one

@@ -10,13 +10,17 @@
 //! * the bodies are the URDF's links: Ant has 9 (torso with its four hip connectors, as in
 //!   Brax, then thigh and shin per leg), so its contact block has 9·6 values instead of 13·6;
 //! * `cfrc_ext` is computed from rapier's normal contact impulses (no friction part); like
-//!   MuJoCo's it is com-based (torque about the robot's centre of mass, world axes);
+//!   MuJoCo's it is com-based (torque about the robot's centre of mass, world axes); on the
+//!   planar engine (HalfCheetah's default, which does not observe it) it includes friction;
 //! * the root's generalized velocity is rapier's: world-frame linear and angular velocity;
 //! * masses, damping, gravity and actuator torques come from CARL's (Brax) context, not from
 //!   MuJoCo's geom densities and gears;
 //! * rapier's soft contacts leave a few millimetres of vertical jitter at rest, and an Ant left
 //!   alone for many seconds slowly turns about its vertical axis (its hips drift by about
 //!   0.03 rad/s with zero controls): contact solver noise that MuJoCo's does not show.
+//!
+//! The physics is the side file's engine ([`Physics`]): rapier3d, or the planar engine for a
+//! planar robot whose task observes no com-based body terms (HalfCheetah).
 //!
 //! A simulation that diverges (non-finite or faster than the side file's `max_speed`) is rolled
 //! back to the state before the step and the step terminates with `info["diverged"] = 1`.
@@ -38,8 +42,10 @@ use std::sync::Arc;
 use crate::envs::api::{Action, DType, Env, EnvError, Info, Space, StepOutcome, check_obs_len, vector_action};
 use crate::envs::rng::{EnvRng, normal, uniform};
 
-use super::model::{RobotModel, RootKind};
+use super::model::{Engine, RobotModel, RootKind};
 use super::params::RobotParams;
+use super::physics::{Physics, PhysicsBuilder};
+use super::planar::{PlanarSystem, PlanarWorld};
 use super::world::{Configuration, RobotWorld};
 
 /// Task constants of a Gymnasium v5 locomotion environment.
@@ -176,7 +182,8 @@ pub struct Locomotion {
     model: Arc<RobotModel>,
     params: RobotParams,
     task: TaskConfig,
-    world: Option<RobotWorld>,
+    world: Option<Physics>,
+    builder: PhysicsBuilder,
     /// Raw (unclipped) contact wrenches, 6 per link.
     cfrc: Vec<f64>,
     /// Actuator forces of the last step, one per joint (only with `include_com_terms`).
@@ -189,14 +196,26 @@ pub struct Locomotion {
 }
 
 impl Clone for Locomotion {
-    /// The clone gets a world rebuilt from the full [`Env::state`]: positions, velocities and
-    /// contact wrenches are equal, rapier's solver caches (warm-start impulses) start empty.
+    /// A rapier clone gets a world rebuilt from the full [`Env::state`]: positions, velocities
+    /// and contact wrenches are equal, rapier's solver caches (warm-start impulses) start
+    /// empty. A planar world is copied exactly.
     fn clone(&self) -> Self {
-        let mut c = Locomotion::new(self.id, self.model.clone(), self.params.clone(), self.task);
-        c.rng = self.rng.clone();
-        c.info = self.info;
-        if self.world.is_some() {
-            c.load(&self.state_vec());
+        let mut c = Locomotion {
+            world: None,
+            cfrc: self.cfrc.clone(),
+            act: self.act.clone(),
+            rng: self.rng.clone(),
+            info: self.info,
+            model: self.model.clone(),
+            params: self.params.clone(),
+            builder: self.builder.clone(),
+            init_root: self.init_root.clone(),
+            ..*self
+        };
+        match &self.world {
+            Some(Physics::Planar(w)) => c.world = Some(Physics::Planar(w.clone())),
+            Some(Physics::Rapier(_)) => c.load(&self.state_vec()),
+            None => {}
         }
         c
     }
@@ -215,7 +234,18 @@ impl Locomotion {
         let nv = if free { 6 } else { 0 } + nj;
         let cfrc = vec![0.0; 6 * model.link_names.len()];
         let act = vec![0.0; if task.include_com_terms { nj } else { 0 }];
+        // The planar engine has no com-based body terms (`cinert`, `cvel`, com-based
+        // `cfrc_ext`): tasks that observe them run on rapier.
+        let planar_task =
+            !task.include_com_terms && !task.com_based_cfrc && task.forward_velocity == ForwardVelocity::Root;
+        let builder = match model.side.engine {
+            Engine::Planar if planar_task => PhysicsBuilder::Planar(Arc::new(
+                PlanarSystem::new(&model, &params).expect("a planar side file is checked when the model loads"),
+            )),
+            _ => PhysicsBuilder::Rapier,
+        };
         Locomotion {
+            builder,
             id,
             model,
             params,
@@ -240,7 +270,16 @@ impl Locomotion {
     pub fn task(&self) -> &TaskConfig {
         &self.task
     }
+    /// The rapier world (`None` before the first reset and on the planar engine).
     pub fn world(&self) -> Option<&RobotWorld> {
+        self.world.as_ref().and_then(Physics::rapier)
+    }
+    /// The planar engine's world (`None` before the first reset and on rapier).
+    pub fn planar_world(&self) -> Option<&PlanarWorld> {
+        self.world.as_ref().and_then(Physics::planar)
+    }
+    /// The physics of the current episode.
+    pub fn physics(&self) -> Option<&Physics> {
         self.world.as_ref()
     }
     pub fn last_info(&self) -> StepInfo {
@@ -296,7 +335,7 @@ impl Locomotion {
             joints: s[root_len..self.nq].to_vec(),
             vel: s[self.nq..self.nq + self.nv].to_vec(),
         };
-        self.world = Some(RobotWorld::build(&self.model, &self.params, &q));
+        self.world = Some(self.builder.build(&self.model, &self.params, &q));
         let n = self.cfrc.len();
         self.cfrc.copy_from_slice(&s[self.nq + self.nv..self.nq + self.nv + n]);
         self.act.copy_from_slice(&s[self.nq + self.nv + n..]);
@@ -311,7 +350,7 @@ impl Locomotion {
     fn body_cfrc(&self) -> Vec<f64> {
         let bodies = &self.model.bodies;
         let mut out = vec![0.0; 6 * bodies.len()];
-        match (&self.world, self.task.com_based_cfrc) {
+        match (self.world(), self.task.com_based_cfrc) {
             (Some(w), true) => w.com_wrenches(bodies, w.center_of_mass(), &self.cfrc, &mut out),
             _ => {
                 for (k, &i) in bodies.iter().enumerate() {
@@ -370,7 +409,7 @@ impl Locomotion {
         if self.task.include_com_terms {
             let nb = self.num_bodies();
             let mut com_terms = vec![0.0; 16 * nb];
-            if let Some(w) = &self.world {
+            if let Some(w) = self.world() {
                 let c = w.center_of_mass();
                 w.com_inertia(&self.model.bodies, c, &mut com_terms[..10 * nb]);
                 w.com_velocity(&self.model.bodies, c, &mut com_terms[10 * nb..]);
@@ -570,7 +609,7 @@ impl Env for Locomotion {
     }
 
     fn render(&self) -> Option<crate::pixels::Frame> {
-        self.world.as_ref().map(super::render::render_world)
+        self.world.as_ref().map(Physics::render)
     }
 }
 

@@ -1,11 +1,14 @@
-//! Articulated robots from URDF on rapier3d (reduced-coordinate multibody joints).
+//! Articulated robots from URDF on rapier3d (reduced-coordinate multibody joints), and planar
+//! ones (HalfCheetah) on a reduced-coordinate engine of their own ([`planar`]).
 //!
 //! * [`model`]: the embedded robot descriptions: `robots/<name>.urdf` (links, collision
 //!   shapes, masses, joints; authored for this project from the published geometry) and
 //!   `robots/<name>.actuators.json` (motors, control range, time step, contact and solver
 //!   settings that URDF cannot express).
 //! * [`params`]: the context (Brax's physics parameters as CARL sets them, per-link masses).
-//! * [`world`]: one instance's physics world, built from model + context; nothing is shared
+//! * [`planar`]: a reduced-coordinate engine for planar robots (HalfCheetah's default).
+//! * [`physics`]: a task's physics, either engine.
+//! * [`world`]: one instance's rapier3d physics world, built from model + context; nothing is shared
 //!   between instances.
 //! * [`locomotion`]: Gymnasium v5 tasks (Ant, HalfCheetah, Humanoid).
 //! * [`com`]: MuJoCo's centre-of-mass based body quantities (`cinert`, `cvel`, `cfrc_ext`).
@@ -19,6 +22,8 @@ pub mod grasp;
 pub mod locomotion;
 pub mod model;
 pub mod params;
+pub mod physics;
+pub mod planar;
 pub mod reach;
 pub mod render;
 pub mod vec3;
@@ -32,7 +37,8 @@ pub use params::RobotParams;
 pub use reach::Reach;
 pub use world::RobotWorld;
 
-/// The physics engine behind these environments, pinned exactly in `Cargo.toml`.
+/// The physics engine behind the rapier-based environments, pinned exactly in `Cargo.toml`
+/// (HalfCheetah runs on [`planar`] unless its `rapier` option is set).
 pub const PHYSICS_ENGINE: &str =
     "rapier3d =0.36.1 + rapier3d-urdf =0.36.1 (features: enhanced-determinism; f32, dim3, multibody joints)";
 
@@ -116,7 +122,18 @@ pub fn make_grasp(params: RobotParams) -> Option<Grasp> {
 
 /// Build the environment `id` with context `params`, or `None` if `id` is not a robot.
 pub fn make_robot(id: &str, params: RobotParams) -> Option<Locomotion> {
-    let model = RobotModel::load(robot_of(id)?).ok()?;
+    make_robot_with_model(id, RobotModel::load(robot_of(id)?).ok()?, params)
+}
+
+/// [`make_robot`] on the rapier3d engine whatever the side file's `engine` (the planar
+/// robots' `--option rapier=true`, for comparison).
+pub fn make_robot_on_rapier(id: &str, params: RobotParams) -> Option<Locomotion> {
+    let mut model = (*RobotModel::load(robot_of(id)?).ok()?).clone();
+    model.side.engine = model::Engine::Rapier;
+    make_robot_with_model(id, std::sync::Arc::new(model), params)
+}
+
+fn make_robot_with_model(id: &str, model: std::sync::Arc<RobotModel>, params: RobotParams) -> Option<Locomotion> {
     match id {
         "ant" => Some(Locomotion::new("ant", model, params, TaskConfig::ANT)),
         "half_cheetah" => Some(Locomotion::new("half_cheetah", model, params, TaskConfig::HALF_CHEETAH)),

@@ -18,6 +18,18 @@ pub enum RootKind {
     Fixed,
 }
 
+/// The physics engine of a robot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Engine {
+    /// rapier3d multibodies ([`super::world::RobotWorld`]).
+    #[default]
+    Rapier,
+    /// The planar reduced-coordinate engine ([`super::planar`]); only for robots whose links
+    /// all move in the x-z plane (checked when the model loads).
+    Planar,
+}
+
 /// One motor: a URDF joint and its gear (torque per unit control, before the strength factor).
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -48,6 +60,10 @@ pub struct JointArmature {
 pub struct SideFile {
     pub robot: String,
     pub source: String,
+    /// The physics engine (default rapier). `"planar"` is checked at load: the robot must be
+    /// planar (see [`super::planar::PlanarTree::from_model`]).
+    #[serde(default)]
+    pub engine: Engine,
     /// Physics time step (s).
     pub timestep: f64,
     /// Physics steps per environment step.
@@ -276,7 +292,7 @@ impl RobotModel {
                 message: "timestep, frame_skip and solver_iterations must be positive".into(),
             });
         }
-        Ok(RobotModel {
+        let model = RobotModel {
             torso,
             bodies,
             name: robot,
@@ -284,7 +300,14 @@ impl RobotModel {
             side,
             link_names,
             joint_names,
-        })
+        };
+        if model.side.engine == Engine::Planar {
+            super::planar::PlanarTree::from_model(&model).map_err(|e| ModelError::Side {
+                robot,
+                message: format!("\"engine\": \"planar\" needs a planar robot: {e}"),
+            })?;
+        }
+        Ok(model)
     }
 
     pub fn num_actuators(&self) -> usize {

@@ -6,6 +6,7 @@ use rapier3d::prelude::*;
 
 use crate::pixels::{Canvas, Color, Frame};
 
+use super::planar::PlanarWorld;
 use super::world::RobotWorld;
 
 pub const WIDTH: u32 = 480;
@@ -34,7 +35,11 @@ pub struct Camera {
 impl Camera {
     /// The default view of a world: 4 m to the side (−y) and 1.5 m above the torso.
     pub fn following(world: &RobotWorld) -> Camera {
-        let root = world.link_pose(world.torso).translation;
+        Camera::following_point(world.link_pose(world.torso).translation)
+    }
+
+    /// The default view of a robot whose torso is at `root`.
+    pub fn following_point(root: Vector) -> Camera {
         let target = Vector::new(root.x, root.y, root.z.clamp(0.3, 3.0) * 0.6);
         Camera {
             eye: target + Vector::new(0.0, -4.0, 1.5),
@@ -213,7 +218,7 @@ fn shade(c: Color, k: f32) -> Color {
 /// Viewing distance up to which the ground grid has 1 m cells (over 4 px apart at the target).
 const GRID_1M_UP_TO: f32 = 100.0;
 
-/// Grid spacing for a camera `distance` m from its target: 1 m up to [`GRID_1M_UP_TO`], then
+/// Grid spacing for a camera `distance` m from its target: 1 m up to `GRID_1M_UP_TO`, then
 /// the next power of ten that keeps lines at least as far apart on screen. A far camera (a
 /// target 1 km away) would otherwise draw thousands of lines merging into the horizon.
 pub fn grid_step(distance: f32) -> f32 {
@@ -251,6 +256,27 @@ pub fn render_with(world: &RobotWorld, extra: &[(Vector, f32, Color)]) -> Frame 
 
 /// Render `world` from camera `cam`, with optional extra spheres (centre, radius, colour).
 pub fn render_from(world: &RobotWorld, cam: &Camera, extra: &[(Vector, f32, Color)]) -> Frame {
+    let canvas = ground_canvas(cam);
+    // Colliders follow their body: compose the body pose with the collider's offset.
+    let shapes: Vec<(usize, &dyn Shape, Pose)> = world
+        .link_colliders
+        .iter()
+        .enumerate()
+        .flat_map(|(li, cols)| cols.iter().map(move |&ch| (li, ch)))
+        .map(|(li, ch)| {
+            let col = &world.pw.colliders[ch];
+            let pose = match (col.parent(), col.position_wrt_parent()) {
+                (Some(b), Some(rel)) => world.pw.bodies[b].position() * rel,
+                _ => *col.position(),
+            };
+            (li, col.shape(), pose)
+        })
+        .collect();
+    render_scene(canvas, cam, &shapes, extra)
+}
+
+/// A canvas with sky and the gridded ground as `cam` sees them.
+fn ground_canvas(cam: &Camera) -> Canvas {
     let mut canvas = Canvas::new(WIDTH, HEIGHT, SKY);
     // Ground: one projected quad from just in front of the camera to the horizon region, with
     // 1 m grid lines (a single polygon fill keeps rendering cheap).
@@ -271,26 +297,46 @@ pub fn render_from(world: &RobotWorld, cam: &Camera, extra: &[(Vector, f32, Colo
             stroke(&mut canvas, (p.0, p.1), (q.0, q.1), 1.5, GROUND_B);
         }
     }
+    canvas
+}
+
+/// Render a planar robot world (its capsules and the ground) from [`Camera::following_point`].
+pub fn render_planar(world: &PlanarWorld) -> Frame {
+    let cam = Camera::following_point(world.link_pose(world.torso()).translation);
+    let capsules: Vec<(usize, Capsule)> = world
+        .capsules()
+        .map(|(li, a, b, r)| {
+            let v = |p: [f64; 3]| Vector::new(p[0] as f32, p[1] as f32, p[2] as f32);
+            (li, Capsule::new(v(a), v(b), r as f32))
+        })
+        .collect();
+    let shapes: Vec<(usize, &dyn Shape, Pose)> = capsules
+        .iter()
+        .map(|(li, c)| (*li, c as &dyn Shape, Pose::IDENTITY))
+        .collect();
+    render_scene(ground_canvas(&cam), &cam, &shapes, &[])
+}
+
+/// Draw `shapes` (link index for the colour, shape, world pose) and the `extra` spheres over
+/// the ground already on `canvas`.
+fn render_scene(
+    mut canvas: Canvas,
+    cam: &Camera,
+    shapes: &[(usize, &dyn Shape, Pose)],
+    extra: &[(Vector, f32, Color)],
+) -> Frame {
     // Shapes: (depth, polygon, colour), drawn far to near.
     let mut items: Vec<Silhouette> = Vec::new();
     let mut pts3 = Vec::new();
-    for (li, cols) in world.link_colliders.iter().enumerate() {
-        for &ch in cols {
-            let col = &world.pw.colliders[ch];
-            // Colliders follow their body: compose the body pose with the collider's offset.
-            let pose = match (col.parent(), col.position_wrt_parent()) {
-                (Some(b), Some(rel)) => world.pw.bodies[b].position() * rel,
-                _ => *col.position(),
-            };
-            pts3.clear();
-            outline(col.shape(), &pose, &mut pts3);
-            let proj: Option<Vec<(f64, f64, f32)>> = pts3.iter().map(|p| cam.project(*p)).collect();
-            let Some(proj) = proj else { continue };
-            let depth = proj.iter().map(|p| p.2).sum::<f32>() / proj.len() as f32;
-            let poly = hull(proj.iter().map(|p| (p.0, p.1)).collect());
-            let base = PALETTE[li % PALETTE.len()];
-            items.push((depth, poly, shade(base, 1.1 - 0.05 * depth.min(8.0))));
-        }
+    for &(li, shape, pose) in shapes {
+        pts3.clear();
+        outline(shape, &pose, &mut pts3);
+        let proj: Option<Vec<(f64, f64, f32)>> = pts3.iter().map(|p| cam.project(*p)).collect();
+        let Some(proj) = proj else { continue };
+        let depth = proj.iter().map(|p| p.2).sum::<f32>() / proj.len() as f32;
+        let poly = hull(proj.iter().map(|p| (p.0, p.1)).collect());
+        let base = PALETTE[li % PALETTE.len()];
+        items.push((depth, poly, shade(base, 1.1 - 0.05 * depth.min(8.0))));
     }
     for &(c, r, color) in extra {
         pts3.clear();

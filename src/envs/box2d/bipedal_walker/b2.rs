@@ -2,7 +2,9 @@
 //! joints in Gymnasium's creation order (terrain obstacles, surface edges one static body each,
 //! hull, then per leg upper, lower, hip, knee), stepped with `Step(1/FPS, 6·30, 2·30)`.
 
-use super::{BipedalWalkerParams, BodyState, HIP_LIMITS, HIP_REFERENCE, HULL_POLY, KNEE_LIMITS, Terrain, size};
+use super::{
+    BipedalWalkerParams, BodyState, HIP_LIMITS, HIP_REFERENCE, HULL_POLY, KNEE_LIMITS, Terrain, size, wrap_pi,
+};
 use crate::physics2d::{
     BodyKind, Filter, FixtureDef, Polygon, RevoluteDef, Shape, V2, World as B2World, shapes::PolygonError, v2,
 };
@@ -160,6 +162,21 @@ impl Box2dWalker {
             vy: b.v.y,
             w: b.w,
         }
+    }
+
+    /// Joint angles (wrapped to ±π) and speeds, hip 0, knee 0, hip 1, knee 1: Box2D's
+    /// `angle = angleB − angleA − referenceAngle`, `speed = ωB − ωA`.
+    pub fn joints(&self) -> ([f64; 4], [f64; 4]) {
+        let pairs = [(0, 1), (1, 2), (0, 3), (3, 4)];
+        let reference = [HIP_REFERENCE[0], 0.0, HIP_REFERENCE[1], 0.0];
+        let mut q = [0.0; 4];
+        let mut dq = [0.0; 4];
+        for (j, (a, b)) in pairs.into_iter().enumerate() {
+            let (a, b) = (self.body_state(a), self.body_state(b));
+            q[j] = wrap_pi(b.angle - a.angle - reference[j]);
+            dq[j] = b.w - a.w;
+        }
+        (q, dq)
     }
 
     pub fn set_motor(&mut self, j: usize, speed: f64, torque: f64) {

@@ -1,8 +1,7 @@
 //! BipedalWalker-v3 (Gymnasium 1.4 `BipedalWalker`) with CARL's 20 context features, on
-//! [`crate::physics2d`] (Box2D 2.3's solver semantics, [`WalkerEngine::Box2d`], the default) or on
-//! rapier2d ([`WalkerEngine::Rapier`], the former engine).
+//! [`crate::physics2d`] (Box2D 2.3's solver semantics).
 //!
-//! **Box2D engine** (`b2`): the world is built as Gymnasium builds it (terrain obstacles, one
+//! **Physics** (`b2.rs`): the world is built as Gymnasium builds it (terrain obstacles, one
 //! static body per surface edge, hull, then per leg upper leg, lower leg, hip, knee; the legs
 //! created apart from their anchors, as Gymnasium's `reset` does, and reassembled by the position
 //! solver in the first steps) and stepped with `Step(1/FPS, 6·30, 2·30)`. The contact flags and
@@ -10,8 +9,8 @@
 //! continuous collision. After `set_state` the contacts touching at the loaded pose are the
 //! baseline (no events); the warm-start impulses are not part of the state. Not modelled: Box2D's
 //! sleeping (Gymnasium wakes the walker every step by setting its motors) and f32 arithmetic.
-//! The "deviations" below (solver substeps, limits, landings, start pose, skins, speed caps) are
-//! the rapier engine's emulations of what the Box2D engine does natively.
+//! (A former rapier2d engine, which had to emulate Box2D's joint limits, landings and start pose,
+//! was removed: README "BipedalWalker".)
 //!
 //! Same as Gymnasium (CARL overrides the module constants; here each instance has its own
 //! [`BipedalWalkerParams`]):
@@ -38,50 +37,10 @@
 //!   `x < 0` (terminated). Reaching `x > (TERRAIN_LENGTH − TERRAIN_GRASS)·TERRAIN_STEP` terminates.
 //!   The time limit (1600 steps) is the registry's `TimeLimit`.
 //!
-//! Where the rapier engine is not Box2D (documented deviations):
-//! * **Solver.** rapier's TGS-soft solver with [`BipedalWalkerOptions::solver_iterations`]
-//!   substeps (16) replaces Box2D's sequential impulses with 6·30 velocity and 2·30 position
-//!   iterations. Measured by replaying Gymnasium's states one step at a time (scripted gait, seed
-//!   0): at the first push-off Box2D lifts the hull (vy −0.27 → +0.21 m/s); 4 substeps left the
-//!   joint chain unconverged under the 22:1 hull/lower-leg mass ratio and the hull sank (−0.12),
-//!   8 gave +0.16, 16 give +0.209. More substeps change nothing measurable.
-//! * **Limits.** Box2D 2.3 enforces a joint limit only if the joint is at or past it when the
-//!   step starts (no speculative limit) and its position correction leaves [`ANGULAR_SLOP`] (2°)
-//!   of overshoot; we switch rapier's limits on and off per step the same way
-//!   (`World::box2d_limits`). Gymnasium's hips driven up rest at 1.134 / 1.128, knees at −0.066.
-//! * **Foot landings and skins** ([`BipedalWalkerOptions::box2d_contacts`], off by default).
-//!   Box2D's continuous collision (TOI) stops a lower leg inside the step in which it reaches
-//!   the ground, on its own (a TOI island holds no joints), and sets its contact flag in that
-//!   step; rapier's contact acts from the next step, through the whole leg chain (its
-//!   speculative margin is 0.02 m). Box2D also rests its polygons 0.015 m off the ground (0.01 m
-//!   skins minus 0.005 m slop). With the option, `landing` emulates the TOI for the lower legs,
-//!   the walker's colliders carry a 0.015 m contact skin and contacts act only within 0.02 m:
-//!   replaying Gymnasium's states one step at a time (seed 0, 400 steps), the landing steps then
-//!   match Box2D (knee stopped, flag set; test `foot_landing_stops_the_lower_leg_inside_the_step_as_in_box2d`).
-//!   It stays off by default because the scripted gait walks less far with it (README): a
-//!   push-off from one toe lifts the hull with about a third of Box2D's ground impulse (seed 0,
-//!   step 93: 1.1 N·s against 3.3), so the walker drops into a split stance and stalls.
-//! * **Motors.** Box2D's velocity motor is reproduced by rapier's velocity motor (force-based,
-//!   stiffness 0, very high damping) with `max_force = MOTORS_TORQUE·clip(|a|,0,1)`: it reaches
-//!   the target speed unless the torque saturates, like Box2D's.
-//! * **Start pose.** Box2D creates the legs `2·|LEG_DOWN|` above their hip anchors (the sign of
-//!   `LEG_DOWN` in Gymnasium's leg position) at ±0.05 rad with knees at 0 (outside their limit);
-//!   over the first two steps its position-only solver reassembles them while the feet meet the
-//!   ground, folding the walker into a crouch (hips ≈ 0.44 / 0.34, knees ≈ −0.88, hull ≈ 2.35 m
-//!   above the pad at default legs, measured with Gymnasium 1.4). rapier corrects joint errors
-//!   with velocities, which launches the walker, so we create it already assembled in that
-//!   crouch ([`START_JOINTS`]) with the hull level at the height where the lowest foot corner is
-//!   5 mm above the pad (2.34 m at default legs). `LEG_DOWN`, `LEG_H`, `LEG_W` and `SCALE` shape
-//!   that pose as Gymnasium's do.
-//! * **Touching.** Box2D's polygons and edges carry a 0.01 m skin, so contact begins when closer
-//!   than 0.02 m. We use rapier's contact manifolds with the same 0.02 m threshold on the signed
-//!   distance. A lower leg's flag is "touches any terrain" (Box2D clears it when contact with *one*
-//!   terrain body ends even if another still touches).
+//! Where this is not Box2D:
 //! * **Lidar.** Exact ray/segment intersection against the generated terrain (surface edges and
 //!   obstacle sides) in f64, instead of Box2D's f32 `RayCast`; like Box2D's polygon ray cast, an
 //!   obstacle whose inside contains the ray origin is not reported.
-//! * **Speed limits.** Box2D caps the motion per step at 2 m and π/2 rad inside its solver; we
-//!   cap the velocities after each step.
 //! * **Random stream.** Terrain, clouds (not drawn here) and the initial push draw from NumPy's
 //!   generator in one stream in Gymnasium, so e.g. `TERRAIN_LENGTH` (number of cloud draws)
 //!   changes the push. Here the terrain has its own seeded stream (its seed drawn from the
@@ -97,16 +56,13 @@
 //! depend on the context `set_state` is called under (the terrain features act at reset, when the
 //! course is generated, and on the finish line); physical properties (friction, shapes, masses,
 //! gravity, motors) come from the context. `set_state` rebuilds the world assembled from the
-//! joint angles: the small joint stretch of
-//! rapier's soft joints and the solver's warm-start caches are not part of the state.
+//! joint angles: the solver's small joint separations and its warm-start impulses are not part
+//! of the state.
 
 mod b2;
 pub mod heuristic;
-mod landing;
 mod render;
 pub mod terrain;
-
-use rapier2d::prelude::*;
 
 use crate::envs::api::{
     Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features,
@@ -123,16 +79,11 @@ pub const HULL_POLY: [(f64, f64); 5] = [(-30.0, 9.0), (6.0, 9.0), (34.0, 1.0), (
 pub const HIP_LIMITS: [f64; 2] = [-0.8, 1.1];
 /// Reference angles of the two hips (rad): Gymnasium creates the upper legs at `i·0.05` rad
 /// (`i = −1, +1`) and pybox2d's `revoluteJointDef` sets `referenceAngle = angleB − angleA` at
-/// creation, so a hip's joint angle (observation, limits, [`START_JOINTS`]) is the upper leg's
-/// angle relative to the hull minus `i·0.05`: leg 0 really stands 0.05 rad further back and leg 1
-/// 0.05 rad further forward than their joint angles say (measured with Gymnasium 1.4). The knees'
-/// reference angles are 0.
+/// creation, so a hip's joint angle (observation, limits) is the upper leg's angle relative to
+/// the hull minus `i·0.05`: leg 0 really stands 0.05 rad further back and leg 1 0.05 rad further
+/// forward than their joint angles say (measured with Gymnasium 1.4). The knees' reference angles
+/// are 0.
 pub const HIP_REFERENCE: [f64; 2] = [-0.05, 0.05];
-/// Box2D's `b2_angularSlop` (2°): how far past a limit its position correction leaves a joint.
-pub const ANGULAR_SLOP: f64 = 2.0 / 180.0 * std::f64::consts::PI;
-/// A joint's limit while Box2D would not enforce it (|angle| never reaches 3 rad within the
-/// limits above; rapier's angular limits stay within ±π).
-const INACTIVE_LIMIT: f64 = 3.0;
 /// Knee joint limits (rad).
 pub const KNEE_LIMITS: [f64; 2] = [-1.6, -0.1];
 /// Number of lidar rays.
@@ -141,25 +92,6 @@ pub const LIDAR_RAYS: usize = 10;
 pub const OBS_DIM: usize = 24;
 /// Length of [`BipedalWalker::state`] (see the module docs).
 pub const STATE_DIM: usize = 27;
-/// Two Box2D skins (`2 * b2_polygonRadius`): closer than this counts as touching.
-pub const TOUCH_DISTANCE: f32 = 0.02;
-/// Box2D's per-step motion caps (`b2_maxTranslation`, `b2_maxRotation`).
-pub const MAX_TRANSLATION: f32 = 2.0;
-pub const MAX_ROTATION: f32 = 0.5 * std::f32::consts::PI;
-/// Damping of the velocity motors (force-based): large enough to act as Box2D's rigid motor
-/// constraint, limited only by the maximum torque.
-pub const MOTOR_DAMPING: f32 = 1.0e6;
-/// Joint angles at reset (hip 0, knee 0, hip 1, knee 1): the crouch Box2D's position solver
-/// leaves Gymnasium's walker in after reassembling its misplaced legs (measured with Gymnasium
-/// 1.4, seed 0, second observation: hips 0.44 / 0.34, knees −0.88 / −0.88, hull 2.35 m above
-/// the pad); see the module docs.
-pub const START_JOINTS: [f64; 4] = [0.45, -0.9, 0.35, -0.9];
-/// Gap between the lowest foot corner and the start pad at reset, m.
-pub const START_CLEARANCE: f64 = 0.005;
-/// rapier contact skin of the walker's colliders with [`BipedalWalkerOptions::box2d_contacts`]:
-/// Box2D keeps polygons apart by two 0.01 m skins (`b2_polygonRadius`) minus `b2_linearSlop`
-/// (0.005 m), so its walker rests 0.015 m off the ground (also the start clearance then).
-pub const WALKER_SKIN: f32 = 0.015;
 /// Seeds of the terrain stream are below this (exact in an f64 state component).
 const TERRAIN_SEED_LIMIT: u64 = 1 << 53;
 
@@ -250,56 +182,20 @@ impl BipedalWalkerParams {
     }
 }
 
-/// The physics engine under the walker.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum WalkerEngine {
-    /// [`crate::physics2d`]: Box2D 2.3's solver semantics, stepped as Gymnasium steps Box2D
-    /// (`Step(1/FPS, 6·30, 2·30)`), the walker created as Gymnasium creates it.
-    Box2d,
-    /// rapier2d with the emulations described in the module docs.
-    Rapier,
-}
-
 /// Options that are not context features.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BipedalWalkerOptions {
-    /// Physics engine.
-    pub engine: WalkerEngine,
     /// `BipedalWalkerHardcore`: stumps, stairs and pits between grass stretches.
     pub hardcore: bool,
-    /// rapier solver substeps per step.
-    pub solver_iterations: usize,
-    /// rapier PGS iterations inside each substep.
-    pub pgs_iterations: usize,
-    /// Box2D's contact model: the walker rests [`WALKER_SKIN`] off the ground (Box2D's skins),
-    /// contacts act only closer than [`TOUCH_DISTANCE`] (not speculatively from further away),
-    /// and a foot landing is Box2D's continuous collision (`landing`): the lower leg stops
-    /// inside the step in which it reaches the ground, alone, and its contact flag is set in
-    /// that step. Replayed Box2D landings match with it (tests/bipedal_walker.rs); off by
-    /// default because Gymnasium's scripted gait walks less far with it here (README): the
-    /// push-off from one toe gives the hull about a third of Box2D's lift (known gap).
-    pub box2d_contacts: bool,
     /// Draw the 10 lidar rays (up to their hits) in `render`.
     pub render_lidar: bool,
-    /// rapier's solver warm start (0..=1; 1, rapier's default). Known issue: with it, a
-    /// landing after a jump now and then throws the walker up (seed 65 of
-    /// `examples/bipedal_walker_flips.rs`, step 31: hull vy −3.9 → +8.1 m/s) and the hull flips
-    /// past ±π in the air (8 of 300 random-action episodes); 0 gives no flip in 300 (largest
-    /// |angle| 2.78), but moves the replayed push-off off Box2D's (vx 2.219 vs 2.249) and shortens
-    /// the scripted gait's episodes, so it is not the default yet.
-    pub warmstart_coefficient: f64,
 }
 
 impl Default for BipedalWalkerOptions {
     fn default() -> Self {
         BipedalWalkerOptions {
-            engine: WalkerEngine::Box2d,
             hardcore: false,
-            solver_iterations: 16,
-            pgs_iterations: 2,
-            box2d_contacts: false,
             render_lidar: true,
-            warmstart_coefficient: 1.0,
         }
     }
 }
@@ -406,484 +302,24 @@ impl Pose {
     }
 }
 
-const GROUND_GROUP: u32 = 0x0001;
-const WALKER_GROUP: u32 = 0x0020;
-
-fn groups(category: u32, mask: u32) -> InteractionGroups {
-    InteractionGroups::new(
-        Group::from_bits_truncate(category),
-        Group::from_bits_truncate(mask),
-        InteractionTestMode::And,
-    )
-}
-
-/// The terrain's collision shapes, built once per course and shared (reference-counted) by every
-/// world built on it: `set_state` then does not rebuild the surface's bounding-volume tree.
-#[derive(Clone)]
-struct GroundShapes {
-    surface: SharedShape,
-    quads: Vec<SharedShape>,
-}
-
-impl std::fmt::Debug for GroundShapes {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("GroundShapes")
-            .field("quads", &self.quads.len())
-            .finish_non_exhaustive()
-    }
-}
-
-impl GroundShapes {
-    fn new(terrain: &Terrain) -> GroundShapes {
-        let pts: Vec<Vector> = terrain.x.iter().zip(&terrain.y).map(|(x, y)| v2(*x, *y)).collect();
-        let quads = terrain
-            .quads
-            .iter()
-            .filter_map(|q| SharedShape::convex_hull(&q.map(|(x, y)| v2(x, y))))
-            .collect();
-        GroundShapes {
-            surface: SharedShape::polyline(pts, None),
-            quads,
-        }
-    }
-}
-
-/// One terrain piece in contact with a lower leg (see [`ContactListener`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct TouchedPiece {
-    collider: ColliderHandle,
-    subshape: u32,
-    /// World x of a touching point (orders the events of one step).
-    x: f32,
-}
-
-/// Gymnasium's `ContactDetector` for one lower leg: the flag is set when contact with a terrain
-/// piece begins and cleared when contact with *a* piece ends, even if the leg still touches
-/// another. Gymnasium's terrain is one Box2D body per surface segment, so a foot sliding or
-/// rocking across a segment boundary clears its flag while it stands on the ground; the
-/// scripted gait reads the flag to decide when a swinging leg has landed.
-///
-/// Box2D reports a step's events newest contact first; a leg moving along the course meets
-/// pieces further right later, so the event that decides the flag is the one at the smallest x.
-///
-/// After `set_state` the pieces touched are not known (they are not part of the state): the
-/// first step takes the contacts it finds as the baseline and keeps the loaded flag.
-#[derive(Debug, Clone, Default)]
-struct ContactListener {
-    touching: Vec<TouchedPiece>,
-    /// The next update only records `touching`.
-    unknown: bool,
-}
-
-impl ContactListener {
-    fn baseline() -> ContactListener {
-        ContactListener {
-            touching: Vec::new(),
-            unknown: true,
-        }
-    }
-
-    /// Update `flag` with this step's begin/end events, `now` being the pieces touched now.
-    fn update(&mut self, now: Vec<TouchedPiece>, flag: &mut bool) {
-        if std::mem::take(&mut self.unknown) {
-            self.touching = now;
-            return;
-        }
-        let same = |a: &TouchedPiece, b: &TouchedPiece| a.collider == b.collider && a.subshape == b.subshape;
-        let begins = now
-            .iter()
-            .filter(|p| !self.touching.iter().any(|q| same(p, q)))
-            .map(|p| (p.x, true));
-        let ends = self
-            .touching
-            .iter()
-            .filter(|q| !now.iter().any(|p| same(p, q)))
-            .map(|q| (q.x, false));
-        if let Some((_, begin)) = begins.chain(ends).min_by(|a, b| a.0.total_cmp(&b.0)) {
-            *flag = begin;
-        }
-        self.touching = now;
-    }
-}
-
-struct World {
-    pw: PhysicsWorld,
-    /// Hull, upper 0, lower 0, upper 1, lower 1 (Gymnasium's `hull` and `legs` order).
-    bodies: [RigidBodyHandle; 5],
-    /// Hip 0, knee 0, hip 1, knee 1 (Gymnasium's `joints` order).
-    joints: [ImpulseJointHandle; 4],
-    hull_col: ColliderHandle,
-    lower_cols: [ColliderHandle; 2],
-}
-
-impl std::fmt::Debug for World {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("World").finish_non_exhaustive()
-    }
-}
-
-fn v2(x: f64, y: f64) -> Vector {
-    Vector::new(x as f32, y as f32)
-}
-
-impl World {
-    fn build(
-        p: &BipedalWalkerParams,
-        opts: &BipedalWalkerOptions,
-        ground: &GroundShapes,
-        bodies: &[BodyState; 5],
-    ) -> World {
-        let mut pw = PhysicsWorld::new();
-        pw.gravity = v2(p.gravity_x, p.gravity_y);
-        let ip = &mut pw.integration_parameters;
-        ip.dt = if p.fps > 0.0 && p.fps.is_finite() {
-            (1.0 / p.fps) as f32
-        } else {
-            0.0
-        };
-        ip.num_solver_iterations = opts.solver_iterations.max(1);
-        ip.num_internal_pgs_iterations = opts.pgs_iterations.max(1);
-        ip.max_ccd_substeps = 1;
-        ip.warmstart_coefficient = opts.warmstart_coefficient.clamp(0.0, 1.0) as f32;
-        let skin = if opts.box2d_contacts {
-            // Contacts act from two Box2D skins (raw gap < TOUCH_DISTANCE) as in Box2D, not
-            // speculatively from further away: an approaching foot meets the ground through
-            // `box2d_landing` (Box2D's TOI), not through the whole leg chain.
-            ip.normalized_prediction_distance = TOUCH_DISTANCE - WALKER_SKIN;
-            WALKER_SKIN
-        } else {
-            0.0
-        };
-        let friction = p.friction.max(0.0) as f32;
-        let ground_col = |c: ColliderBuilder| {
-            c.friction(friction)
-                .restitution(0.0)
-                .friction_combine_rule(CoefficientCombineRule::GeometricMean)
-                .collision_groups(groups(GROUND_GROUP, 0xFFFF))
-        };
-        let (fixed, _) = pw.insert(
-            RigidBodyBuilder::fixed(),
-            ground_col(ColliderBuilder::new(ground.surface.clone())),
-        );
-        for q in &ground.quads {
-            pw.insert_collider(ground_col(ColliderBuilder::new(q.clone())), Some(fixed));
-        }
-
-        let dynamic = |b: &BodyState| {
-            RigidBodyBuilder::dynamic()
-                .translation(v2(b.x, b.y))
-                .rotation(b.angle as f32)
-                .linvel(v2(b.vx, b.vy))
-                .angvel(b.w as f32)
-                .can_sleep(false)
-                .ccd_enabled(true)
-        };
-        let walker_col = |c: ColliderBuilder, density: f32, friction: f32| {
-            c.density(density)
-                .friction(friction)
-                .restitution(0.0)
-                .contact_skin(skin)
-                .friction_combine_rule(CoefficientCombineRule::GeometricMean)
-                .collision_groups(groups(WALKER_GROUP, GROUND_GROUP))
-        };
-        let s = size(p.scale);
-        let hull_pts: Vec<Vector> = HULL_POLY.iter().map(|(x, y)| v2(x / s, y / s)).collect();
-        let hull_shape = ColliderBuilder::convex_hull(&hull_pts).unwrap_or_else(|| ColliderBuilder::cuboid(0.5, 0.2));
-        let (hull, hull_col) = pw.insert(dynamic(&bodies[0]), walker_col(hull_shape, 5.0, 0.1));
-        let (lw, lh) = (size(p.leg_w) as f32, size(p.leg_h) as f32);
-        let mut handles = [hull; 5];
-        let mut joints = Vec::with_capacity(4);
-        let mut lower_cols = [hull_col; 2];
-        for leg in 0..2 {
-            let (upper, _) = pw.insert(
-                dynamic(&bodies[1 + 2 * leg]),
-                walker_col(ColliderBuilder::cuboid(lw / 2.0, lh / 2.0), 1.0, 0.2),
-            );
-            let (lower, lower_col) = pw.insert(
-                dynamic(&bodies[2 + 2 * leg]),
-                walker_col(ColliderBuilder::cuboid(0.8 * lw / 2.0, lh / 2.0), 1.0, 0.2),
-            );
-            let joint = |a1: Vector, a2: Vector, limits: [f64; 2]| {
-                RevoluteJointBuilder::new()
-                    .local_anchor1(a1)
-                    .local_anchor2(a2)
-                    .limits([limits[0] as f32, limits[1] as f32])
-                    .motor_model(MotorModel::ForceBased)
-                    .motor_velocity(0.0, MOTOR_DAMPING)
-                    .motor_max_force(0.0)
-                    .contacts_enabled(false)
-            };
-            // rapier's limits are on the relative angle; Box2D's on the angle from the reference.
-            let r = HIP_REFERENCE[leg];
-            let hip = pw.insert_impulse_joint(
-                hull,
-                upper,
-                joint(
-                    v2(0.0, p.leg_down),
-                    Vector::new(0.0, lh / 2.0),
-                    [HIP_LIMITS[0] + r, HIP_LIMITS[1] + r],
-                ),
-            );
-            let knee = pw.insert_impulse_joint(
-                upper,
-                lower,
-                joint(Vector::new(0.0, -lh / 2.0), Vector::new(0.0, lh / 2.0), KNEE_LIMITS),
-            );
-            handles[1 + 2 * leg] = upper;
-            handles[2 + 2 * leg] = lower;
-            joints.push(hip);
-            joints.push(knee);
-            lower_cols[leg] = lower_col;
-        }
-        World {
-            pw,
-            bodies: handles,
-            joints: [joints[0], joints[1], joints[2], joints[3]],
-            hull_col,
-            lower_cols,
-        }
-    }
-
-    fn touching(&self, c: ColliderHandle) -> bool {
-        self.pw.narrow_phase.contact_pairs_with(c).any(|pair| {
-            pair.manifolds()
-                .iter()
-                .any(|m| m.points.iter().any(|pt| pt.dist < TOUCH_DISTANCE))
-        })
-    }
-
-    /// The terrain pieces (surface segments and obstacles: one Box2D body each in Gymnasium)
-    /// that collider `c` touches, with the x of a touching point on each.
-    fn touched_pieces(&self, c: ColliderHandle) -> Vec<TouchedPiece> {
-        let mut out: Vec<TouchedPiece> = Vec::new();
-        for pair in self.pw.narrow_phase.contact_pairs_with(c) {
-            let other_is_1 = pair.collider2 == c;
-            let other = if other_is_1 { pair.collider1 } else { pair.collider2 };
-            for m in pair.manifolds() {
-                let Some(pt) = m.points.iter().find(|pt| pt.dist < TOUCH_DISTANCE) else {
-                    continue;
-                };
-                // Terrain colliders sit at the world origin: their local points are world points.
-                let (sub, x) = if other_is_1 {
-                    (m.subshape1, pt.local_p1.x)
-                } else {
-                    (m.subshape2, pt.local_p2.x)
-                };
-                if !out.iter().any(|p| p.collider == other && p.subshape == sub) {
-                    out.push(TouchedPiece {
-                        collider: other,
-                        subshape: sub,
-                        x,
-                    });
-                }
-            }
-        }
-        out
-    }
-
-    /// Poses of the two lower legs (centre = centre of mass).
-    fn lower_poses(&self) -> [landing::BoxPose; 2] {
-        [2, 4].map(|k| {
-            let b = &self.pw.bodies[self.bodies[k]];
-            let t = b.translation();
-            landing::BoxPose {
-                c: (t.x as f64, t.y as f64),
-                a: b.rotation().angle() as f64,
-            }
-        })
-    }
-
-    /// Box2D's continuous collision for lower leg `leg` ([`landing`]): if it did not touch the
-    /// terrain when the step began (rapier's contacts after a step are those found at its
-    /// start) and its sweep from `start` reaches the terrain, it lands inside the step. Returns
-    /// whether it landed.
-    fn box2d_landing(
-        &mut self,
-        terrain: &Terrain,
-        leg: usize,
-        start: landing::BoxPose,
-        half: (f64, f64),
-        mu: f64,
-        dt: f64,
-    ) -> bool {
-        let end = self.lower_poses()[leg];
-        let sweep = landing::Sweep { start, end, half };
-        if !self.touched_pieces(self.lower_cols[leg]).is_empty() {
-            return false;
-        }
-        let Some(alpha) = landing::time_of_impact(terrain, &sweep) else {
-            return false;
-        };
-        let b = &mut self.pw.bodies[self.bodies[2 + 2 * leg]];
-        let v = b.linvel();
-        let out = landing::land(
-            terrain,
-            &sweep,
-            alpha,
-            (v.x as f64, v.y as f64),
-            b.angvel() as f64,
-            mu,
-            dt,
-        );
-        b.set_translation(v2(out.pose.c.0, out.pose.c.1), false);
-        b.set_rotation(Rotation::from_angle(out.pose.a as f32), false);
-        b.set_linvel(v2(out.v.0, out.v.1), false);
-        b.set_angvel(out.w as f32, false);
-        true
-    }
-
-    fn angle(&self, k: usize) -> f64 {
-        self.pw.bodies[self.bodies[k]].rotation().angle() as f64
-    }
-    fn body_state(&self, k: usize) -> BodyState {
-        let b = &self.pw.bodies[self.bodies[k]];
-        let (t, v) = (b.translation(), b.linvel());
-        BodyState {
-            x: t.x as f64,
-            y: t.y as f64,
-            angle: b.rotation().angle() as f64,
-            vx: v.x as f64,
-            vy: v.y as f64,
-            w: b.angvel() as f64,
-        }
-    }
-    fn angvel(&self, k: usize) -> f64 {
-        self.pw.bodies[self.bodies[k]].angvel() as f64
-    }
-
-    /// Box2D's joint limits for the coming step: a limit acts only if the joint is already at or
-    /// beyond it when the step starts (Box2D 2.3 decides the limit state in
-    /// `InitVelocityConstraints`; there is no speculative limit), and its position correction
-    /// leaves [`ANGULAR_SLOP`] of overshoot. A knee swinging at 6 rad/s therefore runs up to one
-    /// step past its limit and is then held about 2° beyond it, as in Gymnasium. rapier's limits
-    /// are on the angle between the bodies, Box2D's on the angle from the reference angle.
-    fn box2d_limits(&mut self) {
-        let (q, _) = self.joints();
-        for (j, &qj) in q.iter().enumerate() {
-            let (lim, reference) = if j % 2 == 0 {
-                (HIP_LIMITS, HIP_REFERENCE[j / 2])
-            } else {
-                (KNEE_LIMITS, 0.0)
-            };
-            let slop = ANGULAR_SLOP;
-            let [lo, hi] = if qj <= lim[0] {
-                [lim[0] - slop, INACTIVE_LIMIT]
-            } else if qj >= lim[1] {
-                [-INACTIVE_LIMIT, lim[1] + slop]
-            } else {
-                [-INACTIVE_LIMIT, INACTIVE_LIMIT]
-            };
-            if let Some(joint) = self.pw.impulse_joints.get_mut(self.joints[j], false) {
-                joint
-                    .data
-                    .set_limits(JointAxis::AngX, [(lo + reference) as f32, (hi + reference) as f32]);
-            }
-        }
-    }
-
-    /// Joint angles and speeds (Box2D's `angle = angleB − angleA − referenceAngle`,
-    /// `speed = ωB − ωA`).
-    fn joints(&self) -> ([f64; 4], [f64; 4]) {
-        let pairs = [(0, 1), (1, 2), (0, 3), (3, 4)];
-        let reference = [HIP_REFERENCE[0], 0.0, HIP_REFERENCE[1], 0.0];
-        let mut q = [0.0; 4];
-        let mut dq = [0.0; 4];
-        for (j, (a, b)) in pairs.into_iter().enumerate() {
-            q[j] = wrap_pi(self.angle(b) - self.angle(a) - reference[j]);
-            dq[j] = self.angvel(b) - self.angvel(a);
-        }
-        (q, dq)
-    }
-}
-
-/// The walker's world on one of the engines.
-#[derive(Debug)]
-enum Physics {
-    Rapier(Box<World>),
-    Box2d(Box<b2::Box2dWalker>),
-}
-
-impl Physics {
-    /// Body `k` (hull, upper 0, lower 0, upper 1, lower 1): origin, engine angle, centre-of-mass
-    /// velocity.
-    fn body(&self, k: usize) -> BodyState {
-        match self {
-            Physics::Rapier(w) => w.body_state(k),
-            Physics::Box2d(w) => w.body_state(k),
-        }
-    }
-    /// Joint angles (wrapped to ±π) and speeds: Box2D's `angle = angleB − angleA −
-    /// referenceAngle`, `speed = ωB − ωA`.
-    fn joints(&self) -> ([f64; 4], [f64; 4]) {
-        match self {
-            Physics::Rapier(w) => w.joints(),
-            Physics::Box2d(w) => {
-                let pairs = [(0, 1), (1, 2), (0, 3), (3, 4)];
-                let reference = [HIP_REFERENCE[0], 0.0, HIP_REFERENCE[1], 0.0];
-                let mut q = [0.0; 4];
-                let mut dq = [0.0; 4];
-                for (j, (a, b)) in pairs.into_iter().enumerate() {
-                    let (a, b) = (w.body_state(a), w.body_state(b));
-                    q[j] = wrap_pi(b.angle - a.angle - reference[j]);
-                    dq[j] = b.w - a.w;
-                }
-                (q, dq)
-            }
-        }
-    }
-}
-
 /// Gymnasium's `BipedalWalker` with an explicit context; each instance owns its physics world.
-#[derive(Debug)]
+/// A clone continues exactly as the original: the world is a plain value.
+#[derive(Debug, Clone)]
 pub struct BipedalWalker {
     params: BipedalWalkerParams,
     opts: BipedalWalkerOptions,
-    world: Option<Physics>,
+    world: Option<Box<b2::Box2dWalker>>,
     terrain: Option<Terrain>,
-    /// Collision shapes of `terrain`.
-    ground: Option<GroundShapes>,
     /// Unwrapped hull angle (Box2D keeps angles continuous).
     hull_angle: f64,
     ground_contact: [bool; 2],
-    /// Box2D's contact events behind `ground_contact`.
-    listeners: [ContactListener; 2],
     game_over: bool,
     prev_shaping: Option<f64>,
-    /// Force applied at reset, acting during the first step only (Box2D clears forces).
-    pending_force: bool,
     rng: Pcg64,
 }
 
 fn rng_for(seed: u64) -> Pcg64 {
     Pcg64::new(seed, crate::sampling::stream_id(ID))
-}
-
-impl Clone for BipedalWalker {
-    /// The clone gets a world rebuilt from the full [`Env::state`]: bodies (to the last f32 bit
-    /// of an angle, which the hips' reference angles can move), terrain and episode bookkeeping
-    /// are equal; rapier's solver caches (warm-start impulses) start empty and the contact
-    /// listeners take the first step's contacts as their baseline.
-    fn clone(&self) -> Self {
-        let mut c = BipedalWalker::with_options(self.params, self.opts);
-        c.rng = self.rng.clone();
-        c.terrain = self.terrain.clone();
-        c.ground = self.ground.clone();
-        match &self.world {
-            // The Box2D world is a plain value: the clone continues exactly as the original.
-            Some(Physics::Box2d(w)) => {
-                c.world = Some(Physics::Box2d(w.clone()));
-                c.hull_angle = self.hull_angle;
-                c.ground_contact = self.ground_contact;
-                c.listeners = self.listeners.clone();
-                c.game_over = self.game_over;
-                c.prev_shaping = self.prev_shaping;
-                c.pending_force = self.pending_force;
-            }
-            Some(Physics::Rapier(_)) => c.load_state(&self.state_array()),
-            None => {}
-        }
-        c
-    }
 }
 
 impl Default for BipedalWalker {
@@ -903,13 +339,10 @@ impl BipedalWalker {
             opts,
             world: None,
             terrain: None,
-            ground: None,
             hull_angle: 0.0,
             ground_contact: [false; 2],
-            listeners: Default::default(),
             game_over: false,
             prev_shaping: None,
-            pending_force: false,
             rng: rng_for(crate::envs::rng::DEFAULT_SEED),
         }
     }
@@ -949,7 +382,7 @@ impl BipedalWalker {
     pub fn body_states(&self) -> Option<[BodyState; 5]> {
         let w = self.world.as_ref()?;
         Some(std::array::from_fn(|k| {
-            let mut b = w.body(k);
+            let mut b = w.body_state(k);
             if k == 0 {
                 b.angle = self.hull_angle;
             }
@@ -958,16 +391,13 @@ impl BipedalWalker {
     }
     /// Hull mass (kg) as the physics engine computed it.
     pub fn hull_mass(&self) -> Option<f64> {
-        Some(match self.world.as_ref()? {
-            Physics::Rapier(w) => w.pw.bodies[w.bodies[0]].mass() as f64,
-            Physics::Box2d(w) => w.mass(0),
-        })
+        Some(self.world.as_ref()?.mass(0))
     }
 
     /// The lidar's end points `(p1, p2)` and fractions for the current hull position.
     pub fn lidar(&self) -> Option<[LidarRay; LIDAR_RAYS]> {
         let (w, t) = (self.world.as_ref()?, self.terrain.as_ref()?);
-        let hull = w.body(0);
+        let hull = w.body_state(0);
         let p1 = (hull.x, hull.y);
         let r = self.params.lidar_range;
         Some(std::array::from_fn(|i| {
@@ -992,42 +422,13 @@ impl BipedalWalker {
         }
     }
 
-    /// The start pose ([`START_JOINTS`]): the hull level at Gymnasium's
-    /// `x = TERRAIN_STEP·TERRAIN_STARTPAD/2`, at the height where the lowest foot corner is
-    /// [`START_CLEARANCE`] above `ground`.
-    fn start_pose(&self, ground: f64) -> Pose {
-        let p = &self.params;
-        let mut pose = Pose {
-            hull: BodyState {
-                x: p.init_x(),
-                y: p.terrain_height + 2.0 * p.leg_h,
-                ..Default::default()
-            },
-            q: START_JOINTS,
-            dq: [0.0; 4],
-        };
-        let (hw, hh) = (0.8 * size(p.leg_w) / 2.0, size(p.leg_h) / 2.0);
-        let bodies = pose.bodies(p);
-        let lowest = [bodies[2], bodies[4]]
-            .iter()
-            .flat_map(|b| [(-hw, -hh), (hw, -hh), (hw, hh), (-hw, hh)].map(|c| b.y + rot(b.angle, c).1))
-            .fold(f64::INFINITY, f64::min);
-        let clearance = if self.opts.box2d_contacts {
-            f64::from(WALKER_SKIN)
-        } else {
-            START_CLEARANCE
-        };
-        pose.hull.y += ground + clearance - lowest;
-        pose
-    }
-
     fn current_pose(&self) -> Pose {
         let Some(w) = &self.world else { return Pose::default() };
         let (q, dq) = w.joints();
         Pose {
             hull: BodyState {
                 angle: self.hull_angle,
-                ..w.body(0)
+                ..w.body_state(0)
             },
             q,
             dq,
@@ -1093,15 +494,11 @@ impl BipedalWalker {
         };
         self.place(&pose);
         self.ground_contact = [s[14] != 0.0, s[15] != 0.0];
-        // The contacts the next step finds at the loaded pose are its baseline, not events.
-        self.listeners = [ContactListener::baseline(), ContactListener::baseline()];
         self.game_over = s[16] != 0.0;
         self.prev_shaping = (s[17] != 0.0).then_some(s[18]);
-        self.pending_force = false;
     }
 
     fn set_terrain(&mut self, terrain: Terrain) {
-        self.ground = Some(GroundShapes::new(&terrain));
         self.terrain = Some(terrain);
     }
 
@@ -1109,7 +506,8 @@ impl BipedalWalker {
     fn place(&mut self, pose: &Pose) {
         let bodies = pose.bodies(&self.params);
         self.place_bodies(&bodies);
-        if let Some(Physics::Box2d(w)) = &mut self.world {
+        if let Some(w) = &mut self.world {
+            // The contacts touching at the loaded pose are the next step's baseline, not events.
             w.world.prime_contacts();
         }
         self.hull_angle = pose.hull.angle;
@@ -1117,16 +515,8 @@ impl BipedalWalker {
 
     /// Build the world with the five bodies at `bodies` on the current terrain.
     fn place_bodies(&mut self, bodies: &[BodyState; 5]) {
-        self.world = Some(match self.opts.engine {
-            WalkerEngine::Rapier => {
-                let ground = self.ground.as_ref().expect("place needs a terrain");
-                Physics::Rapier(Box::new(World::build(&self.params, &self.opts, ground, bodies)))
-            }
-            WalkerEngine::Box2d => {
-                let terrain = self.terrain.as_ref().expect("place needs a terrain");
-                Physics::Box2d(Box::new(b2::Box2dWalker::build(&self.params, terrain, bodies)))
-            }
-        });
+        let terrain = self.terrain.as_ref().expect("place needs a terrain");
+        self.world = Some(Box::new(b2::Box2dWalker::build(&self.params, terrain, bodies)));
         self.hull_angle = bodies[0].angle;
     }
 
@@ -1135,7 +525,7 @@ impl BipedalWalker {
         let mut s = [0.0; OBS_DIM];
         let Some(w) = &self.world else { return s };
         let p = &self.params;
-        let b = w.body(0);
+        let b = w.body_state(0);
         let (q, dq) = w.joints();
         s[0] = self.hull_angle;
         s[1] = 2.0 * b.w / p.fps;
@@ -1180,10 +570,7 @@ impl BipedalWalker {
     /// One Gymnasium step with a validated action, writing the observation (f64) to `obs`.
     /// Requires a world.
     fn advance(&mut self, a: &[f64; 4], obs: &mut [f64; OBS_DIM]) -> StepOutcome {
-        match self.world.as_mut().expect("advance needs a world") {
-            Physics::Rapier(_) => self.physics_step_rapier(a),
-            Physics::Box2d(_) => self.physics_step_box2d(a),
-        }
+        self.physics_step(a);
         self.finish_step(a, obs)
     }
 
@@ -1204,10 +591,10 @@ impl BipedalWalker {
 
     /// One `world.Step` on the Box2D engine; contact flags from its begin/end events in Box2D's
     /// order (Gymnasium's `ContactDetector`).
-    fn physics_step_box2d(&mut self, a: &[f64; 4]) {
+    fn physics_step(&mut self, a: &[f64; 4]) {
         let motors: [(f64, f64); 4] = std::array::from_fn(|j| self.motor(j, a[j]));
         let p = self.params;
-        let Some(Physics::Box2d(w)) = self.world.as_mut() else {
+        let Some(w) = self.world.as_mut() else {
             return;
         };
         for (j, (speed, torque)) in motors.into_iter().enumerate() {
@@ -1219,7 +606,6 @@ impl BipedalWalker {
             0.0
         };
         w.world.step(dt, b2::VELOCITY_ITERATIONS, b2::POSITION_ITERATIONS);
-        self.pending_force = false;
         for e in &w.world.events {
             if e.begin && e.involves(w.hull_fixture) {
                 self.game_over = true;
@@ -1237,70 +623,11 @@ impl BipedalWalker {
         self.hull_angle = w.body_state(0).angle;
     }
 
-    fn physics_step_rapier(&mut self, a: &[f64; 4]) {
-        let p = self.params;
-        let motors: [(f64, f64); 4] = std::array::from_fn(|j| self.motor(j, a[j]));
-        let Some(Physics::Rapier(world)) = self.world.as_mut() else {
-            return;
-        };
-        for (j, (speed, torque)) in motors.into_iter().enumerate() {
-            if let Some(joint) = world.pw.impulse_joints.get_mut(world.joints[j], false) {
-                joint
-                    .data
-                    .set_motor_velocity(JointAxis::AngX, speed as f32, MOTOR_DAMPING)
-                    .set_motor_max_force(JointAxis::AngX, torque as f32);
-            }
-        }
-
-        world.box2d_limits();
-        let leg_start = world.lower_poses();
-        world.pw.step();
-        let dt = world.pw.integration_parameters.dt;
-        if self.pending_force {
-            world.pw.bodies[world.bodies[0]].reset_forces(false);
-            self.pending_force = false;
-        }
-        for k in 0..5 {
-            let b = &mut world.pw.bodies[world.bodies[k]];
-            let mut v = b.linvel();
-            let mut w = b.angvel();
-            let tr = v.length() * dt;
-            if tr > MAX_TRANSLATION && tr.is_finite() {
-                v *= MAX_TRANSLATION / tr;
-                b.set_linvel(v, false);
-            }
-            let r = w.abs() * dt;
-            if r > MAX_ROTATION && r.is_finite() {
-                w *= MAX_ROTATION / r;
-                b.set_angvel(w, false);
-            }
-        }
-        let mut landed = [false; 2];
-        if let (Some(terrain), true) = (&self.terrain, self.opts.box2d_contacts) {
-            let half = (0.8 * size(p.leg_w) / 2.0, size(p.leg_h) / 2.0);
-            let mu = (0.2 * p.friction.max(0.0)).sqrt();
-            for (leg, start) in leg_start.into_iter().enumerate() {
-                landed[leg] = world.box2d_landing(terrain, leg, start, half, mu, dt as f64);
-            }
-        }
-        let a_now = world.angle(0);
-        self.hull_angle += wrap_pi(a_now - wrap_pi(self.hull_angle));
-        if world.touching(world.hull_col) {
-            self.game_over = true;
-        }
-        for (leg, landed) in landed.into_iter().enumerate() {
-            let now = world.touched_pieces(world.lower_cols[leg]);
-            self.listeners[leg].update(now, &mut self.ground_contact[leg]);
-            // Box2D's TOI contact begins after the step's regular contact events.
-            self.ground_contact[leg] |= landed;
-        }
-    }
-
     /// Observation, reward and termination after the physics step.
     fn finish_step(&mut self, a: &[f64; 4], obs: &mut [f64; OBS_DIM]) -> StepOutcome {
         let p = self.params;
         *obs = self.state_f64();
-        let x = world_x(self.world.as_ref());
+        let x = world_x(self.world.as_deref());
         let shaping = 130.0 * x / p.scale - 5.0 * obs[0].abs();
         let mut reward = match self.prev_shaping {
             Some(prev) => shaping - prev,
@@ -1340,8 +667,8 @@ fn write_f32(obs: &mut [f32], s: &[f64; OBS_DIM]) {
     }
 }
 
-fn world_x(w: Option<&Physics>) -> f64 {
-    w.map_or(0.0, |w| w.body(0).x)
+fn world_x(w: Option<&b2::Box2dWalker>) -> f64 {
+    w.map_or(0.0, |w| w.body_state(0).x)
 }
 
 impl crate::envs::runtime::Runtime for BipedalWalker {}
@@ -1387,32 +714,19 @@ impl Env for BipedalWalker {
         }
         let terrain_seed = self.rng.next_u64() % TERRAIN_SEED_LIMIT;
         let spec = self.terrain_spec(terrain_seed);
-        let terrain = Terrain::generate(spec);
-        let ground = terrain.height_at(self.params.init_x());
-        self.set_terrain(terrain);
-        match self.opts.engine {
-            WalkerEngine::Rapier => {
-                let pose = self.start_pose(ground);
-                self.place(&pose);
-            }
-            // Created where Gymnasium creates it: Box2D reassembles the legs.
-            WalkerEngine::Box2d => self.place_bodies(&b2::gymnasium_start(&self.params)),
-        }
+        self.set_terrain(Terrain::generate(spec));
+        // Created where Gymnasium creates it: Box2D reassembles the legs.
+        self.place_bodies(&b2::gymnasium_start(&self.params));
         self.ground_contact = [false; 2];
-        self.listeners = Default::default();
         self.game_over = false;
         self.prev_shaping = None;
         let ir = self.params.initial_random;
         let fx = self.uniform(-ir, ir);
-        match self.world.as_mut() {
-            Some(Physics::Rapier(w)) => w.pw.bodies[w.bodies[0]].add_force(v2(fx, 0.0), true),
-            Some(Physics::Box2d(w)) => {
-                let hull = w.bodies[0];
-                w.world.bodies[hull].force.x += fx;
-            }
-            None => {}
+        if let Some(w) = self.world.as_mut() {
+            // Box2D clears forces after each step: the push acts during the first step only.
+            let hull = w.bodies[0];
+            w.world.bodies[hull].force.x += fx;
         }
-        self.pending_force = true;
         // Gymnasium's reset returns the observation of `step([0, 0, 0, 0])`.
         let mut o = [0.0; OBS_DIM];
         self.advance(&[0.0; 4], &mut o);
@@ -1453,58 +767,5 @@ impl Env for BipedalWalker {
 
     fn render(&self) -> Option<crate::pixels::Frame> {
         render::render(self)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn piece(index: u32, subshape: u32, x: f32) -> TouchedPiece {
-        TouchedPiece {
-            collider: ColliderHandle::from_raw_parts(index, 0),
-            subshape,
-            x,
-        }
-    }
-
-    #[test]
-    fn contact_listener_follows_box2d_begin_and_end_events() {
-        let mut l = ContactListener::default();
-        let mut flag = false;
-        // Landing on segment 3: begin.
-        l.update(vec![piece(0, 3, 1.5)], &mut flag);
-        assert!(flag);
-        // Still on segment 3: no event, the flag stays.
-        l.update(vec![piece(0, 3, 1.52)], &mut flag);
-        assert!(flag);
-        // Sliding onto segment 4 while leaving segment 3 in the same step: segment 4 begins,
-        // segment 3 ends; the end (smaller x, reported last) clears the flag on the ground.
-        l.update(vec![piece(0, 4, 1.9)], &mut flag);
-        assert!(!flag);
-        // Touching segment 5 as well: begin.
-        l.update(vec![piece(0, 4, 1.95), piece(0, 5, 2.3)], &mut flag);
-        assert!(flag);
-        // Leaving segment 4 while 5 still touches: cleared (Gymnasium's ContactDetector).
-        l.update(vec![piece(0, 5, 2.3)], &mut flag);
-        assert!(!flag);
-        // An obstacle (another collider) at the same subshape index is another piece.
-        l.update(vec![piece(0, 5, 2.3), piece(7, 5, 2.4)], &mut flag);
-        assert!(flag);
-        // Lifting off everything: cleared.
-        l.update(Vec::new(), &mut flag);
-        assert!(!flag);
-    }
-
-    #[test]
-    fn contact_listener_after_set_state_keeps_the_loaded_flag() {
-        for loaded in [false, true] {
-            let mut l = ContactListener::baseline();
-            let mut flag = loaded;
-            l.update(vec![piece(0, 3, 1.5)], &mut flag);
-            assert_eq!(flag, loaded, "the first contacts are the baseline, not events");
-            l.update(Vec::new(), &mut flag);
-            assert!(!flag, "ending a baseline contact is an event");
-        }
     }
 }

@@ -206,37 +206,6 @@ impl Terrain {
         self.y[i] + t * (self.y[i + 1] - self.y[i])
     }
 
-    /// Signed distance from `p` to the surface polyline (negative below it) and the upward unit
-    /// normal of the closest surface segment. Obstacles (hardcore) are not considered.
-    pub fn surface_gap(&self, p: (f64, f64)) -> (f64, (f64, f64)) {
-        let n = self.x.len();
-        let step = self.spec.step;
-        if n < 2 || step <= 0.0 {
-            return (p.1 - self.y.first().copied().unwrap_or(0.0), (0.0, 1.0));
-        }
-        let i = ((p.0 / step).floor().max(0.0) as usize).min(n - 2);
-        let mut best = (f64::INFINITY, (0.0, 1.0));
-        for k in i.saturating_sub(1)..=(i + 1).min(n - 2) {
-            let (x0, y0, x1, y1) = (self.x[k], self.y[k], self.x[k + 1], self.y[k + 1]);
-            let (dx, dy) = (x1 - x0, y1 - y0);
-            let len2 = dx * dx + dy * dy;
-            let t = if len2 > 0.0 {
-                (((p.0 - x0) * dx + (p.1 - y0) * dy) / len2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let d = (p.0 - x0 - t * dx).hypot(p.1 - y0 - t * dy);
-            if d < best.0 {
-                let len = len2.sqrt().max(f64::MIN_POSITIVE);
-                best = (d, (-dy / len, dx / len));
-            }
-        }
-        if p.1 < self.height_at(p.0) {
-            best.0 = -best.0;
-        }
-        best
-    }
-
     /// Fraction along the ray `p1 → p2` of the closest terrain surface (edge or obstacle
     /// side), or 1 if none: Box2D's `RayCast` with a callback that clips to the closest hit.
     pub fn ray_fraction(&self, p1: (f64, f64), p2: (f64, f64)) -> f64 {

@@ -1,0 +1,445 @@
+//! A reduced-coordinate engine for planar robots (HalfCheetah): every link moves in the x-z
+//! plane, so the state is the joint coordinates `q` and rates `v` alone and one physics step
+//! is a handful of small dense operations in f64.
+//!
+//! * [`tree`]: the planar kinematic tree read from the same URDF and side file as the rapier
+//!   world, with a clear error for a robot that is not planar;
+//! * [`kinematics`]: link poses, velocities and bias accelerations, Jacobian columns;
+//! * [`dynamics`]: mass matrix and bias forces (Newton–Euler), Cholesky;
+//! * [`contacts`]: ground contacts with Coulomb friction and joint limits as soft
+//!   velocity-level constraints, projected Gauss–Seidel.
+//!
+//! One step of length `h` (the side file's `timestep`), semi-implicit Euler as MuJoCo's
+//! default integrator, with the joint damping implicit:
+//! `(M + A + hD)(v⁺ − v) = h(τ − b − Dv − Kq) + Jᵀλ`, `q⁺ = q + h v⁺`, where `A` is the
+//! armature, `D` the context's `joint_angular_damping` on every robot hinge, `K` the side
+//! file's passive springs (explicit, as MuJoCo's), `b` gravity and velocity-product forces,
+//! `τ` the motors and `λ` the constraint impulses. How each context feature enters:
+//! * `gravity` → `b`; `friction` → the Coulomb coefficient of every ground contact;
+//! * `angular_damping` → after each step every hinge rate (root pitch included) is scaled by
+//!   `exp(angular_damping · h)`, as in the rapier world;
+//! * `joint_angular_damping` → `D`; `actuator_strength` → the motor torques;
+//! * `joint_stiffness` → the joint limits: soft rows of angular frequency
+//!   `√(joint_stiffness / limit_reference_inertia)` and damping ratio `limit_damping_ratio`
+//!   (the rapier world's semantics);
+//! * `torso_mass`, `mass_<link>` → link masses (inertia scaled with them).
+//!
+//! Ground contact normals are soft as MuJoCo's with its default `solref` and `solimp` (time
+//! constant 0.02 s, damping ratio 1, impedance 0.9–0.95); friction is Coulomb's, stiff.
+
+pub mod contacts;
+pub mod dynamics;
+pub mod kinematics;
+pub mod tree;
+
+use std::sync::Arc;
+
+use rapier3d::prelude::{Pose, Rotation, Vector};
+
+use super::model::RobotModel;
+use super::params::RobotParams;
+use super::world::Configuration;
+use contacts::{Impedance, RowKind, Rows, Softness};
+use kinematics::{DofAxis, LinkState, point_velocity, positions, velocities};
+pub use tree::PlanarTree;
+
+/// The context-dependent constants of a planar world (shared by its clones).
+#[derive(Debug)]
+pub struct PlanarSystem {
+    pub tree: PlanarTree,
+    pub h: f64,
+    pub gravity: f64,
+    pub friction: f64,
+    /// Implicit damping per coordinate.
+    damping: Vec<f64>,
+    /// Multiplier of the hinge rates after each step.
+    angular_decay: f64,
+    limit_soft: Softness,
+    contact: Impedance,
+    /// (coordinate, torque per unit control) of each actuator.
+    motors: Vec<(usize, f64)>,
+    ctrl_range: [f64; 2],
+    torso: usize,
+}
+
+fn finite_or(x: f64, fallback: f64) -> f64 {
+    if x.is_finite() { x } else { fallback }
+}
+
+impl PlanarSystem {
+    /// The system of `model` (which must have passed [`PlanarTree::from_model`]) under `params`.
+    pub fn new(model: &RobotModel, params: &RobotParams) -> Result<PlanarSystem, String> {
+        let side = &model.side;
+        let tree = PlanarTree::from_model(model)?.with_masses(model, params);
+        let h = side.timestep;
+        let jd = finite_or(params.joint_angular_damping, 0.0).max(0.0);
+        let damping = tree
+            .dofs
+            .iter()
+            .map(|d| if d.hinge && !d.root { jd } else { 0.0 })
+            .collect();
+        let k = finite_or(params.joint_stiffness, 1.0).max(1e-9);
+        let limit_omega = (k / side.limit_reference_inertia).sqrt();
+        let strength = match params.actuator_strength {
+            Some(s) => finite_or(s, side.strength_reference) / side.strength_reference,
+            None => 1.0,
+        };
+        let mut motors = Vec::new();
+        for a in &side.actuators {
+            let j = model
+                .joint_names
+                .iter()
+                .position(|n| *n == a.joint)
+                .ok_or_else(|| format!("actuator joint {} is not movable", a.joint))?;
+            motors.push((j, a.gear * strength));
+        }
+        Ok(PlanarSystem {
+            h,
+            gravity: finite_or(params.gravity, 0.0),
+            friction: finite_or(params.friction, 0.0).max(0.0),
+            damping,
+            angular_decay: (finite_or(params.angular_damping, 0.0) * h).exp(),
+            limit_soft: Softness::new(limit_omega, side.limit_damping_ratio, h),
+            contact: Impedance::MUJOCO_DEFAULT,
+            motors,
+            ctrl_range: side.ctrl_range,
+            torso: model.torso,
+            tree,
+        })
+    }
+
+    pub fn num_dofs(&self) -> usize {
+        self.tree.dofs.len()
+    }
+}
+
+/// One planar robot instance: coordinates, rates and preallocated work buffers. `Clone`
+/// copies the state exactly.
+#[derive(Debug, Clone)]
+pub struct PlanarWorld {
+    sys: Arc<PlanarSystem>,
+    q: Vec<f64>,
+    v: Vec<f64>,
+    links: Vec<LinkState>,
+    axes: Vec<DofAxis>,
+    mass: Vec<f64>,
+    bias: Vec<f64>,
+    force: Vec<f64>,
+    rows: Rows,
+    /// Contact force and torque about the centre of mass of each link over the last step:
+    /// `[f_x, f_z, τ_y]`.
+    wrench: Vec<[f64; 3]>,
+    /// What each row stands for.
+    row_site: Vec<RowSite>,
+}
+
+/// What a constraint row stands for.
+#[derive(Debug, Clone, Copy)]
+enum RowSite {
+    /// The normal of a contact of `link` at world point `p`.
+    Normal {
+        link: usize,
+        p: [f64; 2],
+    },
+    /// The friction of a contact of `link` at world point `p`.
+    Friction {
+        link: usize,
+        p: [f64; 2],
+    },
+    Limit,
+}
+
+/// Clamp a state coordinate to a finite value (as the rapier world does).
+fn coord(x: f64) -> f64 {
+    finite_or(x, 0.0).clamp(-1e6, 1e6)
+}
+
+impl PlanarWorld {
+    /// The world of `sys` in configuration `c` (joint coordinates and rates in URDF order).
+    pub fn new(sys: Arc<PlanarSystem>, c: &Configuration) -> PlanarWorld {
+        let n = sys.num_dofs();
+        let nl = sys.tree.links.len();
+        let mut q = vec![0.0; n];
+        let mut v = vec![0.0; n];
+        for (d, x) in q.iter_mut().zip(&c.joints) {
+            *d = coord(*x);
+        }
+        for (d, x) in v.iter_mut().zip(&c.vel) {
+            *d = coord(*x);
+        }
+        let capacity = 2 * 2 * sys.tree.capsules.len() + 2 * n;
+        let mut w = PlanarWorld {
+            q,
+            v,
+            links: vec![LinkState::default(); nl],
+            axes: vec![DofAxis::default(); n],
+            mass: vec![0.0; n * n],
+            bias: vec![0.0; n],
+            force: vec![0.0; n],
+            rows: Rows::new(n, capacity),
+            wrench: vec![[0.0; 3]; nl],
+            row_site: vec![RowSite::Limit; capacity],
+            sys,
+        };
+        positions(&w.sys.tree, &w.q, &mut w.links, &mut w.axes);
+        w
+    }
+
+    pub fn system(&self) -> &PlanarSystem {
+        &self.sys
+    }
+
+    /// Joint coordinates and rates in URDF order.
+    pub fn configuration(&self) -> Configuration {
+        Configuration {
+            root: Vec::new(),
+            joints: self.q.clone(),
+            vel: self.v.clone(),
+        }
+    }
+
+    pub fn q(&self) -> &[f64] {
+        &self.q
+    }
+    pub fn v(&self) -> &[f64] {
+        &self.v
+    }
+
+    /// The mass matrix `M(q)` without armature (row-major `n × n`) and the bias forces at the
+    /// current state.
+    pub fn mass_matrix_and_bias(&self) -> (Vec<f64>, Vec<f64>) {
+        let n = self.sys.num_dofs();
+        let mut links = self.links.clone();
+        velocities(&self.sys.tree, &self.v, &mut links, &self.axes);
+        let mut m = vec![0.0; n * n];
+        let mut b = vec![0.0; n];
+        dynamics::mass_matrix_and_bias(&self.sys.tree, &links, &self.axes, self.sys.gravity, &mut m, &mut b);
+        (m, b)
+    }
+
+    /// Mechanical energy (J): the links' kinetic and gravitational energy, the armature's
+    /// kinetic energy and the passive springs' energy.
+    pub fn energy(&self) -> f64 {
+        let tree = &self.sys.tree;
+        let mut links = self.links.clone();
+        velocities(tree, &self.v, &mut links, &self.axes);
+        let joints: f64 = tree
+            .dofs
+            .iter()
+            .zip(self.q.iter().zip(&self.v))
+            .map(|(d, (q, v))| 0.5 * (d.armature * v * v + d.spring * q * q))
+            .sum();
+        dynamics::kinetic_energy(tree, &links) + dynamics::potential_energy(tree, &links, self.sys.gravity) + joints
+    }
+
+    fn clipped(&self, u: f32) -> f64 {
+        let [lo, hi] = self.sys.ctrl_range;
+        if u.is_nan() { 0.0 } else { f64::from(u).clamp(lo, hi) }
+    }
+
+    /// One physics step with motor controls `ctrl` (clipped to the control range).
+    pub fn step(&mut self, ctrl: &[f32]) {
+        let sys = Arc::clone(&self.sys);
+        let tree = &sys.tree;
+        let n = sys.num_dofs();
+        let h = sys.h;
+        velocities(tree, &self.v, &mut self.links, &self.axes);
+        dynamics::mass_matrix_and_bias(
+            tree,
+            &self.links,
+            &self.axes,
+            sys.gravity,
+            &mut self.mass,
+            &mut self.bias,
+        );
+        for (d, dof) in tree.dofs.iter().enumerate() {
+            self.mass[d * n + d] += dof.armature + h * sys.damping[d];
+            self.force[d] = -self.bias[d] - sys.damping[d] * self.v[d] - dof.spring * self.q[d];
+        }
+        for (&(d, gear), &u) in sys.motors.iter().zip(ctrl) {
+            self.force[d] += gear * self.clipped(u);
+        }
+        if !dynamics::cholesky(&mut self.mass, n) {
+            self.v.fill(f64::NAN);
+            return;
+        }
+        dynamics::cholesky_solve(&self.mass, n, &mut self.force);
+        for (v, a) in self.v.iter_mut().zip(&self.force) {
+            *v += h * a;
+        }
+        self.build_rows();
+        self.rows.solve(&self.mass, &mut self.v);
+        self.collect_wrenches();
+        if sys.angular_decay != 1.0 {
+            for (v, dof) in self.v.iter_mut().zip(&tree.dofs) {
+                if dof.hinge {
+                    *v *= sys.angular_decay;
+                }
+            }
+        }
+        for (q, v) in self.q.iter_mut().zip(&self.v) {
+            *q += h * v;
+        }
+        positions(tree, &self.q, &mut self.links, &mut self.axes);
+    }
+
+    /// Contact rows (end spheres of the capsules near the ground) and joint-limit rows.
+    fn build_rows(&mut self) {
+        let sys = &*self.sys;
+        let tree = &sys.tree;
+        let h = sys.h;
+        self.rows.clear();
+        for cap in tree.capsules.iter().filter(|c| c.ground) {
+            let s = &self.links[cap.link];
+            let ends = if cap.a == cap.b { 1 } else { 2 };
+            for &e in [cap.a, cap.b].iter().take(ends) {
+                let centre = kinematics::add(s.pos, tree::rotate(s.cs, e));
+                let gap = centre[1] - cap.radius;
+                // Contacts once penetrating (MuJoCo's zero margin).
+                if gap >= 0.0 {
+                    continue;
+                }
+                let p = [centre[0], centre[1] - cap.radius];
+                let anc = &tree.links[cap.link].ancestors;
+                let v0 = point_velocity(s, p);
+                // The normal: MuJoCo's soft contact; friction: Coulomb's box, stiff (a resting
+                // contact does not creep).
+                let r = self.rows.count;
+                let (target, ratio) = sys.contact.row(v0[1], gap, h);
+                let Some(row) = self.rows.push(RowKind::Unilateral, target, ratio) else {
+                    return;
+                };
+                for &d in anc {
+                    row[d] = self.axes[d].point_column(p).0[1];
+                }
+                self.row_site[r] = RowSite::Normal { link: cap.link, p };
+                let friction = RowKind::Friction {
+                    normal: r,
+                    mu: sys.friction,
+                };
+                let Some(row) = self.rows.push(friction, 0.0, 0.0) else {
+                    return;
+                };
+                for &d in anc {
+                    row[d] = self.axes[d].point_column(p).0[0];
+                }
+                self.row_site[r + 1] = RowSite::Friction { link: cap.link, p };
+            }
+        }
+        let first_limit = self.rows.count;
+        for (d, dof) in tree.dofs.iter().enumerate() {
+            let Some((lo, hi)) = dof.limits else { continue };
+            // Rows for limits within reach of this step's motion (and a margin).
+            let reach = 1e-2 + h * self.v[d].abs();
+            for (gap, sign) in [(self.q[d] - lo, 1.0), (hi - self.q[d], -1.0)] {
+                if gap > reach {
+                    continue;
+                }
+                let Some(row) = self.rows.push_gap(gap, sys.limit_soft, h) else {
+                    return;
+                };
+                row[d] = sign;
+            }
+        }
+        for site in &mut self.row_site[first_limit..self.rows.count] {
+            *site = RowSite::Limit;
+        }
+    }
+
+    /// Per-link contact force and torque of the last step from the contact impulses.
+    fn collect_wrenches(&mut self) {
+        let h = self.sys.h;
+        self.wrench.iter_mut().for_each(|w| *w = [0.0; 3]);
+        for r in 0..self.rows.count {
+            let f = self.rows.lambda[r] / h;
+            let (link, p, force) = match self.row_site[r] {
+                RowSite::Normal { link, p } => (link, p, [0.0, f]),
+                RowSite::Friction { link, p } => (link, p, [f, 0.0]),
+                RowSite::Limit => continue,
+            };
+            let c = self.links[link].com;
+            let rr = kinematics::sub(p, c);
+            let w = &mut self.wrench[link];
+            w[0] += force[0];
+            w[1] += force[1];
+            w[2] += rr[1] * force[0] - rr[0] * force[1];
+        }
+    }
+
+    /// External contact wrench on each link over the last step, MuJoCo `cfrc_ext` order
+    /// `[torque, force]` (world frame, torque about the link's centre of mass); normal and
+    /// friction forces.
+    pub fn contact_wrenches(&self, out: &mut [f64]) {
+        for (li, w) in self.wrench.iter().enumerate() {
+            let o = 6 * li;
+            if o + 6 <= out.len() {
+                out[o..o + 6].copy_from_slice(&[0.0, w[2], 0.0, w[0], 0.0, w[1]]);
+            }
+        }
+    }
+
+    /// Whether every coordinate and rate is finite and no rate exceeds `max_speed`.
+    pub fn is_sane(&self, max_speed: f64) -> bool {
+        self.q.iter().all(|x| x.is_finite()) && self.v.iter().all(|v| v.is_finite() && v.abs() <= max_speed)
+    }
+
+    /// World pose of link `i` (its frame's origin and pitch).
+    pub fn link_pose(&self, i: usize) -> Pose {
+        let s = &self.links[i];
+        Pose::from_parts(
+            Vector::new(s.pos[0] as f32, 0.0, s.pos[1] as f32),
+            Rotation::from_rotation_y(s.angle as f32),
+        )
+    }
+
+    /// The torso link's index.
+    pub fn torso(&self) -> usize {
+        self.sys.torso
+    }
+
+    /// Generalized actuator forces under controls `ctrl`, one per coordinate.
+    pub fn actuator_forces(&self, ctrl: &[f32], out: &mut [f64]) {
+        out.fill(0.0);
+        for (&(d, gear), &u) in self.sys.motors.iter().zip(ctrl) {
+            if let Some(o) = out.get_mut(d) {
+                *o += gear * self.clipped(u);
+            }
+        }
+    }
+
+    /// Mass (kg) of link `i`.
+    pub fn link_mass(&self, i: usize) -> f64 {
+        self.sys.tree.links[i].mass
+    }
+
+    /// Mass-weighted centre of mass of the moving links.
+    pub fn center_of_mass(&self) -> [f64; 3] {
+        let (mut m, mut c) = (0.0, [0.0; 2]);
+        for (l, s) in self.sys.tree.links.iter().zip(&self.links) {
+            if l.parent.is_some() {
+                m += l.mass;
+                c[0] += l.mass * s.com[0];
+                c[1] += l.mass * s.com[1];
+            }
+        }
+        if m > 0.0 { [c[0] / m, 0.0, c[1] / m] } else { [0.0; 3] }
+    }
+
+    /// The world pose of every link's centre of mass `[x, z]` (for tests and diagnostics).
+    pub fn link_com(&self, i: usize) -> [f64; 2] {
+        self.links[i].com
+    }
+
+    /// The capsules of the robot in world coordinates: (link, end a, end b, radius).
+    pub fn capsules(&self) -> impl Iterator<Item = (usize, [f64; 3], [f64; 3], f64)> + '_ {
+        self.sys.tree.capsules.iter().map(|c| {
+            let s = &self.links[c.link];
+            let a = kinematics::add(s.pos, tree::rotate(s.cs, c.a));
+            let b = kinematics::add(s.pos, tree::rotate(s.cs, c.b));
+            (c.link, [a[0], 0.0, a[1]], [b[0], 0.0, b[1]], c.radius)
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests;
