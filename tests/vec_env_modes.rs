@@ -175,3 +175,70 @@ fn final_context_of_a_distribution_is_the_finished_draw() {
         assert_eq!(venv.final_context_info(i).as_ref(), Some(old));
     }
 }
+
+/// `step_with`: the caller's closure runs once per step, while the batch is stepped, whether it
+/// takes its share of the blocks, leaves them all to the pool (the rest is claimed after it
+/// returns) or runs on a single thread; the results are those of `step`, bit for bit.
+#[test]
+fn step_with_runs_the_caller_once_and_steps_every_environment() {
+    let specs = SpecSet::bundled().unwrap();
+    let spec = specs.get("lunar_lander").unwrap();
+    let n = 24;
+    let batch = |threads: usize| {
+        let envs: Vec<SpecEnv> = (0..n).map(|_| make(spec, &Context::new()).unwrap()).collect();
+        let mut v = VecEnv::from_envs_with(
+            envs,
+            VecOptions {
+                threads,
+                ..VecOptions::default()
+            },
+            AutoresetMode::SameStep,
+        )
+        .unwrap();
+        v.reset(3);
+        v
+    };
+    let mut plain = batch(2);
+    let mut claiming = batch(2);
+    let mut leaving = batch(2);
+    let mut single = batch(1);
+    let (mut calls, mut ended) = (0, 0);
+    for t in 0..300 {
+        let actions: Vec<i64> = (0..n).map(|i| ((t * 7 + i) % 4) as i64).collect();
+        let a = VecActions::Discrete(&actions);
+        let want = plain.step(a).unwrap();
+        let want = (
+            want.obs.to_vec(),
+            want.rewards.to_vec(),
+            want.terminated.to_vec(),
+            want.truncated.to_vec(),
+        );
+        ended += want.2.iter().chain(&want.3).filter(|&&x| x).count();
+        for (venv, claim) in [(&mut claiming, true), (&mut leaving, false), (&mut single, true)] {
+            let got = venv
+                .step_with(a, |share| {
+                    calls += 1;
+                    if claim {
+                        share.claim_all();
+                    }
+                })
+                .unwrap();
+            let got = (
+                got.obs.to_vec(),
+                got.rewards.to_vec(),
+                got.terminated.to_vec(),
+                got.truncated.to_vec(),
+            );
+            assert_eq!(got, want, "step {t}");
+        }
+    }
+    assert_eq!(calls, 3 * 300);
+    assert!(ended > 0, "episodes ended (autoresets were compared too)");
+    // Refused actions: the closure is not called.
+    let bad = vec![0i64; n - 1];
+    assert!(
+        claiming
+            .step_with(VecActions::Discrete(&bad), |_| panic!("called"))
+            .is_err()
+    );
+}

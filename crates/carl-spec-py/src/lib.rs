@@ -934,8 +934,13 @@ struct VecEnv {
 
 impl VecEnv {
     fn batch_obs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        self.layout
-            .value(py, self.inner.obs(), self.inner.obs_f64(), Some(self.inner.num_envs()), Some(&self.stock))
+        self.layout.value(
+            py,
+            self.inner.obs(),
+            self.inner.obs_f64(),
+            Some(self.inner.num_envs()),
+            Some(&self.stock),
+        )
     }
 
     /// `observed_context` of the envs `rows` in the vector layout: the visible features' values
@@ -1102,7 +1107,15 @@ impl VecEnv {
         }
         let rows: Vec<usize> = infos.iter().map(|(i, _)| *i).collect();
         let value = |i: usize, j: usize| infos[at[i]].1.context.get(j).map_or(0.0, |(_, v)| *v);
-        set_nested(&self.stock, &d, &keyed!(py, "context"), n, &self.feature_keys, &rows, value)?;
+        set_nested(
+            &self.stock,
+            &d,
+            &keyed!(py, "context"),
+            n,
+            &self.feature_keys,
+            &rows,
+            value,
+        )?;
         let ids: Vec<(usize, i64)> = infos
             .iter()
             .filter_map(|(i, ci)| Some((*i, ci.instance_id? as i64)))
@@ -1224,7 +1237,13 @@ impl VecEnv {
             same_step: mode == AutoresetMode::SameStep,
             feature_keys: Columns::new(py, fixed_info.context.iter().map(|(k, _)| k.as_str()))?,
             visible_keys: Columns::new(py, proto.visible_features().iter().map(String::as_str))?,
-            all_envs: read_only(mask(&Stock::default(), py, num_envs, &(0..num_envs).collect::<Vec<_>>())).unbind(),
+            all_envs: read_only(mask(
+                &Stock::default(),
+                py,
+                num_envs,
+                &(0..num_envs).collect::<Vec<_>>(),
+            ))
+            .unbind(),
             inner,
             layout,
             discrete,

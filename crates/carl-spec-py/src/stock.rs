@@ -142,7 +142,10 @@ impl Stock {
     pub fn nested(&self, py: Python<'_>, columns: &Columns, n: usize) -> PyResult<Nested> {
         let id = columns.id();
         let kind = || Kind::Nested { columns: id, n };
-        match self.take(|k| matches!(k, Kind::Nested { columns: c, n: m } if *c == id && *m == n), kind) {
+        match self.take(
+            |k| matches!(k, Kind::Nested { columns: c, n: m } if *c == id && *m == n),
+            kind,
+        ) {
             Some(Ready::Nested(kit)) => Ok(kit),
             _ => columns.make_nested(py, n),
         }
