@@ -164,3 +164,74 @@ def test_instance_ids_reported_and_reselected_at_autoreset() -> None:
     assert len({tuple(x) for x in ids}) > 1, "instances must be re-selected at autoreset"
     ctx = venv.context_info(0)
     assert ctx is not None and ctx["instance_id"] == info["instance_id"][0]
+
+
+def _arrays(x: Any) -> list[np.ndarray]:
+    """Every NumPy array in a step's outputs (inside infos and object arrays too)."""
+    if isinstance(x, dict):
+        return [a for v in x.values() for a in _arrays(v)]
+    if isinstance(x, (tuple, list)):
+        return [a for v in x for a in _arrays(v)]
+    if isinstance(x, np.ndarray):
+        if x.dtype == object:
+            return [x] + [a for v in x for a in _arrays(v)]
+        return [x]
+    return []
+
+
+def _snapshot(x: Any) -> Any:
+    if isinstance(x, dict):
+        return {k: _snapshot(v) for k, v in x.items()}
+    if isinstance(x, (tuple, list)):
+        return [_snapshot(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return [_snapshot(v) for v in x] if x.dtype == object else x.copy()
+    return x
+
+
+def _assert_same(a: Any, b: Any) -> None:
+    if isinstance(b, dict):
+        assert sorted(a) == sorted(b)
+        for k in b:
+            _assert_same(a[k], b[k])
+    elif isinstance(b, list):
+        assert len(a) == len(b)
+        for x, y in zip(a, b):
+            _assert_same(x, y)
+    elif isinstance(b, np.ndarray):
+        np.testing.assert_array_equal(a, b)
+    else:
+        assert a is b or a == b
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_step_outputs_are_fresh_and_never_change_later(threads: int) -> None:
+    """The step makes its arrays and info dicts ahead (while the workers step) and releases a
+    step's outputs two steps later: every step must still hand out objects of its own (no
+    memory shared with another step's) that later steps never change, whether kept or dropped."""
+    venv = cs.make_vec("lunar_lander", 8, autoreset_mode="same_step", threads=threads)
+    venv.reset(seed=0)
+    venv.action_space.seed(1)
+    kept: list[tuple[Any, Any]] = []
+    ends = 0
+    for t in range(300):
+        out = venv.step(venv.action_space.sample())
+        ends += "final_obs" in out[4]
+        # the outputs are the user's to change
+        out[0][:] = -1.0
+        if "final_info" in out[4]:
+            context = out[4]["final_info"]["context"]
+            context[next(iter(context))][:] = 123.0
+        if t % 3 == 0:  # keep some, drop the others at once
+            kept.append((out, _snapshot(out)))
+    assert ends > 5
+    for out, snap in kept:
+        _assert_same(out, snap)
+    # Within a step one read-only mask serves all features; across steps nothing is shared.
+    owners = [
+        (k, a) for k, (out, _) in enumerate(kept) for a in {id(a): a for a in _arrays(out)}.values() if a.base is None
+    ]
+    for i, (k, a) in enumerate(owners):
+        for m, b in owners[i + 1 :]:
+            assert a is not b or k == m
+            assert a is b or not np.shares_memory(a, b)
