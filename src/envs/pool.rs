@@ -16,7 +16,8 @@ use std::thread::{JoinHandle, Thread};
 
 type Job = dyn Fn(Range<usize>) + Sync;
 
-/// How long an idle thread spins before it yields/parks (spin-loop iterations).
+/// How long an idle thread spins before it yields/parks (iterations: ~400 µs of the caller's
+/// `pause` loop, ~50 µs of a worker's plain loop here).
 const SPIN: u32 = 1 << 14;
 
 /// `state`: generation in the high 32 bits, `CLOSED` flag, active-worker count in the low bits.
@@ -24,10 +25,23 @@ const CLOSED: u64 = 1 << 31;
 const ACTIVE_MASK: u64 = CLOSED - 1;
 const GEN_ONE: u64 = 1 << 32;
 
+/// An atomic on a cache line of its own.
+#[repr(align(128))]
+struct Line<T>(T);
+
+impl<T> std::ops::Deref for Line<T> {
+    type Target = T;
+    fn deref(&self) -> &T {
+        &self.0
+    }
+}
+
 struct Shared {
-    state: AtomicU64,
-    /// Next unclaimed item of the current job.
-    next: AtomicUsize,
+    /// Its own cache line: idle workers poll it in a tight loop.
+    state: Line<AtomicU64>,
+    /// Next unclaimed item of the current job (its own cache line, apart from the polled
+    /// `state`: claiming must not contend with the workers' polling).
+    next: Line<AtomicUsize>,
     /// `(job, n, block)` of the current job; written only while no worker is inside a job.
     job: UnsafeCell<(*const Job, usize, usize)>,
     shutdown: AtomicBool,
@@ -73,8 +87,8 @@ impl Pool {
         let workers = threads.max(1) - 1;
         let noop: &'static Job = &noop;
         let shared = Arc::new(Shared {
-            state: AtomicU64::new(CLOSED),
-            next: AtomicUsize::new(0),
+            state: Line(AtomicU64::new(CLOSED)),
+            next: Line(AtomicUsize::new(0)),
             job: UnsafeCell::new((noop as *const Job, 0, 1)),
             shutdown: AtomicBool::new(false),
             panicked: AtomicBool::new(false),
@@ -224,7 +238,11 @@ fn worker(sh: &Shared, w: usize) {
             }
             if spins < SPIN {
                 spins += 1;
-                std::hint::spin_loop();
+                // No `spin_loop()` (x86 `pause`) here: under KVM a long run of `pause` makes the
+                // vCPU exit to the hypervisor (pause-loop exiting), and a worker that spins
+                // through the caller's Python work at every batch step then slowed `make_vec`'s
+                // LunarLander steps by ~20 % after the first ~0.3 s (bimodal rounds, README).
+                std::hint::black_box(());
             } else {
                 sh.sleeping[w].store(true, Ordering::SeqCst);
                 if sh.state.load(Ordering::SeqCst) & !(GEN_ONE - 1) == seen_gen && !sh.shutdown.load(Ordering::SeqCst) {
