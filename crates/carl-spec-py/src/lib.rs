@@ -34,12 +34,14 @@ use carl_spec::spec::SpecSet;
 use carl_spec::spec::load::{bundled_inputs, read_inputs};
 use carl_spec::validate;
 
+mod info_keys;
 mod stock;
 mod user_spec;
 mod vec_infos;
 
+use info_keys::{Columns, keyed};
 use stock::Stock;
-use vec_infos::{Columns, keyed, mask, read_only, set_column, set_nested};
+use vec_infos::{mask, read_only, set_column, set_nested};
 
 // ---------------------------------------------------------------------------------------
 // Errors

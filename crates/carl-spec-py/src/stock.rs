@@ -11,7 +11,7 @@ use numpy::ndarray::IxDyn;
 use numpy::{PyArray1, PyArrayDyn, PyArrayMethods};
 use pyo3::prelude::*;
 
-use crate::vec_infos::{Columns, Nested};
+use crate::info_keys::{Columns, Nested};
 
 /// Most objects one shelf keeps ready.
 const MAX_PER_SHELF: usize = 64;

@@ -42,10 +42,10 @@ use std::sync::Arc;
 use crate::envs::api::{Action, DType, Env, EnvError, Info, Space, StepOutcome, check_obs_len, vector_action};
 use crate::envs::rng::{EnvRng, normal, uniform};
 
-use super::model::{Engine, RobotModel, RootKind};
+use super::model::{ModelError, RobotModel, RootKind};
 use super::params::RobotParams;
 use super::physics::{Physics, PhysicsBuilder};
-use super::planar::{PlanarSystem, PlanarWorld};
+use super::planar::PlanarWorld;
 use super::world::{Configuration, RobotWorld};
 
 /// Task constants of a Gymnasium v5 locomotion environment.
@@ -222,7 +222,14 @@ impl Clone for Locomotion {
 }
 
 impl Locomotion {
-    pub fn new(id: &'static str, model: Arc<RobotModel>, params: RobotParams, task: TaskConfig) -> Self {
+    /// The task `task` of `model` under context `params`; refused if the side file asks for the
+    /// planar engine on a robot that is not planar.
+    pub fn new(
+        id: &'static str,
+        model: Arc<RobotModel>,
+        params: RobotParams,
+        task: TaskConfig,
+    ) -> Result<Self, ModelError> {
         let nj = model.joint_names.len();
         let free = model.side.root == RootKind::Free;
         let init_root = if free {
@@ -238,13 +245,8 @@ impl Locomotion {
         // `cfrc_ext`): tasks that observe them run on rapier.
         let planar_task =
             !task.include_com_terms && !task.com_based_cfrc && task.forward_velocity == ForwardVelocity::Root;
-        let builder = match model.side.engine {
-            Engine::Planar if planar_task => PhysicsBuilder::Planar(Arc::new(
-                PlanarSystem::new(&model, &params).expect("a planar side file is checked when the model loads"),
-            )),
-            _ => PhysicsBuilder::Rapier,
-        };
-        Locomotion {
+        let builder = PhysicsBuilder::for_model(&model, &params, planar_task)?;
+        Ok(Locomotion {
             builder,
             id,
             model,
@@ -258,7 +260,7 @@ impl Locomotion {
             init_root,
             nq,
             nv,
-        }
+        })
     }
 
     pub fn params(&self) -> &RobotParams {

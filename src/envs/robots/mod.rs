@@ -135,9 +135,9 @@ pub fn make_robot_on_rapier(id: &str, params: RobotParams) -> Option<Locomotion>
 
 fn make_robot_with_model(id: &str, model: std::sync::Arc<RobotModel>, params: RobotParams) -> Option<Locomotion> {
     match id {
-        "ant" => Some(Locomotion::new("ant", model, params, TaskConfig::ANT)),
-        "half_cheetah" => Some(Locomotion::new("half_cheetah", model, params, TaskConfig::HALF_CHEETAH)),
-        "humanoid" => Some(Locomotion::new("humanoid", model, params, TaskConfig::HUMANOID)),
+        "ant" => Locomotion::new("ant", model, params, TaskConfig::ANT).ok(),
+        "half_cheetah" => Locomotion::new("half_cheetah", model, params, TaskConfig::HALF_CHEETAH).ok(),
+        "humanoid" => Locomotion::new("humanoid", model, params, TaskConfig::HUMANOID).ok(),
         _ => None,
     }
 }

@@ -26,7 +26,7 @@ pub enum Engine {
     #[default]
     Rapier,
     /// The planar reduced-coordinate engine ([`super::planar`]); only for robots whose links
-    /// all move in the x-z plane (checked when the model loads).
+    /// all move in the x-z plane (checked when a task is built: `PhysicsBuilder::for_model`).
     Planar,
 }
 
@@ -60,8 +60,8 @@ pub struct JointArmature {
 pub struct SideFile {
     pub robot: String,
     pub source: String,
-    /// The physics engine (default rapier). `"planar"` is checked at load: the robot must be
-    /// planar (see [`super::planar::PlanarTree::from_model`]).
+    /// The physics engine (default rapier). `"planar"` needs a planar robot (checked when a task
+    /// is built).
     #[serde(default)]
     pub engine: Engine,
     /// Physics time step (s).
@@ -301,12 +301,6 @@ impl RobotModel {
             link_names,
             joint_names,
         };
-        if model.side.engine == Engine::Planar {
-            super::planar::PlanarTree::from_model(&model).map_err(|e| ModelError::Side {
-                robot,
-                message: format!("\"engine\": \"planar\" needs a planar robot: {e}"),
-            })?;
-        }
         Ok(model)
     }
 

@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 
-use super::model::RobotModel;
+use super::model::{Engine, ModelError, RobotModel};
 use super::params::RobotParams;
 use super::planar::{PlanarSystem, PlanarWorld};
 use super::world::{Configuration, RobotWorld};
@@ -25,6 +25,26 @@ pub enum PhysicsBuilder {
 }
 
 impl PhysicsBuilder {
+    /// The builder for `model` under `params`: the planar engine when the side file asks for it
+    /// and the task observes nothing that engine lacks (`planar_task`), rapier otherwise. A side
+    /// file asking for the planar engine on a robot that is not planar is refused either way.
+    pub fn for_model(model: &RobotModel, params: &RobotParams, planar_task: bool) -> Result<Self, ModelError> {
+        match model.side.engine {
+            Engine::Rapier => Ok(PhysicsBuilder::Rapier),
+            Engine::Planar => {
+                let sys = PlanarSystem::new(model, params).map_err(|e| ModelError::Side {
+                    robot: model.name,
+                    message: format!("\"engine\": \"planar\" needs a planar robot: {e}"),
+                })?;
+                Ok(if planar_task {
+                    PhysicsBuilder::Planar(Arc::new(sys))
+                } else {
+                    PhysicsBuilder::Rapier
+                })
+            }
+        }
+    }
+
     pub fn build(&self, model: &RobotModel, params: &RobotParams, q: &Configuration) -> Physics {
         match self {
             PhysicsBuilder::Rapier => Physics::Rapier(Box::new(RobotWorld::build(model, params, q))),

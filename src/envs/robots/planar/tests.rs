@@ -244,7 +244,11 @@ fn a_robot_that_is_not_planar_is_refused_with_a_reason() {
         .copied()
         .unwrap();
     let side = side.replacen('{', "{\n  \"engine\": \"planar\",", 1);
-    let err = RobotModel::parse("ant", urdf, &side).unwrap_err().to_string();
+    let model = RobotModel::parse("ant", urdf, &side).unwrap();
+    let params = blank_params("ant").unwrap();
+    let err = crate::envs::robots::physics::PhysicsBuilder::for_model(&model, &params, true)
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("\"engine\": \"planar\" needs a planar robot"), "{err}");
     assert!(err.contains("root"), "{err}");
 }
