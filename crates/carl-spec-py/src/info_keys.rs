@@ -5,7 +5,7 @@
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 
-use crate::filled;
+use crate::arrays::filled;
 
 /// An info key and Gymnasium's mask key beside it (`name`, `_name`).
 pub(crate) struct Keyed {

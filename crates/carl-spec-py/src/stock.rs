@@ -106,7 +106,7 @@ impl Stock {
         }
     }
 
-    /// A C-contiguous array of `dims`, every element written by `fill` (as [`crate::filled`]).
+    /// A C-contiguous array of `dims`, every element written by `fill` (as [`crate::arrays::filled`]).
     pub fn filled<'py, T: numpy::Element + 'static>(
         &self,
         py: Python<'py>,

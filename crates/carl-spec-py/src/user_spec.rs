@@ -10,7 +10,6 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -25,20 +24,8 @@ use carl_spec::spec::SpecSet;
 use carl_spec::spec::load::{bundled_inputs, read_inputs};
 use carl_spec::spec::model::{Distribution, EnvSpec};
 
-fn value_error(e: impl std::fmt::Display) -> PyErr {
-    PyValueError::new_err(e.to_string())
-}
-
-fn unknown_name(py: Python<'_>, message: String) -> PyErr {
-    match py
-        .import("carl_spec._errors")
-        .and_then(|m| m.getattr("UnknownNameError"))
-        .and_then(|cls| cls.call1((message.clone(),)))
-    {
-        Ok(exc) => PyErr::from_value(exc),
-        Err(_) => value_error(message),
-    }
-}
+use crate::context_args::parse_selection;
+use crate::errors::{unknown_name, value_error};
 
 /// The user's spec file(s) (a file or a directory), validated like `carl-spec validate PATH`
 /// (bundled shared fragments may be included), and the one environment they describe (`env`
@@ -106,20 +93,6 @@ fn make_error(py: Python<'_>, e: MakeError) -> PyErr {
     match e {
         MakeError::UnknownFeature { .. } => unknown_name(py, e.to_string()),
         other => value_error(other),
-    }
-}
-
-/// `selection=` and `instance=` as the Python constructors take them.
-pub fn parse_selection(selection: &str, instance: Option<usize>) -> PyResult<Selection> {
-    match (selection, instance) {
-        ("round_robin", None) => Ok(Selection::RoundRobin),
-        ("random", None) => Ok(Selection::Random),
-        ("static", Some(i)) => Ok(Selection::Static(i)),
-        ("static", None) => Err(value_error("selection=\"static\" needs instance=<index>")),
-        (_, Some(_)) => Err(value_error("instance= goes with selection=\"static\"")),
-        (other, None) => Err(value_error(format!(
-            "selection must be \"round_robin\", \"random\" or \"static\", got \"{other}\""
-        ))),
     }
 }
 
@@ -206,12 +179,12 @@ impl ContextChooser {
         noise: Option<Vec<(String, String, f64)>>,
         noise_redraw: &str,
     ) -> PyResult<Self> {
-        let noise = crate::context_noise_arg(noise, noise_redraw)?;
+        let noise = crate::context_args::context_noise_arg(noise, noise_redraw)?;
         let (specs, id) = match &path {
             Some(path) => load_set(py, path, env)?,
             None => {
                 let name = env.ok_or_else(|| value_error("ContextChooser needs a spec path or a bundled env id"))?;
-                crate::with_specs(None, |specs| {
+                crate::specs::with_specs(None, |specs| {
                     let spec = specs.require(name).map_err(|m| unknown_name(py, m))?;
                     Ok((specs.clone(), spec.id.clone()))
                 })?
@@ -366,7 +339,7 @@ impl ContextChooser {
             })
             .collect::<PyResult<Vec<_>>>()?;
         if !noise.is_empty() && visible.is_empty() {
-            return Err(value_error(crate::NOISE_NEEDS_OBS_CONTEXT));
+            return Err(value_error(crate::context_args::NOISE_NEEDS_OBS_CONTEXT));
         }
         let noise = ObservationNoise::new(&spec, &visible, &noise).map_err(value_error)?;
         let mut chooser = ContextChooser {
@@ -453,14 +426,14 @@ impl ContextChooser {
     /// The current episode's info (the default context before the first reset).
     fn info<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = match &self.current {
-            Some(c) => crate::context_info_dict(
+            Some(c) => crate::env_infos::context_info_dict(
                 py,
                 &c.context,
                 c.instance_id,
                 c.instance_name.as_deref(),
                 c.context_seed,
             )?,
-            None => crate::context_info_dict(py, &self.defaults(py)?, None, None, None)?,
+            None => crate::env_infos::context_info_dict(py, &self.defaults(py)?, None, None, None)?,
         };
         if self.noise.redraw().is_some() {
             d.set_item("observed_context", self.observed_context(py)?)?;

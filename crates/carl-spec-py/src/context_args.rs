@@ -1,0 +1,206 @@
+//! What `make` / `make_vec` (and users' wrapped envs) pass about contexts: the source (context,
+//! instance set, distribution), selection, visibility and noise, turned into the library's options.
+
+use pyo3::prelude::*;
+
+use carl_spec::envs::contextual::{
+    ContextNoise, ContextSource, ContextualEnv, ContextualOptions, NoiseRedraw, NoiseStd,
+};
+use carl_spec::envs::registry::{Context, EnvOptions, MakeError, has_runtime, ids_text};
+use carl_spec::envs::{Features, Selection, Visibility};
+use carl_spec::instances::Store;
+use carl_spec::spec::SpecSet;
+
+use crate::errors::{contextual_error, unknown_name, value_error};
+use crate::specs::{require, store_error};
+
+/// Everything `make` / `make_vec` pass about contexts, as the Python constructors hand it over.
+#[derive(Clone)]
+pub(crate) struct SourceArgs {
+    pub(crate) context_json: Option<String>,
+    pub(crate) instances: Option<String>,
+    pub(crate) distribution: Option<String>,
+    pub(crate) selection: String,
+    pub(crate) instance: Option<usize>,
+    pub(crate) obs_context: Option<Vec<String>>,
+    pub(crate) obs_context_all: bool,
+    /// Variant options (`{"continuous": true}`), as a JSON object.
+    pub(crate) options_json: Option<String>,
+    pub(crate) noise: ContextNoise,
+    pub(crate) allow_out_of_bounds: bool,
+}
+
+impl SourceArgs {
+    pub(crate) fn context(&self) -> PyResult<Context> {
+        match &self.context_json {
+            Some(text) => serde_json::from_str(text).map_err(|e| value_error(format!("context: {e}"))),
+            None => Ok(Context::new()),
+        }
+    }
+
+    pub(crate) fn env_options(&self) -> PyResult<EnvOptions> {
+        match &self.options_json {
+            Some(text) => serde_json::from_str(text).map_err(|e| {
+                value_error(format!(
+                    "options: {e} (values are true/false, numbers or lists of numbers)"
+                ))
+            }),
+            None => Ok(EnvOptions::new()),
+        }
+    }
+
+    /// A fixed context without visible features: the plain batch (no contextual wrapper).
+    pub(crate) fn is_plain(&self) -> bool {
+        self.instances.is_none()
+            && self.distribution.is_none()
+            && self.obs_context.as_ref().is_none_or(Vec::is_empty)
+            && !self.obs_context_all
+            && self.noise.is_empty()
+    }
+}
+
+pub(crate) fn build_contextual(py: Python<'_>, specs: &SpecSet, env: &str, a: &SourceArgs) -> PyResult<ContextualEnv> {
+    let spec = require(py, specs, env)?;
+    if !has_runtime(&spec.id) {
+        return Err(unknown_name(
+            py,
+            MakeError::NoRuntime {
+                env: spec.id.clone(),
+                available: ids_text(),
+            }
+            .to_string(),
+        ));
+    }
+    let given = [
+        a.context_json.is_some(),
+        a.instances.is_some(),
+        a.distribution.is_some(),
+    ];
+    if given.iter().filter(|g| **g).count() > 1 {
+        return Err(value_error(
+            "give at most one of context=, instances= and distribution=",
+        ));
+    }
+    if a.allow_out_of_bounds && (a.instances.is_some() || a.distribution.is_some()) {
+        return Err(value_error(
+            "allow_out_of_bounds=True applies to a fixed context= (an instance set declares its own \
+             out-of-bounds policy; distribution draws are always inside the bounds)",
+        ));
+    }
+    let source = if let Some(name) = &a.instances {
+        let name = if name.contains('/') {
+            name.clone()
+        } else {
+            format!("{}/{name}", spec.id)
+        };
+        ContextSource::Set(Store::new(specs).load(&name).map_err(|e| store_error(py, e))?)
+    } else if let Some(name) = &a.distribution {
+        ContextSource::Distribution { name: name.clone() }
+    } else {
+        ContextSource::Fixed(a.context()?)
+    };
+    let selection = parse_selection(&a.selection, a.instance)?;
+    let visibility = if a.obs_context_all {
+        Visibility::Visible(Features::All)
+    } else {
+        match &a.obs_context {
+            Some(names) if !names.is_empty() => Visibility::Visible(Features::Only(names.clone())),
+            _ => Visibility::Hidden,
+        }
+    };
+    if !a.noise.is_empty() && visibility == Visibility::Hidden {
+        return Err(value_error(NOISE_NEEDS_OBS_CONTEXT));
+    }
+    ContextualEnv::new(
+        spec,
+        source,
+        ContextualOptions {
+            selection,
+            visibility,
+            noise: a.noise.clone(),
+            env_options: a.env_options()?,
+            allow_out_of_bounds: a.allow_out_of_bounds,
+        },
+    )
+    .map_err(|e| contextual_error(py, &e))
+}
+
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn env_source_args(
+    context_json: Option<String>,
+    instances: Option<String>,
+    distribution: Option<String>,
+    selection: &str,
+    instance: Option<usize>,
+    obs_context: Option<&Bound<'_, PyAny>>,
+    options_json: Option<String>,
+    noise: Option<Vec<(String, String, f64)>>,
+    noise_redraw: &str,
+    allow_out_of_bounds: bool,
+) -> PyResult<SourceArgs> {
+    let (obs_context, obs_context_all) = match obs_context {
+        None => (None, false),
+        Some(v) if v.is_none() => (None, false),
+        Some(v) => match v.extract::<bool>() {
+            Ok(all) => (None, all),
+            Err(_) => (Some(v.extract::<Vec<String>>()?), false),
+        },
+    };
+    Ok(SourceArgs {
+        context_json,
+        instances,
+        distribution,
+        selection: selection.to_string(),
+        instance,
+        obs_context,
+        obs_context_all,
+        options_json,
+        noise: context_noise_arg(noise, noise_redraw)?,
+        allow_out_of_bounds,
+    })
+}
+
+pub(crate) const NOISE_NEEDS_OBS_CONTEXT: &str =
+    "context_noise applies to observed context features: name them in obs_context= (or obs_context=True)";
+
+/// `context_noise=` as the Python package passes it (`(feature, "absolute" | "relative", std)`
+/// triples) and `context_noise_redraw=`.
+pub(crate) fn context_noise_arg(noise: Option<Vec<(String, String, f64)>>, redraw: &str) -> PyResult<ContextNoise> {
+    let redraw = match redraw {
+        "episode" => NoiseRedraw::Episode,
+        "step" => NoiseRedraw::Step,
+        other => {
+            return Err(value_error(format!(
+                "context_noise_redraw must be \"episode\" or \"step\", got \"{other}\""
+            )));
+        }
+    };
+    let mut features = Vec::new();
+    for (name, kind, std) in noise.unwrap_or_default() {
+        let std = match kind.as_str() {
+            "absolute" => NoiseStd::Absolute(std),
+            "relative" => NoiseStd::Relative(std),
+            other => {
+                return Err(value_error(format!(
+                    "context_noise[{name:?}]: kind must be \"absolute\" or \"relative\", got \"{other}\""
+                )));
+            }
+        };
+        features.push((name, std));
+    }
+    Ok(ContextNoise { features, redraw })
+}
+
+/// `selection=` and `instance=` as the Python constructors take them.
+pub(crate) fn parse_selection(selection: &str, instance: Option<usize>) -> PyResult<Selection> {
+    match (selection, instance) {
+        ("round_robin", None) => Ok(Selection::RoundRobin),
+        ("random", None) => Ok(Selection::Random),
+        ("static", Some(i)) => Ok(Selection::Static(i)),
+        ("static", None) => Err(value_error("selection=\"static\" needs instance=<index>")),
+        (_, Some(_)) => Err(value_error("instance= goes with selection=\"static\"")),
+        (other, None) => Err(value_error(format!(
+            "selection must be \"round_robin\", \"random\" or \"static\", got \"{other}\""
+        ))),
+    }
+}

@@ -1,0 +1,222 @@
+//! `_core.Env`: one contextual environment (`carl_spec.make` wraps it in a `gymnasium.Env`).
+
+use std::path::PathBuf;
+
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use carl_spec::envs::contextual::{ContextualEnv, NoiseRedraw};
+use carl_spec::envs::{Action, Env as _, Space};
+
+use crate::context_args::{build_contextual, env_source_args};
+use crate::env_infos::{episode_end_info, info_dict, observed_dict};
+use crate::errors::{env_error, value_error};
+use crate::obs_layout::ObsLayout;
+use crate::specs::{space_json, with_specs};
+
+/// One contextual environment (`carl_spec.make` wraps it in a `gymnasium.Env`).
+#[pyclass(module = "carl_spec._core")]
+pub(crate) struct Env {
+    inner: ContextualEnv,
+    action: Action,
+    obs: Vec<f32>,
+    /// The float64 observation (float64 spaces only, else empty).
+    obs64: Vec<f64>,
+    layout: ObsLayout,
+}
+
+impl Env {
+    fn observation<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let wide = if self.obs64.is_empty() {
+            None
+        } else {
+            self.inner
+                .observe_f64_into(&mut self.obs64)
+                .map_err(|e| env_error(&e))?;
+            Some(&self.obs64[..])
+        };
+        self.layout.value(py, &self.obs, wide, None, None)
+    }
+}
+
+#[pymethods]
+impl Env {
+    #[new]
+    #[pyo3(signature = (env, *, context_json=None, instances=None, distribution=None, selection="round_robin", instance=None, obs_context=None, options_json=None, noise=None, noise_redraw="episode", allow_out_of_bounds=false, specs_dir=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        env: &str,
+        context_json: Option<String>,
+        instances: Option<String>,
+        distribution: Option<String>,
+        selection: &str,
+        instance: Option<usize>,
+        obs_context: Option<&Bound<'_, PyAny>>,
+        options_json: Option<String>,
+        noise: Option<Vec<(String, String, f64)>>,
+        noise_redraw: &str,
+        allow_out_of_bounds: bool,
+        specs_dir: Option<PathBuf>,
+    ) -> PyResult<Self> {
+        let args = env_source_args(
+            context_json,
+            instances,
+            distribution,
+            selection,
+            instance,
+            obs_context,
+            options_json,
+            noise,
+            noise_redraw,
+            allow_out_of_bounds,
+        )?;
+        let inner = with_specs(specs_dir, |specs| build_contextual(py, specs, env, &args))?;
+        let action = match inner.action_space() {
+            Space::Discrete { .. } => Action::Discrete(0),
+            s @ Space::Box { .. } => Action::Continuous(vec![0.0; s.flat_dim()]),
+        };
+        let layout = ObsLayout::new(
+            &inner.inner().observation_space(),
+            &inner.observation_space(),
+            inner.visible_features().len(),
+        );
+        Ok(Env {
+            obs: vec![0.0; inner.obs_dim()],
+            obs64: if layout.wide() {
+                vec![0.0; inner.obs_dim()]
+            } else {
+                Vec::new()
+            },
+            inner,
+            action,
+            layout,
+        })
+    }
+
+    /// `(observation, info)`; `seed=None` continues the current streams.
+    #[pyo3(signature = (seed=None))]
+    fn reset<'py>(&mut self, py: Python<'py>, seed: Option<u64>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
+        self.inner.reset_into(seed, &mut self.obs).map_err(|e| env_error(&e))?;
+        let obs = self.observation(py)?;
+        let info = info_dict(py, self.inner.context_info())?;
+        if self.inner.noise().is_some() {
+            info.set_item("observed_context", observed_dict(py, &self.inner)?)?;
+        }
+        Ok((obs, info))
+    }
+
+    /// `(observation, reward, terminated, truncated)`; the action is an int (discrete) or a
+    /// float32 vector.
+    fn step<'py>(
+        &mut self,
+        py: Python<'py>,
+        action: &Bound<'py, PyAny>,
+    ) -> PyResult<(Bound<'py, PyAny>, f64, bool, bool)> {
+        match &mut self.action {
+            Action::Discrete(a) => *a = action.extract::<i64>()?,
+            Action::Continuous(v) => {
+                let arr: PyReadonlyArray1<'_, f32> = action.extract()?;
+                let s = arr.as_slice().map_err(value_error)?;
+                if s.len() != v.len() {
+                    return Err(value_error(format!(
+                        "{}: continuous action must have {} component(s), got {}",
+                        self.inner.id(),
+                        v.len(),
+                        s.len()
+                    )));
+                }
+                v.copy_from_slice(s);
+            }
+        }
+        let out = self
+            .inner
+            .step_into(&self.action, &mut self.obs)
+            .map_err(|e| env_error(&e))?;
+        let obs = self.observation(py)?;
+        Ok((obs, out.reward, out.terminated, out.truncated))
+    }
+
+    /// The current episode's context info (as `reset` returns it).
+    fn info<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        info_dict(py, self.inner.context_info())
+    }
+
+    /// What the agent observes of the visible features now (noise included).
+    fn observed_context<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        observed_dict(py, &self.inner)
+    }
+
+    /// Right after a step that terminated the episode: what the runtime knows of it beyond
+    /// numbers (`rna_design`: `sequence`, `folded_structure`, `target_structure`, `target_id`,
+    /// distances), else None.
+    fn episode_end_info<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        episode_end_info(py, self.inner.inner().inner())
+    }
+
+    /// When noise on the observed context is redrawn: "episode", "step", or None (no noise).
+    fn noise_redraw(&self) -> Option<&'static str> {
+        self.inner.noise().map(|r| match r {
+            NoiseRedraw::Episode => "episode",
+            NoiseRedraw::Step => "step",
+        })
+    }
+
+    /// An RGB picture `(height, width, 3)` uint8 of the current state, or None.
+    fn render<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        match self.inner.render() {
+            None => Ok(None),
+            Some(f) => Ok(Some(
+                PyArray1::from_vec(py, f.rgb)
+                    .reshape(vec![f.height as usize, f.width as usize, 3])?
+                    .into_any(),
+            )),
+        }
+    }
+
+    /// Whether the runtime draws pictures (probed on a reset copy; this env is untouched).
+    fn has_renderer(&self) -> bool {
+        let mut probe = self.inner.clone();
+        let mut obs = vec![0.0; probe.obs_dim()];
+        probe.reset_into(Some(0), &mut obs).is_ok() && probe.render().is_some()
+    }
+
+    /// JSON description of the observation space.
+    fn observation_space_json(&self) -> String {
+        self.layout.space_json(&self.inner.observation_space()).to_string()
+    }
+
+    fn action_space_json(&self) -> String {
+        space_json(&self.inner.action_space()).to_string()
+    }
+
+    /// The runtime's internal float64 state.
+    fn state(&self) -> Vec<f64> {
+        self.inner.state()
+    }
+
+    fn set_state(&mut self, state: Vec<f64>) -> PyResult<()> {
+        self.inner.set_state(&state).map_err(|e| env_error(&e))
+    }
+
+    #[getter]
+    fn id(&self) -> &'static str {
+        self.inner.id()
+    }
+
+    #[getter]
+    fn num_instances(&self) -> usize {
+        self.inner.num_instances()
+    }
+
+    #[getter]
+    fn visible_features(&self) -> Vec<String> {
+        self.inner.visible_features().to_vec()
+    }
+
+    #[getter]
+    fn max_episode_steps(&self) -> Option<u64> {
+        self.inner.inner().max_episode_steps()
+    }
+}

@@ -1,0 +1,201 @@
+//! Specs, validation, instance sets and samples, crossing as the JSON the CLI prints (the
+//! Python package turns it into objects).
+
+use std::path::PathBuf;
+use std::sync::OnceLock;
+
+use pyo3::prelude::*;
+
+use carl_spec::envs::registry::{Context, MakeOptions, has_runtime, make_with};
+use carl_spec::envs::{DType, Env as _, Space};
+use carl_spec::instances::Store;
+use carl_spec::instances::derive::{DeriveError, sample_adhoc};
+use carl_spec::spec::SpecSet;
+use carl_spec::spec::load::{bundled_inputs, read_inputs};
+use carl_spec::validate;
+
+use crate::errors::{make_error, unknown_name, value_error};
+
+static BUNDLED: OnceLock<Result<SpecSet, String>> = OnceLock::new();
+
+/// The bundled specs (validated once per process, then shared read-only), or bundled + `dir`.
+pub(crate) fn with_specs<T>(specs_dir: Option<PathBuf>, f: impl FnOnce(&SpecSet) -> PyResult<T>) -> PyResult<T> {
+    match specs_dir {
+        None => {
+            let specs = BUNDLED.get_or_init(|| SpecSet::bundled().map_err(|e| e.to_string()));
+            f(specs.as_ref().map_err(value_error)?)
+        }
+        Some(dir) => f(&SpecSet::bundled_with(Some(&dir)).map_err(value_error)?),
+    }
+}
+
+pub(crate) fn require<'a>(
+    py: Python<'_>,
+    specs: &'a SpecSet,
+    name: &str,
+) -> PyResult<&'a carl_spec::spec::model::EnvSpec> {
+    specs.require(name).map_err(|m| unknown_name(py, m))
+}
+
+/// Every environment: `[{"id", "aliases", "family", "upstream", "features", "instance_sets", "runtime"}]`.
+#[pyfunction]
+#[pyo3(signature = (specs_dir=None))]
+pub(crate) fn list_envs_json(specs_dir: Option<PathBuf>) -> PyResult<String> {
+    with_specs(specs_dir, |specs| {
+        let rows: Vec<_> = specs
+            .envs()
+            .iter()
+            .map(|e| {
+                serde_json::json!({
+                    "id": e.id, "aliases": e.aliases, "family": e.family,
+                    "upstream": format!("{} {}", e.upstream.library, e.upstream.id),
+                    "features": e.features.len(),
+                    "instance_sets": e.instance_sets.keys().collect::<Vec<_>>(),
+                    "runtime": has_runtime(&e.id),
+                })
+            })
+            .collect();
+        serde_json::to_string(&rows).map_err(value_error)
+    })
+}
+
+/// The resolved spec as `carl-spec show ID --format json` prints it, plus the runtime's spaces.
+#[pyfunction]
+#[pyo3(signature = (name, specs_dir=None))]
+pub(crate) fn spec_json(py: Python<'_>, name: &str, specs_dir: Option<PathBuf>) -> PyResult<String> {
+    with_specs(specs_dir, |specs| {
+        let spec = require(py, specs, name)?;
+        let mut v = serde_json::to_value(spec).map_err(value_error)?;
+        if has_runtime(&spec.id) {
+            let env = make_with(spec, &Context::new(), MakeOptions::default()).map_err(|e| make_error(py, &e))?;
+            v["runtime_spaces"] = serde_json::json!({
+                "observation": space_json(&env.observation_space()),
+                "action": space_json(&env.action_space()),
+            });
+        }
+        serde_json::to_string(&v).map_err(value_error)
+    })
+}
+
+fn dtype_name(d: DType) -> &'static str {
+    match d {
+        DType::Float32 => "float32",
+        DType::Float64 => "float64",
+        DType::UInt8 => "uint8",
+    }
+}
+
+/// Infinite bounds cross as `null` (JSON has no infinity).
+fn bound(x: f32) -> serde_json::Value {
+    if x.is_finite() {
+        serde_json::json!(x)
+    } else {
+        serde_json::Value::Null
+    }
+}
+
+pub(crate) fn space_json(s: &Space) -> serde_json::Value {
+    match s {
+        Space::Box {
+            low,
+            high,
+            shape,
+            dtype,
+        } => serde_json::json!({
+            "type": "box", "shape": shape, "dtype": dtype_name(*dtype),
+            "low": low.iter().map(|x| bound(*x)).collect::<Vec<_>>(),
+            "high": high.iter().map(|x| bound(*x)).collect::<Vec<_>>(),
+        }),
+        Space::Discrete { n, start } => serde_json::json!({"type": "discrete", "n": n, "start": start}),
+    }
+}
+
+/// `carl-spec validate PATH… --format json`'s document (no paths: the bundled specs).
+#[pyfunction]
+#[pyo3(signature = (paths))]
+pub(crate) fn validate_json(paths: Vec<PathBuf>) -> PyResult<String> {
+    // The same inputs as the CLI: bundled files by repository path, or the given files plus the
+    // bundled shared fragments an author's spec may include.
+    let inputs: Vec<validate::Input> = if paths.is_empty() {
+        bundled_inputs(false)
+            .into_iter()
+            .map(|mut i| {
+                i.name = i.name.trim_start_matches("bundled:").to_string();
+                i
+            })
+            .collect()
+    } else {
+        let mut inputs = read_inputs(&paths).map_err(value_error)?;
+        if inputs.is_empty() {
+            let shown: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+            return Err(value_error(format!(
+                "no *.json spec files found in {}",
+                shown.join(", ")
+            )));
+        }
+        inputs.extend(bundled_inputs(true).into_iter().filter(|i| i.name.contains("/shared/")));
+        inputs
+    };
+    let (_resolved, report) = validate::run(&inputs);
+    let v = serde_json::json!({
+        "valid": !report.has_errors(),
+        "files": report.files_checked,
+        "environments": report.environments,
+        "errors": report.errors(),
+        "warnings": report.warnings(),
+        "diagnostics": report.diagnostics,
+    });
+    serde_json::to_string(&v).map_err(value_error)
+}
+
+/// Declared instance sets, `ENV/SET`.
+#[pyfunction]
+#[pyo3(signature = (specs_dir=None))]
+pub(crate) fn instance_sets(specs_dir: Option<PathBuf>) -> PyResult<Vec<String>> {
+    with_specs(specs_dir, |specs| {
+        Ok(Store::new(specs)
+            .declared()
+            .into_iter()
+            .map(|(e, s)| format!("{}/{s}", e.id))
+            .collect())
+    })
+}
+
+pub(crate) fn store_error(py: Python<'_>, e: carl_spec::instances::store::StoreError) -> PyErr {
+    use carl_spec::instances::store::StoreError as S;
+    match e {
+        S::Unknown(_) | S::BadName(_) => unknown_name(py, e.to_string()),
+        _ => value_error(e),
+    }
+}
+
+/// A frozen set's file (checked: hash and spec digest), as JSON.
+#[pyfunction]
+#[pyo3(signature = (name, specs_dir=None))]
+pub(crate) fn load_instances_json(py: Python<'_>, name: &str, specs_dir: Option<PathBuf>) -> PyResult<String> {
+    with_specs(specs_dir, |specs| {
+        let set = Store::new(specs).load(name).map_err(|e| store_error(py, e))?;
+        serde_json::to_string(&set).map_err(value_error)
+    })
+}
+
+/// `carl-spec sample ENV --distribution D -n N --seed S` as a frozen-set JSON document.
+#[pyfunction]
+#[pyo3(signature = (env, distribution, n, seed, specs_dir=None))]
+pub(crate) fn sample_json(
+    py: Python<'_>,
+    env: &str,
+    distribution: &str,
+    n: u64,
+    seed: u64,
+    specs_dir: Option<PathBuf>,
+) -> PyResult<String> {
+    with_specs(specs_dir, |specs| {
+        let spec = require(py, specs, env)?;
+        let set = sample_adhoc(spec, distribution, n, seed).map_err(|e| match e {
+            DeriveError::UnknownDistribution { .. } => unknown_name(py, e.to_string()),
+            _ => value_error(e),
+        })?;
+        serde_json::to_string(&set).map_err(value_error)
+    })
+}

@@ -1,0 +1,577 @@
+//! `_core.VecEnv`: a batch of environments stepped by one call (`carl_spec.make_vec` wraps it in
+//! a `gymnasium.vector.VectorEnv`); the GIL is released while Rust steps.
+
+use std::borrow::Cow;
+use std::path::PathBuf;
+
+use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyTuple};
+use pyo3::{PyTraverseError, PyVisit};
+
+use carl_spec::envs::contextual::ContextInfo;
+use carl_spec::envs::registry::{MakeOptions, make_env};
+use carl_spec::envs::vec_env::{AutoresetMode, VecActions, VecEnv as RustVecEnv, VecEnvError, VecOptions};
+use carl_spec::envs::{Env as _, Space};
+
+use crate::context_args::{build_contextual, env_source_args};
+use crate::env_infos::{episode_end_info, has_episode_end_info, info_dict};
+use crate::errors::{env_error, make_error, value_error};
+use crate::info_keys::{Columns, keyed};
+use crate::obs_layout::ObsLayout;
+use crate::specs::{require, space_json, with_specs};
+use crate::stock::Stock;
+use crate::vec_infos::{mask, read_only, set_column, set_nested};
+
+fn autoreset_mode(name: &str) -> PyResult<AutoresetMode> {
+    match name {
+        "next_step" => Ok(AutoresetMode::NextStep),
+        "same_step" => Ok(AutoresetMode::SameStep),
+        "disabled" => Ok(AutoresetMode::Disabled),
+        other => Err(value_error(format!(
+            "autoreset_mode must be \"next_step\", \"same_step\" or \"disabled\", got \"{other}\""
+        ))),
+    }
+}
+
+/// A batch of environments stepped by one call (`carl_spec.make_vec` wraps it in a
+/// `gymnasium.vector.VectorEnv`). The GIL is released while Rust steps.
+#[pyclass(module = "carl_spec._core")]
+pub(crate) struct VecEnv {
+    inner: RustVecEnv,
+    layout: ObsLayout,
+    obs_space: Space,
+    discrete: bool,
+    action_dim: usize,
+    contextual: bool,
+    /// Where the visible features start in an observation row, and whether they are observed
+    /// with noise (then the infos carry `observed_context`).
+    base_dim: usize,
+    noisy: bool,
+    /// The context of a plain batch (one fixed context: every episode's).
+    fixed_info: ContextInfo,
+    /// The actions of the step in progress, copied out of NumPy before the GIL is released.
+    discrete_actions: Vec<i64>,
+    continuous_actions: Vec<f32>,
+    same_step: bool,
+    /// Info keys made once: every context feature (spec order; every episode's context lists
+    /// them all) and the visible ones.
+    feature_keys: Columns,
+    visible_keys: Columns,
+    /// `_instance_id` of a contextual batch (every env has an instance id): one read-only
+    /// all-true mask shared by every step's infos.
+    all_envs: Py<PyAny>,
+    /// The tuples the last two steps returned, released while the workers step a later batch
+    /// (see `step`).
+    returned: [Option<Py<PyTuple>>; 2],
+    /// Arrays and dicts of the step's outputs, made while the workers step (see `step`).
+    stock: Stock,
+}
+
+impl VecEnv {
+    fn batch_obs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        self.layout.value(
+            py,
+            self.inner.obs(),
+            self.inner.obs_f64(),
+            Some(self.inner.num_envs()),
+            Some(&self.stock),
+        )
+    }
+
+    /// `observed_context` of the envs `rows` in the vector layout: the visible features' values
+    /// are the tail of each observation row, as `cs.make`'s `info["observed_context"]`
+    /// (float32 widened).
+    fn set_observed(&self, d: &Bound<'_, PyDict>, obs: &[f32], rows: &[usize]) -> PyResult<()> {
+        let (w, base) = (self.inner.obs_dim(), self.base_dim);
+        let value = |i: usize, j: usize| f64::from(obs[i * w + base + j]);
+        set_nested(
+            &self.stock,
+            d,
+            &keyed!(d.py(), "observed_context"),
+            self.inner.num_envs(),
+            &self.visible_keys,
+            rows,
+            value,
+        )
+    }
+
+    /// Copy the batch's actions out of NumPy (the GIL is held). An int64 (discrete) or float32
+    /// C-contiguous array is read as it is; anything else goes through
+    /// `numpy.ascontiguousarray(actions, dtype)` first, as `CarlVectorEnv.step` always did.
+    fn take_actions(&mut self, actions: &Bound<'_, PyAny>) -> PyResult<()> {
+        let py = actions.py();
+        let (n, id) = (self.inner.num_envs(), self.inner.id());
+        let convert = |dtype: &str| -> PyResult<Bound<'_, PyAny>> {
+            let numpy = py.import(pyo3::intern!(py, "numpy"))?;
+            let kwargs = PyDict::new(py);
+            kwargs.set_item(pyo3::intern!(py, "dtype"), dtype)?;
+            numpy
+                .getattr(pyo3::intern!(py, "ascontiguousarray"))?
+                .call((actions,), Some(&kwargs))
+        };
+        if self.discrete {
+            let owned;
+            let a = match actions.cast::<PyArrayDyn<i64>>() {
+                Ok(a) if a.is_c_contiguous() => a,
+                _ => {
+                    owned = convert("int64")?;
+                    owned.cast::<PyArrayDyn<i64>>()?
+                }
+            };
+            if a.len() != n {
+                return Err(value_error(format!("{id}: expected {n} actions, got {}", a.len())));
+            }
+            // SAFETY: C-contiguous (checked or made so), and read while the GIL is held: no
+            // Python code runs until the copy is done.
+            self.discrete_actions
+                .copy_from_slice(unsafe { a.as_slice() }.map_err(value_error)?);
+        } else {
+            let owned;
+            let a = match actions.cast::<PyArrayDyn<f32>>() {
+                Ok(a) if a.is_c_contiguous() => a,
+                _ => {
+                    owned = convert("float32")?;
+                    owned.cast::<PyArrayDyn<f32>>()?
+                }
+            };
+            if a.len() != n * self.action_dim {
+                return Err(value_error(format!(
+                    "{}: expected actions of shape ({}, {}), got {:?}",
+                    id,
+                    n,
+                    self.action_dim,
+                    a.shape()
+                )));
+            }
+            // SAFETY: as above.
+            self.continuous_actions
+                .copy_from_slice(unsafe { a.as_slice() }.map_err(value_error)?);
+        }
+        Ok(())
+    }
+
+    /// What every step's (and reset's) infos carry: `instance_id` (contextual batches) and
+    /// `observed_context` (with context noise), in Gymnasium's vector layout.
+    fn context_infos<'py>(&self, d: &Bound<'py, PyDict>) -> PyResult<()> {
+        let py = d.py();
+        if self.contextual {
+            d.set_item(
+                pyo3::intern!(py, "instance_id"),
+                PyArray1::from_slice(py, self.inner.instance_ids()),
+            )?;
+            d.set_item(pyo3::intern!(py, "_instance_id"), self.all_envs.bind(py))?;
+        }
+        if self.noisy {
+            let all: Vec<usize> = (0..self.inner.num_envs()).collect();
+            self.set_observed(d, self.inner.obs(), &all)?;
+        }
+        Ok(())
+    }
+
+    /// Same-step mode, after a step where the episodes `ended` ended: `final_obs` and
+    /// `final_info` as Gymnasium's vector envs lay them out (an object array holding each
+    /// finished environment's last observation and None elsewhere; the finished episodes' infos
+    /// in the vector layout), with their masks.
+    fn final_infos(&self, d: &Bound<'_, PyDict>, ended: &[usize]) -> PyResult<()> {
+        let py = d.py();
+        let n = self.inner.num_envs();
+        d.set_item(pyo3::intern!(py, "final_obs"), self.final_obs_objects(py, ended)?)?;
+        d.set_item(pyo3::intern!(py, "_final_obs"), mask(&self.stock, py, n, ended))?;
+        d.set_item(pyo3::intern!(py, "final_info"), self.final_info(py, ended)?)?;
+        d.set_item(pyo3::intern!(py, "_final_info"), mask(&self.stock, py, n, ended))
+    }
+
+    fn final_obs_objects<'py>(&self, py: Python<'py>, ended: &[usize]) -> PyResult<Bound<'py, PyAny>> {
+        let n = self.inner.num_envs();
+        let d = self.inner.obs_dim();
+        let (flat, wide) = (self.inner.final_observations(), self.inner.final_observations_f64());
+        let objects = self.stock.nones(py, n);
+        // SAFETY: a fresh object array (from the stock, not yet seen by Python code), contiguous;
+        // assigning drops the None it held.
+        let slots = unsafe { objects.as_slice_mut() }.map_err(value_error)?;
+        if let ObsLayout::Array { .. } = &self.layout {
+            // One array of the finished rows, handed out as row views (NumPy's own iteration:
+            // the cheapest way to make one Python object per row).
+            let gather32: Vec<f32> = ended.iter().flat_map(|&i| &flat[i * d..(i + 1) * d]).copied().collect();
+            let gather64: Option<Vec<f64>> =
+                wide.map(|w| ended.iter().flat_map(|&i| &w[i * d..(i + 1) * d]).copied().collect());
+            let block = self
+                .layout
+                .value(py, &gather32, gather64.as_deref(), Some(ended.len()), None)?;
+            for (&i, row) in ended.iter().zip(block.try_iter()?) {
+                slots[i] = row?.unbind();
+            }
+        } else {
+            for &i in ended {
+                slots[i] = self
+                    .layout
+                    .value(
+                        py,
+                        &flat[i * d..(i + 1) * d],
+                        wide.map(|w| &w[i * d..(i + 1) * d]),
+                        None,
+                        None,
+                    )?
+                    .unbind();
+            }
+        }
+        Ok(objects.into_any())
+    }
+
+    /// `final_info`: the finished episodes' infos (`cs.make`'s step info: `context`,
+    /// `instance_id`, `instance_name`, `context_seed`, `observed_context`) in the vector info
+    /// layout, masked to the finished envs.
+    fn final_info<'py>(&self, py: Python<'py>, ended: &[usize]) -> PyResult<Bound<'py, PyDict>> {
+        let n = self.inner.num_envs();
+        // Plain batches: every episode has the one fixed context (borrowed, not copied).
+        let infos: Vec<(usize, Cow<'_, ContextInfo>)> = ended
+            .iter()
+            .filter_map(|&i| {
+                let info = if self.contextual {
+                    self.inner.final_context_info(i).map(Cow::Owned)
+                } else {
+                    Some(Cow::Borrowed(&self.fixed_info))
+                };
+                info.map(|ci| (i, ci))
+            })
+            .collect();
+        let d = PyDict::new(py);
+        let mut at = vec![0; n];
+        for (k, (i, _)) in infos.iter().enumerate() {
+            at[*i] = k;
+        }
+        let rows: Vec<usize> = infos.iter().map(|(i, _)| *i).collect();
+        let value = |i: usize, j: usize| infos[at[i]].1.context.get(j).map_or(0.0, |(_, v)| *v);
+        set_nested(
+            &self.stock,
+            &d,
+            &keyed!(py, "context"),
+            n,
+            &self.feature_keys,
+            &rows,
+            value,
+        )?;
+        let ids: Vec<(usize, i64)> = infos
+            .iter()
+            .filter_map(|(i, ci)| Some((*i, ci.instance_id? as i64)))
+            .collect();
+        if !ids.is_empty() {
+            set_column(&self.stock, &d, &keyed!(py, "instance_id"), n, &ids)?;
+        }
+        if infos.iter().any(|(_, ci)| ci.instance_name.is_some()) {
+            let mut names: Vec<Py<PyAny>> = (0..n).map(|_| py.None()).collect();
+            let mut has = Vec::new();
+            for (i, ci) in &infos {
+                if let Some(name) = &ci.instance_name {
+                    names[*i] = name.into_pyobject(py)?.into_any().unbind();
+                    has.push(*i);
+                }
+            }
+            d.set_item(pyo3::intern!(py, "instance_name"), PyArray1::from_vec(py, names))?;
+            d.set_item(pyo3::intern!(py, "_instance_name"), mask(&self.stock, py, n, &has))?;
+        }
+        let seeds: Vec<(usize, u64)> = infos
+            .iter()
+            .filter_map(|(i, ci)| Some((*i, ci.context_seed?)))
+            .collect();
+        if !seeds.is_empty() {
+            set_column(&self.stock, &d, &keyed!(py, "context_seed"), n, &seeds)?;
+        }
+        if self.noisy {
+            self.set_observed(&d, self.inner.final_observations(), ended)?;
+        }
+        Ok(d)
+    }
+}
+
+#[pymethods]
+impl VecEnv {
+    #[new]
+    #[pyo3(signature = (env, num_envs, *, context_json=None, instances=None, distribution=None, selection="round_robin", instance=None, obs_context=None, options_json=None, noise=None, noise_redraw="episode", allow_out_of_bounds=false, autoreset_mode="next_step", threads=1, specs_dir=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        env: &str,
+        num_envs: usize,
+        context_json: Option<String>,
+        instances: Option<String>,
+        distribution: Option<String>,
+        selection: &str,
+        instance: Option<usize>,
+        obs_context: Option<&Bound<'_, PyAny>>,
+        options_json: Option<String>,
+        noise: Option<Vec<(String, String, f64)>>,
+        noise_redraw: &str,
+        allow_out_of_bounds: bool,
+        autoreset_mode: &str,
+        threads: usize,
+        specs_dir: Option<PathBuf>,
+    ) -> PyResult<Self> {
+        let mode = self::autoreset_mode(autoreset_mode)?;
+        if num_envs == 0 {
+            return Err(value_error("num_envs must be at least 1"));
+        }
+        let args = env_source_args(
+            context_json,
+            instances,
+            distribution,
+            selection,
+            instance,
+            obs_context,
+            options_json,
+            noise,
+            noise_redraw,
+            allow_out_of_bounds,
+        )?;
+        let plain = args.is_plain();
+        let opts = VecOptions {
+            threads,
+            ..VecOptions::default()
+        };
+        let vec_err = |e: VecEnvError| match e {
+            VecEnvError::Make(m) => make_error(py, &m),
+            other => value_error(other),
+        };
+        let (inner, layout, proto) = with_specs(specs_dir, |specs| {
+            // Validate everything (names, selection, options, bounds) through the contextual
+            // path first.
+            let proto = build_contextual(py, specs, env, &args)?;
+            let layout = ObsLayout::new(
+                &proto.inner().observation_space(),
+                &proto.observation_space(),
+                proto.visible_features().len(),
+            );
+            let inner = if plain {
+                // One fixed context without visible features: the plain batch (CartPole's
+                // structure-of-arrays kernel).
+                let spec = require(py, specs, env)?;
+                let ctx = args.context()?;
+                let make = MakeOptions {
+                    allow_out_of_bounds: args.allow_out_of_bounds,
+                };
+                let env_options = args.env_options()?;
+                let envs = (0..num_envs)
+                    .map(|_| make_env(spec, &ctx, make, &env_options))
+                    .collect::<Result<Vec<_>, _>>()
+                    .map_err(|e| make_error(py, &e))?;
+                RustVecEnv::from_envs_with(envs, opts, mode).map_err(vec_err)?
+            } else {
+                RustVecEnv::from_contextual(vec![proto.clone(); num_envs], opts, mode).map_err(vec_err)?
+            };
+            Ok((inner, layout, proto))
+        })?;
+        let (discrete, action_dim) = match inner.action_space() {
+            Space::Discrete { .. } => (true, 1),
+            s @ Space::Box { .. } => (false, s.flat_dim()),
+        };
+        let fixed_info = proto.context_info().clone();
+        Ok(VecEnv {
+            obs_space: inner.observation_space(),
+            discrete_actions: vec![0; if discrete { num_envs } else { 0 }],
+            continuous_actions: vec![0.0; if discrete { 0 } else { num_envs * action_dim }],
+            same_step: mode == AutoresetMode::SameStep,
+            feature_keys: Columns::new(py, fixed_info.context.iter().map(|(k, _)| k.as_str()))?,
+            visible_keys: Columns::new(py, proto.visible_features().iter().map(String::as_str))?,
+            all_envs: read_only(mask(
+                &Stock::default(),
+                py,
+                num_envs,
+                &(0..num_envs).collect::<Vec<_>>(),
+            ))
+            .unbind(),
+            inner,
+            layout,
+            discrete,
+            action_dim,
+            contextual: !plain,
+            base_dim: proto.base_obs_dim(),
+            noisy: proto.noise().is_some(),
+            fixed_info,
+            returned: [None, None],
+            stock: Stock::default(),
+        })
+    }
+
+    fn __traverse__(&self, visit: PyVisit<'_>) -> Result<(), PyTraverseError> {
+        // The returned tuples hold what the user may have put into the infos (even this object).
+        for t in self.returned.iter().flatten() {
+            visit.call(t)?;
+        }
+        Ok(())
+    }
+
+    fn __clear__(&mut self) {
+        self.returned = [None, None];
+    }
+
+    /// Reset the environments where `mask` is true (all for None); env `i` gets `seed + i`
+    /// (None: continue its stream). Returns the observations.
+    #[pyo3(signature = (seed=None, mask=None))]
+    fn reset<'py>(
+        &mut self,
+        py: Python<'py>,
+        seed: Option<u64>,
+        mask: Option<PyReadonlyArray1<'py, bool>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mask_slice = match &mask {
+            Some(m) => {
+                let s = m.as_slice().map_err(value_error)?;
+                if s.len() != self.inner.num_envs() {
+                    return Err(value_error(format!(
+                        "reset_mask must have {} entries, got {}",
+                        self.inner.num_envs(),
+                        s.len()
+                    )));
+                }
+                Some(s)
+            }
+            None => None,
+        };
+        let inner = &mut self.inner;
+        py.detach(|| {
+            inner.reset_masked(seed, mask_slice);
+        });
+        self.batch_obs(py)
+    }
+
+    /// `(observations, rewards, terminated, truncated, infos)`: fresh NumPy arrays and the step's
+    /// infos in Gymnasium's vector layout (same-step `final_obs` / `final_info`, `instance_id`,
+    /// `observed_context`), all built here in one call. Actions: int64 `(num_envs,)` or float32
+    /// `(num_envs, action_dim)` (other dtypes and layouts are converted as NumPy converts them).
+    /// The GIL is released while this thread steps its share of the batch.
+    ///
+    /// Only this thread can do the Python work of a step, while all threads share the stepping,
+    /// so the Python work that does not need the step's results is done while the worker threads
+    /// step (`VecEnv::step_with`): before this thread takes its share of the batch, the tuple
+    /// returned two steps ago is released (in a loop `obs, ... = venv.step(a)` the caller's own
+    /// references to it are gone by then, so freeing its arrays and dicts happens here rather
+    /// than after this call returns; a step's objects thus live two steps longer); after it, for
+    /// as long as a worker still steps its last environments, the arrays and dicts of the step's
+    /// outputs are made (`stock`; what is not ready is made when needed, as with one thread).
+    fn step<'py>(&mut self, py: Python<'py>, actions: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyTuple>> {
+        self.take_actions(actions)?;
+        let acts = if self.discrete {
+            VecActions::Discrete(&self.discrete_actions)
+        } else {
+            VecActions::Continuous(&self.continuous_actions)
+        };
+        let oldest = self.returned[0].take();
+        let (stock, n) = (&self.stock, self.inner.num_envs());
+        let nested = [&self.feature_keys, &self.visible_keys];
+        let mut restocked = Ok(());
+        self.inner
+            .step_with(acts, |share| {
+                drop(oldest);
+                py.detach(|| share.claim_all());
+                restocked = stock.restock(py, &nested, || share.workers_busy());
+            })
+            .map(|_| ())
+            .map_err(|e| env_error(&e))?;
+        restocked?;
+        let (term, trunc) = (self.inner.terminated(), self.inner.truncated());
+        let infos = PyDict::new(py);
+        if self.same_step {
+            let ended: Vec<usize> = (0..n).filter(|&i| term[i] | trunc[i]).collect();
+            if !ended.is_empty() {
+                self.final_infos(&infos, &ended)?;
+            }
+        }
+        self.context_infos(&infos)?;
+        let out = PyTuple::new(
+            py,
+            [
+                self.batch_obs(py)?,
+                self.stock
+                    .filled(py, &[n], |o: &mut [f64]| o.copy_from_slice(self.inner.rewards())),
+                self.stock.filled(py, &[n], |o: &mut [bool]| o.copy_from_slice(term)),
+                self.stock.filled(py, &[n], |o: &mut [bool]| o.copy_from_slice(trunc)),
+                infos.into_any(),
+            ],
+        )?;
+        self.returned = [self.returned[1].take(), Some(out.clone().unbind())];
+        Ok(out)
+    }
+
+    /// The infos every step and reset carry (`instance_id`, `observed_context`), for `reset`.
+    fn infos<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        self.context_infos(&d)?;
+        Ok(d)
+    }
+
+    /// Last observations of the episodes that ended in the latest step (same-step mode; rows of
+    /// other environments are meaningless).
+    fn final_obs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        self.layout.value(
+            py,
+            self.inner.final_observations(),
+            self.inner.final_observations_f64(),
+            Some(self.inner.num_envs()),
+            None,
+        )
+    }
+
+    /// Right after a step where environment `i` terminated (before it is stepped again): what its
+    /// runtime knows of that episode beyond numbers (see `Env.episode_end_info`), else None.
+    fn episode_end_info<'py>(&self, py: Python<'py>, i: usize) -> PyResult<Option<Bound<'py, PyDict>>> {
+        match self.inner.runtime(i) {
+            Some(runtime) => episode_end_info(py, runtime),
+            None => Ok(None),
+        }
+    }
+
+    /// Whether the runtime reports `episode_end_info`.
+    #[getter]
+    fn has_episode_end_info(&self) -> bool {
+        self.inner.runtime(0).is_some_and(has_episode_end_info)
+    }
+
+    /// Each environment's instance id in its set (-1: not from a set).
+    fn instance_ids<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i64>> {
+        PyArray1::from_slice(py, self.inner.instance_ids())
+    }
+
+    /// Environment `i`'s context info (contextual batches), else None.
+    fn context_info<'py>(&self, py: Python<'py>, i: usize) -> PyResult<Option<Bound<'py, PyDict>>> {
+        self.inner.context_info(i).map(|ci| info_dict(py, ci)).transpose()
+    }
+
+    fn state(&self, i: usize) -> Option<Vec<f64>> {
+        self.inner.state(i)
+    }
+
+    fn observation_space_json(&self) -> String {
+        self.layout.space_json(&self.obs_space).to_string()
+    }
+
+    fn action_space_json(&self) -> String {
+        space_json(&self.inner.action_space()).to_string()
+    }
+
+    #[getter]
+    fn num_envs(&self) -> usize {
+        self.inner.num_envs()
+    }
+
+    #[getter]
+    fn threads(&self) -> usize {
+        self.inner.threads()
+    }
+
+    #[getter]
+    fn contextual(&self) -> bool {
+        self.contextual
+    }
+
+    /// Whether the visible context is observed with noise (infos carry `observed_context`).
+    #[getter]
+    fn noisy(&self) -> bool {
+        self.noisy
+    }
+
+    #[getter]
+    fn is_soa(&self) -> bool {
+        self.inner.is_soa()
+    }
+}
