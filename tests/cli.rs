@@ -74,6 +74,11 @@ fn validate_missing_path_or_empty_dir_is_a_usage_error() {
     let empty = tempdir();
     let o = carl(&["validate", empty.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("no *.json spec files found in") && err.contains(empty.to_str().unwrap()),
+        "{err}"
+    );
 }
 
 #[test]

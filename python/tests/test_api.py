@@ -82,6 +82,12 @@ def test_validate_missing_path_is_an_error() -> None:
         cs.validate(ROOT / "no" / "such" / "dir")
 
 
+def test_validate_dir_without_specs_is_an_error_as_in_the_cli(tmp_path: Path) -> None:
+    (tmp_path / "notes.txt").write_text("not a spec")
+    with pytest.raises(ValueError, match=r"no \*\.json spec files found in .*" + tmp_path.name):
+        cs.validate(tmp_path)
+
+
 def test_instance_sets_equal_cli_show() -> None:
     names = cs.instances.list()
     assert "lunar_lander/landing_in_space_train" in names

@@ -173,7 +173,9 @@ impl Failure {
 impl From<crate::spec::LoadError> for Failure {
     fn from(e: crate::spec::LoadError) -> Self {
         match e {
-            crate::spec::LoadError::Io { .. } => Failure::usage(e.to_string()),
+            crate::spec::LoadError::Io { .. } | crate::spec::LoadError::NoSpecFiles { .. } => {
+                Failure::usage(e.to_string())
+            }
             crate::spec::LoadError::Invalid { .. } => Failure::failed(e.to_string()),
         }
     }

@@ -4,35 +4,11 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 
 use super::{CmdResult, Failure, Format, exit, out};
-use crate::spec::load::{bundled_inputs, read_inputs};
-use crate::validate::{self, Input};
+use crate::spec::load::validation_inputs;
+use crate::validate;
 
 pub fn run(paths: &[PathBuf], format: Format) -> CmdResult {
-    let inputs: Vec<Input> = if paths.is_empty() {
-        // Bundled files are shown by their path in the repository.
-        bundled_inputs(false)
-            .into_iter()
-            .map(|mut i| {
-                i.name = i.name.trim_start_matches("bundled:").to_string();
-                i
-            })
-            .collect()
-    } else {
-        let mut inputs = read_inputs(paths).map_err(|e| Failure::usage(e.to_string()))?;
-        if inputs.is_empty() {
-            return Err(Failure::usage(format!(
-                "no *.json spec files found in {}",
-                paths
-                    .iter()
-                    .map(|p| p.display().to_string())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )));
-        }
-        // Authors' specs may include the bundled shared fragments.
-        inputs.extend(bundled_inputs(true).into_iter().filter(|i| i.name.contains("/shared/")));
-        inputs
-    };
+    let inputs = validation_inputs(paths).map_err(|e| Failure::usage(e.to_string()))?;
     let (_resolved, report) = validate::run(&inputs);
     let summary = format!(
         "{} file(s), {} environment(s): {} error(s), {} warning(s)",

@@ -57,6 +57,8 @@ pub enum LoadError {
     Io { path: String, source: std::io::Error },
     #[error("{} error(s) in the specs:\n{report}", report.errors())]
     Invalid { report: Report },
+    #[error("no *.json spec files found in {paths}")]
+    NoSpecFiles { paths: String },
 }
 
 impl SpecSet {
@@ -90,6 +92,30 @@ impl SpecSet {
     pub fn envs(&self) -> &[EnvSpec] {
         &self.envs
     }
+}
+
+/// What `carl-spec validate PATH…` (and the Python `cs.validate`) checks: with no paths, the
+/// bundled specs, named by their path in the repository; else the files at `paths` (none found
+/// is an error) plus the bundled shared fragments an author's spec may include.
+pub fn validation_inputs(paths: &[PathBuf]) -> Result<Vec<Input>, LoadError> {
+    if paths.is_empty() {
+        return Ok(bundled_inputs(false)
+            .into_iter()
+            .map(|mut i| {
+                i.name = i.name.trim_start_matches("bundled:").to_string();
+                i
+            })
+            .collect());
+    }
+    let mut inputs = read_inputs(paths)?;
+    if inputs.is_empty() {
+        let shown: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+        return Err(LoadError::NoSpecFiles {
+            paths: shown.join(", "),
+        });
+    }
+    inputs.extend(bundled_inputs(true).into_iter().filter(|i| i.name.contains("/shared/")));
+    Ok(inputs)
 }
 
 /// Read spec files: a file is read as is; a directory yields every `*.json` below it, except

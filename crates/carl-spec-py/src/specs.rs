@@ -11,7 +11,7 @@ use carl_spec::envs::{DType, Env as _, Space};
 use carl_spec::instances::Store;
 use carl_spec::instances::derive::{DeriveError, sample_adhoc};
 use carl_spec::spec::SpecSet;
-use carl_spec::spec::load::{bundled_inputs, read_inputs};
+use carl_spec::spec::load::validation_inputs;
 use carl_spec::validate;
 
 use crate::errors::{make_error, unknown_name, value_error};
@@ -114,28 +114,8 @@ pub(crate) fn space_json(s: &Space) -> serde_json::Value {
 #[pyfunction]
 #[pyo3(signature = (paths))]
 pub(crate) fn validate_json(paths: Vec<PathBuf>) -> PyResult<String> {
-    // The same inputs as the CLI: bundled files by repository path, or the given files plus the
-    // bundled shared fragments an author's spec may include.
-    let inputs: Vec<validate::Input> = if paths.is_empty() {
-        bundled_inputs(false)
-            .into_iter()
-            .map(|mut i| {
-                i.name = i.name.trim_start_matches("bundled:").to_string();
-                i
-            })
-            .collect()
-    } else {
-        let mut inputs = read_inputs(&paths).map_err(value_error)?;
-        if inputs.is_empty() {
-            let shown: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
-            return Err(value_error(format!(
-                "no *.json spec files found in {}",
-                shown.join(", ")
-            )));
-        }
-        inputs.extend(bundled_inputs(true).into_iter().filter(|i| i.name.contains("/shared/")));
-        inputs
-    };
+    // The same inputs as the CLI (`carl-spec validate PATH…`).
+    let inputs = validation_inputs(&paths).map_err(value_error)?;
     let (_resolved, report) = validate::run(&inputs);
     let v = serde_json::json!({
         "valid": !report.has_errors(),
