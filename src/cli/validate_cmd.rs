@@ -31,15 +31,10 @@ pub fn run(paths: &[PathBuf], format: Format) -> CmdResult {
             out(&s)?;
         }
         Format::Json => {
-            let v = serde_json::json!({
-                "valid": !report.has_errors(),
-                "files": report.files_checked,
-                "environments": report.environments,
-                "errors": report.errors(),
-                "warnings": report.warnings(),
-                "diagnostics": report.diagnostics,
-            });
-            out(&format!("{}\n", serde_json::to_string_pretty(&v).unwrap_or_default()))?;
+            out(&format!(
+                "{}\n",
+                serde_json::to_string_pretty(&report.to_json()).unwrap_or_default()
+            ))?;
         }
         Format::Github => {
             let mut s = String::new();

@@ -54,6 +54,17 @@ impl Report {
     pub fn has_errors(&self) -> bool {
         self.errors() > 0
     }
+    /// The document `carl-spec validate --format json` prints (and `cs.validate` reads).
+    pub fn to_json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "valid": !self.has_errors(),
+            "files": self.files_checked,
+            "environments": self.environments,
+            "errors": self.errors(),
+            "warnings": self.warnings(),
+            "diagnostics": self.diagnostics,
+        })
+    }
     /// All diagnostics rendered as text (no color), for error messages.
     pub fn render_text(&self) -> String {
         self.diagnostics

@@ -117,15 +117,7 @@ pub(crate) fn validate_json(paths: Vec<PathBuf>) -> PyResult<String> {
     // The same inputs as the CLI (`carl-spec validate PATH…`).
     let inputs = validation_inputs(&paths).map_err(value_error)?;
     let (_resolved, report) = validate::run(&inputs);
-    let v = serde_json::json!({
-        "valid": !report.has_errors(),
-        "files": report.files_checked,
-        "environments": report.environments,
-        "errors": report.errors(),
-        "warnings": report.warnings(),
-        "diagnostics": report.diagnostics,
-    });
-    serde_json::to_string(&v).map_err(value_error)
+    serde_json::to_string(&report.to_json()).map_err(value_error)
 }
 
 /// Declared instance sets, `ENV/SET`.
