@@ -170,8 +170,9 @@ impl Pool {
     }
 }
 
-/// The calling thread's share of a job of [`Pool::run`]. It is `Send`, so the claiming may
-/// happen inside a closure that runs with the GIL released.
+/// The calling thread's share of a job of the worker pool (`Pool::run`, behind
+/// [`super::vec_env::VecEnv::step_with`]). It is `Send`, so the claiming may happen inside a
+/// closure that runs with the GIL released.
 pub struct CallerShare<'a> {
     sh: &'a Shared,
     job: &'a (dyn Fn(Range<usize>) + Sync + 'a),
