@@ -11,8 +11,8 @@ use carl_spec::envs::{Features, Selection, Visibility};
 use carl_spec::instances::Store;
 use carl_spec::spec::SpecSet;
 
-use crate::errors::{contextual_error, unknown_name, value_error};
-use crate::specs::{require, store_error};
+use crate::errors::{contextual_error, store_error, unknown_name, value_error};
+use crate::specs::require;
 
 /// Everything `make` / `make_vec` pass about contexts, as the Python constructors hand it over.
 #[derive(Clone)]
@@ -59,6 +59,7 @@ impl SourceArgs {
     }
 }
 
+/// The contextual environment `env` that `a` describes, checked against `specs`.
 pub(crate) fn build_contextual(py: Python<'_>, specs: &SpecSet, env: &str, a: &SourceArgs) -> PyResult<ContextualEnv> {
     let spec = require(py, specs, env)?;
     if !has_runtime(&spec.id) {
@@ -125,6 +126,8 @@ pub(crate) fn build_contextual(py: Python<'_>, specs: &SpecSet, env: &str, a: &S
     .map_err(|e| contextual_error(py, &e))
 }
 
+/// The constructors' keyword arguments gathered and checked (`obs_context`: a list of feature
+/// names or `"all"`).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn env_source_args(
     context_json: Option<String>,

@@ -8,6 +8,7 @@ use carl_spec::envs::AnyEnv;
 use carl_spec::envs::contextual::{ContextInfo, ContextualEnv};
 use carl_spec::envs::rna_design::RnaDesign;
 
+/// The info dict of the context `ci` (see [`context_info_dict`]).
 pub(crate) fn info_dict<'py>(py: Python<'py>, ci: &ContextInfo) -> PyResult<Bound<'py, PyDict>> {
     context_info_dict(
         py,

@@ -9,6 +9,7 @@ use carl_spec::envs::EnvError;
 use carl_spec::envs::contextual::ContextualError;
 use carl_spec::envs::registry::MakeError;
 use carl_spec::instances::derive::DeriveError;
+use carl_spec::instances::store::StoreError;
 
 /// `carl_spec.UnknownNameError(message)` (defined in Python so it is both a KeyError and a
 /// ValueError and prints its message without KeyError's quotes).
@@ -31,6 +32,7 @@ pub(crate) fn value_error(e: impl std::fmt::Display) -> PyErr {
     )
 }
 
+/// A failed `make`: unknown features, runtimes and options are unknown names, the rest bad input.
 pub(crate) fn make_error(py: Python<'_>, e: &MakeError) -> PyErr {
     match e {
         MakeError::UnknownFeature { .. } | MakeError::NoRuntime { .. } | MakeError::UnknownOption { .. } => {
@@ -40,6 +42,7 @@ pub(crate) fn make_error(py: Python<'_>, e: &MakeError) -> PyErr {
     }
 }
 
+/// A contextual env's options refused: unknown names (sets, distributions, features) or bad input.
 pub(crate) fn contextual_error(py: Python<'_>, e: &ContextualError) -> PyErr {
     match e {
         ContextualError::UnknownDistribution { .. } | ContextualError::UnknownFeature { .. } => {
@@ -60,9 +63,19 @@ pub(crate) fn contextual_error(py: Python<'_>, e: &ContextualError) -> PyErr {
     }
 }
 
+/// Stepping before reset or after an episode's end is misuse (`RuntimeError`); a bad action is bad input.
 pub(crate) fn env_error(e: &EnvError) -> PyErr {
     match e {
         EnvError::NeedsReset { .. } | EnvError::EpisodeOver { .. } => PyRuntimeError::new_err(e.to_string()),
+        _ => value_error(e),
+    }
+}
+
+/// An unknown or malformed set name is an unknown name; a broken set file is bad input.
+pub(crate) fn store_error(py: Python<'_>, e: StoreError) -> PyErr {
+    use StoreError as S;
+    match e {
+        S::Unknown(_) | S::BadName(_) => unknown_name(py, e.to_string()),
         _ => value_error(e),
     }
 }

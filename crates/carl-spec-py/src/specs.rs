@@ -14,7 +14,7 @@ use carl_spec::spec::SpecSet;
 use carl_spec::spec::load::validation_inputs;
 use carl_spec::validate;
 
-use crate::errors::{make_error, unknown_name, value_error};
+use crate::errors::{make_error, store_error, unknown_name, value_error};
 
 static BUNDLED: OnceLock<Result<SpecSet, String>> = OnceLock::new();
 
@@ -29,6 +29,7 @@ pub(crate) fn with_specs<T>(specs_dir: Option<PathBuf>, f: impl FnOnce(&SpecSet)
     }
 }
 
+/// The spec of `name` (id or alias), or `UnknownNameError` with suggestions.
 pub(crate) fn require<'a>(
     py: Python<'_>,
     specs: &'a SpecSet,
@@ -94,6 +95,7 @@ fn bound(x: f32) -> serde_json::Value {
     }
 }
 
+/// A Gymnasium space as the Python package rebuilds it (`kind`, `shape`, `dtype`, bounds, `n`).
 pub(crate) fn space_json(s: &Space) -> serde_json::Value {
     match s {
         Space::Box {
@@ -131,14 +133,6 @@ pub(crate) fn instance_sets(specs_dir: Option<PathBuf>) -> PyResult<Vec<String>>
             .map(|(e, s)| format!("{}/{s}", e.id))
             .collect())
     })
-}
-
-pub(crate) fn store_error(py: Python<'_>, e: carl_spec::instances::store::StoreError) -> PyErr {
-    use carl_spec::instances::store::StoreError as S;
-    match e {
-        S::Unknown(_) | S::BadName(_) => unknown_name(py, e.to_string()),
-        _ => value_error(e),
-    }
 }
 
 /// A frozen set's file (checked: hash and spec digest), as JSON.
