@@ -9,8 +9,9 @@ each, one after the other (the order alternates between rounds), so both see the
 load. The physics workloads time carl-spec over exactly the batch steps the Rust `VecEnv` anchor
 times (same reset, same actions, same window after the reset: `same_window`). Printed: one JSON line per workload with the median rate of each side, their ratio and the
 load average before and after. Anchors: Gymnasium 1.x's NumPy `CartPoleVectorEnv`, Gymnasium's
-CartPole through `gymnasium.make`, envpool (if importable) and the Rust `VecEnv` itself
-(`carl-spec bench`, the binary in target/release or $CARL_SPEC_BIN). Names: import, vec_cartpole,
+CartPole through `gymnasium.make`, envpool (if importable) and the Rust `VecEnv` itself, twice:
+`carl-spec bench` (the binary in target/release or $CARL_SPEC_BIN, a process of its own) and the
+same batch's native loop in this process right beside carl-spec's turn (`native_window`). Names: import, vec_cartpole,
 make_cartpole, lunar_lander, bipedal_walker, half_cheetah, ant.
 
 `--fixed-steps K` times nothing: it resets the physics workload's batch (1 thread) with seed 0
@@ -194,6 +195,24 @@ def same_window(venv: "CarlVectorEnv", acts: list[np.ndarray], batch_steps: int)
     return batch_steps * venv.num_envs / (time.perf_counter() - t0)
 
 
+def native_window(venv: "CarlVectorEnv", acts: list[np.ndarray], batch_steps: int) -> float:
+    """The Rust `VecEnv` of `venv` over the very steps `same_window` times (same reset, same
+    action batches in the same order, same window), stepped by one native loop with no Python
+    around it (`VecEnv.native_steps`): the anchor in the same process and the same minute."""
+    venv.reset(seed=0)
+    warmup = warmup_steps(batch_steps)
+
+    def rotated(k: int) -> list[np.ndarray]:  # `cycle` takes batch 1 first, then 2, ...
+        k %= len(acts)
+        return acts[k:] + acts[:k]
+
+    venv._core.native_steps(rotated(1), warmup)
+    timed = rotated(warmup + 1)
+    t0 = time.perf_counter()
+    venv._core.native_steps(timed, batch_steps)
+    return batch_steps * venv.num_envs / (time.perf_counter() - t0)
+
+
 def vec_physics(env_id: str, envpool_id: str | None, n: int, threads: int, seconds: float, rounds: int) -> dict[str, Any]:
     import carl_spec as cs
 
@@ -203,8 +222,10 @@ def vec_physics(env_id: str, envpool_id: str | None, n: int, threads: int, secon
     # Batch steps per round: what carl-spec does in ~`seconds` from a reset, fixed for every round
     # and both sides.
     batch_steps = max(20, round(seconds * same_window(venv, acts, 20) / n))
+    # Adjacent in either order of a round: carl-spec and its in-process native anchor.
     sides: dict[str, Callable[[], float]] = {
         "carl_spec": lambda: same_window(venv, acts, batch_steps),
+        "rust_VecEnv_in_process": lambda: native_window(venv, acts, batch_steps),
         "rust_VecEnv": lambda: rust_vec_rate(env_id, n, threads, batch_steps),
     }
     if envpool_id is not None:
@@ -230,6 +251,7 @@ def vec_physics(env_id: str, envpool_id: str | None, n: int, threads: int, secon
     row = interleaved(sides, rounds)
     out = {"workload": f"make_vec('{env_id}', {n}), {threads} threads", "timed_batch_steps": batch_steps, **row}
     out["fraction_of_rust_VecEnv"] = round(row["carl_spec"] / row["rust_VecEnv"], 3)
+    out["fraction_of_rust_VecEnv_in_process"] = round(row["carl_spec"] / row["rust_VecEnv_in_process"], 3)
     if "envpool" in row:
         out["ratio_to_envpool"] = round(row["carl_spec"] / row["envpool"], 2)
     return out

@@ -235,3 +235,22 @@ def test_step_outputs_are_fresh_and_never_change_later(threads: int) -> None:
         for m, b in owners[i + 1 :]:
             assert a is not b or k == m
             assert a is b or not np.shares_memory(a, b)
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_native_steps_bench_anchor_steps_the_same_episodes_as_step(threads: int) -> None:
+    # The bench's in-process anchor (`VecEnv.native_steps`) must time the very work `step` does.
+    n, k = 8, 150
+    a = cs.make_vec("lunar_lander", n, autoreset_mode="same_step", threads=threads)
+    b = cs.make_vec("lunar_lander", n, autoreset_mode="same_step", threads=threads)
+    rng = np.random.default_rng(3)
+    acts = [rng.integers(0, 4, n) for _ in range(5)]
+    a.reset(seed=11)
+    b.reset(seed=11)
+    for i in range(k):
+        a.step(acts[i % len(acts)])
+    b._core.native_steps(acts, k)
+    for i in range(n):
+        assert a._core.state(i) == b._core.state(i)
+    with pytest.raises(ValueError, match="at least one action batch"):
+        b._core.native_steps([], 1)

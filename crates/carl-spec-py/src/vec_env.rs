@@ -493,6 +493,39 @@ impl VecEnv {
         Ok(out)
     }
 
+    /// Benchmark anchor, not for training: `steps` batch steps of `actions` (a list of action
+    /// batches, cycled from the first) stepped by the Rust `VecEnv` in one native loop, the GIL
+    /// released, no outputs made for Python. `python/bench/bench_python_api.py` times it in the
+    /// same process as `step`, alternating with it, over the same window of the same episodes:
+    /// the native rate under the same machine conditions as the Python-driven one.
+    fn native_steps(&mut self, py: Python<'_>, actions: Vec<Bound<'_, PyAny>>, steps: usize) -> PyResult<()> {
+        if actions.is_empty() {
+            return Err(value_error("native_steps needs at least one action batch"));
+        }
+        let (mut discrete, mut continuous) = (Vec::new(), Vec::new());
+        for a in &actions {
+            self.take_actions(a)?;
+            if self.discrete {
+                discrete.push(self.discrete_actions.clone());
+            } else {
+                continuous.push(self.continuous_actions.clone());
+            }
+        }
+        let inner = &mut self.inner;
+        py.detach(|| -> Result<(), carl_spec::envs::EnvError> {
+            for k in 0..steps {
+                let acts = if discrete.is_empty() {
+                    VecActions::Continuous(&continuous[k % continuous.len()])
+                } else {
+                    VecActions::Discrete(&discrete[k % discrete.len()])
+                };
+                inner.step(acts)?;
+            }
+            Ok(())
+        })
+        .map_err(|e| env_error(&e))
+    }
+
     /// The infos every step and reset carry (`instance_id`, `observed_context`), for `reset`.
     fn infos<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
