@@ -9,18 +9,7 @@ use crate::spec::stats::compute_stats;
 pub fn list(cli: &Cli, format: Format) -> CmdResult {
     let specs = load_specs(cli)?;
     if format == Format::Json {
-        let rows: Vec<_> = specs
-            .envs()
-            .iter()
-            .map(|e| {
-                serde_json::json!({
-                    "id": e.id, "aliases": e.aliases, "family": e.family,
-                    "upstream": format!("{} {}", e.upstream.library, e.upstream.id),
-                    "features": e.features.len(),
-                    "instance_sets": e.instance_sets.keys().collect::<Vec<_>>(),
-                })
-            })
-            .collect();
+        let rows: Vec<_> = specs.envs().iter().map(EnvSpec::summary_json).collect();
         out(&format!(
             "{}\n",
             serde_json::to_string_pretty(&rows).unwrap_or_default()

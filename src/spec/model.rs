@@ -93,6 +93,17 @@ pub struct EnvSpec {
 }
 
 impl EnvSpec {
+    /// The row `carl-spec list --format json` prints for this environment (the Python
+    /// `list_envs` adds whether it has a runtime).
+    pub fn summary_json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "id": self.id, "aliases": self.aliases, "family": self.family,
+            "upstream": format!("{} {}", self.upstream.library, self.upstream.id),
+            "features": self.features.len(),
+            "instance_sets": self.instance_sets.keys().collect::<Vec<_>>(),
+        })
+    }
+
     /// Look a feature up by canonical name or alias.
     pub fn feature(&self, name: &str) -> Option<&Feature> {
         self.features

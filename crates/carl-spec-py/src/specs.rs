@@ -47,13 +47,9 @@ pub(crate) fn list_envs_json(specs_dir: Option<PathBuf>) -> PyResult<String> {
             .envs()
             .iter()
             .map(|e| {
-                serde_json::json!({
-                    "id": e.id, "aliases": e.aliases, "family": e.family,
-                    "upstream": format!("{} {}", e.upstream.library, e.upstream.id),
-                    "features": e.features.len(),
-                    "instance_sets": e.instance_sets.keys().collect::<Vec<_>>(),
-                    "runtime": has_runtime(&e.id),
-                })
+                let mut row = e.summary_json();
+                row["runtime"] = has_runtime(&e.id).into();
+                row
             })
             .collect();
         serde_json::to_string(&rows).map_err(value_error)

@@ -46,7 +46,7 @@ use crate::envs::api::{Action, DType, Env, EnvError, Info, Space, StepOutcome, c
 use crate::envs::rng::{EnvRng, uniform};
 
 use super::model::RobotModel;
-use super::params::RobotParams;
+use super::params::{RobotParams, finite_or};
 use super::vec3::{dot, from_vector, norm, sub};
 use super::world::{Configuration, RobotWorld};
 
@@ -217,10 +217,6 @@ impl Clone for Grasp {
         }
         c
     }
-}
-
-fn finite_or(x: f64, fallback: f64) -> f64 {
-    if x.is_finite() { x } else { fallback }
 }
 
 fn coord(x: f64) -> f32 {

@@ -48,6 +48,11 @@ const NAMES: &[(&str, &[&str])] = &[
     ("target_height", &[]),
 ];
 
+/// `x`, or `fallback` where a context value is not finite (NaN, ±∞): the physics never sees one.
+pub(crate) fn finite_or(x: f64, fallback: f64) -> f64 {
+    if x.is_finite() { x } else { fallback }
+}
+
 impl RobotParams {
     /// Brax/CARL defaults of the shared fragment for `env` with the given link names.
     pub fn new(env: &'static str, known_links: Vec<String>) -> Self {

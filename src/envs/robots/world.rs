@@ -21,7 +21,7 @@ use rapier3d::prelude::*;
 use rapier3d_urdf::{UrdfLoaderOptions, UrdfMultibodyOptions, UrdfRobot, urdf_rs};
 
 use super::model::{RobotModel, RootKind, is_movable};
-use super::params::RobotParams;
+use super::params::{RobotParams, finite_or};
 
 /// Position state of the robot: root pose (free root only) and joint coordinates.
 #[derive(Debug, Clone, PartialEq)]
@@ -71,10 +71,6 @@ impl std::fmt::Debug for RobotWorld {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("RobotWorld").finish_non_exhaustive()
     }
-}
-
-fn finite_or(x: f64, fallback: f64) -> f64 {
-    if x.is_finite() { x } else { fallback }
 }
 
 /// A state coordinate as `f32`: non-finite values become 0 and magnitudes are capped at 1e6, so

@@ -37,7 +37,7 @@ use std::sync::Arc;
 use rapier3d::prelude::{Pose, Rotation, Vector};
 
 use super::model::RobotModel;
-use super::params::RobotParams;
+use super::params::{RobotParams, finite_or};
 use super::world::Configuration;
 use contacts::{Impedance, RowKind, Rows, Softness};
 use kinematics::{DofAxis, LinkState, point_velocity, positions, velocities};
@@ -60,10 +60,6 @@ pub struct PlanarSystem {
     motors: Vec<(usize, f64)>,
     ctrl_range: [f64; 2],
     torso: usize,
-}
-
-fn finite_or(x: f64, fallback: f64) -> f64 {
-    if x.is_finite() { x } else { fallback }
 }
 
 impl PlanarSystem {

@@ -8,7 +8,7 @@
 use rapier3d_urdf::urdf_rs;
 
 use super::super::model::{RobotModel, RootKind, SideFile};
-use super::super::params::RobotParams;
+use super::super::params::{RobotParams, finite_or};
 
 /// A vector of the x-z plane, `[x, z]`.
 pub type V2 = [f64; 2];
@@ -299,7 +299,7 @@ impl PlanarTree {
             if let Some((_, v)) = params.link_masses.iter().find(|(n, _)| *n == model.link_names[i]) {
                 m = *v;
             }
-            let m = if m.is_finite() { m } else { base }.max(1e-6);
+            let m = finite_or(m, base).max(1e-6);
             link.inertia *= m / base;
             link.mass = m;
         }
