@@ -179,38 +179,41 @@ def warmup_steps(batch_steps: int) -> int:
     return min(max(batch_steps // 10, 1), 1000)
 
 
-def same_window(venv: "CarlVectorEnv", acts: list[np.ndarray], batch_steps: int) -> float:
-    """Steps per second of `venv` over exactly the steps `carl-spec bench --steps n*batch_steps`
-    times: reset with seed 0, `warmup_steps` untimed batch steps, then `batch_steps` timed, the
-    action batches taken in the same order (batch 1 first). A physics step's cost depends on the
-    episode's phase (BipedalWalker: ~20 % more per step after a few hundred steps, walkers down
-    with many contacts), so both sides must time the same window of the same episodes."""
+def timed_window(venv: "CarlVectorEnv", batch_steps: int, run: Callable[[int, int], None]) -> float:
+    """Steps per second over exactly the steps `carl-spec bench --steps n*batch_steps` times:
+    reset with seed 0, `warmup_steps` untimed batch steps, then `batch_steps` timed.
+    `run(first, k)` steps `k` batches, the action batches cycled from batch `first` (the bench
+    takes batch 1 first). A physics step's cost depends on the episode's phase (BipedalWalker:
+    ~20 % more per step after a few hundred steps, walkers down with many contacts), so every
+    side must time the same window of the same episodes."""
     venv.reset(seed=0)
-    step = cycle(acts, venv.step)
-    for _ in range(warmup_steps(batch_steps)):
-        step()
+    warmup = warmup_steps(batch_steps)
+    run(1, warmup)
     t0 = time.perf_counter()
-    for _ in range(batch_steps):
-        step()
+    run(warmup + 1, batch_steps)
     return batch_steps * venv.num_envs / (time.perf_counter() - t0)
+
+
+def same_window(venv: "CarlVectorEnv", acts: list[np.ndarray], batch_steps: int) -> float:
+    """carl-spec through the Python API (`venv.step`) over the bench's window."""
+    step = cycle(acts, venv.step)  # continues batch by batch from the warm-up into the timed steps
+
+    def run(_first: int, k: int) -> None:
+        for _ in range(k):
+            step()
+
+    return timed_window(venv, batch_steps, run)
 
 
 def native_window(venv: "CarlVectorEnv", acts: list[np.ndarray], batch_steps: int) -> float:
-    """The Rust `VecEnv` of `venv` over the very steps `same_window` times (same reset, same
-    action batches in the same order, same window), stepped by one native loop with no Python
+    """The Rust `VecEnv` of `venv` over the same window, stepped by one native loop with no Python
     around it (`VecEnv.native_steps`): the anchor in the same process and the same minute."""
-    venv.reset(seed=0)
-    warmup = warmup_steps(batch_steps)
 
-    def rotated(k: int) -> list[np.ndarray]:  # `cycle` takes batch 1 first, then 2, ...
-        k %= len(acts)
-        return acts[k:] + acts[:k]
+    def run(first: int, k: int) -> None:
+        f = first % len(acts)
+        venv._core.native_steps(acts[f:] + acts[:f], k)
 
-    venv._core.native_steps(rotated(1), warmup)
-    timed = rotated(warmup + 1)
-    t0 = time.perf_counter()
-    venv._core.native_steps(timed, batch_steps)
-    return batch_steps * venv.num_envs / (time.perf_counter() - t0)
+    return timed_window(venv, batch_steps, run)
 
 
 def vec_physics(env_id: str, envpool_id: str | None, n: int, threads: int, seconds: float, rounds: int) -> dict[str, Any]:

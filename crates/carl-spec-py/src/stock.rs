@@ -1,8 +1,9 @@
 //! Fresh NumPy arrays and info dicts made ahead of need. `make_vec`'s step is Python work that
 //! only the calling thread can do (it holds the GIL) around a native step that all threads
 //! share, so the objects it needs are made while the worker threads still step the batch
-//! (`VecEnv::step_with`): `restock` there, `filled` / `nested` / `nones` after the step. What a step hands out is as fresh as before: an object leaves the stock at
-//! most once, and no Python code sees it before it is filled.
+//! (`VecEnv::step_with`): `restock` there, `filled` / `nested` / `nones` after the step. What a
+//! step hands out is as fresh as before: an object leaves the stock at most once, and no Python
+//! code sees it before it is filled.
 
 use std::any::TypeId;
 use std::sync::Mutex;
@@ -118,13 +119,12 @@ impl Stock {
             dims: dims.to_vec(),
             make: uninit::<T>,
         };
-        let obj = match self.take_object(|k| k.is_array::<T>(dims), kind) {
-            Some(obj) => obj.into_bound(py),
-            None => uninit::<T>(py, dims),
+        let Some(obj) = self.take_object(|k| k.is_array::<T>(dims), kind) else {
+            return crate::arrays::filled(py, dims, fill);
         };
         // SAFETY: made by `uninit::<T>` with these dims (the shelf's kind says so), and held by
         // the stock alone until now: no Python code has seen it and nothing borrows it.
-        let arr = unsafe { obj.cast_into_unchecked::<PyArrayDyn<T>>() };
+        let arr = unsafe { obj.into_bound(py).cast_into_unchecked::<PyArrayDyn<T>>() };
         fill(unsafe { arr.as_slice_mut() }.expect("a fresh array is contiguous"));
         arr.into_any()
     }
