@@ -178,7 +178,8 @@ fn final_context_of_a_distribution_is_the_finished_draw() {
 
 /// `step_with`: the caller's closure runs once per step, while the batch is stepped, whether it
 /// takes its share of the blocks, leaves them all to the pool (the rest is claimed after it
-/// returns) or runs on a single thread; the results are those of `step`, bit for bit.
+/// returns) or runs on a single thread; the results are those of `step`, bit for bit. Blocks are
+/// left for workers only while a worker could claim them.
 #[test]
 fn step_with_runs_the_caller_once_and_steps_every_environment() {
     let specs = SpecSet::bundled().unwrap();
@@ -215,11 +216,15 @@ fn step_with_runs_the_caller_once_and_steps_every_environment() {
         );
         ended += want.2.iter().chain(&want.3).filter(|&&x| x).count();
         for (venv, claim) in [(&mut claiming, true), (&mut leaving, false), (&mut single, true)] {
+            let single_thread = venv.threads() == 1;
             let got = venv
                 .step_with(a, |share| {
                     calls += 1;
+                    // No worker can take blocks on one thread, nor any after the caller took all.
+                    assert!(!single_thread || !share.blocks_left());
                     if claim {
                         share.claim_all();
+                        assert!(!share.blocks_left());
                     }
                 })
                 .unwrap();

@@ -7,12 +7,14 @@
 Every workload runs `R` rounds; in each round the anchor and carl-spec are timed for ~S seconds
 each, one after the other (the order alternates between rounds), so both see the same machine
 load. The physics workloads time carl-spec over exactly the batch steps the Rust `VecEnv` anchor
-times (same reset, same actions, same window after the reset: `same_window`). Printed: one JSON line per workload with the median rate of each side, their ratio and the
-load average before and after. Anchors: Gymnasium 1.x's NumPy `CartPoleVectorEnv`, Gymnasium's
-CartPole through `gymnasium.make`, envpool (if importable) and the Rust `VecEnv` itself, twice:
-`carl-spec bench` (the binary in target/release or $CARL_SPEC_BIN, a process of its own) and the
-same batch's native loop in this process right beside carl-spec's turn (`native_window`). Names: import, vec_cartpole,
-make_cartpole, lunar_lander, bipedal_walker, half_cheetah, ant.
+times (same reset, same actions, same window after the reset: `same_window`). Printed: one JSON
+line per workload with the median rate of each side, their ratio and the load average before
+and after. Anchors: Gymnasium 1.x's NumPy `CartPoleVectorEnv`, Gymnasium's CartPole through
+`gymnasium.make`, envpool (if importable) and the Rust `VecEnv` itself, twice: `carl-spec bench`
+(the binary in target/release or $CARL_SPEC_BIN, a process of its own) and the same batch's
+native loop in this process, timed in ~50 ms chunks alternating with carl-spec's along one run
+(`chunked_pair`). Names: import, vec_cartpole, make_cartpole, lunar_lander, bipedal_walker,
+half_cheetah, ant.
 
 `--fixed-steps K` times nothing: it resets the physics workload's batch (1 thread) with seed 0
 and runs K batch steps of the bench actions, for an instruction count that does not depend on the
@@ -54,14 +56,18 @@ def timed(step: Callable[[], None], steps_per_call: int, seconds: float) -> floa
     return n * steps_per_call / t
 
 
-def interleaved(sides: dict[str, Callable[[], float]], rounds: int) -> dict[str, Any]:
-    """Each side's median over `rounds` rounds (alternating order), plus the load average."""
+def interleaved(sides: dict[str, Callable[[], float | dict[str, float]]], rounds: int) -> dict[str, Any]:
+    """Each side's median over `rounds` rounds (alternating order), plus the load average. A side
+    may time several things at once and return their rates by name (`chunked_pair`)."""
     load_before = os.getloadavg()[0]
-    rates: dict[str, list[float]] = {k: [] for k in sides}
-    names = list(sides)
+    rates: dict[str, list[float]] = {}
+    order = list(sides)
     for r in range(rounds):
-        for name in names if r % 2 == 0 else names[::-1]:
-            rates[name].append(sides[name]())
+        for side in order if r % 2 == 0 else order[::-1]:
+            got = sides[side]()
+            for name, rate in (got if isinstance(got, dict) else {side: got}).items():
+                rates.setdefault(name, []).append(rate)
+    names = list(rates)
     out: dict[str, Any] = {k: round(statistics.median(v)) for k, v in rates.items()}
     out["runs"] = {k: [round(x) for x in v] for k, v in rates.items()}
     # carl-spec over each anchor round by round (both timed back to back), then the median: robust
@@ -205,15 +211,38 @@ def same_window(venv: "CarlVectorEnv", acts: list[np.ndarray], batch_steps: int)
     return timed_window(venv, batch_steps, run)
 
 
-def native_window(venv: "CarlVectorEnv", acts: list[np.ndarray], batch_steps: int) -> float:
-    """The Rust `VecEnv` of `venv` over the same window, stepped by one native loop with no Python
-    around it (`VecEnv.native_steps`): the anchor in the same process and the same minute."""
+def chunked_pair(venv: "CarlVectorEnv", acts: list[np.ndarray], batch_steps: int, chunk: int) -> dict[str, float]:
+    """carl-spec through the Python API (`venv.step`) and the same batch's native loop
+    (`VecEnv.native_steps`), `batch_steps` timed batch steps each, in alternating chunks of
+    `chunk` batch steps along one run from reset(seed=0) (after `warmup_steps` untimed ones), the
+    actions cycled on across chunks. Machine speed drifts over seconds (rounds a few seconds
+    apart differ by up to ~20 %); chunks of ~50 ms see the same drift, so their ratio is the
+    Python layer's own cost."""
+    venv.reset(seed=0)
+    at = [0]
 
-    def run(first: int, k: int) -> None:
-        f = first % len(acts)
+    def python(k: int) -> None:
+        for _ in range(k):
+            at[0] = (at[0] + 1) % len(acts)
+            venv.step(acts[at[0]])
+
+    def native(k: int) -> None:
+        f = (at[0] + 1) % len(acts)
         venv._core.native_steps(acts[f:] + acts[:f], k)
+        at[0] = (at[0] + k) % len(acts)
 
-    return timed_window(venv, batch_steps, run)
+    python(warmup_steps(batch_steps))
+    sides = {"carl_spec": python, "rust_VecEnv_in_process": native}
+    spent = dict.fromkeys(sides, 0.0)
+    done, turn = 0, 0
+    while done < batch_steps:
+        k = min(chunk, batch_steps - done)
+        for name in list(sides) if turn % 2 == 0 else list(sides)[::-1]:
+            t0 = time.perf_counter()
+            sides[name](k)
+            spent[name] += time.perf_counter() - t0
+        done, turn = done + k, turn + 1
+    return {name: batch_steps * venv.num_envs / t for name, t in spent.items()}
 
 
 def vec_physics(env_id: str, envpool_id: str | None, n: int, threads: int, seconds: float, rounds: int) -> dict[str, Any]:
@@ -225,10 +254,10 @@ def vec_physics(env_id: str, envpool_id: str | None, n: int, threads: int, secon
     # Batch steps per round: what carl-spec does in ~`seconds` from a reset, fixed for every round
     # and both sides.
     batch_steps = max(20, round(seconds * same_window(venv, acts, 20) / n))
-    # Adjacent in either order of a round: carl-spec and its in-process native anchor.
-    sides: dict[str, Callable[[], float]] = {
-        "carl_spec": lambda: same_window(venv, acts, batch_steps),
-        "rust_VecEnv_in_process": lambda: native_window(venv, acts, batch_steps),
+    # carl-spec and its in-process native anchor in alternating ~50 ms chunks of one run.
+    chunk = max(1, round(0.05 * batch_steps / seconds))
+    sides: dict[str, Callable[[], float | dict[str, float]]] = {
+        "carl_spec+rust_VecEnv_in_process": lambda: chunked_pair(venv, acts, batch_steps, chunk),
         "rust_VecEnv": lambda: rust_vec_rate(env_id, n, threads, batch_steps),
     }
     if envpool_id is not None:
@@ -252,7 +281,12 @@ def vec_physics(env_id: str, envpool_id: str | None, n: int, threads: int, secon
 
             sides["envpool"] = envpool_rate
     row = interleaved(sides, rounds)
-    out = {"workload": f"make_vec('{env_id}', {n}), {threads} threads", "timed_batch_steps": batch_steps, **row}
+    out = {
+        "workload": f"make_vec('{env_id}', {n}), {threads} threads",
+        "timed_batch_steps": batch_steps,
+        "chunk_batch_steps": chunk,
+        **row,
+    }
     out["fraction_of_rust_VecEnv"] = round(row["carl_spec"] / row["rust_VecEnv"], 3)
     out["fraction_of_rust_VecEnv_in_process"] = round(row["carl_spec"] / row["rust_VecEnv_in_process"], 3)
     if "envpool" in row:

@@ -254,3 +254,66 @@ def test_native_steps_bench_anchor_steps_the_same_episodes_as_step(threads: int)
         assert a._core.state(i) == b._core.state(i)
     with pytest.raises(ValueError, match="at least one action batch"):
         b._core.native_steps([], 1)
+
+
+def _flags(x: Any) -> list[bool]:
+    return [a.flags.writeable for a in _arrays(x)]
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+@pytest.mark.parametrize("env_id, kw", [("lunar_lander", {}), ("pendulum", {"distribution": "q1_g_sigma_0_5"})])
+def test_released_outputs_are_reused_without_a_trace(threads: int, env_id: str, kw: dict[str, object]) -> None:
+    """Arrays of a step that nobody holds any more are refilled by a later step (the stock
+    reclaims them, and nested info dicts whole) instead of made anew. Whatever the user did to
+    them before letting go (wrote into them, added keys), a later step must hand out exactly what
+    a batch whose every output is kept (so nothing can be reused) hands out."""
+    n = 8
+    reused = cs.make_vec(env_id, n, autoreset_mode="same_step", threads=threads, **kw)
+    fresh = cs.make_vec(env_id, n, autoreset_mode="same_step", threads=threads, **kw)
+    reused.reset(seed=4)
+    fresh.reset(seed=4)
+    reused.action_space.seed(2)
+    kept: list[Any] = []
+    ends = 0
+    for t in range(600):
+        a = reused.action_space.sample()
+        out = reused.step(a)
+        ref = fresh.step(a)
+        kept.append(ref)
+        _assert_same(_snapshot(out), _snapshot(ref))
+        assert _flags(out) == _flags(ref)
+        ends += "final_info" in out[4]
+        # Everything the user may do to outputs before dropping them.
+        out[0][:] = np.nan
+        out[1][:] = -7.0
+        out[2][:] = True
+        if "final_info" in out[4]:
+            final = out[4]["final_info"]
+            for key, col in final["context"].items():
+                if not key.startswith("_"):
+                    col[:] = 123.0
+            if t % 4 == 0:
+                final["context"]["extra"] = np.zeros(n)
+            if t % 4 == 1:
+                del final["context"][next(iter(final["context"]))]
+            for row in out[4]["final_obs"]:
+                if row is not None:
+                    row[:] = 5.0
+        del out
+    assert ends >= 3  # pendulum: every 200 steps
+
+
+def test_outputs_held_through_a_view_or_a_weak_reference_are_not_reused() -> None:
+    # A view holds its base; a weak reference must see its array die, not come back refilled.
+    import weakref
+
+    venv = cs.make_vec("lunar_lander", 4, autoreset_mode="same_step", threads=1)
+    venv.reset(seed=0)
+    out = venv.step(np.zeros(4, dtype=np.int64))
+    view, before = out[0][1:], out[0][1:].copy()
+    rewards = weakref.ref(out[1])
+    del out
+    for _ in range(6):
+        venv.step(np.ones(4, dtype=np.int64))
+    np.testing.assert_array_equal(view, before)
+    assert rewards() is None

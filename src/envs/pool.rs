@@ -136,6 +136,7 @@ impl Pool {
             sh.next.store(0, Ordering::Relaxed);
             let mut share = CallerShare {
                 sh,
+                shared: false,
                 job,
                 n,
                 block: n.max(1),
@@ -160,7 +161,13 @@ impl Pool {
             }
         }
         let guard = CloseGuard(sh);
-        let mut share = CallerShare { sh, job, n, block };
+        let mut share = CallerShare {
+            sh,
+            shared: true,
+            job,
+            n,
+            block,
+        };
         caller(&mut share);
         share.claim_all();
         drop(guard);
@@ -175,6 +182,8 @@ impl Pool {
 /// closure that runs with the GIL released.
 pub struct CallerShare<'a> {
     sh: &'a Shared,
+    /// Whether worker threads take part in this job (false: one block on the calling thread).
+    shared: bool,
     job: &'a (dyn Fn(Range<usize>) + Sync + 'a),
     n: usize,
     block: usize,
@@ -184,6 +193,13 @@ impl CallerShare<'_> {
     /// Claim and run blocks until none is left (the workers may still finish theirs).
     pub fn claim_all(&mut self) {
         drain(self.sh, self.job, self.n, self.block);
+    }
+
+    /// Whether blocks are left that worker threads may claim meanwhile (false without workers):
+    /// work the calling thread does before [`CallerShare::claim_all`] while this holds overlaps
+    /// the workers' stepping, and the blocks it would have stepped go to them.
+    pub fn blocks_left(&self) -> bool {
+        self.shared && self.sh.next.load(Ordering::Relaxed) < self.n
     }
 
     /// Whether a worker thread is still inside the job (after [`CallerShare::claim_all`]: still

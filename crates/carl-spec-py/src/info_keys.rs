@@ -5,7 +5,6 @@
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 
-use crate::arrays::filled;
 
 /// An info key and Gymnasium's mask key beside it (`name`, `_name`).
 pub(crate) struct Keyed {
@@ -65,18 +64,28 @@ pub(crate) struct Nested {
 }
 
 impl Columns {
+    /// The feature keys, in the nested dict's order.
+    pub fn keys(&self) -> &[Keyed] {
+        &self.keys
+    }
+
     /// Identifies these columns (and their [`Nested`] dicts in a [`Stock`]).
     pub fn id(&self) -> usize {
         self.template.as_ptr() as usize
     }
 
-    /// A fresh [`Nested`] dict of these columns for `n` environments.
-    pub fn make_nested(&self, py: Python<'_>, n: usize) -> PyResult<Nested> {
+    /// A fresh [`Nested`] dict of these columns: `mask` (all false) under every `_feature` key
+    /// and a column from `zeros` (an all-zero float64 array) under each feature.
+    pub fn make_nested<'py>(
+        &self,
+        py: Python<'py>,
+        mask: Bound<'py, PyAny>,
+        mut zeros: impl FnMut() -> Bound<'py, PyAny>,
+    ) -> PyResult<Nested> {
         let dict = self.template.bind(py).copy()?;
-        let mask = filled(py, &[n], |o: &mut [bool]| o.fill(false));
         let mut columns = Vec::with_capacity(self.keys.len());
         for name in &self.keys {
-            let col = filled(py, &[n], |o: &mut [f64]| o.fill(0.0));
+            let col = zeros();
             dict.set_item(name.key.bind(py), &col)?;
             dict.set_item(name.mask.bind(py), &mask)?;
             columns.push(col.unbind());

@@ -156,9 +156,10 @@ impl VecEnv {
     fn context_infos<'py>(&self, d: &Bound<'py, PyDict>) -> PyResult<()> {
         let py = d.py();
         if self.contextual {
+            let ids = self.inner.instance_ids();
             d.set_item(
                 pyo3::intern!(py, "instance_id"),
-                PyArray1::from_slice(py, self.inner.instance_ids()),
+                self.stock.filled(py, &[ids.len()], |o: &mut [i64]| o.copy_from_slice(ids)),
             )?;
             d.set_item(pyo3::intern!(py, "_instance_id"), self.all_envs.bind(py))?;
         }
@@ -190,31 +191,18 @@ impl VecEnv {
         // SAFETY: a fresh object array (from the stock, not yet seen by Python code), contiguous;
         // assigning drops the None it held.
         let slots = unsafe { objects.as_slice_mut() }.map_err(value_error)?;
-        if let ObsLayout::Array { .. } = &self.layout {
-            // One array of the finished rows, handed out as row views (NumPy's own iteration:
-            // the cheapest way to make one Python object per row).
-            let gather32: Vec<f32> = ended.iter().flat_map(|&i| &flat[i * d..(i + 1) * d]).copied().collect();
-            let gather64: Option<Vec<f64>> =
-                wide.map(|w| ended.iter().flat_map(|&i| &w[i * d..(i + 1) * d]).copied().collect());
-            let block = self
+        // One fresh observation per finished env, from the stock: made while the workers stepped.
+        for &i in ended {
+            slots[i] = self
                 .layout
-                .value(py, &gather32, gather64.as_deref(), Some(ended.len()), None)?;
-            for (&i, row) in ended.iter().zip(block.try_iter()?) {
-                slots[i] = row?.unbind();
-            }
-        } else {
-            for &i in ended {
-                slots[i] = self
-                    .layout
-                    .value(
-                        py,
-                        &flat[i * d..(i + 1) * d],
-                        wide.map(|w| &w[i * d..(i + 1) * d]),
-                        None,
-                        None,
-                    )?
-                    .unbind();
-            }
+                .value(
+                    py,
+                    &flat[i * d..(i + 1) * d],
+                    wide.map(|w| &w[i * d..(i + 1) * d]),
+                    None,
+                    Some(&self.stock),
+                )?
+                .unbind();
         }
         Ok(objects.into_any())
     }
@@ -443,12 +431,14 @@ impl VecEnv {
     ///
     /// Only this thread can do the Python work of a step, while all threads share the stepping,
     /// so the Python work that does not need the step's results is done while the worker threads
-    /// step (`VecEnv::step_with`): before this thread takes its share of the batch, the tuple
-    /// returned two steps ago is released (in a loop `obs, ... = venv.step(a)` the caller's own
-    /// references to it are gone by then, so freeing its arrays and dicts happens here rather
-    /// than after this call returns; a step's objects thus live two steps longer); after it, for
-    /// as long as a worker still steps its last environments, the arrays and dicts of the step's
-    /// outputs are made (`stock`; what is not ready is made when needed, as with one thread).
+    /// step (`VecEnv::step_with`). First the tuple returned two steps ago is released (in a loop
+    /// `obs, ... = venv.step(a)` the caller's own references to it are gone by then; a step's
+    /// objects thus live two steps longer), and the arrays in it that nobody else holds go back
+    /// to the stock (`Stock::reclaim`: refilled later instead of freed and made anew). Then, for
+    /// as long as blocks of the batch are left for the workers, the stock makes what the step's
+    /// outputs will need; then this thread steps the blocks left with the GIL released, and
+    /// restocks while a worker still steps its last block. What is not ready is made when needed
+    /// (with one thread: all of it).
     fn step<'py>(&mut self, py: Python<'py>, actions: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyTuple>> {
         self.take_actions(actions)?;
         let acts = if self.discrete {
@@ -462,9 +452,15 @@ impl VecEnv {
         let mut restocked = Ok(());
         self.inner
             .step_with(acts, |share| {
-                drop(oldest);
-                py.detach(|| share.claim_all());
-                restocked = stock.restock(py, &nested, || share.workers_busy());
+                if let Some(t) = oldest {
+                    stock.reclaim(t.into_bound(py).into_any(), &nested, n);
+                }
+                restocked = stock
+                    .restock(py, &nested, || share.blocks_left())
+                    .and_then(|()| {
+                        py.detach(|| share.claim_all());
+                        stock.restock(py, &nested, || share.workers_busy())
+                    });
             })
             .map(|_| ())
             .map_err(|e| env_error(&e))?;
