@@ -20,7 +20,9 @@ half_cheetah, ant.
 and runs K batch steps of the bench actions, for an instruction count that does not depend on the
 machine's load (README, "Speed through the Python API"):
     valgrind --tool=callgrind python python/bench/bench_python_api.py --fixed-steps K --only NAME
-Instructions per batch step = (I(K2) - I(K1)) / (K2 - K1) (start-up cancels out).
+Instructions per batch step = (I(K2) - I(K1)) / (K2 - K1) (start-up cancels out). With `--native`
+the same K batch steps run in the batch's native loop (`VecEnv.native_steps`): the difference is
+what the binding, its outputs and the Python loop add per batch step.
 """
 
 from __future__ import annotations
@@ -302,14 +304,19 @@ PHYSICS = {
 }
 
 
-def fixed_steps(name: str, k: int) -> None:
-    """`k` batch steps of a physics workload from reset(seed=0) on 1 thread, untimed."""
+def fixed_steps(name: str, k: int, native: bool) -> None:
+    """`k` batch steps of a physics workload from reset(seed=0) on 1 thread, untimed; `native`:
+    the same steps by the batch's native loop (`VecEnv.native_steps`), for the binding's share."""
     import carl_spec as cs
 
     env_id, _, n, _ = PHYSICS[name]
     venv = cs.make_vec(env_id, n, autoreset_mode="same_step", threads=1)
     venv.reset(seed=0)
-    step = cycle(bench_actions(venv.single_action_space, n), venv.step)
+    acts = bench_actions(venv.single_action_space, n)
+    if native:
+        venv._core.native_steps(acts[1:] + acts[:1], k)
+        return
+    step = cycle(acts, venv.step)
     for _ in range(k):
         step()
 
@@ -346,13 +353,14 @@ def main() -> None:
     p.add_argument("--rounds", type=int, default=5)
     p.add_argument("--only", nargs="*", default=None)
     p.add_argument("--fixed-steps", type=int, default=None, metavar="K", help="run K batch steps untimed (callgrind)")
+    p.add_argument("--native", action="store_true", help="with --fixed-steps: the same steps by the native loop")
     args = p.parse_args()
     s, r = args.seconds, args.rounds
     if args.fixed_steps is not None:
         if not args.only or any(name not in PHYSICS for name in args.only):
             p.error(f"--fixed-steps needs --only with names among {', '.join(PHYSICS)}")
         for name in args.only:
-            fixed_steps(name, args.fixed_steps)
+            fixed_steps(name, args.fixed_steps, args.native)
         return
     work: dict[str, Callable[[], dict[str, Any]]] = {
         "import": lambda: import_and_make(r),

@@ -94,6 +94,10 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
         self._mode = _MODES[mode]
         self._same_step = self._mode == AutoresetMode.SAME_STEP
         self._end_info = self._core.has_episode_end_info
+        if not self._end_info and type(self).step is CarlVectorEnv.step:
+            # Nothing to add in Python: the batch step is the native call itself (one Python
+            # frame less per batch step; a subclass that overrides `step` keeps its own).
+            self.step = self._core.step  # type: ignore[method-assign]
 
     def reset(
         self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
