@@ -12,8 +12,8 @@ line per workload with the median rate of each side, their ratio and the load av
 and after. Anchors: Gymnasium 1.x's NumPy `CartPoleVectorEnv`, Gymnasium's CartPole through
 `gymnasium.make`, envpool (if importable) and the Rust `VecEnv` itself, twice: `carl-spec bench`
 (the binary in target/release or $CARL_SPEC_BIN, a process of its own) and the same batch's
-native loop in this process, timed in ~50 ms chunks alternating with carl-spec's along one run
-(`chunked_pair`). Names: import, vec_cartpole, make_cartpole, lunar_lander, bipedal_walker,
+native loop in this process, timed in short chunks (40 per side and round) alternating with
+carl-spec's along one run (`chunked_pair`). Names: import, vec_cartpole, make_cartpole, lunar_lander, bipedal_walker,
 half_cheetah, ant.
 
 `--fixed-steps K` times nothing: it resets the physics workload's batch (1 thread) with seed 0
@@ -218,8 +218,8 @@ def chunked_pair(venv: "CarlVectorEnv", acts: list[np.ndarray], batch_steps: int
     (`VecEnv.native_steps`), `batch_steps` timed batch steps each, in alternating chunks of
     `chunk` batch steps along one run from reset(seed=0) (after `warmup_steps` untimed ones), the
     actions cycled on across chunks. Machine speed drifts over seconds (rounds a few seconds
-    apart differ by up to ~20 %); chunks of ~50 ms see the same drift, so their ratio is the
-    Python layer's own cost."""
+    apart differ by up to ~20 %); short alternating chunks see the same drift, so the ratio of
+    the two sums is the Python layer's own cost."""
     venv.reset(seed=0)
     at = [0]
 
@@ -256,8 +256,8 @@ def vec_physics(env_id: str, envpool_id: str | None, n: int, threads: int, secon
     # Batch steps per round: what carl-spec does in ~`seconds` from a reset, fixed for every round
     # and both sides.
     batch_steps = max(20, round(seconds * same_window(venv, acts, 20) / n))
-    # carl-spec and its in-process native anchor in alternating ~50 ms chunks of one run.
-    chunk = max(1, round(0.05 * batch_steps / seconds))
+    # carl-spec and its in-process native anchor in alternating chunks of one run, 40 per side.
+    chunk = max(1, batch_steps // 40)
     sides: dict[str, Callable[[], float | dict[str, float]]] = {
         "carl_spec+rust_VecEnv_in_process": lambda: chunked_pair(venv, acts, batch_steps, chunk),
         "rust_VecEnv": lambda: rust_vec_rate(env_id, n, threads, batch_steps),
