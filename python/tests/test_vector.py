@@ -261,7 +261,23 @@ def _flags(x: Any) -> list[bool]:
 
 
 @pytest.mark.parametrize("threads", [1, 2])
-@pytest.mark.parametrize("env_id, kw", [("lunar_lander", {}), ("pendulum", {"distribution": "q1_g_sigma_0_5"})])
+@pytest.mark.parametrize(
+    "env_id, kw",
+    [
+        ("lunar_lander", {}),
+        ("pendulum", {"distribution": "q1_g_sigma_0_5"}),
+        (
+            "pendulum",
+            {
+                "instances": "pendulum/q1_g_sigma_0_5",
+                "obs_context": ["g", "m"],
+                "context_noise": {"g": "10%"},
+                "context_noise_redraw": "step",
+            },
+        ),
+    ],
+    ids=["lunar", "pendulum-dist", "pendulum-noise"],
+)
 def test_released_outputs_are_reused_without_a_trace(threads: int, env_id: str, kw: dict[str, object]) -> None:
     """Arrays of a step that nobody holds any more are refilled by a later step (the stock
     reclaims them, and nested info dicts whole) instead of made anew. Whatever the user did to
@@ -287,6 +303,10 @@ def test_released_outputs_are_reused_without_a_trace(threads: int, env_id: str, 
         out[0][:] = np.nan
         out[1][:] = -7.0
         out[2][:] = True
+        if "observed_context" in out[4]:  # a nested dict at every step
+            for key, col in out[4]["observed_context"].items():
+                if not key.startswith("_"):
+                    col[:] = -3.0
         if "final_info" in out[4]:
             final = out[4]["final_info"]
             for key, col in final["context"].items():
