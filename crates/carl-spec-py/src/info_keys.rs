@@ -5,7 +5,6 @@
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 
-
 /// An info key and Gymnasium's mask key beside it (`name`, `_name`).
 pub(crate) struct Keyed {
     pub key: Py<PyString>,

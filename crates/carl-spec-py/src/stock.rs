@@ -220,9 +220,13 @@ impl<'py> Reclaimed<'_, 'py> {
         let mask = mask?;
         // SAFETY: float64 / bool arrays of `n` rows (checked), contiguous, held by this dict alone.
         for col in &cols {
-            unsafe { col.cast_unchecked::<PyArrayDyn<f64>>().as_slice_mut() }.ok()?.fill(0.0);
+            unsafe { col.cast_unchecked::<PyArrayDyn<f64>>().as_slice_mut() }
+                .ok()?
+                .fill(0.0);
         }
-        unsafe { mask.cast_unchecked::<PyArrayDyn<bool>>().as_slice_mut() }.ok()?.fill(false);
+        unsafe { mask.cast_unchecked::<PyArrayDyn<bool>>().as_slice_mut() }
+            .ok()?
+            .fill(false);
         writeable(&mask);
         Some((
             columns.id(),
@@ -347,16 +351,13 @@ impl Stock {
 
     /// A writeable object array of `n` Nones.
     pub fn nones<'py>(&self, py: Python<'py>, n: usize) -> Bound<'py, PyArray1<Py<PyAny>>> {
-        match self
-            .lock()
-            .take(
-                |k| matches!(k, Kind::Nones { n: m, .. } if *m == n),
-                || Kind::Nones {
-                    n,
-                    descr: PyArrayDescr::object(py).unbind(),
-                },
-            )
-        {
+        match self.lock().take(
+            |k| matches!(k, Kind::Nones { n: m, .. } if *m == n),
+            || Kind::Nones {
+                n,
+                descr: PyArrayDescr::object(py).unbind(),
+            },
+        ) {
             // SAFETY: a `Nones` shelf holds only object arrays of `n` Nones (made by `nones`, or
             // reclaimed and emptied by `take_apart`).
             Some(Ready::Object(obj)) => unsafe { obj.into_bound(py).cast_into_unchecked() },

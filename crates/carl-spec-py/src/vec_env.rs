@@ -159,7 +159,8 @@ impl VecEnv {
             let ids = self.inner.instance_ids();
             d.set_item(
                 pyo3::intern!(py, "instance_id"),
-                self.stock.filled(py, &[ids.len()], |o: &mut [i64]| o.copy_from_slice(ids)),
+                self.stock
+                    .filled(py, &[ids.len()], |o: &mut [i64]| o.copy_from_slice(ids)),
             )?;
             d.set_item(pyo3::intern!(py, "_instance_id"), self.all_envs.bind(py))?;
         }
@@ -455,12 +456,10 @@ impl VecEnv {
                 if let Some(t) = oldest {
                     stock.reclaim(t.into_bound(py).into_any(), &nested, n);
                 }
-                restocked = stock
-                    .restock(py, &nested, || share.blocks_left())
-                    .and_then(|()| {
-                        py.detach(|| share.claim_all());
-                        stock.restock(py, &nested, || share.workers_busy())
-                    });
+                restocked = stock.restock(py, &nested, || share.blocks_left()).and_then(|()| {
+                    py.detach(|| share.claim_all());
+                    stock.restock(py, &nested, || share.workers_busy())
+                });
             })
             .map(|_| ())
             .map_err(|e| env_error(&e))?;
