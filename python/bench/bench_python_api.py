@@ -187,30 +187,27 @@ def warmup_steps(batch_steps: int) -> int:
     return min(max(batch_steps // 10, 1), 1000)
 
 
-def timed_window(venv: "CarlVectorEnv", batch_steps: int, run: Callable[[int, int], None]) -> float:
-    """Steps per second over exactly the steps `carl-spec bench --steps n*batch_steps` times:
-    reset with seed 0, `warmup_steps` untimed batch steps, then `batch_steps` timed.
-    `run(first, k)` steps `k` batches, the action batches cycled from batch `first` (the bench
-    takes batch 1 first). A physics step's cost depends on the episode's phase (BipedalWalker:
-    ~20 % more per step after a few hundred steps, walkers down with many contacts), so every
-    side must time the same window of the same episodes."""
+def same_window(venv: "CarlVectorEnv", acts: list[np.ndarray], batch_steps: int) -> float:
+    """Steps per second of `venv` over exactly the steps `carl-spec bench --steps n*batch_steps`
+    times: reset with seed 0, `warmup_steps` untimed batch steps, then `batch_steps` timed, the
+    action batches taken in the same order (batch 1 first). A physics step's cost depends on the
+    episode's phase (BipedalWalker: ~20 % more per step after a few hundred steps, walkers down
+    with many contacts), so both sides must time the same window of the same episodes."""
     venv.reset(seed=0)
-    warmup = warmup_steps(batch_steps)
-    run(1, warmup)
+    step = cycle(acts, venv.step)
+    for _ in range(warmup_steps(batch_steps)):
+        step()
     t0 = time.perf_counter()
-    run(warmup + 1, batch_steps)
+    for _ in range(batch_steps):
+        step()
     return batch_steps * venv.num_envs / (time.perf_counter() - t0)
 
 
-def same_window(venv: "CarlVectorEnv", acts: list[np.ndarray], batch_steps: int) -> float:
-    """carl-spec through the Python API (`venv.step`) over the bench's window."""
-    step = cycle(acts, venv.step)  # continues batch by batch from the warm-up into the timed steps
-
-    def run(_first: int, k: int) -> None:
-        for _ in range(k):
-            step()
-
-    return timed_window(venv, batch_steps, run)
+def native_run(venv: "CarlVectorEnv", acts: list[np.ndarray], first: int, k: int) -> None:
+    """`k` batch steps in the batch's native loop (`VecEnv.native_steps`), the action batches
+    cycled from batch `first`."""
+    f = first % len(acts)
+    venv._core.native_steps(acts[f:] + acts[:f], k)
 
 
 def chunked_pair(venv: "CarlVectorEnv", acts: list[np.ndarray], batch_steps: int, chunk: int) -> dict[str, float]:
@@ -229,8 +226,7 @@ def chunked_pair(venv: "CarlVectorEnv", acts: list[np.ndarray], batch_steps: int
             venv.step(acts[at[0]])
 
     def native(k: int) -> None:
-        f = (at[0] + 1) % len(acts)
-        venv._core.native_steps(acts[f:] + acts[:f], k)
+        native_run(venv, acts, at[0] + 1, k)
         at[0] = (at[0] + k) % len(acts)
 
     python(warmup_steps(batch_steps))
@@ -314,7 +310,7 @@ def fixed_steps(name: str, k: int, native: bool) -> None:
     venv.reset(seed=0)
     acts = bench_actions(venv.single_action_space, n)
     if native:
-        venv._core.native_steps(acts[1:] + acts[:1], k)
+        native_run(venv, acts, 1, k)  # `cycle` takes batch 1 first
         return
     step = cycle(acts, venv.step)
     for _ in range(k):

@@ -98,16 +98,19 @@ fn nones(py: Python<'_>, n: usize) -> Bound<'_, PyArray1<Py<PyAny>>> {
 /// and has no weak references: an array that the stock may refill in place once it holds the
 /// only reference to it.
 fn own_array<'a>(obj: &'a Bound<'_, PyAny>) -> Option<&'a PyArrayObject_fields> {
-    // SAFETY: `obj` is a live object; its fields are read only after the exact type check, and
-    // live as long as it does.
-    unsafe {
-        if PyArray_CheckExact(obj.py(), obj.as_ptr()) == 0 {
-            return None;
-        }
-        let f = &*_PyArray_GET_ITEM_DATA(obj.as_ptr() as *const PyArrayObject);
-        let need = NPY_ARRAY_OWNDATA | NPY_ARRAY_C_CONTIGUOUS | NPY_ARRAY_ALIGNED;
-        (f.flags & need == need && f.base.is_null() && f.weakreflist.is_null()).then_some(f)
+    // SAFETY: `obj` is a live object; its fields are read only after the exact type check.
+    if unsafe { PyArray_CheckExact(obj.py(), obj.as_ptr()) } == 0 {
+        return None;
     }
+    let f = fields(obj);
+    let need = NPY_ARRAY_OWNDATA | NPY_ARRAY_C_CONTIGUOUS | NPY_ARRAY_ALIGNED;
+    (f.flags & need == need && f.base.is_null() && f.weakreflist.is_null()).then_some(f)
+}
+
+/// The fields of an exact `ndarray` (checked by `own_array`), alive as long as it is.
+fn fields<'a>(array: &'a Bound<'_, PyAny>) -> &'a PyArrayObject_fields {
+    // SAFETY: callers pass arrays that `own_array` accepted.
+    unsafe { &*_PyArray_GET_ITEM_DATA(array.as_ptr() as *const PyArrayObject) }
 }
 
 /// The dims of an array's fields.
@@ -247,6 +250,12 @@ fn writeable(array: &Bound<'_, PyAny>) {
 }
 
 impl Shelf {
+    /// Take a ready object (counted as taken), or `None` when none is ready.
+    fn take(&mut self) -> Option<Ready> {
+        self.taken += 1;
+        self.ready.pop()
+    }
+
     /// Whether a reclaimed object may join the ready ones: up to twice the most taken between
     /// two restocks (what a step hands out comes back two steps later, and steps that take
     /// more, such as those where episodes end, come in runs).
@@ -276,11 +285,17 @@ impl Shelves {
         &mut self.0[i]
     }
 
+    /// The shelf of nested dicts of the columns `id` for `n` environments.
+    fn nested_shelf(&mut self, id: usize, n: usize) -> &mut Shelf {
+        self.shelf(
+            |k| matches!(k, Kind::Nested { columns: c, n: m } if *c == id && *m == n),
+            || Kind::Nested { columns: id, n },
+        )
+    }
+
     /// Take a ready object, or `None` when the shelf has none ready.
     fn take(&mut self, is_kind: impl Fn(&Kind) -> bool, kind: impl FnOnce() -> Kind) -> Option<Ready> {
-        let shelf = self.shelf(is_kind, kind);
-        shelf.taken += 1;
-        shelf.ready.pop()
+        self.shelf(is_kind, kind).take()
     }
 
     fn filled<'py, T: numpy::Element + 'static>(
@@ -312,11 +327,9 @@ impl Shelves {
         columns.make_nested(py, mask, || self.filled(py, &[n], |o: &mut [f64]| o.fill(0.0)))
     }
 
-    /// Put a reclaimed array (see `own_array`) on its shelf if the shelf has room for it.
+    /// Put a reclaimed array (one that `own_array` accepted) on its shelf if the shelf has room.
     fn put_back(&mut self, array: Bound<'_, PyAny>) {
-        let Some(f) = own_array(&array) else {
-            return;
-        };
+        let f = fields(&array);
         let (descr, dims) = (f.descr, dims(f));
         let Some(shelf) = self.0.iter_mut().find(|s| s.kind.holds(descr, dims)) else {
             return;
@@ -367,12 +380,8 @@ impl Stock {
 
     /// A nested info dict of `columns` for `n` environments, its columns zero and its mask false.
     pub fn nested(&self, py: Python<'_>, columns: &Columns, n: usize) -> PyResult<Nested> {
-        let id = columns.id();
         let mut shelves = self.lock();
-        match shelves.take(
-            |k| matches!(k, Kind::Nested { columns: c, n: m } if *c == id && *m == n),
-            || Kind::Nested { columns: id, n },
-        ) {
+        match shelves.nested_shelf(columns.id(), n).take() {
             Some(Ready::Nested(kit)) => Ok(kit),
             _ => shelves.make_nested(py, columns, n),
         }
@@ -443,10 +452,7 @@ impl Stock {
             shelves.put_back(array);
         }
         for (id, kit) in found.kits {
-            let shelf = shelves.shelf(
-                |k| matches!(k, Kind::Nested { columns, n: m } if *columns == id && *m == n),
-                || Kind::Nested { columns: id, n },
-            );
+            let shelf = shelves.nested_shelf(id, n);
             if shelf.has_room() {
                 shelf.ready.push(Ready::Nested(kit));
             }
