@@ -53,8 +53,8 @@ pub(crate) fn set_column<T: numpy::Element + Copy + Default + 'static>(
 }
 
 /// A nested info dict (`{feature: value}` per env): one masked column per feature under `key`,
-/// and `_key`, the mask of the envs that have the dict. `value(i, j)`: env `i`'s value of
-/// `names[j]`, for the envs `rows`.
+/// and `_key`, the mask of the envs that have the dict. `value(k, j)`: the value of `names[j]`
+/// of env `rows[k]`.
 pub(crate) fn set_nested(
     stock: &Stock,
     d: &Bound<'_, PyDict>,
@@ -71,8 +71,8 @@ pub(crate) fn set_nested(
     for (j, col) in kit.columns.iter().enumerate() {
         let col = unsafe { col.bind(py).cast_unchecked::<PyArrayDyn<f64>>() };
         let o = unsafe { col.as_slice_mut() }.expect("a fresh array is contiguous");
-        for &i in rows {
-            o[i] = value(i, j);
+        for (k, &i) in rows.iter().enumerate() {
+            o[i] = value(k, j);
         }
     }
     let shared = kit.mask.into_bound(py);
