@@ -13,8 +13,8 @@ and after. Anchors: Gymnasium 1.x's NumPy `CartPoleVectorEnv`, Gymnasium's CartP
 `gymnasium.make`, envpool (if importable) and the Rust `VecEnv` itself, twice: `carl-spec bench`
 (the binary in target/release or $CARL_SPEC_BIN, a process of its own) and the same batch's
 native loop in this process, timed in short chunks (40 per side and round) alternating with
-carl-spec's along one run (`chunked_pair`). Names: import, vec_cartpole, make_cartpole, lunar_lander, bipedal_walker,
-half_cheetah, ant.
+carl-spec's along one run (`chunked_pair`). Names: import, vec_cartpole, make_cartpole,
+lunar_lander, bipedal_walker, half_cheetah, ant.
 
 `--fixed-steps K` times nothing: it resets the physics workload's batch (1 thread) with seed 0
 and runs K batch steps of the bench actions, for an instruction count that does not depend on the
