@@ -1,0 +1,152 @@
+//! Articulated robots from URDF on rapier3d (reduced-coordinate multibody joints), and planar
+//! ones (HalfCheetah) on a reduced-coordinate engine of their own ([`planar`]).
+//!
+//! * [`model`]: the embedded robot descriptions: `robots/<name>.urdf` (links, collision
+//!   shapes, masses, joints; authored for this project from the published geometry) and
+//!   `robots/<name>.actuators.json` (motors, control range, time step, contact and solver
+//!   settings that URDF cannot express).
+//! * [`params`]: the context (Brax's physics parameters as CARL sets them, per-link masses).
+//! * [`planar`]: a reduced-coordinate engine for planar robots (HalfCheetah's default).
+//! * [`physics`]: a task's physics, either engine.
+//! * [`world`]: one instance's rapier3d physics world, built from model + context; nothing is shared
+//!   between instances.
+//! * [`locomotion`]: Gymnasium v5 tasks (Ant, HalfCheetah, Humanoid).
+//! * [`com`]: MuJoCo's centre-of-mass based body quantities (`cinert`, `cvel`, `cfrc_ext`).
+//! * [`fetch`]: Brax's fetch task (a dog runs to random targets).
+//! * [`grasp`]: Brax's claw hand grasping a ball.
+//! * [`render`]: software rendering of a world to a [`Frame`](carl_pixels::Frame).
+
+pub mod com;
+pub mod fetch;
+pub mod grasp;
+pub mod locomotion;
+pub mod model;
+pub mod params;
+pub mod physics;
+pub mod planar;
+pub mod reach;
+pub mod render;
+pub mod vec3;
+pub mod world;
+mod registry;
+
+pub use registry::REGISTRATIONS;
+pub use fetch::Fetch;
+pub use grasp::Grasp;
+pub use locomotion::{ContactCost, ForwardVelocity, Locomotion, StepInfo, TaskConfig, VelocityNoise};
+pub use model::RobotModel;
+pub use params::RobotParams;
+pub use reach::Reach;
+pub use world::RobotWorld;
+
+/// The physics engine behind the rapier-based environments, pinned exactly in `Cargo.toml`
+/// (HalfCheetah runs on [`planar`] unless its `rapier` option is set).
+pub const PHYSICS_ENGINE: &str =
+    "rapier3d =0.36.1 + rapier3d-urdf =0.36.1 (features: enhanced-determinism; f32, dim3, multibody joints)";
+
+/// Default context of a robot environment (the spec's defaults, for direct construction).
+pub fn default_params(id: &str) -> Option<RobotParams> {
+    let model = RobotModel::load(robot_of(id)?).ok()?;
+    let mut p = RobotParams::for_model(robot_of(id)?, &model);
+    match id {
+        "ant" => {
+            p.joint_angular_damping = 35.0;
+            p.torso_mass = Some(10.0);
+            p.actuator_strength = Some(300.0);
+        }
+        "half_cheetah" => {
+            p.joint_stiffness = 15000.0;
+            p.torso_mass = Some(9.457333);
+        }
+        "humanoid" => {
+            p.torso_mass = Some(8.907463);
+        }
+        "ur5e" => {
+            p.gravity = -9.81;
+            p.joint_angular_damping = 50.0;
+            p.joint_stiffness = 40000.0;
+            p.actuator_strength = Some(100.0);
+            p.torso_mass = Some(1.0);
+            p.target_distance = 0.5;
+            p.target_radius = 0.02;
+        }
+        "fetch" => {
+            p.joint_angular_damping = 35.0;
+            p.actuator_strength = Some(300.0);
+            p.torso_mass = Some(1.0);
+            p.target_distance = 15.0;
+            p.target_radius = 2.0;
+        }
+        "grasp" => {
+            p.joint_angular_damping = 50.0;
+            p.actuator_strength = Some(300.0);
+            p.target_distance = 10.0;
+            p.target_height = 8.0;
+            p.target_radius = 1.1;
+        }
+        _ => return None,
+    }
+    Some(p)
+}
+
+/// Whether `id` is one of the robot environments of this module.
+pub fn is_robot(id: &str) -> bool {
+    robot_of(id).is_some()
+}
+
+/// The robot (URDF and side-file name) of environment `id`; also the environment's id.
+fn robot_of(id: &str) -> Option<&'static str> {
+    match id {
+        "ant" => Some("ant"),
+        "half_cheetah" => Some("half_cheetah"),
+        "humanoid" => Some("humanoid"),
+        "ur5e" => Some("ur5e"),
+        "fetch" => Some("fetch"),
+        "grasp" => Some("grasp"),
+        _ => None,
+    }
+}
+
+/// Build the fetch environment with context `params`.
+pub fn make_fetch(params: RobotParams) -> Option<Fetch> {
+    Some(Fetch::new(RobotModel::load("fetch").ok()?, params))
+}
+
+/// Build the UR5e reach environment with context `params`.
+pub fn make_reach(params: RobotParams) -> Option<Reach> {
+    Some(Reach::new(RobotModel::load("ur5e").ok()?, params))
+}
+
+/// Build Brax's grasp environment with context `params`.
+pub fn make_grasp(params: RobotParams) -> Option<Grasp> {
+    Some(Grasp::new(RobotModel::load("grasp").ok()?, params))
+}
+
+/// Build the environment `id` with context `params`, or `None` if `id` is not a robot.
+pub fn make_robot(id: &str, params: RobotParams) -> Option<Locomotion> {
+    make_robot_with_model(id, RobotModel::load(robot_of(id)?).ok()?, params)
+}
+
+/// [`make_robot`] on the rapier3d engine whatever the side file's `engine` (the planar
+/// robots' `--option rapier=true`, for comparison).
+pub fn make_robot_on_rapier(id: &str, params: RobotParams) -> Option<Locomotion> {
+    let mut model = (*RobotModel::load(robot_of(id)?).ok()?).clone();
+    model.side.engine = model::Engine::Rapier;
+    make_robot_with_model(id, std::sync::Arc::new(model), params)
+}
+
+fn make_robot_with_model(id: &str, model: std::sync::Arc<RobotModel>, params: RobotParams) -> Option<Locomotion> {
+    match id {
+        "ant" => Locomotion::new("ant", model, params, TaskConfig::ANT).ok(),
+        "half_cheetah" => Locomotion::new("half_cheetah", model, params, TaskConfig::HALF_CHEETAH).ok(),
+        "humanoid" => Locomotion::new("humanoid", model, params, TaskConfig::HUMANOID).ok(),
+        _ => None,
+    }
+}
+
+/// The empty context of robot `id` (every feature at the model's value) for the registry to
+/// fill in, or `None` if `id` is not a robot.
+pub fn blank_params(id: &str) -> Option<RobotParams> {
+    let model = RobotModel::load(robot_of(id)?).ok()?;
+    Some(RobotParams::for_model(robot_of(id)?, &model))
+}

@@ -1,0 +1,331 @@
+//! Robot descriptions: a URDF file (links, shapes, masses, joints) plus a small JSON side file
+//! for what URDF cannot express (actuators, control range, time step, root joint, contact and
+//! solver settings). Both are embedded at build time from `robots/`.
+
+use std::sync::Arc;
+
+use rapier3d_urdf::urdf_rs;
+use serde::Deserialize;
+
+/// How the root link is attached to the world.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RootKind {
+    /// A free-floating base (6 DoF), e.g. Ant and Humanoid.
+    Free,
+    /// The URDF's root link is welded to the world (planar robots carry their own slide and
+    /// hinge joints in the URDF, arms are bolted down).
+    Fixed,
+}
+
+/// The physics engine of a robot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Engine {
+    /// rapier3d multibodies ([`super::world::RobotWorld`]).
+    #[default]
+    Rapier,
+    /// The planar reduced-coordinate engine ([`super::planar`]); only for robots whose links
+    /// all move in the x-z plane (checked when a task is built: `PhysicsBuilder::for_model`).
+    Planar,
+}
+
+/// One motor: a URDF joint and its gear (torque per unit control, before the strength factor).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ActuatorSpec {
+    pub joint: String,
+    pub gear: f64,
+}
+
+/// A passive spring on one joint.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointSpring {
+    pub joint: String,
+    pub stiffness: f64,
+}
+
+/// Reflected rotor inertia of one joint (MuJoCo's per-joint `armature`), kg·m².
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointArmature {
+    pub joint: String,
+    pub armature: f64,
+}
+
+/// The side file `robots/<name>.actuators.json`.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SideFile {
+    pub robot: String,
+    pub source: String,
+    /// The physics engine (default rapier). `"planar"` needs a planar robot (checked when a task
+    /// is built).
+    #[serde(default)]
+    pub engine: Engine,
+    /// Physics time step (s).
+    pub timestep: f64,
+    /// Physics steps per environment step.
+    pub frame_skip: usize,
+    /// rapier solver iterations (substeps) per physics step.
+    pub solver_iterations: usize,
+    /// rapier's warm-start coefficient (default: rapier's 1). Ant uses 0: with warm starting,
+    /// stale contact and limit impulses occasionally blew its light legs up within one
+    /// substep (5 of 20 random-policy episodes reached 30-140 m/s or rad/s; none without).
+    #[serde(default)]
+    pub warmstart_coefficient: Option<f64>,
+    pub root: RootKind,
+    /// The link `torso_mass` sets and the camera follows (default: the first URDF link).
+    #[serde(default)]
+    pub torso_link: Option<String>,
+    /// Reflected rotor inertia (kg·m²) added to every robot joint (MuJoCo's `armature`).
+    #[serde(default)]
+    pub joint_armature: f64,
+    /// Per-joint armature overriding `joint_armature`.
+    #[serde(default)]
+    pub joint_armatures: Vec<JointArmature>,
+    /// The links that are bodies of the modelled robot, for per-body observations (default:
+    /// every link). Massless carrier links of multi-hinge joints are left out.
+    #[serde(default)]
+    pub bodies: Vec<String>,
+    /// Passive joint springs towards 0 (MuJoCo's joint `stiffness`), N·m/rad.
+    #[serde(default)]
+    pub joint_springs: Vec<JointSpring>,
+    /// Joints of the URDF that stand for the root's degrees of freedom (a planar robot's
+    /// slides and pitch hinge): not damped like robot joints.
+    #[serde(default)]
+    pub root_joints: Vec<String>,
+    /// Height of the root link's origin at reset (m).
+    pub root_height: f64,
+    pub ctrl_range: [f64; 2],
+    /// Torque = control × gear × actuator_strength / strength_reference (robots without an
+    /// `actuator_strength` feature use the gear alone).
+    pub strength_reference: f64,
+    pub actuators: Vec<ActuatorSpec>,
+    /// Joint-limit springs: `joint_stiffness` (N·m/rad) acting on this reference inertia
+    /// (kg·m²) gives the limit constraint's natural frequency.
+    pub limit_reference_inertia: f64,
+    pub limit_damping_ratio: f64,
+    pub restitution: f64,
+    /// Whether links of the robot collide with each other.
+    pub self_collisions: bool,
+    /// Whether the robot's links collide with the ground (default true; Brax's ur5e has no
+    /// contacts at all).
+    #[serde(default = "yes")]
+    pub ground_contacts: bool,
+    /// If non-empty, only these links touch the ground (Brax's `collide_include` pairs); the
+    /// other links pass through it.
+    #[serde(default)]
+    pub ground_links: Vec<String>,
+    /// Any link faster than this (m/s or rad/s) counts as a diverged simulation.
+    pub max_speed: f64,
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// A parsed robot description, shared read-only by all instances of one environment.
+#[derive(Debug, Clone)]
+pub struct RobotModel {
+    pub name: &'static str,
+    pub urdf: urdf_rs::Robot,
+    pub side: SideFile,
+    /// URDF link names in file order.
+    pub link_names: Vec<String>,
+    /// Movable (revolute/prismatic/continuous) joint names in file order: the generalized
+    /// coordinates after the root's.
+    pub joint_names: Vec<String>,
+    /// Index of the torso link (see [`SideFile::torso_link`]).
+    pub torso: usize,
+    /// Link indices of the robot's bodies (see [`SideFile::bodies`]), in URDF order.
+    pub bodies: Vec<usize>,
+}
+
+/// Why a robot description could not be loaded (only possible if an embedded file is broken;
+/// the tests load every robot).
+#[derive(Debug, thiserror::Error)]
+pub enum ModelError {
+    #[error("{robot}.urdf: {message}")]
+    Urdf { robot: &'static str, message: String },
+    #[error("{robot}.actuators.json: {message}")]
+    Side { robot: &'static str, message: String },
+}
+
+/// The embedded robot files: (name, URDF text, side-file text).
+pub const ROBOT_FILES: &[(&str, &str, &str)] = &[
+    (
+        "ant",
+        include_str!("../robots/ant.urdf"),
+        include_str!("../robots/ant.actuators.json"),
+    ),
+    (
+        "half_cheetah",
+        include_str!("../robots/half_cheetah.urdf"),
+        include_str!("../robots/half_cheetah.actuators.json"),
+    ),
+    (
+        "humanoid",
+        include_str!("../robots/humanoid.urdf"),
+        include_str!("../robots/humanoid.actuators.json"),
+    ),
+    (
+        "ur5e",
+        include_str!("../robots/ur5e.urdf"),
+        include_str!("../robots/ur5e.actuators.json"),
+    ),
+    (
+        "fetch",
+        include_str!("../robots/fetch.urdf"),
+        include_str!("../robots/fetch.actuators.json"),
+    ),
+    (
+        "grasp",
+        include_str!("../robots/grasp.urdf"),
+        include_str!("../robots/grasp.actuators.json"),
+    ),
+];
+
+pub fn is_movable(kind: &urdf_rs::JointType) -> bool {
+    matches!(
+        kind,
+        urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous | urdf_rs::JointType::Prismatic
+    )
+}
+
+impl RobotModel {
+    /// Parse the embedded description of `name`.
+    pub fn load(name: &str) -> Result<Arc<RobotModel>, ModelError> {
+        let (robot, urdf_text, side_text) =
+            ROBOT_FILES
+                .iter()
+                .find(|(n, _, _)| *n == name)
+                .copied()
+                .ok_or_else(|| ModelError::Urdf {
+                    robot: "?",
+                    message: format!("no embedded robot named {name}"),
+                })?;
+        Self::parse(robot, urdf_text, side_text).map(Arc::new)
+    }
+
+    pub fn parse(robot: &'static str, urdf_text: &str, side_text: &str) -> Result<RobotModel, ModelError> {
+        let urdf = urdf_rs::read_from_string(urdf_text).map_err(|e| ModelError::Urdf {
+            robot,
+            message: e.to_string(),
+        })?;
+        let side: SideFile = serde_json::from_str(side_text).map_err(|e| ModelError::Side {
+            robot,
+            message: e.to_string(),
+        })?;
+        let link_names: Vec<String> = urdf.links.iter().map(|l| l.name.clone()).collect();
+        let joint_names: Vec<String> = urdf
+            .joints
+            .iter()
+            .filter(|j| is_movable(&j.joint_type))
+            .map(|j| j.name.clone())
+            .collect();
+        for a in &side.actuators {
+            if !joint_names.contains(&a.joint) {
+                return Err(ModelError::Side {
+                    robot,
+                    message: format!("actuator joint {} is not a movable joint of the URDF", a.joint),
+                });
+            }
+        }
+        let armature_joints = side.joint_armatures.iter().map(|a| &a.joint);
+        for name in side
+            .joint_springs
+            .iter()
+            .map(|s| &s.joint)
+            .chain(&side.root_joints)
+            .chain(armature_joints)
+        {
+            if !joint_names.contains(name) {
+                return Err(ModelError::Side {
+                    robot,
+                    message: format!("joint {name} is not a movable joint of the URDF"),
+                });
+            }
+        }
+        for l in &side.ground_links {
+            if !link_names.contains(l) {
+                return Err(ModelError::Side {
+                    robot,
+                    message: format!("ground link {l} is not a link of the URDF"),
+                });
+            }
+        }
+        let mut bodies = Vec::new();
+        for b in &side.bodies {
+            match link_names.iter().position(|l| l == b) {
+                Some(i) => bodies.push(i),
+                None => {
+                    return Err(ModelError::Side {
+                        robot,
+                        message: format!("body {b} is not a link of the URDF"),
+                    });
+                }
+            }
+        }
+        if bodies.is_empty() {
+            bodies = (0..link_names.len()).collect();
+        }
+        let torso = side.torso_link.clone().unwrap_or_else(|| link_names[0].clone());
+        let Some(torso) = link_names.iter().position(|l| *l == torso) else {
+            return Err(ModelError::Side {
+                robot,
+                message: format!("torso link {torso} is not a link of the URDF"),
+            });
+        };
+        for l in &urdf.links {
+            if l.inertial.mass.value <= 0.0 {
+                return Err(ModelError::Urdf {
+                    robot,
+                    message: format!("link {} has no mass", l.name),
+                });
+            }
+        }
+        if side.timestep <= 0.0 || side.frame_skip == 0 || side.solver_iterations == 0 {
+            return Err(ModelError::Side {
+                robot,
+                message: "timestep, frame_skip and solver_iterations must be positive".into(),
+            });
+        }
+        let model = RobotModel {
+            torso,
+            bodies,
+            name: robot,
+            urdf,
+            side,
+            link_names,
+            joint_names,
+        };
+        Ok(model)
+    }
+
+    pub fn num_actuators(&self) -> usize {
+        self.side.actuators.len()
+    }
+
+    /// One control per actuator in the side file's control range.
+    pub fn action_space(&self) -> carl_env::api::Space {
+        let n = self.num_actuators();
+        let [lo, hi] = self.side.ctrl_range;
+        carl_env::api::Space::Box {
+            low: vec![lo as f32; n],
+            high: vec![hi as f32; n],
+            shape: vec![n],
+            dtype: carl_env::api::DType::Float32,
+        }
+    }
+
+    /// The URDF mass of a link (kg).
+    pub fn link_mass(&self, link: &str) -> Option<f64> {
+        self.urdf
+            .links
+            .iter()
+            .find(|l| l.name == link)
+            .map(|l| l.inertial.mass.value)
+    }
+}

@@ -1,0 +1,120 @@
+//! The physics behind a locomotion task: a rapier3d world or the planar engine, chosen by the
+//! side file's `engine` (and the `rapier` option of planar robots). The task calls the same
+//! operations on either.
+
+use std::sync::Arc;
+
+use super::model::{Engine, ModelError, RobotModel};
+use super::params::RobotParams;
+use super::planar::{PlanarSystem, PlanarWorld};
+use super::world::{Configuration, RobotWorld};
+
+/// One instance's physics.
+#[derive(Debug)]
+pub enum Physics {
+    Rapier(Box<RobotWorld>),
+    Planar(Box<PlanarWorld>),
+}
+
+/// What a task builds its worlds from: the rapier world is rebuilt from model and context,
+/// the planar one from its prepared system (shared by all of the task's worlds).
+#[derive(Debug, Clone)]
+pub enum PhysicsBuilder {
+    Rapier,
+    Planar(Arc<PlanarSystem>),
+}
+
+impl PhysicsBuilder {
+    /// The builder for `model` under `params`: the planar engine when the side file asks for it
+    /// and the task observes nothing that engine lacks (`planar_task`), rapier otherwise. A side
+    /// file asking for the planar engine on a robot that is not planar is refused either way.
+    pub fn for_model(model: &RobotModel, params: &RobotParams, planar_task: bool) -> Result<Self, ModelError> {
+        match model.side.engine {
+            Engine::Rapier => Ok(PhysicsBuilder::Rapier),
+            Engine::Planar => {
+                let sys = PlanarSystem::new(model, params).map_err(|e| ModelError::Side {
+                    robot: model.name,
+                    message: format!("\"engine\": \"planar\" needs a planar robot: {e}"),
+                })?;
+                Ok(if planar_task {
+                    PhysicsBuilder::Planar(Arc::new(sys))
+                } else {
+                    PhysicsBuilder::Rapier
+                })
+            }
+        }
+    }
+
+    pub fn build(&self, model: &RobotModel, params: &RobotParams, q: &Configuration) -> Physics {
+        match self {
+            PhysicsBuilder::Rapier => Physics::Rapier(Box::new(RobotWorld::build(model, params, q))),
+            PhysicsBuilder::Planar(sys) => Physics::Planar(Box::new(PlanarWorld::new(sys.clone(), q))),
+        }
+    }
+}
+
+impl Physics {
+    pub fn configuration(&self) -> Configuration {
+        match self {
+            Physics::Rapier(w) => w.configuration(),
+            Physics::Planar(w) => w.configuration(),
+        }
+    }
+
+    pub fn step(&mut self, ctrl: &[f32]) {
+        match self {
+            Physics::Rapier(w) => w.step(ctrl),
+            Physics::Planar(w) => w.step(ctrl),
+        }
+    }
+
+    pub fn is_sane(&self, max_speed: f64) -> bool {
+        match self {
+            Physics::Rapier(w) => w.is_sane(max_speed),
+            Physics::Planar(w) => w.is_sane(max_speed),
+        }
+    }
+
+    pub fn contact_wrenches(&self, out: &mut [f64]) {
+        match self {
+            Physics::Rapier(w) => w.contact_wrenches(out),
+            Physics::Planar(w) => w.contact_wrenches(out),
+        }
+    }
+
+    pub fn actuator_forces(&self, ctrl: &[f32], out: &mut [f64]) {
+        match self {
+            Physics::Rapier(w) => w.actuator_forces(ctrl, out),
+            Physics::Planar(w) => w.actuator_forces(ctrl, out),
+        }
+    }
+
+    pub fn center_of_mass(&self) -> [f64; 3] {
+        match self {
+            Physics::Rapier(w) => w.center_of_mass(),
+            Physics::Planar(w) => w.center_of_mass(),
+        }
+    }
+
+    /// The rapier world, if this is one (the com-based observation terms need it).
+    pub fn rapier(&self) -> Option<&RobotWorld> {
+        match self {
+            Physics::Rapier(w) => Some(w),
+            Physics::Planar(_) => None,
+        }
+    }
+
+    pub fn planar(&self) -> Option<&PlanarWorld> {
+        match self {
+            Physics::Rapier(_) => None,
+            Physics::Planar(w) => Some(w),
+        }
+    }
+
+    pub fn render(&self) -> carl_pixels::Frame {
+        match self {
+            Physics::Rapier(w) => super::render::render_world(w),
+            Physics::Planar(w) => super::render::render_planar(w),
+        }
+    }
+}

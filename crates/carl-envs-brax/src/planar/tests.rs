@@ -1,0 +1,254 @@
+//! Analytic checks of the planar engine on HalfCheetah's tree.
+
+use std::sync::Arc;
+
+use super::{PlanarSystem, PlanarWorld};
+use crate::model::RobotModel;
+use crate::params::RobotParams;
+use crate::world::Configuration;
+use crate::{blank_params, default_params};
+
+fn cheetah() -> RobotModel {
+    (*RobotModel::load("half_cheetah").unwrap()).clone()
+}
+
+/// A system of HalfCheetah under `params` with the model's time step replaced by `h`.
+fn system(params: &RobotParams, h: f64) -> Arc<PlanarSystem> {
+    let mut m = cheetah();
+    m.side.timestep = h;
+    Arc::new(PlanarSystem::new(&m, params).unwrap())
+}
+
+fn world(sys: &Arc<PlanarSystem>, q: &[f64], v: &[f64]) -> PlanarWorld {
+    PlanarWorld::new(
+        sys.clone(),
+        &Configuration {
+            root: vec![],
+            joints: q.to_vec(),
+            vel: v.to_vec(),
+        },
+    )
+}
+
+/// A deterministic pseudo-random sequence in [-1, 1).
+fn noise(seed: u64, n: usize) -> Vec<f64> {
+    let mut x = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    (0..n)
+        .map(|_| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+        })
+        .collect()
+}
+
+/// Context without damping of any kind (energy checks).
+fn undamped() -> RobotParams {
+    let mut p = blank_params("half_cheetah").unwrap();
+    p.joint_angular_damping = 0.0;
+    p.angular_damping = 0.0;
+    p
+}
+
+#[test]
+fn the_whole_robot_falls_freely() {
+    let p = default_params("half_cheetah").unwrap();
+    let sys = system(&p, 0.01);
+    let mut w = world(&sys, &[0.0, 20.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], &[0.0; 9]);
+    let n = 100;
+    for _ in 0..n {
+        w.step(&[0.0; 6]);
+    }
+    // Semi-implicit Euler: z_n = z_0 + g h² n(n+1)/2 exactly; nothing else moves.
+    let h = 0.01;
+    let expect = 20.0 + p.gravity * h * h * (n * (n + 1)) as f64 / 2.0;
+    assert!((w.q()[1] - expect).abs() < 1e-9, "{} vs {expect}", w.q()[1]);
+    assert!((w.v()[1] - p.gravity * h * n as f64).abs() < 1e-9);
+    for (k, (q, v)) in w.q().iter().zip(w.v()).enumerate() {
+        if k != 1 {
+            assert!(q.abs() < 1e-12 && v.abs() < 1e-12, "coordinate {k}: {q} {v}");
+        }
+    }
+}
+
+#[test]
+fn an_undamped_unactuated_swing_keeps_its_energy() {
+    // High above the ground (no contacts), joints swinging against the springs and gravity.
+    let sys = system(&undamped(), 1e-4);
+    let v0 = [0.3, 0.2, 0.5, 1.0, -1.0, 1.5, -1.0, 1.0, -1.5];
+    let mut w = world(&sys, &[0.0, 30.0, 0.1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0], &v0);
+    let e0 = w.energy();
+    let mut worst = 0.0f64;
+    for _ in 0..10_000 {
+        w.step(&[0.0; 6]);
+        worst = worst.max((w.energy() - e0).abs());
+    }
+    // One second of motion: the joints swung (they are not at rest) and the energy stayed.
+    assert!(w.v()[3..].iter().any(|v| v.abs() > 0.1));
+    assert!(
+        w.q()[3..].iter().all(|q| q.abs() < 0.4),
+        "stayed off the limits: {:?}",
+        w.q()
+    );
+    assert!(worst < 1e-3 * e0.abs().max(1.0), "energy drift {worst} of {e0}");
+}
+
+#[test]
+fn the_mass_matrix_is_symmetric_positive_definite_and_gives_the_kinetic_energy() {
+    let sys = system(&undamped(), 0.01);
+    for seed in 0..20 {
+        let q: Vec<f64> = noise(seed, 9).iter().map(|x| x * 0.5).collect();
+        let v = noise(seed + 100, 9);
+        let w = world(&sys, &q, &v);
+        let (m, _) = w.mass_matrix_and_bias();
+        for i in 0..9 {
+            for j in 0..9 {
+                assert_eq!(m[i * 9 + j], m[j * 9 + i]);
+            }
+        }
+        let mut l = m.clone();
+        assert!(super::dynamics::cholesky(&mut l, 9));
+        let vmv: f64 = (0..9)
+            .map(|i| (0..9).map(|j| v[i] * m[i * 9 + j] * v[j]).sum::<f64>())
+            .sum();
+        let mut still = world(&sys, &q, &[0.0; 9]);
+        let pot = still.energy();
+        let w_energy = world(&sys, &q, &v).energy();
+        still = world(&sys, &q, &v);
+        let armature_and_springs: f64 = sys
+            .tree
+            .dofs
+            .iter()
+            .zip(&v)
+            .map(|(d, v)| 0.5 * d.armature * v * v)
+            .sum();
+        let kinetic = w_energy - pot - armature_and_springs;
+        assert!(
+            (0.5 * vmv - kinetic).abs() < 1e-10 * kinetic.max(1.0),
+            "{} vs {kinetic}",
+            0.5 * vmv
+        );
+        let _ = still;
+    }
+}
+
+#[test]
+fn the_bias_forces_are_lagranges_by_finite_differences() {
+    // b(q, v) = Ṁv − ½ ∂(vᵀMv)/∂q + ∂V/∂q.
+    let sys = system(&undamped(), 0.01);
+    let n = 9;
+    let eps = 1e-6;
+    for seed in 0..5 {
+        let q: Vec<f64> = noise(seed, n).iter().map(|x| x * 0.5).collect();
+        let v = noise(seed + 50, n);
+        let (_, b) = world(&sys, &q, &v).mass_matrix_and_bias();
+        let at = |k: usize, d: f64| {
+            let mut qq = q.clone();
+            qq[k] += d;
+            let w = world(&sys, &qq, &[0.0; 9]);
+            let pot = super::dynamics::potential_energy(&sys.tree, &w.links, sys.gravity);
+            (w.mass_matrix_and_bias().0, pot)
+        };
+        let mut expect = vec![0.0; n];
+        for k in 0..n {
+            let ((mp, vp), (mm, vm)) = (at(k, eps), at(k, -eps));
+            let dm: Vec<f64> = mp.iter().zip(&mm).map(|(a, b)| (a - b) / (2.0 * eps)).collect();
+            // Ṁv contribution of ∂M/∂q_k · v_k, and −½ vᵀ ∂M/∂q_k v.
+            for i in 0..n {
+                expect[i] += v[k] * (0..n).map(|j| dm[i * n + j] * v[j]).sum::<f64>();
+            }
+            let quad: f64 = (0..n)
+                .map(|i| (0..n).map(|j| v[i] * dm[i * n + j] * v[j]).sum::<f64>())
+                .sum();
+            expect[k] += -0.5 * quad + (vp - vm) / (2.0 * eps);
+        }
+        for i in 0..n {
+            assert!(
+                (b[i] - expect[i]).abs() < 1e-5 * (1.0 + expect[i].abs()),
+                "seed {seed} coordinate {i}: {} vs {}",
+                b[i],
+                expect[i]
+            );
+        }
+    }
+}
+
+#[test]
+fn it_rests_on_the_floor_without_drift() {
+    let p = default_params("half_cheetah").unwrap();
+    let sys = system(&p, 0.01);
+    let mut w = world(&sys, &[0.0; 9], &[0.0; 9]);
+    // The drop and the settling (soft friction lets the feet creep apart at a rate that
+    // decays by e every second or so).
+    for _ in 0..1000 {
+        w.step(&[0.0; 6]);
+    }
+    let (x0, z0) = (w.q()[0], w.q()[1]);
+    for _ in 0..500 {
+        w.step(&[0.0; 6]);
+    }
+    assert!((w.q()[0] - x0).abs() < 1e-4, "slid {} m in 5 s", w.q()[0] - x0);
+    assert!((w.q()[1] - z0).abs() < 1e-4, "sank {} m in 5 s", w.q()[1] - z0);
+    assert!(w.v().iter().all(|v| v.abs() < 1e-3), "{:?}", w.v());
+    // Resting on its feet: every link above the ground within the contacts' softness.
+    for (_, a, b, r) in w.capsules() {
+        assert!(a[2] - r > -0.01 && b[2] - r > -0.01);
+    }
+    let mut wrench = vec![0.0; 60];
+    w.contact_wrenches(&mut wrench);
+    let support: f64 = wrench.chunks(6).map(|c| c[5]).sum();
+    let weight: f64 = sys.tree.links[1..].iter().map(|l| l.mass).sum::<f64>() * -p.gravity;
+    assert!(
+        (support - weight).abs() < 1e-3 * weight,
+        "contacts carry {support} N of {weight} N"
+    );
+}
+
+#[test]
+fn two_worlds_stepped_alternately_equal_each_alone() {
+    let p = default_params("half_cheetah").unwrap();
+    let mut q = p.clone();
+    q.gravity = -3.0;
+    q.friction = 1.2;
+    let (sa, sb) = (system(&p, 0.01), system(&q, 0.01));
+    let start = |s: &Arc<PlanarSystem>| world(s, &[0.0, 0.05, 0.1, 0.2, -0.1, 0.0, 0.3, 0.0, -0.2], &[0.5; 9]);
+    let ctrl = |k: usize| -> Vec<f32> { noise(k as u64, 6).iter().map(|x| *x as f32).collect() };
+    let (mut a, mut b) = (start(&sa), start(&sb));
+    for k in 0..300 {
+        a.step(&ctrl(k));
+        b.step(&ctrl(k));
+    }
+    let (mut a1, mut b1) = (start(&sa), start(&sb));
+    for k in 0..300 {
+        a1.step(&ctrl(k));
+    }
+    for k in 0..300 {
+        b1.step(&ctrl(k));
+    }
+    assert_eq!(a.q(), a1.q());
+    assert_eq!(b.v(), b1.v());
+    assert_ne!(a.q(), b.q());
+    // A clone continues exactly as the original.
+    let mut c = a.clone();
+    a.step(&ctrl(0));
+    c.step(&ctrl(0));
+    assert_eq!(a.q(), c.q());
+}
+
+#[test]
+fn a_robot_that_is_not_planar_is_refused_with_a_reason() {
+    let (_, urdf, side) = crate::model::ROBOT_FILES
+        .iter()
+        .find(|f| f.0 == "ant")
+        .copied()
+        .unwrap();
+    let side = side.replacen('{', "{\n  \"engine\": \"planar\",", 1);
+    let model = RobotModel::parse("ant", urdf, &side).unwrap();
+    let params = blank_params("ant").unwrap();
+    let err = crate::physics::PhysicsBuilder::for_model(&model, &params, true)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("\"engine\": \"planar\" needs a planar robot"), "{err}");
+    assert!(err.contains("root"), "{err}");
+}

@@ -1,0 +1,195 @@
+//! The Brax family's registrations.
+
+use carl_env::context::{MakeError, OptionKind, OptionSpec};
+use carl_env::registration::{AuditProfile, Registration, StepCost};
+use carl_env::runtime::AnyEnv;
+
+use crate::{self as robots, RobotParams};
+
+/// Articulated robots: each transition is five 3-D multibody physics steps.
+const ROBOT: AuditProfile = AuditProfile {
+    trajectory_seeds: 3,
+    trajectory_steps: 8,
+    random_states: 8,
+    reset_seeds: 4,
+    state_hint: &[],
+};
+
+/// The environments of this family, in registry order.
+pub const REGISTRATIONS: &[Registration] = &[
+    Registration {
+        id: "ant",
+        build: |v, _| Ok(AnyEnv::new(locomotion("ant", v)?)),
+        options: &[],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        audit: ROBOT,
+        vector_kernel: None,
+    },
+    Registration {
+        id: "half_cheetah",
+        build: |v, o| {
+            if o.flag("rapier") {
+                let p = robot_params("half_cheetah", v)?;
+                return robots::make_robot_on_rapier("half_cheetah", p)
+                    .map(AnyEnv::new)
+                    .ok_or_else(|| missing_model("half_cheetah"));
+            }
+            Ok(AnyEnv::new(locomotion("half_cheetah", v)?))
+        },
+        options: &[OptionSpec {
+            name: "rapier",
+            help: "the rapier3d multibody engine instead of the planar reduced-coordinate engine (crates/carl-envs-brax/src/planar)",
+            kind: OptionKind::Bool { default: false },
+        }],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        audit: ROBOT,
+        vector_kernel: None,
+    },
+    Registration {
+        id: "ur5e",
+        build: |v, _| {
+            let p = robot_params("ur5e", v)?;
+            robots::make_reach(p)
+                .map(AnyEnv::new)
+                .ok_or_else(|| missing_model("ur5e"))
+        },
+        options: &[],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        // Joint angles beyond the ±2π joint limits (where joint_stiffness acts).
+        audit: AuditProfile {
+            state_hint: &[(-8.0, 8.0); 6],
+            ..ROBOT
+        },
+        vector_kernel: None,
+    },
+    Registration {
+        id: "fetch",
+        build: |v, _| {
+            let p = robot_params("fetch", v)?;
+            robots::make_fetch(p)
+                .map(AnyEnv::new)
+                .ok_or_else(|| missing_model("fetch"))
+        },
+        options: &[],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        // Eleven bodies and 21 probe actions per state; one trajectory suffices (the random
+        // states reach beyond the joint limits, the goal states hit targets). The root at its
+        // standing pose (x y z qw qx qy qz), hinge angles beyond the ±60° limits.
+        audit: AuditProfile {
+            trajectory_seeds: 1,
+            trajectory_steps: 8,
+            random_states: 8,
+            reset_seeds: 4,
+            state_hint: &[
+                (0.0, 0.0),
+                (0.0, 0.0),
+                (1.38, 1.38),
+                (1.0, 1.0),
+                (0.0, 0.0),
+                (0.0, 0.0),
+                (0.0, 0.0),
+                (-1.6, 1.6),
+                (-1.6, 1.6),
+                (-1.6, 1.6),
+                (-1.6, 1.6),
+                (-1.6, 1.6),
+                (-1.6, 1.6),
+                (-1.6, 1.6),
+                (-1.6, 1.6),
+                (-1.6, 1.6),
+                (-1.6, 1.6),
+            ],
+        },
+        vector_kernel: None,
+    },
+    Registration {
+        id: "humanoid",
+        build: |v, _| Ok(AnyEnv::new(locomotion("humanoid", v)?)),
+        options: &[],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        // Transitions cost ~5x an Ant's (20 links, 23 DoFs): fewer base states, one trajectory
+        // long enough for the feet to land (~10 steps); root heights down to 0.9 m put the feet
+        // in contact, where friction acts.
+        audit: AuditProfile {
+            trajectory_seeds: 1,
+            trajectory_steps: 12,
+            random_states: 4,
+            reset_seeds: 3,
+            state_hint: &[(-0.5, 0.5), (-0.5, 0.5), (0.9, 1.45)],
+        },
+        vector_kernel: None,
+    },
+    Registration {
+        id: "grasp",
+        build: |v, _| {
+            let p = robot_params("grasp", v)?;
+            robots::make_grasp(p)
+                .map(AnyEnv::new)
+                .ok_or_else(|| missing_model("grasp"))
+        },
+        options: &[],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        // A 19-DoF hand and 39 probe actions; each transition rebuilds the world and takes four
+        // physics steps. Palm slides, then the 16 finger joints beyond their limits.
+        audit: AuditProfile {
+            trajectory_seeds: 1,
+            trajectory_steps: 2,
+            random_states: 3,
+            reset_seeds: 2,
+            state_hint: &[
+                (-3.0, 3.0),
+                (-3.0, 3.0),
+                (3.0, 6.0),
+                (-2.0, 2.0),
+                (-2.0, 2.0),
+                (-2.5, 2.5),
+                (-2.5, 2.5),
+                (-2.0, 2.0),
+                (-2.0, 2.0),
+                (-2.5, 2.5),
+                (-2.5, 2.5),
+                (-2.0, 2.0),
+                (-2.0, 2.0),
+                (-2.5, 2.5),
+                (-2.5, 2.5),
+                (-2.0, 2.0),
+                (-2.0, 2.0),
+                (-2.5, 2.5),
+                (-2.5, 2.5),
+            ],
+        },
+        vector_kernel: None,
+    },
+];
+
+fn robot_params(id: &str, values: &[(String, f64)]) -> Result<RobotParams, MakeError> {
+    let mut p = robots::blank_params(id).ok_or_else(|| missing_model(id))?;
+    carl_env::context::apply(id, values, |name, x| p.set(name, x))?;
+    Ok(p)
+}
+
+fn locomotion(id: &str, values: &[(String, f64)]) -> Result<robots::Locomotion, MakeError> {
+    let p = robot_params(id, values)?;
+    robots::make_robot(id, p).ok_or_else(|| missing_model(id))
+}
+
+/// The embedded robot description failed to load (a build defect, reported, never a panic).
+fn missing_model(id: &str) -> MakeError {
+    MakeError::Runtime {
+        env: id.into(),
+        message: "its embedded robot model failed to load (a build defect)".into(),
+    }
+}
+

@@ -1,0 +1,28 @@
+//! carl-spec: the CARL contextual-RL benchmark as declarative, verifiable specs, reproducible
+//! instance sets and Rust environments. This crate is the CARL layer over the workspace's
+//! lower crates and the `carl-spec` command.
+//!
+//! Below it (re-exported under their module names so `carl_spec::spec`, `carl_spec::envs::api`,
+//! … name each concept once): the spec core [`carl_spec_core`] (`text`, `suggest`,
+//! `diagnostics`, `json`, `spec`, `schema`, `validate`, `sampling`, `instances`, `output`), the
+//! drawing layer [`pixels`], the 2-D engine [`physics2d`], the environment API and the
+//! families ([`envs`]).
+//!
+//! Here: [`envs`] (the registry of every family, CARL's contextual wrapper, `VecEnv`),
+//! [`episode`] (one episode loop, the JSON Lines protocol), [`bench`] (speed measurements),
+//! [`audit`] (checks each feature's `affects` claim against the runtime), [`plot`] (figures of
+//! instance sets), [`render`] (environment pictures to files), [`experiments`] (the paper's
+//! experiments end to end), [`cli`] (argument parsing and printing, one module per subcommand).
+
+pub use carl_physics2d as physics2d;
+pub use carl_pixels as pixels;
+pub use carl_spec_core::{diagnostics, instances, json, output, sampling, schema, spec, suggest, text, validate};
+
+pub mod audit;
+pub mod bench;
+pub mod cli;
+pub mod envs;
+pub mod episode;
+pub mod experiments;
+pub mod plot;
+pub mod render;

@@ -1,0 +1,70 @@
+//! Checks shared by the robot test files (`use crate::common;` in each).
+
+// Each test file uses only some of these helpers.
+#![allow(dead_code)]
+
+use carl_spec::envs::registry::{Context, MakeOptions, make, make_with};
+use carl_spec::envs::{Action, Env, Step};
+use carl_spec::spec::model::{EnvSpec, Value};
+
+/// The test range of a feature: its bounds, with an open side replaced by a value far from the
+/// default (0 or 20× the default for positive defaults, 20× − 1 or +1 for others).
+pub fn test_range(default: f64, bounds: [Option<f64>; 2]) -> [f64; 2] {
+    let lo = bounds[0].unwrap_or(if default > 0.0 { 0.0 } else { default * 20.0 - 1.0 });
+    let hi = bounds[1].unwrap_or(if default > 0.0 { default * 20.0 } else { 1.0 });
+    [lo, hi]
+}
+
+/// Every feature at each end of its range, the others at their defaults: reset and `actions`
+/// give finite observations, rewards and states, and the only termination is a diverged
+/// (rolled back, flagged) step, after which the environment resets and goes on.
+pub fn finite_at_the_spec_bounds_for_a_task_without_termination(spec: &EnvSpec, actions: &[Action]) {
+    for f in &spec.features {
+        let d = f.default_f64().unwrap();
+        for x in test_range(d, f.bounds) {
+            let ctx: Context = [(f.name.clone(), Value::Number(x))].into_iter().collect();
+            let mut e = make(spec, &ctx).unwrap_or_else(|err| panic!("{} = {x}: {err}", f.name));
+            let (obs, _) = e.reset(Some(1));
+            assert!(obs.iter().all(|v| v.is_finite()), "{} = {x}", f.name);
+            for a in actions {
+                let out = e.step(a).unwrap();
+                assert!(out.obs.iter().all(|v| v.is_finite()), "{} = {x}", f.name);
+                assert!(out.reward.is_finite(), "{} = {x}", f.name);
+                assert!(e.state().iter().all(|v| v.is_finite()), "{} = {x}", f.name);
+                if out.terminated {
+                    assert_eq!(
+                        out.info["diverged"], 1.0,
+                        "{} = {x}: only a diverged step terminates",
+                        f.name
+                    );
+                    e.reset(None);
+                }
+            }
+        }
+    }
+}
+
+/// An instance driven past any physical speed by `ctx` (bounds not enforced): within `actions`
+/// a step is rolled back, flagged `info["diverged"]` and terminated, and observations stay finite
+/// until then. Returns the flagged step.
+pub fn runaway_is_flagged(spec: &EnvSpec, ctx: &[(&str, f64)], actions: &[Action]) -> Step {
+    let ctx: Context = ctx.iter().map(|(k, v)| (k.to_string(), Value::Number(*v))).collect();
+    let mut e = make_with(
+        spec,
+        &ctx,
+        MakeOptions {
+            allow_out_of_bounds: true,
+        },
+    )
+    .unwrap();
+    e.reset(Some(0));
+    for a in actions {
+        let s = e.step(a).unwrap();
+        assert!(s.obs.iter().all(|x| x.is_finite()));
+        if s.info["diverged"] == 1.0 {
+            assert!(s.terminated);
+            return s;
+        }
+    }
+    panic!("the runaway instance was never flagged");
+}

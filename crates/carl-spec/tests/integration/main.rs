@@ -1,0 +1,30 @@
+//! carl-spec's integration tests, one harness (one binary to link): the registry of every
+//! family, the CLI, the contextual wrapper, VecEnv, the audit, renders and experiments.
+
+mod common;
+mod audit;
+mod bench_cli;
+mod bipedal_walker;
+mod cli;
+mod context_noise;
+mod contextual;
+mod fetch;
+mod fold_cli;
+mod grasp;
+mod hostile_input;
+mod humanoid;
+mod instances;
+mod isolation;
+mod landing_in_space;
+mod lunar_lander;
+mod plot;
+mod render;
+mod rna_design_options;
+mod robots;
+mod robots_vs_mujoco;
+mod rollout;
+mod runtime_registry;
+mod ur5e;
+mod vec_env;
+mod vec_env_modes;
+mod vehicle_racing;
