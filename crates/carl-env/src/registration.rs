@@ -29,6 +29,10 @@ pub struct Registration {
     /// Build the runtime from every feature's value (canonical names, spec order) and the
     /// resolved options.
     pub build: BuildFn,
+    /// The runtime's own value of feature `name` when no context sets it (its `Params`'
+    /// default), `None` for a name it does not know or a feature the spec alone decides (a
+    /// choice). The tests hold it equal to the spec's default.
+    pub runtime_default: fn(&str) -> Option<f64>,
     /// Variant options (`continuous`, `hardcore`, …).
     pub options: &'static [OptionSpec],
     /// The environment's hand-written controller, for the runtime built (its action space says

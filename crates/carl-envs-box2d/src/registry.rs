@@ -23,6 +23,7 @@ pub const REGISTRATIONS: &[Registration] = &[
             };
             Ok(AnyEnv::new(LunarLander::with_options(p, opts)))
         },
+        runtime_default: |n| LunarLanderParams::default().get(n).ok(),
         options: &[
             OptionSpec {
                 name: "continuous",
@@ -55,6 +56,7 @@ pub const REGISTRATIONS: &[Registration] = &[
             };
             Ok(AnyEnv::new(BipedalWalker::with_options(p, opts)))
         },
+        runtime_default: |n| BipedalWalkerParams::default().get(n).ok(),
         options: &[OptionSpec {
             name: "hardcore",
             help: "BipedalWalkerHardcore: stumps, stairs and pits between grass stretches",
@@ -92,6 +94,7 @@ pub const REGISTRATIONS: &[Registration] = &[
             })?;
             Ok(AnyEnv::new(env))
         },
+        runtime_default: |n| VehicleRacingParams::default().get(n).ok(),
         options: &[OptionSpec {
             name: "continuous",
             help: "actions [steer, gas, brake] (CarRacing-v3's default); false: 5 discrete actions",

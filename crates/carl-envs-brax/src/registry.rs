@@ -20,6 +20,7 @@ pub const REGISTRATIONS: &[Registration] = &[
     Registration {
         id: "ant",
         build: |v, _| Ok(AnyEnv::new(locomotion("ant", v)?)),
+        runtime_default: |n| robot_default("ant", n),
         options: &[],
         heuristic: None,
         renders: true,
@@ -38,6 +39,7 @@ pub const REGISTRATIONS: &[Registration] = &[
             }
             Ok(AnyEnv::new(locomotion("half_cheetah", v)?))
         },
+        runtime_default: |n| robot_default("half_cheetah", n),
         options: &[OptionSpec {
             name: "rapier",
             help: "the rapier3d multibody engine instead of the planar reduced-coordinate engine (crates/carl-envs-brax/src/planar)",
@@ -57,6 +59,7 @@ pub const REGISTRATIONS: &[Registration] = &[
                 .map(AnyEnv::new)
                 .ok_or_else(|| missing_model("ur5e"))
         },
+        runtime_default: |n| robot_default("ur5e", n),
         options: &[],
         heuristic: None,
         renders: true,
@@ -76,6 +79,7 @@ pub const REGISTRATIONS: &[Registration] = &[
                 .map(AnyEnv::new)
                 .ok_or_else(|| missing_model("fetch"))
         },
+        runtime_default: |n| robot_default("fetch", n),
         options: &[],
         heuristic: None,
         renders: true,
@@ -113,6 +117,7 @@ pub const REGISTRATIONS: &[Registration] = &[
     Registration {
         id: "humanoid",
         build: |v, _| Ok(AnyEnv::new(locomotion("humanoid", v)?)),
+        runtime_default: |n| robot_default("humanoid", n),
         options: &[],
         heuristic: None,
         renders: true,
@@ -137,6 +142,7 @@ pub const REGISTRATIONS: &[Registration] = &[
                 .map(AnyEnv::new)
                 .ok_or_else(|| missing_model("grasp"))
         },
+        runtime_default: |n| robot_default("grasp", n),
         options: &[],
         heuristic: None,
         renders: true,
@@ -193,3 +199,8 @@ fn missing_model(id: &str) -> MakeError {
     }
 }
 
+
+/// The robot's own default of feature `name` (its default `RobotParams`).
+fn robot_default(id: &str, name: &str) -> Option<f64> {
+    robots::default_params(id)?.get(name).ok()
+}

@@ -21,6 +21,7 @@ pub const REGISTRATIONS: &[Registration] = &[
                 CartPoleParams::set,
             )?)))
         },
+        runtime_default: |n| CartPoleParams::default().get(n).ok(),
         options: &[],
         heuristic: None,
         renders: false,
@@ -37,6 +38,7 @@ pub const REGISTRATIONS: &[Registration] = &[
                 PendulumParams::set,
             )?)))
         },
+        runtime_default: |n| PendulumParams::default().get(n).ok(),
         options: &[],
         heuristic: None,
         renders: false,
@@ -53,6 +55,7 @@ pub const REGISTRATIONS: &[Registration] = &[
             let p = params::<MountainCarParams>("mountain_car", v, MountainCarParams::set)?;
             Ok(AnyEnv::new(MountainCar::new(p)))
         },
+        runtime_default: |n| MountainCarParams::default().get(n).ok(),
         options: &[],
         heuristic: None,
         renders: false,
@@ -67,6 +70,7 @@ pub const REGISTRATIONS: &[Registration] = &[
                 params::<MountainCarContinuousParams>("mountain_car_continuous", v, MountainCarContinuousParams::set)?;
             Ok(AnyEnv::new(MountainCarContinuous::new(p)))
         },
+        runtime_default: |n| MountainCarContinuousParams::default().get(n).ok(),
         options: &[],
         heuristic: None,
         renders: false,
@@ -83,6 +87,7 @@ pub const REGISTRATIONS: &[Registration] = &[
                 AcrobotParams::set,
             )?)))
         },
+        runtime_default: |n| AcrobotParams::default().get(n).ok(),
         options: &[],
         heuristic: None,
         renders: false,

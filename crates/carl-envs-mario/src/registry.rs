@@ -21,6 +21,7 @@ pub const REGISTRATIONS: &[Registration] = &[
             })?;
             Ok(AnyEnv::new(env))
         },
+        runtime_default: |n| crate::MarioParams::default().get(n).ok(),
         options: &[
             OptionSpec {
                 name: "frame_dim",

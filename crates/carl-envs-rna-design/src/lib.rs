@@ -386,6 +386,14 @@ mod tests {
         .unwrap()
     }
 
+    /// The spec's defaults: the dataset is a name (Eterna100), the target ids a list (none: all).
+    #[test]
+    fn default_dataset_is_eterna_and_all_targets() {
+        let p = RnaDesignParams::default();
+        assert_eq!(Dataset::from_name("eterna"), Some(p.dataset));
+        assert_eq!(p.target_structure_ids, None);
+    }
+
     #[test]
     fn all_zero_actions_on_eterna_1_design_the_solved_hairpin() {
         let mut e = env(&[1], Dataset::Eterna);

@@ -26,6 +26,7 @@ pub const REGISTRATIONS: &[Registration] = &[
             })?;
             Ok(AnyEnv::new(env))
         },
+        runtime_default: rna_design_default,
         options: &[
             OptionSpec {
                 name: "max_improvement_folds",
@@ -89,3 +90,14 @@ fn rna_design_params(values: &[(String, f64)], options: &OptionValues) -> Result
     Ok(p)
 }
 
+
+/// The runtime's own default of a numeric feature (`dataset` is a choice, decided by the spec).
+fn rna_design_default(name: &str) -> Option<f64> {
+    let p = RnaDesignParams::default();
+    match name {
+        "mutation_threshold" => Some(p.mutation_threshold),
+        "reward_exponent" => Some(p.reward_exponent),
+        "state_radius" => Some(p.state_radius as f64),
+        _ => None,
+    }
+}

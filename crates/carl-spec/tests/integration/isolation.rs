@@ -9,14 +9,22 @@ use carl_spec::envs::{Action, Env};
 use carl_spec::spec::SpecSet;
 use carl_spec::spec::model::{Effect, Value};
 
-/// Steps per instance: enough for contacts and a reset in the light environments, few for the
-/// heavy ones (each step is a 3-D physics world).
-fn steps(id: &str) -> usize {
-    match id {
-        "humanoid" | "grasp" | "fetch" => 12,
-        "ant" | "half_cheetah" | "ur5e" | "vehicle_racing" => 30,
-        _ => 300,
+/// Steps per instance: as many as fit ~40 ms of stepping (at least 12, at most 300): enough for
+/// contacts and a reset in the light environments, few for the heavy ones. Both instances and
+/// both runs take the same number, so the comparison stays exact.
+fn steps(env: &SpecEnv, actions: &[Action]) -> usize {
+    let mut probe = env.clone();
+    probe.reset(Some(0));
+    let start = std::time::Instant::now();
+    let mut n = 0;
+    while n < actions.len() && start.elapsed() < std::time::Duration::from_millis(40) {
+        let s = probe.step(&actions[n]).unwrap();
+        if s.terminated || s.truncated {
+            probe.reset(Some(0));
+        }
+        n += 1;
     }
+    n.max(12)
 }
 
 /// One trajectory record: observation bits, reward bits and flags per step.
@@ -42,9 +50,9 @@ fn two_instances_stepped_alternately_equal_each_alone_for_every_runtime() {
     for reg in REGISTRY {
         let spec = specs.get(reg.id).unwrap();
         let build = |ctx: &Context| make(spec, ctx).unwrap();
-        let n = steps(reg.id);
         let mut policy = RandomPolicy::new(build(&Context::new()).action_space(), 7);
-        let actions: Vec<Action> = (0..n).map(|_| policy.sample()).collect();
+        let mut actions: Vec<Action> = (0..300).map(|_| policy.sample()).collect();
+        actions.truncate(steps(&build(&Context::new()), &actions));
         let alone = |ctx: &Context| {
             let mut e = build(ctx);
             e.reset(Some(0));

@@ -2,7 +2,7 @@
 //! and bad contexts are refused with useful errors.
 
 use carl_spec::envs::Env;
-use carl_spec::envs::registry::{Context, MakeError, MakeOptions, ids, make, make_with};
+use carl_spec::envs::registry::{Context, MakeError, MakeOptions, ids, lookup, make, make_with};
 use carl_spec::spec::SpecSet;
 use carl_spec::spec::model::Value;
 
@@ -18,18 +18,8 @@ fn spec_defaults_equal_runtime_defaults() {
         let mut b = default_env;
         let (ob, _) = b.reset(Some(7));
         assert_eq!(oa, ob);
-        if id == "rna_design" {
-            // The dataset default is a name, target_structure_ids a list (no default: all).
-            use carl_spec::envs::rna_design::{Dataset, RnaDesignParams};
-            let p = RnaDesignParams::default();
-            assert_eq!(Dataset::from_name("eterna"), Some(p.dataset));
-            assert_eq!(p.target_structure_ids, None);
-        }
+        let reg = lookup(id).unwrap();
         for f in &spec.features {
-            // rna_design's dataset name and id list have no numeric default.
-            if id == "rna_design" && f.default_f64().is_none() {
-                continue;
-            }
             // A computed default (Mario's `noise`: CARL's sampling) has no value to compare.
             if f.default.is_none() {
                 assert!(
@@ -39,11 +29,12 @@ fn spec_defaults_equal_runtime_defaults() {
                 );
                 continue;
             }
-            // A string choice (RNA's `dataset`) has no numeric value to compare.
+            // A string choice (RNA's `dataset`) or a list has no numeric value to compare.
             if f.default_f64().is_none() {
                 continue;
             }
-            let runtime_default = runtime_default(id, &f.name);
+            let runtime_default = (reg.runtime_default)(&f.name)
+                .unwrap_or_else(|| panic!("{id}: the runtime does not know spec feature {}", f.name));
             assert_eq!(
                 Some(runtime_default),
                 f.default_f64(),
@@ -102,46 +93,4 @@ fn specs_without_runtime_say_so() {
     spec.id = "no_such_runtime".into();
     let e = make(&spec, &Context::new()).unwrap_err();
     assert!(matches!(e, MakeError::NoRuntime { .. }), "{e}");
-}
-
-fn runtime_default(id: &str, name: &str) -> f64 {
-    use carl_spec::envs::classic_control::*;
-    if id == "rna_design" {
-        let p = carl_spec::envs::rna_design::RnaDesignParams::default();
-        return match name {
-            "mutation_threshold" => p.mutation_threshold,
-            "reward_exponent" => p.reward_exponent,
-            "state_radius" => p.state_radius as f64,
-            other => panic!("rna_design: no numeric runtime default for {other}"),
-        };
-    }
-    match id {
-        "cartpole" => CartPoleParams::default().get(name),
-        "pendulum" => PendulumParams::default().get(name),
-        "mountain_car" => MountainCarParams::default().get(name),
-        "mountain_car_continuous" => MountainCarContinuousParams::default().get(name),
-        "acrobot" => AcrobotParams::default().get(name),
-        "lunar_lander" => carl_spec::envs::box2d::LunarLanderParams::default().get(name),
-        "bipedal_walker" => carl_spec::envs::box2d::BipedalWalkerParams::default().get(name),
-        "vehicle_racing" => carl_spec::envs::box2d::VehicleRacingParams::default().get(name),
-        "mario" => carl_spec::envs::mario::MarioParams::default().get(name),
-        robot if carl_spec::envs::brax::is_robot(robot) => {
-            carl_spec::envs::brax::default_params(robot).unwrap().get(name)
-        }
-        "rna_design" => {
-            let p = carl_spec::envs::rna_design::RnaDesignParams::default();
-            match name {
-                "mutation_threshold" => Ok(p.mutation_threshold),
-                "reward_exponent" => Ok(p.reward_exponent),
-                "state_radius" => Ok(p.state_radius as f64),
-                _ => Err(carl_spec::envs::UnknownFeature {
-                    env: "rna_design",
-                    name: name.to_string(),
-                    known: "mutation_threshold, reward_exponent, state_radius".into(),
-                }),
-            }
-        }
-        _ => unreachable!(),
-    }
-    .unwrap_or_else(|e| panic!("{id}: runtime lacks spec feature {name}: {e}"))
 }
