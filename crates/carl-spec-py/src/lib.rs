@@ -13,7 +13,8 @@
 //! `obs_layout` (observations as Python sees them), `env_infos` / `vec_infos` / `info_keys`
 //! (the info dicts, single and batched), `stock` (objects made ahead while workers step),
 //! `arrays` (fresh NumPy arrays), `user_spec` (`cs.wrap` / `cs.audit` on users' own envs),
-//! `errors` (library errors as Python exceptions).
+//! `errors` (library errors as Python exceptions), `cli` (the `carl-spec` command of the
+//! package).
 
 use pyo3::prelude::*;
 use pyo3::types::PyList;
@@ -21,6 +22,7 @@ use pyo3::types::PyList;
 use carl_spec::envs::registry::ids;
 
 mod arrays;
+mod cli;
 mod context_args;
 mod env;
 mod env_infos;
@@ -35,6 +37,7 @@ mod vec_infos;
 
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(cli::cli_main, m)?)?;
     m.add_function(wrap_pyfunction!(specs::list_envs_json, m)?)?;
     m.add_function(wrap_pyfunction!(specs::spec_json, m)?)?;
     m.add_function(wrap_pyfunction!(specs::validate_json, m)?)?;

@@ -8,21 +8,31 @@
 //! drawing layer [`pixels`], the 2-D engine [`physics2d`], the environment API and the
 //! families ([`envs`]).
 //!
+//! Without the default `envs` feature, only the spec tooling is built (no physics).
+//!
 //! Here: [`envs`] (the registry of every family, CARL's contextual wrapper, `VecEnv`),
 //! [`episode`] (one episode loop, the JSON Lines protocol), [`bench`] (speed measurements),
 //! [`audit`] (checks each feature's `affects` claim against the runtime), [`plot`] (figures of
 //! instance sets), [`render`] (environment pictures to files), [`experiments`] (the paper's
 //! experiments end to end), [`cli`] (argument parsing and printing, one module per subcommand).
 
+#[cfg(feature = "envs")]
 pub use carl_physics2d as physics2d;
 pub use carl_pixels as pixels;
 pub use carl_spec_core::{diagnostics, instances, json, output, sampling, schema, spec, suggest, text, validate};
 
-pub mod audit;
-pub mod bench;
 pub mod cli;
-pub mod envs;
-pub mod episode;
-pub mod experiments;
 pub mod plot;
+
+#[cfg(feature = "envs")]
+pub mod audit;
+#[cfg(feature = "envs")]
+pub mod bench;
+#[cfg(feature = "envs")]
+pub mod envs;
+#[cfg(feature = "envs")]
+pub mod episode;
+#[cfg(feature = "envs")]
+pub mod experiments;
+#[cfg(feature = "envs")]
 pub mod render;

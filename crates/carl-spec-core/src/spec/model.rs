@@ -76,6 +76,10 @@ pub struct EnvSpec {
     pub aliases: Vec<String>,
     pub family: String,
     pub upstream: Upstream,
+    /// See [`RawEnvSpec::version`](super::raw::RawEnvSpec::version).
+    pub version: u32,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub engine: Option<String>,
     pub description: String,
     pub observation_space: Space,
     pub action_space: Space,
@@ -99,9 +103,15 @@ impl EnvSpec {
         serde_json::json!({
             "id": self.id, "aliases": self.aliases, "family": self.family,
             "upstream": format!("{} {}", self.upstream.library, self.upstream.id),
+            "version": self.version, "engine": self.engine,
             "features": self.features.len(),
             "instance_sets": self.instance_sets.keys().collect::<Vec<_>>(),
         })
+    }
+
+    /// `<id>-v<version>`, the versioned name results are reported under (Gymnasium's form).
+    pub fn versioned_id(&self) -> String {
+        format!("{}-v{}", self.id, self.version)
     }
 
     /// Look a feature up by canonical name or alias.

@@ -34,6 +34,16 @@ pub struct RawEnvSpec {
     pub family: String,
     /// The upstream environment this spec extends with a context.
     pub upstream: Upstream,
+    /// The environment's version, bumped whenever its dynamics, observation, reward or
+    /// termination change so that published results stay comparable; Gymnasium ids are
+    /// `carl_spec/<id>-v<version>`.
+    #[serde(default)]
+    pub version: u32,
+    /// What steps the environment, e.g. `physics2d`, `rapier3d`, `planar`, `closed-form`;
+    /// absent for a spec without a runtime.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(length(min = 1))]
+    pub engine: Option<String>,
     /// One or two sentences: what the task is and what the context changes.
     pub description: String,
     pub observation_space: Space,

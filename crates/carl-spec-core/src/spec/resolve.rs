@@ -137,6 +137,8 @@ pub fn resolve(
         observation_space: raw.observation_space.clone(),
         action_space: raw.action_space.clone(),
         max_episode_steps: raw.max_episode_steps,
+        version: raw.version,
+        engine: raw.engine.clone(),
         source: raw.source.clone(),
         features,
         distributions: raw.distributions.clone(),

@@ -1,15 +1,23 @@
 //! The `carl-spec` command line. Each subcommand lives in its own module; this file only parses
 //! arguments and maps outcomes to exit codes (0 ok, 1 invalid specs / failed check, 2 usage or I/O).
 
+#[cfg(feature = "envs")]
 mod audit_cmd;
+#[cfg(feature = "envs")]
 mod bench_cmd;
+#[cfg(feature = "envs")]
 mod context_args;
+#[cfg(feature = "envs")]
 mod fold_cmd;
 mod instances_cmd;
 mod plot_cmd;
+#[cfg(feature = "envs")]
 mod progress;
+#[cfg(feature = "envs")]
 mod render_cmd;
+#[cfg(feature = "envs")]
 mod rollout_cmd;
+#[cfg(feature = "envs")]
 mod run_cmd;
 mod specs_cmd;
 mod validate_cmd;
@@ -88,8 +96,10 @@ pub enum Command {
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
+    #[cfg(feature = "envs")]
     /// Run one episode and print JSON Lines (reset line, then one line per step).
     Rollout(rollout_cmd::RolloutArgs),
+    #[cfg(feature = "envs")]
     /// Check every feature's `affects` claim against the runtime by perturbing it within its bounds.
     /// Exit 0 all claims hold, 1 a contradiction, 2 unknown environment or no runtime.
     Audit {
@@ -102,11 +112,13 @@ pub enum Command {
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
+    #[cfg(feature = "envs")]
     /// Run one of the paper's experiments end to end, e.g. `run landing_in_space`.
     #[command(subcommand)]
     Run(run_cmd::RunCommand),
     /// Draw an instance set: a histogram per varied feature, its bounds, marked named instances.
     Plot(plot_cmd::PlotArgs),
+    #[cfg(feature = "envs")]
     /// Draw an instance: one PNG, an animated GIF of an episode, or a directory of PNG frames.
     Render(render_cmd::RenderArgs),
     /// Counts over all environments: features, share affecting dynamics/reward, share continuous.
@@ -114,8 +126,10 @@ pub enum Command {
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
+    #[cfg(feature = "envs")]
     /// RNA secondary structure (MFE, ViennaRNA 2.x default model) like RNAfold; `fold eval` like RNAeval.
     Fold(fold_cmd::FoldArgs),
+    #[cfg(feature = "envs")]
     /// Steps per second of one environment and of a VecEnv (random actions, auto-reset), as one JSON line.
     Bench {
         /// Environment id or alias, e.g. `cartpole`.
@@ -183,21 +197,34 @@ impl From<crate::spec::LoadError> for Failure {
 
 pub type CmdResult = Result<u8, Failure>;
 
+/// The `carl-spec` binary's entry point: [`run`] on the process's arguments.
 pub fn main() -> ExitCode {
-    let cli = match Cli::try_parse() {
+    ExitCode::from(run(std::env::args_os()))
+}
+
+/// The whole command line (`args` starts with the program name), returning the exit code. The
+/// binary and the Python package's `carl-spec` script both come here, at process start-up:
+/// `--data-dir` sets `CARL_SPEC_DATA` for the runtimes built later, which is sound only
+/// while no other thread of the process reads the environment.
+pub fn run<I, T>(args: I) -> u8
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(args) {
         Ok(c) => c,
         Err(e) => {
             let _ = e.print();
-            return ExitCode::from(if e.use_stderr() { exit::USAGE } else { exit::OK });
+            return if e.use_stderr() { exit::USAGE } else { exit::OK };
         }
     };
     if let Some(dir) = &cli.data_dir {
         if !dir.is_dir() {
             eprintln!("error: --data-dir {}: not a directory", dir.display());
-            return ExitCode::from(exit::USAGE);
+            return exit::USAGE;
         }
-        // SAFETY: set once at start-up, before any thread of this process exists; the runtimes
-        // read CARL_SPEC_DATA when they are built.
+        // SAFETY: set once at start-up (see above); the runtimes read CARL_SPEC_DATA when they
+        // are built.
         unsafe { std::env::set_var("CARL_SPEC_DATA", dir) };
     }
     let result = match &cli.command {
@@ -206,11 +233,14 @@ pub fn main() -> ExitCode {
         Command::Show { id, format } => specs_cmd::show(&cli, id, *format),
         Command::Schema => specs_cmd::schema(),
         Command::Stats { format } => specs_cmd::stats(&cli, *format),
+        #[cfg(feature = "envs")]
         Command::Rollout(args) => rollout_cmd::run(&cli, args),
+        #[cfg(feature = "envs")]
         Command::Run(cmd) => run_cmd::run(&cli, cmd),
         Command::Instances(cmd) => instances_cmd::instances(&cli, cmd),
         Command::Freeze { names, out, force } => instances_cmd::freeze(&cli, names, out.as_ref(), *force),
         Command::Plot(args) => plot_cmd::plot(&cli, args),
+        #[cfg(feature = "envs")]
         Command::Render(args) => render_cmd::run(&cli, args),
         Command::Sample {
             env,
@@ -219,20 +249,23 @@ pub fn main() -> ExitCode {
             seed,
             format,
         } => instances_cmd::sample(&cli, env, distribution, *n, *seed, *format),
+        #[cfg(feature = "envs")]
         Command::Bench {
             env,
             num_envs,
             steps,
             threads,
         } => bench_cmd::run(&cli, env, *num_envs, *steps, *threads),
+        #[cfg(feature = "envs")]
         Command::Audit { env, all, format } => audit_cmd::run(&cli, env.as_deref(), *all, *format),
+        #[cfg(feature = "envs")]
         Command::Fold(args) => fold_cmd::run(args),
     };
     match result {
-        Ok(code) => ExitCode::from(code),
+        Ok(code) => code,
         Err(f) => {
             eprintln!("error: {}", f.message.trim_end());
-            ExitCode::from(f.code)
+            f.code
         }
     }
 }

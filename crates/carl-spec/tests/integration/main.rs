@@ -10,6 +10,7 @@ mod context_noise;
 mod contextual;
 mod fetch;
 mod fold_cli;
+mod golden;
 mod grasp;
 mod hostile_input;
 mod humanoid;

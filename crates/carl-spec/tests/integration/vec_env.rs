@@ -2,7 +2,7 @@
 //! observations, rewards and flags (including automatic resets), for every runtime, kernel and
 //! thread count. Plus autoreset details, isolation between batches and bad input.
 
-use carl_spec::envs::registry::{Context, SpecEnv, ids, make};
+use carl_spec::envs::registry::{Context, REGISTRY, SpecEnv, StepCost, make};
 use carl_spec::envs::rng::EnvRng;
 use carl_spec::envs::vec_env::{Kernel, VecActions, VecEnv, VecEnvError, VecOptions};
 use carl_spec::envs::{Action, Env, EnvError, Space};
@@ -113,48 +113,21 @@ fn compare(id: &str, n: usize, steps: usize, opts: VecOptions) {
 
 #[test]
 fn vec_env_equals_scalar_envs_for_every_runtime() {
-    for id in ids() {
-        if carl_spec::envs::brax::is_robot(id) {
-            // 3-D robots: a few environments, past the 1000-step time limit.
-            compare(id, 2, 1003, VecOptions::default());
-            compare(
-                id,
-                3,
-                1003,
-                VecOptions {
-                    threads: 2,
-                    ..Default::default()
-                },
-            );
-            continue;
-        }
-        if id == "rna_design" {
-            // Each episode ends in a fold of up to 400 nt (plus LEARNA's local improvement):
-            // a few environments, long enough for several episodes of the shorter targets.
-            compare(id, 2, 150, VecOptions::default());
-            compare(
-                id,
-                3,
-                150,
-                VecOptions {
-                    threads: 2,
-                    ..Default::default()
-                },
-            );
-            continue;
-        }
-        // Long enough for every time limit (MountainCarContinuous: 999, VehicleRacing: 1000) to
-        // truncate.
-        let steps = if matches!(id, "mountain_car_continuous" | "vehicle_racing") {
-            1010
-        } else {
-            520
+    let specs = SpecSet::bundled().unwrap();
+    for reg in REGISTRY {
+        let spec = specs.get(reg.id).unwrap();
+        // Long enough for the time limit to truncate (tasks without one: several episodes).
+        let steps = spec.max_episode_steps.map_or(150, |m| m as usize + 10);
+        // Light environments: enough of them for several work-sharing blocks across threads;
+        // heavy ones (a physics world or a fold per step): a few.
+        let (alone, shared) = match reg.cost {
+            StepCost::Light => (5, 2 * reg.cost.min_block() + 5),
+            StepCost::Heavy => (2, 3),
         };
-        compare(id, 5, steps, VecOptions::default());
-        // Enough environments for several work-sharing blocks (>= 16 envs each) across threads.
+        compare(reg.id, alone, steps, VecOptions::default());
         compare(
-            id,
-            37,
+            reg.id,
+            shared,
             steps,
             VecOptions {
                 threads: 2,

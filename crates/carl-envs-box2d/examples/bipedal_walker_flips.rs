@@ -2,16 +2,16 @@
 //! (observation 0 leaves the observation space), where Gymnasium's Box2D walker ends the episode
 //! on hull contact first (0 of 51 episodes, largest |angle| 2.53).
 //!
-//!     cargo run --release --example bipedal_walker_flips -- [EPISODES] [TRACE_EPISODE]
+//!     cargo run --release -p carl-envs-box2d --example bipedal_walker_flips -- [EPISODES] [TRACE_EPISODE]
 //!
 //! Episode `e` resets with seed `e` and draws its actions uniformly in [-1, 1]^4 from
 //! `Pcg64::new(e, 7)`. Measured on the Box2D-semantics engine: 1 of 300 episodes flips (85,
 //! largest |angle| 3.21). The former rapier2d engine (removed) flipped 8 of 300 (largest 10.0):
 //! its contact warm start threw the walker up at hard landings. `TRACE_EPISODE` prints that
 //! episode step by step.
-use carl_spec::envs::box2d::{BipedalWalker, BipedalWalkerParams};
-use carl_spec::envs::{Action, Env};
-use carl_spec::sampling::{Pcg64, dist};
+use carl_envs_box2d::{BipedalWalker, BipedalWalkerParams};
+use carl_env::api::{Action, Env};
+use carl_spec_core::sampling::{Pcg64, dist};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
