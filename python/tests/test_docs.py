@@ -3,8 +3,9 @@
 * Every fenced block of README.md, docs/**/*.md and the pages generated from the specs
   (scripts/docs/gen_pages.py) is executed: ```sh / ```console blocks by bash in a fresh temporary
   directory with the built `carl-spec` first on PATH (CARL_SPEC_BIN, default
-  target/release/carl-spec), ```python blocks in a fresh interpreter (this one), ```json blocks are
-  parsed. A block that cannot run here is marked on the line right before its fence with
+  target/release/carl-spec; a ```console block's `$ ` commands one by one, each printing exactly the
+  output shown after it), ```python blocks in a fresh interpreter (this one), ```json blocks are
+  parsed. Rust blocks are not compiled here: each carries a skip marker naming what compiles it. A block that cannot run here is marked on the line right before its fence with
   `<!-- docs-test: skip (reason) -->`; `test_skipped_blocks_are_few_and_listed` prints them.
 * Committed text files (README, CHANGELOG, docs/, scripts/, python/, mkdocs.yml) hold no dated
   timestamps of runs and no absolute paths of one machine.
@@ -17,7 +18,6 @@ from __future__ import annotations
 import json
 import os
 import re
-import shlex
 import subprocess
 import sys
 import tempfile
@@ -34,7 +34,7 @@ import gen_pages  # noqa: E402
 RUN_LANGS = {"sh", "bash", "console", "python", "json"}
 # Languages shown, never run: program output, Rust (compiled by the crates' doctests and tests),
 # configuration fragments.
-SHOWN_LANGS = {"text", "rust", "yaml", "toml", "diff"}
+SHOWN_LANGS = {"text", "rust", "yaml", "toml", "diff", "bibtex"}
 SKIP = re.compile(r"<!--\s*docs-test:\s*skip\s*\((?P<reason>[^)]*(?:\([^)]*\)[^)]*)*)\)\s*-->")
 FENCE = re.compile(r"^(?P<indent>[ \t]*)(?P<fence>`{3,}|~{3,})[ \t]*(?P<lang>[\w+-]*)(?P<attrs>[^`]*)$")
 BLOCK_TIMEOUT = 120
@@ -90,18 +90,31 @@ def doc_sources() -> dict[str, str]:
 
 
 def all_blocks() -> list[Block]:
-    return [b for name, text in doc_sources().items() for b in blocks_of(text, name)]
+    """Every block once: a generated page repeats the blocks of its hand-written source."""
+    seen: set[tuple[str, str]] = set()
+    out = []
+    for name, text in doc_sources().items():
+        for b in blocks_of(text, name):
+            if (b.lang, b.code) not in seen:
+                seen.add((b.lang, b.code))
+                out.append(b)
+    return out
 
 
-def console_commands(code: str) -> str:
-    """The commands of a console block: lines after `$ ` (continued with a trailing backslash)."""
-    cmds: list[str] = []
+def console_steps(code: str) -> list[tuple[str, list[str]]]:
+    """A console block's commands (after `$ `, continued by a trailing backslash), each with the
+    output lines shown after it."""
+    steps: list[tuple[str, list[str]]] = []
     cont = False
     for line in code.splitlines():
-        if cont or line.startswith("$ "):
-            cmds.append(line[2:] if line.startswith("$ ") and not cont else line)
-            cont = line.endswith("\\")
-    return "\n".join(cmds) + "\n"
+        if cont:
+            steps[-1] = (steps[-1][0] + "\n" + line, steps[-1][1])
+        elif line.startswith("$ "):
+            steps.append((line[2:], []))
+        elif steps:
+            steps[-1][1].append(line)
+        cont = (cont or line.startswith("$ ")) and line.endswith("\\")
+    return steps
 
 
 def run_block(block: Block, tmp: Path) -> None:
@@ -116,9 +129,20 @@ def run_block(block: Block, tmp: Path) -> None:
     env.setdefault("MPLBACKEND", "Agg")
     work = tmp / "work"
     work.mkdir()
-    if block.lang in ("sh", "bash", "console"):
-        script = console_commands(block.code) if block.lang == "console" else block.code
-        cmd = ["bash", "-euo", "pipefail", "-c", script]
+    if block.lang == "console":
+        # Each command runs in turn; the output shown after it must be what it prints (stdout and
+        # stderr together, trailing spaces ignored).
+        for command, shown in console_steps(block.code):
+            r = subprocess.run(["bash", "-o", "pipefail", "-c", command + " 2>&1"], cwd=work, env=env,
+                               capture_output=True, text=True, timeout=BLOCK_TIMEOUT)
+            assert r.returncode == 0, f"{block.source}: `{command}` exited {r.returncode}:\n{r.stdout[-3000:]}"
+            if shown:
+                got = [line.rstrip() for line in r.stdout.rstrip("\n").splitlines()]
+                want = [line.rstrip() for line in shown]
+                assert got == want, f"{block.source}: `{command}` printed\n" + "\n".join(got) + "\ninstead of\n" + "\n".join(want)
+        return
+    if block.lang in ("sh", "bash"):
+        cmd = ["bash", "-euo", "pipefail", "-c", block.code]
     elif block.lang == "python":
         cmd = [sys.executable, "-W", "error", "-c", block.code]
     else:  # json
@@ -141,7 +165,9 @@ def test_code_block_runs(block: Block, tmp_path: Path) -> None:
 
 def test_every_block_has_a_known_language() -> None:
     unknown = [f"{b.source}: ```{b.lang}" for b in BLOCKS if b.lang not in RUN_LANGS | SHOWN_LANGS]
-    assert not unknown, "fences need a language (sh, console, python, json; or text, rust, yaml, toml, diff):\n" + "\n".join(unknown)
+    unknown += [f"{b.source}: a rust block needs a skip marker naming what compiles it" for b in BLOCKS
+                if b.lang == "rust" and b.skip is None]
+    assert not unknown, "fences need a language (sh, console, python, json; or text, rust, yaml, toml, diff, bibtex):\n" + "\n".join(unknown)
 
 
 def test_skipped_blocks_are_few_and_listed() -> None:
@@ -253,9 +279,7 @@ def test_readme_environment_table_matches_the_specs() -> None:
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
         if line.startswith("| [`") and len(cells) >= 5:
             rows[re.search(r"`([a-z0-9_]+)`", cells[0])[1]] = cells
-    listed = {e["id"]: e for e in cli_json("list", "--format", "json")} if False else None
-    ids = [line.split()[0] for line in subprocess.run([str(cli_path()), "list"], capture_output=True, text=True,
-                                                       check=True).stdout.splitlines()[1:] if line.strip()]
+    ids = [e["id"] for e in cli_json("list", "--format", "json")]
     assert sorted(rows) == sorted(ids), "README's environment table lists other environments than `carl-spec list`"
     for env_id, cells in rows.items():
         spec = cli_json("show", env_id, "--format", "json")
@@ -264,4 +288,3 @@ def test_readme_environment_table_matches_the_specs() -> None:
         page = gen_pages.env_meta(ROOT, env_id)
         assert cells[3] == page["engine"], f"{env_id}: engine {cells[3]!r} vs its page's {page['engine']!r}"
         assert cells[4] == page["fidelity"], f"{env_id}: fidelity {cells[4]!r} vs its page's {page['fidelity']!r}"
-    del listed, shlex

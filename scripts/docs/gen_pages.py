@@ -33,6 +33,9 @@ ROOT = Path(__file__).resolve().parents[2]
 SCHEMA_MARKER = "<!-- generated: schema -->"
 STATS_MARKER = "<!-- generated: stats -->"
 ENV_PICTURES = ("gif", "png")
+# The schema's objects in reading order (the others follow alphabetically).
+SCHEMA_ORDER = ("RawEnvSpec", "RawFeature", "Include", "FeaturePatch", "RawFragment", "RawDistribution", "Sampler",
+                "AtBounds", "RawInstanceSet", "SampledSet", "ExplicitInstance", "GridSet", "Space", "Upstream")
 
 
 def binary(root: Path = ROOT) -> Path:
@@ -281,10 +284,12 @@ def schema_pages(schema: dict[str, Any]) -> str:
     if schema.get("description"):
         out += [schema["description"], ""]
     out += object_table(schema) + [""]
-    for variant in schema.get("oneOf") or schema.get("anyOf") or []:
-        out += object_table(variant)
+    variants = schema.get("oneOf") or schema.get("anyOf") or []
+    if variants:
+        out += ["A file is one of:", ""] + [f"- {schema_ref(v)}" for v in variants] + [""]
     defs = schema.get("$defs") or schema.get("definitions") or {}
-    for name in sorted(defs):
+    first = [n for n in SCHEMA_ORDER if n in defs]
+    for name in first + sorted(set(defs) - set(first)):
         d = defs[name]
         out += [f"### {name}", ""]
         if d.get("description"):
@@ -295,7 +300,8 @@ def schema_pages(schema: dict[str, Any]) -> str:
         variants = d.get("oneOf") or d.get("anyOf")
         if variants:
             for i, var in enumerate(variants, 1):
-                label = var.get("title") or var.get("description") or ""
+                kind = (var.get("properties") or {}).get("kind", {}).get("const")
+                label = (f"`{kind}`: " if kind else "") + (var.get("title") or var.get("description") or "")
                 t = object_table(var)
                 if t:
                     out += [f"Variant {i}{': ' + cell(label) if label else ''}", ""] + t + [""]
