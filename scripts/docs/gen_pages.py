@@ -158,6 +158,46 @@ def picture(root: Path, env_id: str) -> str | None:
     return None
 
 
+CARL_BENCH = Path("python/tests/fixtures/carl_bench_1_1_1.json")
+
+
+def carl_bench_section(root: Path, spec: dict[str, Any]) -> list[str]:
+    """carl-bench 1.1.1's features of this environment (as recorded by scripts/record_carl_bench.py)
+    beside the spec's: the same name or an alias, default and bounds, or absent here."""
+    p = root / CARL_BENCH
+    if not p.exists():
+        return []
+    classes = json.loads(p.read_text())["classes"]
+    cls = next((c for c in spec.get("aliases", []) if c in classes), None)
+    if cls is None:
+        return []
+    by_name = {}
+    for f in spec["features"]:
+        for n in [f["name"], *f.get("aliases", [])]:
+            by_name[n] = f
+
+    def cb_bounds(x: dict[str, Any]) -> str:
+        if "lower" not in x:
+            return "–"
+        lo, hi = x["lower"], x["upper"]
+        fmt = lambda v, inf: inf if v in ("inf", "-inf") else num(v)  # noqa: E731
+        return f"[{fmt(lo, '−∞')}, {fmt(hi, '+∞')}]"
+
+    out = [f"## Against carl-bench 1.1.1 (`{cls}`)", "",
+           "carl-bench's context features as recorded from the package (`scripts/record_carl_bench.py` → "
+           f"`{CARL_BENCH.as_posix()}`), beside this spec's:", "",
+           "| carl-bench feature | its default | its bounds | here | default here | bounds here |",
+           "|---|---|---|---|---|---|"]
+    for x in classes[cls].get("features", []):
+        f = by_name.get(x["name"])
+        here = f"`{f['name']}`" if f else "not a feature here"
+        d_here = default(f) if f else "–"
+        b_here = bounds(f) if f else "–"
+        out.append(f"| `{x['name']}` | {cell(num(x.get('default')))} | {cb_bounds(x)} | {here} | {cell(d_here)} | {b_here} |")
+    out.append("")
+    return out
+
+
 def env_page(root: Path, spec: dict[str, Any], body: str, meta: dict[str, str], runtimes: set[str]) -> str:
     env_id = spec["id"]
     up = spec.get("upstream", {})
@@ -219,6 +259,7 @@ def env_page(root: Path, spec: dict[str, Any], body: str, meta: dict[str, str], 
         out.append("")
     if body.strip():
         out += [body.strip(), ""]
+    out += carl_bench_section(root, spec)
     return "\n".join(out)
 
 
