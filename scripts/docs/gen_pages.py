@@ -159,6 +159,26 @@ def picture(root: Path, env_id: str) -> str | None:
 
 
 CARL_BENCH = Path("python/tests/fixtures/carl_bench_1_1_1.json")
+# Environments the paper has no appendix table for (their features are the 2021 CARL code's), and
+# the features beyond the paper's tables (carl-bench 1.1.1's): both as tests/paper_tables.rs has them.
+NO_PAPER_TABLE = {"half_cheetah", "ur5e", "mountain_car_continuous"}
+BEYOND_PAPER = {"mario": ("noise_seed", "level_width")}
+
+
+def paper_section(spec: dict[str, Any]) -> list[str]:
+    env_id = spec["id"]
+    beyond = [f["name"] for f in spec["features"]
+              if f["name"].startswith("mass_") or f["name"] in BEYOND_PAPER.get(env_id, ())]
+    if env_id in NO_PAPER_TABLE:
+        text = ("The paper has no appendix table for this environment: its features are the 2021 CARL "
+                "code's definitions, checked by `tests/paper_tables.rs`.")
+    else:
+        text = ("Every feature of the paper's appendix table is here with the same name, default, bounds "
+                "and type (`tests/paper_tables.rs`; where the table prints a rounded number, the spec "
+                "holds the 2021 code's exact value, within 0.005).")
+    if beyond:
+        text += " Beyond the paper, from carl-bench 1.1.1: " + ", ".join(f"`{n}`" for n in beyond) + "."
+    return ["## Against the paper", "", text, ""]
 
 
 def carl_bench_section(root: Path, spec: dict[str, Any]) -> list[str]:
@@ -259,6 +279,7 @@ def env_page(root: Path, spec: dict[str, Any], body: str, meta: dict[str, str], 
         out.append("")
     if body.strip():
         out += [body.strip(), ""]
+    out += paper_section(spec)
     out += carl_bench_section(root, spec)
     return "\n".join(out)
 
