@@ -199,6 +199,8 @@ def main() -> int:
                 proc.kill()
             server.shutdown()
     print(f"{len(pages)} pages, {images} images, {links} internal links checked in Chromium")
+    bad_pages = {p.split(":", 1)[0] for p in problems}
+    print(f"pages: {len(pages) - len(bad_pages)} passed, {len(bad_pages)} failed")
     if problems:
         print("\n".join(["problems:"] + problems), file=sys.stderr)
         return 1
