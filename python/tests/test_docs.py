@@ -290,3 +290,22 @@ def test_readme_environment_table_matches_the_specs() -> None:
         page = gen_pages.env_meta(ROOT, env_id)
         assert cells[3] == page["engine"], f"{env_id}: engine {cells[3]!r} vs its page's {page['engine']!r}"
         assert cells[4] == page["fidelity"], f"{env_id}: fidelity {cells[4]!r} vs its page's {page['fidelity']!r}"
+
+
+# --- paths named in the docs ----------------------------------------------------------------------
+
+PATH_TOKEN = re.compile(r"`((?:src|tests|benches|crates|examples|scripts|python|specs|schema|robots|data|vendor|docs)/[^`\s]*)`")
+
+
+def test_repository_paths_named_in_the_docs_exist() -> None:
+    """A file or folder of this repository named in backticks (`tests/parity.rs`) exists, so a
+    moved file shows up here; names with placeholders (`<id>`, `ENV/SET`, `*`, `{a,b}`) are left."""
+    missing = []
+    for name, text in doc_sources().items():
+        for m in PATH_TOKEN.finditer(text):
+            path = m[1].rstrip(".,;:)")
+            if re.search(r"[<>*{}…]|\b[A-Z]{2,}\b|\.\.\.", path):
+                continue
+            if not (ROOT / path).exists():
+                missing.append(f"{name}: `{path}`")
+    assert not missing, "paths named in the docs that do not exist:\n" + "\n".join(sorted(set(missing)))
