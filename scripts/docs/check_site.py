@@ -5,7 +5,8 @@
 
 Serves the site on 127.0.0.1 (a free port, `http.server` in a thread), starts headless Chromium
 with the DevTools protocol on loopback, and for every HTML page of the site:
-* navigates to it and waits for its `load` event; the page must answer HTTP 200;
+* navigates to it and waits for its `load` event; the page must answer HTTP 200, no script may
+  throw and no request (of any host: the site is read offline) may fail;
 * every <img> must have loaded (`complete` and `naturalWidth > 0`);
 * every internal link (same host: `href`, and `src` of scripts and images) must answer HTTP 200,
   and a link's `#fragment` must name an element of its target page.
@@ -153,6 +154,7 @@ def main() -> int:
             dt = DevTools(target["webSocketDebuggerUrl"])
             dt.call("Page.enable")
             dt.call("Network.enable")
+            dt.call("Runtime.enable")
             images = links = 0
             for page in pages:
                 url = urllib.parse.urljoin(base, page)
@@ -168,6 +170,23 @@ def main() -> int:
                 if code != 200:
                     problems.append(f"{page}: HTTP {code}")
                     continue
+                # Let scripts run, then look at what went wrong while loading: exceptions thrown by
+                # the page's scripts, and requests that failed (any host: the site is read offline).
+                time.sleep(0.05)
+                dt.call("Runtime.evaluate", expression="1")
+                failed_ids = set()
+                for e in dt.events:
+                    if e.get("method") == "Runtime.exceptionThrown":
+                        d = e["params"]["exceptionDetails"]
+                        text = d.get("exception", {}).get("description") or d.get("text", "")
+                        problems.append(f"{page}: script error: {text.splitlines()[0] if text else d}")
+                    elif e.get("method") == "Network.loadingFailed" and not e["params"].get("canceled"):
+                        failed_ids.add(e["params"]["requestId"])
+                for e in dt.events:
+                    if e.get("method") == "Network.requestWillBeSent" and e["params"]["requestId"] in failed_ids:
+                        problems.append(f"{page}: request failed: {e['params']['request']['url']}")
+                    elif (e.get("method") == "Network.responseReceived" and e["params"]["response"]["status"] >= 400):
+                        problems.append(f"{page}: HTTP {e['params']['response']['status']} for {e['params']['response']['url']}")
                 res = dt.call("Runtime.evaluate", expression=COLLECT, returnByValue=True)
                 data = json.loads(res["result"]["value"])
                 if not data["title"] or data["body"] == 0:
