@@ -102,18 +102,26 @@ def all_blocks() -> list[Block]:
 
 
 def console_steps(code: str) -> list[tuple[str, list[str]]]:
-    """A console block's commands (after `$ `, continued by a trailing backslash), each with the
-    output lines shown after it."""
+    """A console block's commands (after `$ `, continued by a trailing backslash or a here-document),
+    each with the output lines shown after it."""
     steps: list[tuple[str, list[str]]] = []
     cont = False
+    heredoc: str | None = None
     for line in code.splitlines():
-        if cont:
+        if cont or heredoc is not None:
             steps[-1] = (steps[-1][0] + "\n" + line, steps[-1][1])
-        elif line.startswith("$ "):
+            if heredoc is not None and line == heredoc:
+                heredoc = None
+            cont = cont and line.endswith("\\")
+            continue
+        if line.startswith("$ "):
             steps.append((line[2:], []))
+            cont = line.endswith("\\")
+            m = re.search(r"<<-?\s*'?(\w+)'?\s*$", line)
+            if m:  # a here-document: its lines up to the terminator belong to the command
+                heredoc = m[1]
         elif steps:
             steps[-1][1].append(line)
-        cont = (cont or line.startswith("$ ")) and line.endswith("\\")
     return steps
 
 
@@ -133,8 +141,8 @@ def run_block(block: Block, tmp: Path) -> None:
         # Each command runs in turn; the output shown after it must be what it prints (stdout and
         # stderr together, trailing spaces ignored).
         for command, shown in console_steps(block.code):
-            r = subprocess.run(["bash", "-o", "pipefail", "-c", command + " 2>&1"], cwd=work, env=env,
-                               capture_output=True, text=True, timeout=BLOCK_TIMEOUT)
+            r = subprocess.run(["bash", "-o", "pipefail", "-c", command], cwd=work, env=env, stdout=subprocess.PIPE,
+                               stderr=subprocess.STDOUT, text=True, timeout=BLOCK_TIMEOUT)
             assert r.returncode == 0, f"{block.source}: `{command}` exited {r.returncode}:\n{r.stdout[-3000:]}"
             if shown:
                 got = [line.rstrip() for line in r.stdout.rstrip("\n").splitlines()]
