@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """64 LunarLanders on 2 threads: carl-spec's VecEnv (`carl-spec bench`) beside envpool's, in one run.
 
-    /work/venvs/peers/bin/python scripts/bench_lunar_lander_envpool.py \
+    .venv-peers/bin/python scripts/bench_lunar_lander_envpool.py \
         --carl-spec target/release/carl-spec [--rounds 5] [--seconds 2]
 
 Both step 64 discrete LunarLanders with uniformly random actions and automatic resets on 2

@@ -15,11 +15,11 @@ Per episode: return, length, and the hull's final x on the course (start 4.67 m,
 non-final reward is `Δ(130·x/SCALE − 5·|angle|)` minus the torque cost, and the angle is
 observation 0), the final step adding `vx·dt` (the final reward is −100 on a fall).
 
-Usage (Gymnasium installed outside the repository, carl-spec built):
-    python3 -m venv /work/venvs/peers && /work/venvs/peers/bin/pip install swig \
-        && /work/venvs/peers/bin/pip install "gymnasium[box2d]==1.4.*"
+Usage (Gymnasium in a venv of its own, `.venv-*` is gitignored; carl-spec built):
+    python3 -m venv .venv-peers && .venv-peers/bin/pip install swig \
+        && .venv-peers/bin/pip install "gymnasium[box2d]==1.4.*"
     cargo build --release
-    /work/venvs/peers/bin/python scripts/bipedal_walker_gait_check.py --seeds 30 \
+    .venv-peers/bin/python scripts/bipedal_walker_gait_check.py --seeds 30 \
         --carl-spec target/release/carl-spec --out bipedal_walker_gait.json --markdown
 """
 import argparse

@@ -7,7 +7,7 @@ contact flags; every body's state), the action, and the course (terrain_x, terra
 Protocol as `bipedal_walker_gait_check.py` (Gymnasium's `__main__`: reset, zero action, then
 `BipedalWalkerHeuristics`).
 
-    /work/venvs/peers/bin/python scripts/bipedal_walker_record_box2d.py --seed 0 --steps 400 > rec.json
+    .venv-peers/bin/python scripts/bipedal_walker_record_box2d.py --seed 0 --steps 400 > rec.json
 """
 import argparse
 import json

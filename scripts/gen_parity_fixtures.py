@@ -2,11 +2,11 @@
 """Generate bit-exact parity fixtures for carl-spec's classic-control environments from the
 real Gymnasium implementation.
 
-Usage (the venv lives outside the repository):
+Usage (a venv of its own, `.venv-*` is gitignored):
 
-    python3 -m venv /tmp/gymvenv
-    /tmp/gymvenv/bin/pip install "gymnasium==1.4.*" numpy
-    /tmp/gymvenv/bin/python scripts/gen_parity_fixtures.py [out_dir]
+    python3 -m venv .venv-gym
+    .venv-gym/bin/pip install "gymnasium==1.4.*" numpy
+    .venv-gym/bin/python scripts/gen_parity_fixtures.py [out_dir]
 
 Writes tests/fixtures/parity/<env>.json, replayed by tests/parity.rs.
 

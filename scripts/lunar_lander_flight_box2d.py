@@ -4,8 +4,8 @@ heuristic flies LunarLander-v3 (Box2D) for each planet and seed; every step's ac
 lander's state after it (origin x, y, angle, COM velocity, angular velocity) and the legs' angles
 relative to the lander are recorded until the first leg contact or `--steps` steps.
 
-Usage (Gymnasium 1.4 with box2d, outside the repository):
-    /work/venvs/peers/bin/python scripts/lunar_lander_flight_box2d.py \
+Usage (Gymnasium 1.4 with box2d in a venv of its own, `.venv-*` is gitignored):
+    .venv-peers/bin/python scripts/lunar_lander_flight_box2d.py \
         --out tests/fixtures/lunar_lander_flight_box2d.json
 
 `tests/lunar_lander.rs` replays the same actions from the same seeds (the same terrain, push and

@@ -2,10 +2,10 @@
 """Gymnasium reference for the Rust lander's behaviour: landing / crash rates of Gymnasium's own
 `heuristic` controller on LunarLander-v3 under each test planet's gravity.
 
-Usage (Gymnasium installed outside the repository):
-    python3 -m venv /tmp/boxvenv && /tmp/boxvenv/bin/pip install swig \
-        && /tmp/boxvenv/bin/pip install "gymnasium[box2d]==1.4.*"
-    /tmp/boxvenv/bin/python scripts/lunar_lander_heuristic_check.py --episodes 50 \
+Usage (Gymnasium in a venv of its own, `.venv-*` is gitignored):
+    python3 -m venv .venv-peers && .venv-peers/bin/pip install swig \
+        && .venv-peers/bin/pip install "gymnasium[box2d]==1.4.*"
+    .venv-peers/bin/python scripts/lunar_lander_heuristic_check.py --episodes 50 \
         --out tests/fixtures/lunar_lander_heuristic_gymnasium.json
 
 Gymnasium's constructor refuses gravity outside (-12, 0); like CARL we set the attribute the

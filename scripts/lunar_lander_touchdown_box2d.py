@@ -6,8 +6,8 @@ legs, shaping) is written in the layout of carl-spec's `LunarLander::state()`, t
 episode's outcome in Box2D and the touchdown's measurements (speed at first leg contact, the largest
 leg joint deflection past its rest angle).
 
-Usage (Gymnasium 1.4 with box2d, outside the repository):
-    /work/venvs/peers/bin/python scripts/lunar_lander_touchdown_box2d.py --episodes 50 \
+Usage (Gymnasium 1.4 with box2d in a venv of its own, `.venv-*` is gitignored):
+    .venv-peers/bin/python scripts/lunar_lander_touchdown_box2d.py --episodes 50 \
         --out tests/fixtures/lunar_lander_touchdowns_box2d.json
 
 `tests/lunar_lander.rs` loads every recorded state into carl-spec's lander, lets the same heuristic

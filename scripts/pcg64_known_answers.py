@@ -5,7 +5,7 @@
 2. Seeding: re-implement Pcg64::new(seed, stream) (SplitMix64 expansion + PCG srandom) here in
    pure Python, hand the resulting raw state to NumPy and print its outputs and random() doubles.
 
-Usage: python3 scripts/pcg64_known_answers.py   (needs numpy; run it in a venv outside the repo)
+Usage: python3 scripts/pcg64_known_answers.py   (needs numpy; run it in a venv of its own)
 """
 import numpy as np
 

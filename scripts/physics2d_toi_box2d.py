@@ -10,8 +10,8 @@ Cases: a box falling flat or tilted onto an edge at several speeds, a bar turnin
 an edge, and random convex polygons (3..8 vertices) and edges moving and turning within Box2D's
 per-step limits (translation < 2 m, rotation <= pi/2).
 
-Usage (pybox2d, e.g. the Gymnasium box2d extra, outside the repository):
-    /work/venvs/peers/bin/python scripts/physics2d_toi_box2d.py --cases 300 \
+Usage (pybox2d, e.g. the Gymnasium box2d extra, in a venv of its own):
+    .venv-peers/bin/python scripts/physics2d_toi_box2d.py --cases 300 \
         --out tests/fixtures/physics2d_toi_box2d.json
 
 `src/physics2d/toi.rs` (test `matches_box2d_on_recorded_cases`) replays every case.

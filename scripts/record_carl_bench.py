@@ -5,8 +5,8 @@ carl-bench pins gymnasium < 1.0, so it cannot live in carl-spec's test venv; thi
 venv of its own and writes python/tests/fixtures/carl_bench_1_1_1.json, which the tests check
 carl_spec.compat against (every run, no carl-bench needed):
 
-    python3 -m venv /tmp/cb && /tmp/cb/bin/pip install carl-bench==1.1.1 gymnasium==0.29.1 box2d==2.3.10 pygame
-    /tmp/cb/bin/python scripts/record_carl_bench.py python/tests/fixtures/carl_bench_1_1_1.json
+    python3 -m venv .venv-carl-bench && .venv-carl-bench/bin/pip install carl-bench==1.1.1 gymnasium==0.29.1 box2d==2.3.10 pygame
+    .venv-carl-bench/bin/python scripts/record_carl_bench.py python/tests/fixtures/carl_bench_1_1_1.json
 
 Brax, Mario and RNA classes need carl-bench extras (brax/jax, torch+java, ViennaRNA); their feature
 tables are read from the class's `get_context_features()` with those imports stubbed (the method is
@@ -18,6 +18,7 @@ from __future__ import annotations
 import importlib
 import json
 import math
+import re
 import sys
 import types
 import warnings
@@ -264,7 +265,9 @@ def main() -> None:
         try:
             cls = stubbed_import(module, name, stubs) if stubs else getattr(importlib.import_module(module), name)
         except Exception as e:  # noqa: BLE001 - recorded as a fact
-            row = {"features": source_feature_table(module), "import_error": f"{type(e).__name__}: {e}"}
+            # The message names files of the recording venv: keep the part below site-packages only.
+            message = re.sub(r"\S*/site-packages/", "<site-packages>/", f"{type(e).__name__}: {e}")
+            row = {"features": source_feature_table(module), "import_error": message}
         else:
             row = {"features": feature_table(cls), "stubbed": bool(stubs)}
             if hasattr(cls, "env_name"):
