@@ -1,4 +1,4 @@
-//! Validation speed: the bundled specs in-process (the whole-process figure is in the README).
+//! Validation speed: the bundled specs in-process (the whole-process figure is on docs/performance.md).
 
 use carl_spec_core::spec::load::bundled_inputs;
 use carl_spec_core::validate;

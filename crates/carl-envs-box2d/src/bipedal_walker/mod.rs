@@ -10,7 +10,7 @@
 //! baseline (no events); the warm-start impulses are not part of the state. Not modelled: Box2D's
 //! sleeping (Gymnasium wakes the walker every step by setting its motors) and f32 arithmetic.
 //! (A former rapier2d engine, which had to emulate Box2D's joint limits, landings and start pose,
-//! was removed: README "BipedalWalker".)
+//! was removed: CHANGELOG.md, "BipedalWalker".)
 //!
 //! Same as Gymnasium (CARL overrides the module constants; here each instance has its own
 //! [`BipedalWalkerParams`]):

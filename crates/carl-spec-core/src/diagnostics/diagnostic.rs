@@ -26,7 +26,7 @@ pub struct Location {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Diagnostic {
     pub severity: Severity,
-    /// Stable rule id, e.g. `default-out-of-bounds`. Documented in the README.
+    /// Stable rule id, e.g. `default-out-of-bounds`. Documented on the rules page (docs/reference/rules.md).
     pub rule: String,
     pub message: String,
     /// How to fix it.

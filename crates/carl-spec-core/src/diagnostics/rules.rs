@@ -1,6 +1,7 @@
 //! The rule registry: every rule the validator can report, declared once (like cargo's lint
-//! table). Diagnostics are made from these entries, never from free strings; the README's rule list
-//! and the corpus of broken specs (`tests/corpus/invalid/`) are checked against [`ALL`].
+//! table). Diagnostics are made from these entries, never from free strings; the rules page's
+//! table (docs/reference/rules.md) and the corpus of broken specs (`tests/corpus/invalid/`) are
+//! checked against [`ALL`].
 
 use super::Severity;
 
@@ -13,7 +14,7 @@ pub struct Rule {
     pub severity: Severity,
     /// Underline the key (a name) rather than its value.
     pub on_key: bool,
-    /// What the rule checks, in one line (the README's rule table).
+    /// What the rule checks, in one line (the rules page's table).
     pub summary: &'static str,
 }
 
@@ -33,7 +34,7 @@ macro_rules! registry {
             #[doc = $summary]
             pub static $name: Rule = Rule { id: $id, severity: Severity::$sev, on_key: $on_key, summary: $summary };
         )*
-        /// Every rule, in the order the README lists them.
+        /// Every rule, in the order the rules page lists them.
         pub static ALL: &[&Rule] = &[$(&$name),*];
     };
 }

@@ -1,4 +1,4 @@
-//! Semantic rules the JSON Schema cannot express. Each rule id is stable and listed in the README.
+//! Semantic rules the JSON Schema cannot express. Each rule id is stable and listed on the rules page (docs/reference/rules.md).
 
 // `!(x > 0.0)` is deliberate throughout: it also rejects NaN, which `x <= 0.0` would let through.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -649,7 +649,7 @@ fn params_help(kind: &str) -> &'static str {
         "interval_mixture" => {
             "write [low, high] intervals with finite low < high; give weights (one per interval) or stratified, not both"
         }
-        _ => "see the sampler's parameters in the README",
+        _ => "see the sampler's parameters in the spec-language reference (docs/reference/spec-language.md)",
     }
 }
 

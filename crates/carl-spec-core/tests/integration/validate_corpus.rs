@@ -1,6 +1,6 @@
 //! Each case in tests/corpus/invalid/ (a file, or a folder of files for rules about several files)
 //! breaks exactly one rule; the validator must name that rule and point at the right file, line and
-//! column. The registry walk makes a new rule without a case fail the suite, and the README's rule
+//! column. The registry walk makes a new rule without a case fail the suite, and the rules page's
 //! table must be the registry's. The base spec must be valid.
 
 use std::path::PathBuf;
@@ -200,12 +200,13 @@ fn corpus_and_expectations_match() {
 }
 
 #[test]
-fn readme_lists_exactly_the_registry() {
-    let readme = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../README.md")).unwrap();
+fn rules_page_lists_exactly_the_registry() {
+    let page = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../docs/reference/rules.md");
+    let text = std::fs::read_to_string(&page).unwrap();
     let table = rules::markdown_table();
     assert!(
-        readme.contains(&table),
-        "README.md's rule table differs from the registry; paste this between the rule markers:\n{table}"
+        text.contains(&table),
+        "docs/reference/rules.md's rule table differs from the registry; paste this between the rule markers:\n{table}"
     );
 }
 

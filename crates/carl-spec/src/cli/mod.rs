@@ -38,7 +38,8 @@ pub struct Cli {
     #[arg(long, global = true, value_name = "DIR")]
     pub specs: Option<PathBuf>,
     /// The data directory for user-supplied data (Mario levels and TOAD-GAN weights, Rfam-Learn
-    /// targets), laid out like `../shared/data/`; overrides the CARL_SPEC_DATA variable.
+    /// targets): `mario/` and `rna/` folders as the docs' data guide lays out; overrides the
+    /// CARL_SPEC_DATA variable.
     #[arg(long, global = true, value_name = "DIR")]
     pub data_dir: Option<PathBuf>,
     #[command(subcommand)]

@@ -259,7 +259,7 @@ fn worker(sh: &Shared, w: usize) {
                 // No `spin_loop()` (x86 `pause`) here: under KVM a long run of `pause` makes the
                 // vCPU exit to the hypervisor (pause-loop exiting), and a worker that spins
                 // through the caller's Python work at every batch step then slowed `make_vec`'s
-                // LunarLander steps by ~20 % after the first ~0.3 s (bimodal rounds, README).
+                // LunarLander steps by ~20 % after the first ~0.3 s (bimodal rounds, docs/performance.md).
                 std::hint::black_box(());
             } else {
                 sh.sleeping[w].store(true, Ordering::SeqCst);
