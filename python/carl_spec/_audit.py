@@ -35,7 +35,7 @@ import numpy as np
 from gymnasium import spaces
 
 from . import _core
-from .wrap import ApplyFn, EnvFactory, PathLike, load_user_spec, wrap
+from ._wrap import ApplyFn, EnvFactory, PathLike, load_user_spec, wrap
 
 EFFECTS = ("dynamics", "reward", "termination", "initial_state", "observation", "task_generation")
 GetState = Callable[[gymnasium.Env[Any, Any]], Any]
