@@ -108,7 +108,8 @@ def _register() -> None:
                 entry_point="carl_spec.env:CarlEnv",
                 vector_entry_point="carl_spec.vector:CarlVectorEnv",
                 kwargs={"env": env_id},
-                # The runtime truncates at the spec's episode limit itself.
+                # The runtime truncates at the spec's episode limit itself: no TimeLimit on top.
+                # `gymnasium.make(...).spec.max_episode_steps` states that limit (CarlEnv.spec).
                 max_episode_steps=None,
             )
 

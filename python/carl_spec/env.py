@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 from typing import Any, SupportsFloat
 
 import gymnasium
 import numpy as np
+from gymnasium.envs.registration import EnvSpec
 
 from . import _core
 from ._args import NoiseStd, core_kwargs
@@ -51,6 +53,11 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
     Seeding: `reset(seed=s)` determines everything that follows (instance choice, draws, initial
     states); the classic five start from the state Gymnasium's env starts from with seed `s`.
     An env never seeded draws its first seed from the OS.
+
+    Episodes truncate at the spec's `max_episode_steps` (`env.spec.max_episode_steps` under
+    `gymnasium.make`). Pickling (what `AsyncVectorEnv`, SB3's `SubprocVecEnv` and Ray do with
+    env functions and envs) keeps the constructor arguments and Gymnasium's spec: the copy is a
+    new environment to reset, without the episode in progress or the random streams' position.
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 50}
@@ -86,6 +93,7 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
             specs_dir=specs_dir,
         )
         self._ctor: dict[str, Any] = dict(env=env, render_mode=render_mode, **source)
+        self._spec: EnvSpec | None = None
         self._core = _core.Env(env, **core_kwargs(**source))
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be one of {self.metadata['render_modes']} or None, got {render_mode!r}")
@@ -144,9 +152,26 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
     def set_state(self, state: list[float]) -> None:
         self._core.set_state(list(state))
 
+    @property
+    def spec(self) -> EnvSpec | None:
+        """Gymnasium's spec of the env, as `gymnasium.make` sets it, with `max_episode_steps`
+        the episode limit the runtime truncates at (the spec's). The runtime truncates itself,
+        so `gymnasium.make` adds no `TimeLimit` (one with `max_episode_steps=n` shortens the
+        episodes to `n` steps; a longer limit than the spec's cannot take effect)."""
+        return self._spec
+
+    @spec.setter
+    def spec(self, value: EnvSpec | None) -> None:
+        limit = self._core.max_episode_steps
+        if value is not None and value.max_episode_steps is None and limit is not None:
+            value = dataclasses.replace(value, max_episode_steps=int(limit))
+        self._spec = value
+
     def __reduce__(self) -> tuple[Any, ...]:
-        # Pickles as its constructor arguments (AsyncVectorEnv, SubprocVecEnv, Ray ship envs so).
-        return (_rebuild_env, (self._ctor,))
+        # Pickles as its constructor arguments (AsyncVectorEnv, SubprocVecEnv, Ray ship envs
+        # so), and Gymnasium's spec: the copy is a new environment (reset it before stepping);
+        # the episode in progress, the seed and the random streams are not carried over.
+        return (_rebuild_env, (self._ctor,), {"_spec": self._spec})
 
 
 def _rebuild_env(ctor: dict[str, Any]) -> CarlEnv:

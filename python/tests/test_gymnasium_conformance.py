@@ -1,9 +1,12 @@
-"""What Gymnasium users rely on (issues 29 and 31): environments shipped to worker processes
+"""What Gymnasium users rely on (issues 29 and 31): the episode limit in the env's spec with
+truncation exactly once, the `module:id` form, environments shipped to worker processes
 (AsyncVectorEnv under spawn and forkserver)."""
 
 from __future__ import annotations
 
 import pickle
+import subprocess
+import sys
 from typing import Any
 
 import cloudpickle
@@ -12,6 +15,90 @@ import numpy as np
 import pytest
 
 import carl_spec as cs
+
+# -- the episode limit -----------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("env_id", cs.RUNTIMES)
+def test_gymnasium_make_states_the_spec_episode_limit(env_id: str) -> None:
+    limit = cs.spec(env_id).max_episode_steps
+    env = gymnasium.make(cs.gym_id(env_id))
+    assert env.spec is not None and env.spec.max_episode_steps == limit
+    assert env.unwrapped.spec is not None and env.unwrapped.spec.max_episode_steps == limit
+    assert env.unwrapped._core.max_episode_steps == limit  # what the runtime truncates at
+    # No TimeLimit on top: the runtime truncates itself (one wrapper layer less per step).
+    layer: Any = env
+    while isinstance(layer, gymnasium.Wrapper):
+        assert not isinstance(layer, gymnasium.wrappers.TimeLimit)
+        layer = layer.env
+    env.close()
+
+
+def pendulum_actions(n: int) -> list[np.ndarray]:
+    return [np.array([((t * 7) % 5 - 2) * 0.9], dtype=np.float32) for t in range(n)]
+
+
+def test_truncation_comes_once_at_the_limit_exactly_as_cs_make() -> None:
+    # Pendulum never terminates: every episode ends by truncation at the spec's 200 steps, once
+    # (the runtime truncates, no TimeLimit on top), exactly as cs.make's env, episode after episode.
+    limit = cs.spec("pendulum").max_episode_steps
+    assert limit == 200
+    ours, ref = gymnasium.make("carl_spec/pendulum-v0"), cs.make("pendulum")
+    for seed in (1, 2):
+        a, _ = ours.reset(seed=seed)
+        b, _ = ref.reset(seed=seed)
+        np.testing.assert_array_equal(a, b)
+        for t, action in enumerate(pendulum_actions(limit), start=1):
+            o1, r1, term1, trunc1, _ = ours.step(action)
+            o2, r2, term2, trunc2, _ = ref.step(action)
+            np.testing.assert_array_equal(o1, o2)
+            assert (r1, term1, trunc1) == (r2, term2, trunc2) == (r2, False, t == limit)
+
+
+def test_a_shorter_limit_from_gymnasium_make_truncates_there() -> None:
+    env = gymnasium.make("carl_spec/pendulum-v0", max_episode_steps=50)
+    assert env.spec is not None and env.spec.max_episode_steps == 50
+    for seed in (0, 1):
+        env.reset(seed=seed)
+        flags = [env.step(a)[3] for a in pendulum_actions(50)]
+        assert flags == [False] * 49 + [True]
+
+
+def test_vector_entry_point_truncates_at_the_limit_and_refuses_another() -> None:
+    venv = gymnasium.make_vec("carl_spec/pendulum-v0", 2, vectorization_mode="vector_entry_point")
+    assert isinstance(venv, cs.CarlVectorEnv)
+    venv.reset(seed=0)
+    for t in range(1, 201):
+        _, _, term, trunc, _ = venv.step(np.zeros((2, 1), dtype=np.float32))
+        assert not term.any() and trunc.all() == (t == 200) and trunc.any() == (t == 200)
+    with pytest.raises(ValueError, match=r"limit \(200 steps\); max_episode_steps=50 is not supported.*'sync'"):
+        gymnasium.make_vec("carl_spec/pendulum-v0", 2, vectorization_mode="vector_entry_point", max_episode_steps=50)
+    assert cs.make_vec("pendulum", 2, max_episode_steps=200).num_envs == 2
+    sync = gymnasium.make_vec("carl_spec/pendulum-v0", 2, vectorization_mode="sync", max_episode_steps=50)
+    sync.reset(seed=0)
+    flags = [sync.step(np.zeros((2, 1), dtype=np.float32))[3].all() for _ in range(50)]
+    assert flags == [False] * 49 + [True]
+
+
+def fresh(code: str) -> str:
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    return r.stdout.strip().splitlines()[-1]
+
+
+def test_module_prefixed_id_needs_no_import() -> None:
+    # CleanRL-style scripts call gymnasium.make(env_id) and import nothing else.
+    out = fresh(
+        "import gymnasium, sys\n"
+        "assert 'carl_spec' not in sys.modules\n"
+        "env = gymnasium.make('carl_spec:carl_spec/cartpole-v0')\n"
+        "obs, _ = env.reset(seed=0)\n"
+        "venv = gymnasium.make_vec('carl_spec:carl_spec/cartpole-v0', 2, vectorization_mode='sync')\n"
+        "vobs, _ = venv.reset(seed=0)\n"
+        "print(type(env.unwrapped).__name__, env.spec.id, env.spec.max_episode_steps, obs.shape, vobs.shape)"
+    )
+    assert out == "CarlEnv carl_spec/cartpole-v0 500 (4,) (2, 4)"
+
 
 # -- shipping environments to worker processes --------------------------------------------
 
@@ -22,6 +109,23 @@ def test_the_package_pickles_by_reference() -> None:
     fn = pickle.loads(cloudpickle.dumps(lambda: cs.make("cartpole", context={"masscart": 2.0})))
     assert fn().context["masscart"] == 2.0
     assert pickle.loads(cloudpickle.dumps(cs)) is cs
+
+
+def test_an_env_pickles_as_a_fresh_env_of_the_same_arguments() -> None:
+    # What holds for a CarlEnv instance: it pickles as its constructor arguments, so the copy is
+    # a new environment (reset it); the episode in progress is not carried over.
+    env = cs.make("cartpole", context={"masscart": 2.0})
+    env.reset(seed=3)
+    env.step(1)
+    for dumps in (pickle.dumps, cloudpickle.dumps):
+        clone = pickle.loads(dumps(env))
+        assert clone.context["masscart"] == 2.0
+        with pytest.raises(RuntimeError, match="before reset"):
+            clone.step(0)
+        np.testing.assert_array_equal(clone.reset(seed=3)[0], cs.make("cartpole", context={"masscart": 2.0}).reset(seed=3)[0])
+    wrapped = gymnasium.make("carl_spec/cartpole-v0")
+    assert pickle.loads(pickle.dumps(wrapped)).spec.max_episode_steps == 500
+    assert pickle.loads(pickle.dumps(wrapped.unwrapped)).spec == wrapped.unwrapped.spec
 
 
 def run(venv: Any, steps: int) -> list[tuple[Any, ...]]:
