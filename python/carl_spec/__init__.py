@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 import gymnasium
 
 from . import _core
-from ._errors import UnknownNameError
+from ._errors import InvalidActionError, UnknownNameError
 from .env import CarlEnv
 
 if TYPE_CHECKING:
@@ -64,6 +64,7 @@ __all__ = [
     "ContextualWrapper",
     "Diagnostic",
     "InstanceSet",
+    "InvalidActionError",
     "RUNTIMES",
     "Spec",
     "UnknownNameError",

@@ -13,12 +13,46 @@ from gymnasium.envs.registration import EnvSpec
 
 from . import _core
 from ._args import NoiseStd, core_kwargs
+from ._errors import InvalidActionError
 from ._spaces import space_from_json
 
 
 def os_entropy_seed() -> int:
     """A 64-bit seed from the OS (what an env never seeded uses, so parallel workers differ)."""
     return int.from_bytes(os.urandom(8), "little")
+
+
+def discrete_action(env_id: str, space: gymnasium.spaces.Space[Any], action: Any) -> int:
+    """A Discrete action as an int: a Python int, a NumPy integer scalar or a 0-d integer array.
+    Bools (Python's and NumPy's), floats (even 1.0), strings and arrays of any other shape are
+    refused, naming the space; `Discrete.contains`' rule, with bools refused as well."""
+    if isinstance(action, (bool, np.bool_)):
+        raise InvalidActionError(
+            f"{env_id}: a {space} action is an int, got the bool {bool(action)} (pass int(action) if you mean {int(action)})"
+        )
+    if isinstance(action, int):
+        return action
+    if isinstance(action, (np.ndarray, np.generic)):
+        if np.issubdtype(action.dtype, np.integer) and action.shape == ():
+            return int(action)
+        if action.shape != ():
+            raise InvalidActionError(
+                f"{env_id}: a {space} action is an int (or a NumPy integer scalar), got a NumPy array of "
+                f"shape {action.shape}; pass one element (e.g. int(action[0]))"
+            )
+        raise InvalidActionError(
+            f"{env_id}: a {space} action is an int (or a NumPy integer scalar), got a {action.dtype} value {action!r}"
+        )
+    raise InvalidActionError(
+        f"{env_id}: a {space} action is an int (or a NumPy integer scalar), got {type(action).__name__} {action!r:.80}"
+    )
+
+
+def _with_numpy_seed(info: dict[str, Any]) -> dict[str, Any]:
+    if "context_seed" in info:
+        # A NumPy scalar, so Gymnasium's vector envs can batch it (it may exceed int64).
+        info["context_seed"] = np.uint64(info["context_seed"])
+    return info
 
 
 def _fresh(info: dict[str, Any]) -> dict[str, Any]:
@@ -53,6 +87,11 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
     Seeding: `reset(seed=s)` determines everything that follows (instance choice, draws, initial
     states); the classic five start from the state Gymnasium's env starts from with seed `s`.
     An env never seeded draws its first seed from the OS.
+
+    Actions: a Discrete action is an int, a NumPy integer scalar or a 0-d integer array; bools,
+    floats and arrays of other shapes raise `carl_spec.InvalidActionError` (a ValueError and a
+    TypeError), an int outside the space a ValueError. A Box action is anything NumPy turns into
+    the space's float32 components.
 
     Episodes truncate at the spec's `max_episode_steps` (`env.spec.max_episode_steps` under
     `gymnasium.make`). Pickling (what `AsyncVectorEnv`, SB3's `SubprocVecEnv` and Ray do with
@@ -115,16 +154,18 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
         if seed is not None:
             self._seeded = True
         obs, info = self._core.reset(seed)
-        if "context_seed" in info:
-            # A NumPy scalar, so Gymnasium's vector envs can batch it (it may exceed int64).
-            info["context_seed"] = np.uint64(info["context_seed"])
-        self._info = info
+        self._info = _with_numpy_seed(info)
         return obs, _fresh(info)
 
     def step(self, action: Any) -> tuple[np.ndarray, SupportsFloat, bool, bool, dict[str, Any]]:
         if not self._discrete:
             action = np.asarray(action, dtype=np.float32).reshape(-1)
-        obs, reward, terminated, truncated = self._core.step(action)
+        elif type(action) is not int:
+            action = discrete_action(self.env_id, self.action_space, action)
+        try:
+            obs, reward, terminated, truncated = self._core.step(action)
+        except OverflowError:
+            raise ValueError(f"{self.env_id}: action {action} is not in {self.action_space}") from None
         if self._noise_per_step:
             self._info["observed_context"] = self._core.observed_context()
         info = _fresh(self._info)
@@ -150,7 +191,15 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
         return self._core.state()
 
     def set_state(self, state: list[float]) -> None:
+        """Set the runtime's internal state (a list as `state` returns it). Like `reset`, it
+        makes `step` valid; before the first reset the episode runs under the current context
+        (the fixed context, or the source's first before any draw), reported in `info`."""
         self._core.set_state(list(state))
+        if not self._info:
+            info = self._core.info()
+            if self._core.noise_redraw() is not None:
+                info["observed_context"] = self._core.observed_context()
+            self._info = _with_numpy_seed(info)
 
     @property
     def spec(self) -> EnvSpec | None:

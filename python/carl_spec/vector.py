@@ -8,6 +8,7 @@ from typing import Any
 
 import gymnasium
 import numpy as np
+from gymnasium.error import ClosedEnvironmentError
 from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
@@ -44,6 +45,7 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
     `infos["final_info"]` is the finished episodes' step info (`context`, `instance_id`, ...) in
     the same vector layout, as Gymnasium's `SyncVectorEnv` over `carl_spec.make` envs gives it.
     Episodes are truncated at the spec's limit (`max_episode_steps`, if given, must equal it).
+    `close()` frees the batch; any later call raises Gymnasium's `ClosedEnvironmentError`.
     """
 
     def __init__(
@@ -158,6 +160,12 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
         else:
             infos.update(target)
 
+    def close_extras(self, **kwargs: Any) -> None:
+        """Frees the native batch: any later `reset`, `step` or query raises Gymnasium's
+        `ClosedEnvironmentError` (as `AsyncVectorEnv` does), never steps a closed batch."""
+        self.__dict__.pop("step", None)  # the native step bound in __init__
+        self._core = _ClosedCore(f"make_vec({self._ctor['env']!r}, {self.num_envs})")  # type: ignore[assignment]
+
     def context_info(self, i: int) -> dict[str, Any] | None:
         """Environment `i`'s current context info (contexts from a set or distribution)."""
         return self._core.context_info(i)
@@ -176,6 +184,18 @@ def _check_episode_limit(env: str, max_episode_steps: int, specs_dir: str | os.P
             f"{max_episode_steps} is not supported here: gymnasium.make_vec(..., vectorization_mode='sync') "
             "wraps each environment in a TimeLimit of that length"
         )
+
+
+class _ClosedCore:
+    """Stands for the native batch after `close()`: every use raises."""
+
+    def __init__(self, what: str) -> None:
+        self._what = what
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("__"):
+            raise AttributeError(name)  # copy/pickle protocol lookups
+        raise ClosedEnvironmentError(f"{self._what} is closed (close() was called); make a new one")
 
 
 def _rebuild_vec(ctor: dict[str, Any]) -> CarlVectorEnv:

@@ -1,6 +1,6 @@
 """What Gymnasium users rely on (issues 29 and 31): the episode limit in the env's spec with
 truncation exactly once, the `module:id` form, environments shipped to worker processes
-(AsyncVectorEnv under spawn and forkserver)."""
+(AsyncVectorEnv under spawn and forkserver), action types, `close()`, episode statistics."""
 
 from __future__ import annotations
 
@@ -13,6 +13,7 @@ import cloudpickle
 import gymnasium
 import numpy as np
 import pytest
+from gymnasium.error import ClosedEnvironmentError
 
 import carl_spec as cs
 
@@ -148,3 +149,118 @@ def test_async_vector_env_ships_make_lambdas(context: str) -> None:
     for a, b in zip(ours, ref, strict=True):
         for x, y in zip(a, b, strict=True):
             np.testing.assert_array_equal(x, y)
+
+
+# -- actions -----------------------------------------------------------------------------------
+
+
+def test_discrete_actions_are_ints_never_bools_floats_or_arrays() -> None:
+    env = cs.make("cartpole")
+    env.reset(seed=0)
+    for ok in (1, np.int64(1), np.uint8(0), np.array(1), np.array(0, dtype=np.int32)):
+        env.step(ok)
+    env.reset(seed=0)
+    for bad, why in [
+        (True, "bool True"),
+        (np.True_, "bool True"),
+        (1.0, "float 1.0"),
+        (np.float32(1.0), "float32"),
+        (np.array([1]), r"shape \(1,\)"),
+        (np.array([[0]]), r"shape \(1, 1\)"),
+        ("1", "str"),
+        (None, "NoneType"),
+    ]:
+        with pytest.raises(cs.InvalidActionError, match=f"cartpole: a Discrete\\(2\\) action is an int.*{why}"):
+            env.step(bad)
+        # Both a ValueError and a TypeError: either `except` works.
+        with pytest.raises(ValueError):
+            env.step(bad)
+        with pytest.raises(TypeError):
+            env.step(bad)
+    for out_of_range in (2, -1, 2**63, 2**70):
+        with pytest.raises(ValueError, match="cartpole"):
+            env.step(out_of_range)
+    env.step(0)  # the refused actions changed nothing
+
+
+def test_gymnasium_make_env_refuses_the_same_actions() -> None:
+    env = gymnasium.make("carl_spec/cartpole-v0")
+    env.reset(seed=0)
+    with pytest.raises(cs.InvalidActionError):
+        env.step(True)
+    with pytest.raises(cs.InvalidActionError):
+        env.step(np.array([1]))
+
+
+# -- close -------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("env_id", ["cartpole", "rna_design"])
+def test_a_closed_vector_env_stops(env_id: str) -> None:
+    # rna_design steps in Python (episode-end infos); cartpole binds the native step directly.
+    venv = cs.make_vec(env_id, 2)
+    venv.reset(seed=0)
+    venv.step(venv.action_space.sample())
+    venv.close()
+    assert venv.closed
+    with pytest.raises(ClosedEnvironmentError, match=f"make_vec\\('{env_id}', 2\\) is closed"):
+        venv.step(venv.action_space.sample())
+    with pytest.raises(ClosedEnvironmentError, match="is closed"):
+        venv.reset(seed=0)
+    with pytest.raises(ClosedEnvironmentError, match="is closed"):
+        venv.context_info(0)
+    venv.close()  # twice is fine
+    # A pickled closed env is its constructor arguments: a new, open batch.
+    again = pickle.loads(pickle.dumps(venv))
+    again.reset(seed=0)
+    again.close()
+
+
+# -- episode statistics ----------------------------------------------------------------------
+
+
+def test_no_episode_key_of_our_own_record_episode_statistics_adds_it() -> None:
+    # carl-spec's infos never hold "episode": Gymnasium's RecordEpisodeStatistics (CleanRL's
+    # source of episodic returns) owns that key and refuses an info that already has it.
+    env = gymnasium.wrappers.RecordEpisodeStatistics(cs.make("cartpole"))
+    env.reset(seed=0)
+    total, steps = 0.0, 0
+    while True:
+        _, r, term, trunc, info = env.step(steps % 2)
+        total, steps = total + float(r), steps + 1
+        if term or trunc:
+            break
+        assert "episode" not in info
+    assert info["episode"]["l"] == steps and info["episode"]["r"] == total
+    venv = gymnasium.wrappers.vector.RecordEpisodeStatistics(cs.make_vec("cartpole", 3))
+    venv.reset(seed=0)
+    seen = False
+    for t in range(200):
+        _, _, term, trunc, infos = venv.step(np.array([t % 2] * 3))
+        if "episode" in infos:
+            seen = True
+            done = term | trunc
+            np.testing.assert_array_equal(infos["_episode"], done)
+            assert (infos["episode"]["l"][done] > 0).all()
+    assert seen
+
+
+# -- set_state -----------------------------------------------------------------------------
+
+
+def test_set_state_before_reset_steps_under_the_current_context() -> None:
+    # Issue 31 item 13: stepping after set_state without a reset raised KeyError('context').
+    state = [0.01, -0.02, 0.03, 0.04]
+    env = cs.make("cartpole", context={"masscart": 2.0})
+    env.set_state(state)
+    ref = cs.make("cartpole", context={"masscart": 2.0})
+    ref.reset(seed=0)
+    ref.set_state(state)
+    a, b = env.step(1), ref.step(1)
+    np.testing.assert_array_equal(a[0], b[0])
+    assert a[1:4] == b[1:4] and a[4] == b[4] and a[4]["context"]["masscart"] == 2.0
+    sets = cs.make("pendulum", instances="pendulum/q1_l_sigma_0_5")
+    sets.set_state([0.5, 0.0])
+    assert sets.step([0.0])[4]["instance_id"] == 0
+    with pytest.raises(ValueError, match="state"):
+        cs.make("cartpole").set_state([0.0])

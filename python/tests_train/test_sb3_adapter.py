@@ -10,6 +10,7 @@ import gymnasium
 import numpy as np
 import pytest
 from stable_baselines3.common.env_checker import check_env
+from gymnasium.error import ClosedEnvironmentError
 from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecMonitor
 
 import carl_spec as cs
@@ -170,6 +171,14 @@ def test_subproc_vec_env_ships_make_lambdas(start_method: str) -> None:
         assert ended > 0
     finally:
         ours.close()
+
+
+def test_a_closed_batch_stops() -> None:
+    v = CarlSB3VecEnv("cartpole", 2)
+    v.reset()
+    v.close()
+    with pytest.raises(ClosedEnvironmentError, match="is closed"):
+        v.step(np.zeros(2, dtype=np.int64))
 
 
 def test_vec_monitor_counts_episodes() -> None:

@@ -31,7 +31,7 @@ from gymnasium import spaces
 from .. import _core
 from .._errors import UnknownNameError
 from .._spaces import space_from_json
-from ..env import os_entropy_seed
+from ..env import discrete_action, os_entropy_seed
 from ..specs import Spec
 from ..specs import spec as _load_spec
 from .context.context_space import (
@@ -344,7 +344,12 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
     def step(self, action: Any) -> tuple[dict[str, Any], SupportsFloat, bool, bool, dict[str, Any]]:
         if not self._discrete:
             action = np.asarray(action, dtype=np.float32).reshape(-1)
-        obs, reward, terminated, truncated = self._envs[self._current].step(action)
+        elif type(action) is not int:
+            action = discrete_action(type(self).__name__, self.action_space, action)
+        try:
+            obs, reward, terminated, truncated = self._envs[self._current].step(action)
+        except OverflowError:
+            raise ValueError(f"{type(self).__name__}: action {action} is not in {self.action_space}") from None
         return self._observe(obs), reward, terminated, truncated, {"context_id": self._current}
 
     def render(self) -> np.ndarray | None:
