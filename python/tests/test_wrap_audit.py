@@ -148,8 +148,10 @@ def test_wrap_applies_contexts_and_refuses_bad_ones(tmp_path: Path) -> None:
     assert env.unwrapped.gain == 3.0 and info["context"] == {"gain": 3.0, "dead": 1.0, "bonus": 0.0}
     nxt, *_ = env.step(np.array([0.5], dtype=np.float32))
     assert nxt[0] == pytest.approx(obs[0] + 1.5)
-    with pytest.raises(ValueError, match="gain"):
+    with pytest.raises(ValueError, match="gain") as oob:
         cs.wrap(ToyEnv, spec, context={"gain": 50.0})  # outside [0.1, 10]
+    # wrap has no allow_out_of_bounds=: the message suggests what works (issue 31 item 13)
+    assert "allow_out_of_bounds" not in str(oob.value) and f"widen its bounds in {spec}" in str(oob.value)
     with pytest.raises(cs.UnknownNameError, match=r"did you mean .gain.\?\); valid names: gain, dead, bonus"):
         cs.wrap(ToyEnv, spec, context={"gian": 2.0})
     with pytest.raises(ValueError, match="no attribute for feature"):
@@ -158,6 +160,17 @@ def test_wrap_applies_contexts_and_refuses_bad_ones(tmp_path: Path) -> None:
         cs.wrap(ToyEnv, spec, attributes={"gain": "gain"}, apply=lambda env, ctx: None)
     with pytest.raises(ValueError, match="needs instance="):
         cs.wrap(ToyEnv, spec, selection="static")
+
+
+def test_wrap_refuses_a_feature_given_twice_by_alias_and_name(tmp_path: Path) -> None:
+    doc = json.loads(toy_spec(tmp_path).read_text())
+    doc["features"][0]["aliases"] = ["g", "k"]
+    spec = write_spec(tmp_path, doc)
+    assert cs.wrap(ToyEnv, spec, context={"g": 2.0}).reset(seed=0)[1]["context"]["gain"] == 2.0
+    for ctx in ({"g": 2.0, "gain": 3.0}, {"gain": 3.0, "g": 3.0}, {"g": 2.0, "k": 2.0}):
+        first, second = list(ctx)
+        with pytest.raises(ValueError, match=f'gives feature gain twice, as "{first}" and "{second}"'):
+            cs.wrap(ToyEnv, spec, context=ctx)
 
 
 def test_wrap_validates_the_spec_with_located_errors(tmp_path: Path) -> None:
