@@ -245,7 +245,7 @@ def test_no_episode_key_of_our_own_record_episode_statistics_adds_it() -> None:
     assert seen
 
 
-# -- set_state -----------------------------------------------------------------------------
+# -- set_state, duplicate feature names ----------------------------------------------------
 
 
 def test_set_state_before_reset_steps_under_the_current_context() -> None:
@@ -264,3 +264,13 @@ def test_set_state_before_reset_steps_under_the_current_context() -> None:
     assert sets.step([0.0])[4]["instance_id"] == 0
     with pytest.raises(ValueError, match="state"):
         cs.make("cartpole").set_state([0.0])
+
+
+@pytest.mark.parametrize("make", [cs.make, lambda env, **kw: cs.make_vec(env, 2, **kw)])
+def test_a_feature_given_by_alias_and_name_is_refused(make: Any) -> None:
+    # Issue 31 item 13: {"length": 0.7, "pole_length": 0.9} silently took one of them.
+    assert make("cartpole", context={"length": 0.7}) is not None
+    with pytest.raises(ValueError, match='gives feature pole_length twice, as "length" and "pole_length"'):
+        make("cartpole", context={"length": 0.7, "pole_length": 0.9})
+    with pytest.raises(ValueError, match="gives feature pole_length twice"):
+        make("cartpole", context={"pole_length": 0.9, "length": 0.9})
