@@ -9,31 +9,31 @@
 from __future__ import annotations
 
 import importlib
-import sys
-import types
 from typing import TYPE_CHECKING, Any
 
 import gymnasium
 
 from . import _core
-from ._errors import UnknownNameError
+from ._errors import InvalidActionError, UnknownNameError
 from .env import CarlEnv
 
 if TYPE_CHECKING:
-    from .audit import AuditReport, audit
+    from ._audit import AuditReport, audit
+    from ._wrap import ContextualWrapper, wrap
     from .specs import Diagnostic, InstanceSet, Spec, ValidationReport, instances, list_envs, sample, spec, validate
     from .vector import CarlVectorEnv
-    from .wrap import ContextualWrapper, wrap
 
 # Loaded on first use (PEP 562 `__getattr__` below): `import carl_spec; cs.make(...)` needs none
 # of them, and their classes (frozen dataclasses above all) cost as much to create as the rest of
 # the package. The integrations (carl_spec.sb3, .rllib, .compat) are never imported from here.
+# `wrap` and `audit` live in the private modules `_wrap` and `_audit`, so that no submodule
+# shares a name with a public function (importing a submodule binds its name in the package).
 _LAZY: dict[str, str] = {
-    "AuditReport": "audit",
-    "audit": "audit",
+    "AuditReport": "_audit",
+    "audit": "_audit",
     "CarlVectorEnv": "vector",
-    "ContextualWrapper": "wrap",
-    "wrap": "wrap",
+    "ContextualWrapper": "_wrap",
+    "wrap": "_wrap",
     **dict.fromkeys(
         ["Diagnostic", "InstanceSet", "Spec", "ValidationReport", "instances", "list_envs", "sample", "spec", "validate"],
         "specs",
@@ -54,19 +54,6 @@ def __dir__() -> list[str]:
     return sorted(set(globals()) | set(_LAZY))
 
 
-class _Package(types.ModuleType):
-    """`carl_spec.wrap` and `carl_spec.audit` are functions named like their modules: importing
-    those modules (first use, or a user's `import carl_spec.wrap`) must not rebind the package's
-    attribute to the module, as the import system does for every submodule."""
-
-    def __setattr__(self, name: str, value: Any) -> None:
-        if name in _LAZY and isinstance(value, types.ModuleType):
-            return
-        super().__setattr__(name, value)
-
-
-sys.modules[__name__].__class__ = _Package
-
 __version__: str = _core.VERSION
 RUNTIMES: list[str] = list(_core.RUNTIMES)
 
@@ -77,6 +64,7 @@ __all__ = [
     "ContextualWrapper",
     "Diagnostic",
     "InstanceSet",
+    "InvalidActionError",
     "RUNTIMES",
     "Spec",
     "UnknownNameError",
@@ -121,7 +109,8 @@ def _register() -> None:
                 entry_point="carl_spec.env:CarlEnv",
                 vector_entry_point="carl_spec.vector:CarlVectorEnv",
                 kwargs={"env": env_id},
-                # The runtime truncates at the spec's episode limit itself.
+                # The runtime truncates at the spec's episode limit itself: no TimeLimit on top.
+                # `gymnasium.make(...).spec.max_episode_steps` states that limit (CarlEnv.spec).
                 max_episode_steps=None,
             )
 

@@ -1,5 +1,25 @@
 """Exceptions raised by carl_spec (the native module raises these with the library's message)."""
 
+from __future__ import annotations
+
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+#: The native module's hint for a value outside its bounds (`cs.make`'s keyword).
+OUT_OF_BOUNDS_HINT = "pass allow_out_of_bounds=True to run it anyway"
+
+
+@contextmanager
+def out_of_bounds_hint(hint: str) -> Iterator[None]:
+    """For APIs without `allow_out_of_bounds=`: a bounds error names what works there instead."""
+    try:
+        yield
+    except ValueError as e:
+        text = str(e)
+        if OUT_OF_BOUNDS_HINT not in text:
+            raise
+        raise type(e)(text.replace(OUT_OF_BOUNDS_HINT, hint)) from None
+
 
 class UnknownNameError(KeyError, ValueError):
     """An unknown environment, feature, distribution or instance set; the message names the valid
@@ -7,3 +27,10 @@ class UnknownNameError(KeyError, ValueError):
 
     def __str__(self) -> str:  # KeyError would print the message in quotes
         return str(self.args[0]) if self.args else ""
+
+
+class InvalidActionError(ValueError, TypeError):
+    """An action that is not an element of the action space's type: a bool, a float or an array
+    for a Discrete space (Gymnasium's `Discrete.contains` refuses floats and arrays of shape other
+    than `()`; carl-spec refuses bools too, so `True` never silently means action 1). Both a
+    ValueError and a TypeError, so either `except` works."""

@@ -2,21 +2,57 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 from typing import Any, SupportsFloat
 
 import gymnasium
 import numpy as np
+from gymnasium.envs.registration import EnvSpec
 
 from . import _core
 from ._args import NoiseStd, core_kwargs
+from ._errors import InvalidActionError
 from ._spaces import space_from_json
 
 
 def os_entropy_seed() -> int:
     """A 64-bit seed from the OS (what an env never seeded uses, so parallel workers differ)."""
     return int.from_bytes(os.urandom(8), "little")
+
+
+def discrete_action(env_id: str, space: gymnasium.spaces.Space[Any], action: Any) -> int:
+    """A Discrete action as an int: a Python int, a NumPy integer scalar or a 0-d integer array.
+    Bools (Python's and NumPy's), floats (even 1.0), strings and arrays of any other shape are
+    refused, naming the space; `Discrete.contains`' rule, with bools refused as well."""
+    if isinstance(action, (bool, np.bool_)):
+        raise InvalidActionError(
+            f"{env_id}: a {space} action is an int, got the bool {bool(action)} (pass int(action) if you mean {int(action)})"
+        )
+    if isinstance(action, int):
+        return action
+    if isinstance(action, (np.ndarray, np.generic)):
+        if np.issubdtype(action.dtype, np.integer) and action.shape == ():
+            return int(action)
+        if action.shape != ():
+            raise InvalidActionError(
+                f"{env_id}: a {space} action is an int (or a NumPy integer scalar), got a NumPy array of "
+                f"shape {action.shape}; pass one element (e.g. int(action[0]))"
+            )
+        raise InvalidActionError(
+            f"{env_id}: a {space} action is an int (or a NumPy integer scalar), got a {action.dtype} value {action!r}"
+        )
+    raise InvalidActionError(
+        f"{env_id}: a {space} action is an int (or a NumPy integer scalar), got {type(action).__name__} {action!r:.80}"
+    )
+
+
+def _with_numpy_seed(info: dict[str, Any]) -> dict[str, Any]:
+    if "context_seed" in info:
+        # A NumPy scalar, so Gymnasium's vector envs can batch it (it may exceed int64).
+        info["context_seed"] = np.uint64(info["context_seed"])
+    return info
 
 
 def _fresh(info: dict[str, Any]) -> dict[str, Any]:
@@ -51,6 +87,16 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
     Seeding: `reset(seed=s)` determines everything that follows (instance choice, draws, initial
     states); the classic five start from the state Gymnasium's env starts from with seed `s`.
     An env never seeded draws its first seed from the OS.
+
+    Actions: a Discrete action is an int, a NumPy integer scalar or a 0-d integer array; bools,
+    floats and arrays of other shapes raise `carl_spec.InvalidActionError` (a ValueError and a
+    TypeError), an int outside the space a ValueError. A Box action is anything NumPy turns into
+    the space's float32 components.
+
+    Episodes truncate at the spec's `max_episode_steps` (`env.spec.max_episode_steps` under
+    `gymnasium.make`). Pickling (what `AsyncVectorEnv`, SB3's `SubprocVecEnv` and Ray do with
+    env functions and envs) keeps the constructor arguments and Gymnasium's spec: the copy is a
+    new environment to reset, without the episode in progress or the random streams' position.
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 50}
@@ -86,6 +132,7 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
             specs_dir=specs_dir,
         )
         self._ctor: dict[str, Any] = dict(env=env, render_mode=render_mode, **source)
+        self._spec: EnvSpec | None = None
         self._core = _core.Env(env, **core_kwargs(**source))
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be one of {self.metadata['render_modes']} or None, got {render_mode!r}")
@@ -107,16 +154,18 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
         if seed is not None:
             self._seeded = True
         obs, info = self._core.reset(seed)
-        if "context_seed" in info:
-            # A NumPy scalar, so Gymnasium's vector envs can batch it (it may exceed int64).
-            info["context_seed"] = np.uint64(info["context_seed"])
-        self._info = info
+        self._info = _with_numpy_seed(info)
         return obs, _fresh(info)
 
     def step(self, action: Any) -> tuple[np.ndarray, SupportsFloat, bool, bool, dict[str, Any]]:
         if not self._discrete:
             action = np.asarray(action, dtype=np.float32).reshape(-1)
-        obs, reward, terminated, truncated = self._core.step(action)
+        elif type(action) is not int:
+            action = discrete_action(self.env_id, self.action_space, action)
+        try:
+            obs, reward, terminated, truncated = self._core.step(action)
+        except OverflowError:
+            raise ValueError(f"{self.env_id}: action {action} is not in {self.action_space}") from None
         if self._noise_per_step:
             self._info["observed_context"] = self._core.observed_context()
         info = _fresh(self._info)
@@ -142,11 +191,36 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
         return self._core.state()
 
     def set_state(self, state: list[float]) -> None:
+        """Set the runtime's internal state (a list as `state` returns it). Like `reset`, it
+        makes `step` valid; before the first reset the episode runs under the current context
+        (the fixed context, or the source's first before any draw), reported in `info`."""
         self._core.set_state(list(state))
+        if not self._info:
+            info = self._core.info()
+            if self._core.noise_redraw() is not None:
+                info["observed_context"] = self._core.observed_context()
+            self._info = _with_numpy_seed(info)
+
+    @property
+    def spec(self) -> EnvSpec | None:
+        """Gymnasium's spec of the env, as `gymnasium.make` sets it, with `max_episode_steps`
+        the episode limit the runtime truncates at (the spec's). The runtime truncates itself,
+        so `gymnasium.make` adds no `TimeLimit` (one with `max_episode_steps=n` shortens the
+        episodes to `n` steps; a longer limit than the spec's cannot take effect)."""
+        return self._spec
+
+    @spec.setter
+    def spec(self, value: EnvSpec | None) -> None:
+        limit = self._core.max_episode_steps
+        if value is not None and value.max_episode_steps is None and limit is not None:
+            value = dataclasses.replace(value, max_episode_steps=int(limit))
+        self._spec = value
 
     def __reduce__(self) -> tuple[Any, ...]:
-        # Pickles as its constructor arguments (AsyncVectorEnv, SubprocVecEnv, Ray ship envs so).
-        return (_rebuild_env, (self._ctor,))
+        # Pickles as its constructor arguments (AsyncVectorEnv, SubprocVecEnv, Ray ship envs
+        # so), and Gymnasium's spec: the copy is a new environment (reset it before stepping);
+        # the episode in progress, the seed and the random streams are not carried over.
+        return (_rebuild_env, (self._ctor,), {"_spec": self._spec})
 
 
 def _rebuild_env(ctor: dict[str, Any]) -> CarlEnv:

@@ -27,7 +27,13 @@ def list_envs(*, runtime_only: bool = False, specs_dir: PathLike | None = None) 
 
 @dataclass(frozen=True)
 class Spec:
-    """One environment's resolved spec (`carl-spec show ID --format json`)."""
+    """One environment's resolved spec (`carl-spec show ID --format json`).
+
+    `raw` is that document; `to_json()` writes it as a spec file of its own, which
+    `cs.validate` / `carl-spec validate` accept, so an author can start from a shipped spec
+    (the file leaves out `from_fragment`, the shared fragment a resolved feature was included
+    from). What the runtime adds (its Gymnasium spaces at the default context) is kept apart,
+    in `runtime_spaces`: it is no part of the spec language."""
 
     id: str
     aliases: list[str]
@@ -38,29 +44,39 @@ class Spec:
     distributions: dict[str, dict[str, Any]]
     instance_sets: dict[str, dict[str, Any]]
     raw: dict[str, Any] = field(repr=False)
+    #: `{"observation": space, "action": space}` as the native module describes them (None
+    #: without a runtime).
+    runtime_spaces: dict[str, Any] | None = field(default=None, repr=False)
 
     @property
     def has_runtime(self) -> bool:
-        return "runtime_spaces" in self.raw
+        return self.runtime_spaces is not None
 
     @property
     def observation_space(self) -> spaces.Space[Any] | None:
         """The runtime's observation space at the default context (None without a runtime)."""
-        rs = self.raw.get("runtime_spaces")
+        rs = self.runtime_spaces
         return None if rs is None else space_from_json(rs["observation"])
 
     @property
     def action_space(self) -> spaces.Space[Any] | None:
-        rs = self.raw.get("runtime_spaces")
+        rs = self.runtime_spaces
         return None if rs is None else space_from_json(rs["action"])
 
     def default_context(self) -> dict[str, Any]:
         return {n: f["default"] for n, f in self.features.items() if "default" in f}
 
+    def to_json(self, indent: int | None = 2) -> str:
+        """The spec as the text of a spec file (it validates as it is; edit it to make your own)."""
+        doc = dict(self.raw)
+        doc["features"] = [{k: v for k, v in f.items() if k != "from_fragment"} for f in self.raw["features"]]
+        return json.dumps(doc, indent=indent) + "\n"
+
 
 def spec(env: str, *, specs_dir: PathLike | None = None) -> Spec:
     """The resolved spec of `env` (id or alias)."""
     raw = json.loads(_core.spec_json(env, _dir(specs_dir)))
+    runtime_spaces = raw.pop("runtime_spaces", None)
     return Spec(
         id=raw["id"],
         aliases=raw.get("aliases", []),
@@ -71,6 +87,7 @@ def spec(env: str, *, specs_dir: PathLike | None = None) -> Spec:
         distributions=raw.get("distributions", {}),
         instance_sets=raw.get("instance_sets", {}),
         raw=raw,
+        runtime_spaces=runtime_spaces,
     )
 
 

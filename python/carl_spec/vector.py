@@ -8,6 +8,7 @@ from typing import Any
 
 import gymnasium
 import numpy as np
+from gymnasium.error import ClosedEnvironmentError
 from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
@@ -43,6 +44,8 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
     plus Gymnasium's `_feature` / `_observed_context` masks). In same-step mode
     `infos["final_info"]` is the finished episodes' step info (`context`, `instance_id`, ...) in
     the same vector layout, as Gymnasium's `SyncVectorEnv` over `carl_spec.make` envs gives it.
+    Episodes are truncated at the spec's limit (`max_episode_steps`, if given, must equal it).
+    `close()` frees the batch; any later call raises Gymnasium's `ClosedEnvironmentError`.
     """
 
     def __init__(
@@ -64,9 +67,12 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
         context_noise_redraw: str = "episode",
         options: dict[str, Any] | None = None,
         allow_out_of_bounds: bool = False,
+        max_episode_steps: int | None = None,
     ) -> None:
         if render_mode is not None:
             raise ValueError("make_vec does not render; use carl_spec.make(..., render_mode='rgb_array')")
+        if max_episode_steps is not None:
+            _check_episode_limit(env, max_episode_steps, specs_dir)
         mode = _mode_name(autoreset_mode)
         source: dict[str, Any] = dict(
             context=context,
@@ -154,12 +160,42 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
         else:
             infos.update(target)
 
+    def close_extras(self, **kwargs: Any) -> None:
+        """Frees the native batch: any later `reset`, `step` or query raises Gymnasium's
+        `ClosedEnvironmentError` (as `AsyncVectorEnv` does), never steps a closed batch."""
+        self.__dict__.pop("step", None)  # the native step bound in __init__
+        self._core = _ClosedCore(f"make_vec({self._ctor['env']!r}, {self.num_envs})")  # type: ignore[assignment]
+
     def context_info(self, i: int) -> dict[str, Any] | None:
         """Environment `i`'s current context info (contexts from a set or distribution)."""
         return self._core.context_info(i)
 
     def __reduce__(self) -> tuple[Any, ...]:
         return (_rebuild_vec, (self._ctor,))
+
+
+def _check_episode_limit(env: str, max_episode_steps: int, specs_dir: str | os.PathLike[str] | None) -> None:
+    """`max_episode_steps` (as `gymnasium.make_vec` passes it) must be the spec's episode limit:
+    the batch truncates there in Rust, and no wrapper sits inside it to truncate earlier."""
+    limit = json.loads(_core.spec_json(env, None if specs_dir is None else os.fspath(specs_dir)))["max_episode_steps"]
+    if max_episode_steps != limit:
+        raise ValueError(
+            f"make_vec({env!r}) truncates episodes at the spec's limit ({limit} steps); max_episode_steps="
+            f"{max_episode_steps} is not supported here: gymnasium.make_vec(..., vectorization_mode='sync') "
+            "wraps each environment in a TimeLimit of that length"
+        )
+
+
+class _ClosedCore:
+    """Stands for the native batch after `close()`: every use raises."""
+
+    def __init__(self, what: str) -> None:
+        self._what = what
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("__"):
+            raise AttributeError(name)  # copy/pickle protocol lookups
+        raise ClosedEnvironmentError(f"{self._what} is closed (close() was called); make a new one")
 
 
 def _rebuild_vec(ctor: dict[str, Any]) -> CarlVectorEnv:

@@ -8,6 +8,7 @@ from pathlib import Path
 import pytest
 
 import carl_spec as cs
+from carl_spec._wrap import load_user_spec
 from conftest import ROOT, cli, cli_json
 
 
@@ -22,14 +23,26 @@ def test_spec_equals_cli_show() -> None:
     for env in ["cartpole", "lunar_lander", "pendulum"]:
         s = cs.spec(env)
         shown = cli_json("show", env, "--format", "json")
-        raw = {k: v for k, v in s.raw.items() if k != "runtime_spaces"}
-        assert raw == shown
+        assert s.raw == shown
         assert s.has_runtime
         assert list(s.features) == [f["name"] for f in shown["features"]]
     cp = cs.spec("cartpole")
     assert cp.observation_space.shape == (4,)
     assert cp.action_space.n == 2
     assert cp.default_context()["masscart"] == 1.0
+
+
+@pytest.mark.parametrize("env_id", cs.list_envs())
+def test_every_spec_written_out_validates(env_id: str, tmp_path: Path) -> None:
+    # Issue 29: an author starts from a shipped spec; what cs.spec gives is a valid spec file.
+    s = cs.spec(env_id)
+    path = tmp_path / f"{s.id}.json"
+    path.write_text(s.to_json())
+    report = cs.validate(path)
+    assert report.valid and report.environments == 1, "\n".join(map(str, report.diagnostics))
+    assert json.loads(cli("validate", str(path), "--format", "json"))["valid"]
+    # Read back, it resolves to the same spec (but for where fragments' features came from).
+    assert load_user_spec(path) == json.loads(s.to_json())
 
 
 def test_spec_by_alias_and_unknown_name_suggests() -> None:

@@ -182,8 +182,11 @@ def test_flaws_are_refused_with_reasons() -> None:
     assert not np.array_equal(a.step(act)[0]["obs"], b.step(act)[0]["obs"])
     # carl-bench accepts values outside the bounds silently; carl-spec refuses them
     assert BEHAVIOUR["out_of_bounds_accepted"] is True
-    with pytest.raises(ValueError, match="length|pole_length"):
+    with pytest.raises(ValueError, match="length|pole_length") as oob:
         CARLCartPole(contexts={0: {"length": 100.0}})
+    # The compat API has no allow_out_of_bounds=: the message names what does (issue 31 item 13)
+    assert "allow_out_of_bounds=True) runs it" in str(oob.value) and "carl_spec.make('cartpole'" in str(oob.value)
+    assert "pass allow_out_of_bounds" not in str(oob.value)
     with pytest.raises(cs.UnknownNameError, match="valid features: gravity, masscart"):
         CARLCartPole(contexts={0: {"lenght": 0.6}})
     with pytest.raises(cs.UnknownNameError, match="initial_state_lower.*U\\(-0.05, 0.05\\)"):

@@ -73,7 +73,7 @@ def test_check_env_frozen_set_with_visible_context(env_id: str) -> None:
 def test_observations_stay_in_space_and_dtypes_as_declared(env_id: str) -> None:
     env = cs.make(env_id)
     space = env.observation_space
-    declared = cs.spec(env_id).raw["runtime_spaces"]["observation"]["dtype"]
+    declared = cs.spec(env_id).runtime_spaces["observation"]["dtype"]
     assert space.dtype == np.dtype(declared)
     env.action_space.seed(0)
     obs, _ = env.reset(seed=0)

@@ -27,8 +27,8 @@ DEFERRED = [
     "carl_spec.sb3",
     "carl_spec.rllib",
     "carl_spec.compat",
-    "carl_spec.audit",
-    "carl_spec.wrap",
+    "carl_spec._audit",
+    "carl_spec._wrap",
     "carl_spec.specs",
     "carl_spec.vector",
 ]
@@ -63,17 +63,18 @@ def test_every_public_name_resolves_in_a_fresh_process() -> None:
     assert out == [[], []]
 
 
-def test_functions_named_like_their_modules_stay_functions() -> None:
-    # `carl_spec.wrap` / `carl_spec.audit` are functions and modules of the same name: importing
-    # the modules first (audit imports wrap) must not replace the package's functions.
+def test_wrap_and_audit_are_functions_and_the_package_a_plain_module() -> None:
+    # `cs.wrap` / `cs.audit` live in the private modules `_wrap` / `_audit`: importing those
+    # first must leave the functions in place, and the package stays a plain module (cloudpickle
+    # ships plain modules by reference; a module subclass does not pickle, issue 31 item 4).
     out = fresh(
-        "import json, carl_spec.audit, carl_spec.wrap\n"
+        "import json, types, carl_spec._audit, carl_spec._wrap\n"
         "import carl_spec as cs\n"
-        "from carl_spec import audit, wrap\n"
-        "print(json.dumps([callable(cs.wrap), callable(cs.audit), cs.wrap is wrap, cs.audit is audit,"
-        " type(cs.wrap).__name__, type(cs.audit).__name__]))"
+        "from carl_spec import audit, wrap, AuditReport, ContextualWrapper\n"
+        "print(json.dumps([cs.wrap is wrap, cs.audit is audit, type(cs.wrap).__name__, type(cs.audit).__name__,"
+        " AuditReport.__name__, ContextualWrapper.__name__, type(cs) is types.ModuleType]))"
     )
-    assert out == [True, True, True, True, "function", "function"]
+    assert out == [True, True, "function", "function", "AuditReport", "ContextualWrapper", True]
 
 
 def test_unknown_attribute_is_an_attribute_error() -> None:

@@ -138,6 +138,58 @@ def test_audit_passes_when_every_claim_holds(tmp_path: Path) -> None:
     assert report.passed, str(report)
 
 
+class NanRewardToy(ToyEnv):
+    """The toy whose reward is NaN whenever `bonus` leaves its default."""
+
+    def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        obs, reward, terminated, truncated, info = super().step(action)
+        return obs, (float("nan") if self.bonus != 0.0 else reward), terminated, truncated, info
+
+
+class InfObservationToy(HiddenStateToy):
+    """Trajectory mode; the observation is infinite whenever `gain` leaves its default."""
+
+    def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        obs, reward, terminated, truncated, info = super().step(action)
+        return (obs * np.inf if self.gain != 1.0 else obs), reward, terminated, truncated, info
+
+
+def test_audit_flags_non_finite_rewards_instead_of_reading_a_change(tmp_path: Path) -> None:
+    # Issue 31 item 10: NaN != NaN made a NaN reward read as "bonus changes the reward".
+    doc = json.loads(toy_spec(tmp_path).read_text())
+    doc["features"] = [f for f in doc["features"] if f["name"] != "dead"]
+    spec = write_spec(tmp_path, doc)
+    # The finite toy: bonus's (undeclared) effect on the reward is measured.
+    assert cs.audit(ToyEnv, spec).feature("bonus").effects["reward"].verdict == "undeclared_effect"
+    report = cs.audit(NanRewardToy, spec)
+    bonus = report.feature("bonus")
+    assert bonus.effects["reward"].measured == "unchanged" and bonus.effects["reward"].differing == 0
+    assert report.contradictions == []
+    assert report.non_finite and all(n.startswith("bonus = ") and "reward nan" in n for n in report.non_finite)
+    assert not report.passed
+    assert "non-finite output: bonus = " in str(report) and "FAILED: non-finite output under" in str(report)
+
+
+def test_audit_flags_non_finite_observations_in_trajectory_mode(tmp_path: Path) -> None:
+    report = cs.audit(InfObservationToy, toy_spec(tmp_path, bonus_claims=["reward"]))
+    assert report.mode == "trajectory"
+    assert report.non_finite and all(n.startswith("gain = ") and "observation inf" in n for n in report.non_finite)
+    assert report.feature("gain").effects["dynamics"].differing == 0  # never compared
+    assert not report.passed
+
+
+def test_audit_flags_non_finite_output_at_the_default_context(tmp_path: Path) -> None:
+    class AlwaysNan(ToyEnv):
+        def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+            obs, _, terminated, truncated, info = super().step(action)
+            return obs, float("nan"), terminated, truncated, info
+
+    report = cs.audit(AlwaysNan, toy_spec(tmp_path, bonus_claims=["reward"]))
+    assert report.non_finite[0].startswith("default context: reward nan")
+    assert not report.passed
+
+
+
 # -- wrap ------------------------------------------------------------------------------------
 
 
@@ -148,8 +200,10 @@ def test_wrap_applies_contexts_and_refuses_bad_ones(tmp_path: Path) -> None:
     assert env.unwrapped.gain == 3.0 and info["context"] == {"gain": 3.0, "dead": 1.0, "bonus": 0.0}
     nxt, *_ = env.step(np.array([0.5], dtype=np.float32))
     assert nxt[0] == pytest.approx(obs[0] + 1.5)
-    with pytest.raises(ValueError, match="gain"):
+    with pytest.raises(ValueError, match="gain") as oob:
         cs.wrap(ToyEnv, spec, context={"gain": 50.0})  # outside [0.1, 10]
+    # wrap has no allow_out_of_bounds=: the message suggests what works (issue 31 item 13)
+    assert "allow_out_of_bounds" not in str(oob.value) and f"widen its bounds in {spec}" in str(oob.value)
     with pytest.raises(cs.UnknownNameError, match=r"did you mean .gain.\?\); valid names: gain, dead, bonus"):
         cs.wrap(ToyEnv, spec, context={"gian": 2.0})
     with pytest.raises(ValueError, match="no attribute for feature"):
@@ -158,6 +212,17 @@ def test_wrap_applies_contexts_and_refuses_bad_ones(tmp_path: Path) -> None:
         cs.wrap(ToyEnv, spec, attributes={"gain": "gain"}, apply=lambda env, ctx: None)
     with pytest.raises(ValueError, match="needs instance="):
         cs.wrap(ToyEnv, spec, selection="static")
+
+
+def test_wrap_refuses_a_feature_given_twice_by_alias_and_name(tmp_path: Path) -> None:
+    doc = json.loads(toy_spec(tmp_path).read_text())
+    doc["features"][0]["aliases"] = ["g", "k"]
+    spec = write_spec(tmp_path, doc)
+    assert cs.wrap(ToyEnv, spec, context={"g": 2.0}).reset(seed=0)[1]["context"]["gain"] == 2.0
+    for ctx in ({"g": 2.0, "gain": 3.0}, {"gain": 3.0, "g": 3.0}, {"g": 2.0, "k": 2.0}):
+        first, second = list(ctx)
+        with pytest.raises(ValueError, match=f'gives feature gain twice, as "{first}" and "{second}"'):
+            cs.wrap(ToyEnv, spec, context=ctx)
 
 
 def test_wrap_validates_the_spec_with_located_errors(tmp_path: Path) -> None:

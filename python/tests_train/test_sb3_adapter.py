@@ -10,7 +10,8 @@ import gymnasium
 import numpy as np
 import pytest
 from stable_baselines3.common.env_checker import check_env
-from stable_baselines3.common.vec_env import DummyVecEnv, VecMonitor
+from gymnasium.error import ClosedEnvironmentError
+from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecMonitor
 
 import carl_spec as cs
 from carl_spec.sb3 import CarlSB3VecEnv
@@ -149,6 +150,35 @@ def test_pickles_through_its_batch() -> None:
     v = CarlSB3VecEnv("cartpole", 2)
     w = pickle.loads(pickle.dumps(v.venv))
     assert isinstance(CarlSB3VecEnv(w), CarlSB3VecEnv)
+
+
+@pytest.mark.parametrize("start_method", ["spawn", "forkserver"])
+def test_subproc_vec_env_ships_make_lambdas(start_method: str) -> None:
+    # Issue 31 item 4: SB3 cloudpickles the env functions; their global `cs` must pickle by
+    # reference (it failed with "cannot pickle '_Package' object").
+    ours = SubprocVecEnv([lambda: cs.make("cartpole") for _ in range(2)], start_method=start_method)
+    try:
+        ref = dummy("cartpole", 2)
+        ours.seed(5), ref.seed(5)
+        np.testing.assert_array_equal(ours.reset(), ref.reset())
+        actions = [np.array([t % 2, (t // 3) % 2]) for t in range(80)]
+        ended = 0
+        for (oa, ra, da, _), (ob, rb, db, _) in zip(rollout(ours, actions), rollout(ref, actions)):
+            np.testing.assert_array_equal(oa, ob)
+            np.testing.assert_array_equal(ra, rb)
+            np.testing.assert_array_equal(da, db)
+            ended += int(da.sum())
+        assert ended > 0
+    finally:
+        ours.close()
+
+
+def test_a_closed_batch_stops() -> None:
+    v = CarlSB3VecEnv("cartpole", 2)
+    v.reset()
+    v.close()
+    with pytest.raises(ClosedEnvironmentError, match="is closed"):
+        v.step(np.zeros(2, dtype=np.int64))
 
 
 def test_vec_monitor_counts_episodes() -> None:

@@ -29,9 +29,9 @@ import numpy as np
 from gymnasium import spaces
 
 from .. import _core
-from .._errors import UnknownNameError
+from .._errors import UnknownNameError, out_of_bounds_hint
 from .._spaces import space_from_json
-from ..env import os_entropy_seed
+from ..env import discrete_action, os_entropy_seed
 from ..specs import Spec
 from ..specs import spec as _load_spec
 from .context.context_space import (
@@ -177,20 +177,22 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
         self.context_selector = self._selector(contexts, context_selector, context_selector_kwargs)
         mode = self.context_selector.mode
         self._custom = mode is None
-        if len(canonical_contexts) == 1:
-            # One context: carl-spec's fixed context, so unseeded resets continue the runtime's
-            # own stream (for the classic five: exactly Gymnasium's env, reset for reset).
-            self._chooser = _core.ContextChooser(None, env=self.env_id, context_json=json.dumps(canonical_contexts[0]))
-        else:
-            self._chooser = _core.ContextChooser(
-                None,
-                env=self.env_id,
-                contexts_json=json.dumps(canonical_contexts),
-                selection=mode or "round_robin",
-                instance=0 if mode == "static" else None,
-            )
-        # One runtime per context, each checked now (names, bounds) like a carl-spec set.
-        self._envs = [_core.Env(self.env_id, context_json=json.dumps(c)) for c in canonical_contexts]
+        # The compat API has no out-of-bounds switch; carl-spec's own make has one.
+        with out_of_bounds_hint(f"carl_spec.make({self.env_id!r}, context=..., allow_out_of_bounds=True) runs it"):
+            if len(canonical_contexts) == 1:
+                # One context: carl-spec's fixed context, so unseeded resets continue the runtime's
+                # own stream (for the classic five: exactly Gymnasium's env, reset for reset).
+                self._chooser = _core.ContextChooser(None, env=self.env_id, context_json=json.dumps(canonical_contexts[0]))
+            else:
+                self._chooser = _core.ContextChooser(
+                    None,
+                    env=self.env_id,
+                    contexts_json=json.dumps(canonical_contexts),
+                    selection=mode or "round_robin",
+                    instance=0 if mode == "static" else None,
+                )
+            # One runtime per context, each checked now (names, bounds) like a carl-spec set.
+            self._envs = [_core.Env(self.env_id, context_json=json.dumps(c)) for c in canonical_contexts]
         self._keys = list(contexts.keys())
         resolved = [dict(c) for c in self._chooser.instance_contexts()]
         self._contexts = {k: self._compat(c) for k, c in zip(self._keys, resolved)}
@@ -344,7 +346,12 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
     def step(self, action: Any) -> tuple[dict[str, Any], SupportsFloat, bool, bool, dict[str, Any]]:
         if not self._discrete:
             action = np.asarray(action, dtype=np.float32).reshape(-1)
-        obs, reward, terminated, truncated = self._envs[self._current].step(action)
+        elif type(action) is not int:
+            action = discrete_action(type(self).__name__, self.action_space, action)
+        try:
+            obs, reward, terminated, truncated = self._envs[self._current].step(action)
+        except OverflowError:
+            raise ValueError(f"{type(self).__name__}: action {action} is not in {self.action_space}") from None
         return self._observe(obs), reward, terminated, truncated, {"context_id": self._current}
 
     def render(self) -> np.ndarray | None:

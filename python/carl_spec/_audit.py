@@ -17,6 +17,11 @@ Internal state is read and written with `get_state(env)` / `set_state(env, state
 falls back to trajectories compared through observations: the observation stands for the state,
 so dynamics and observation effects cannot be told apart (observation is then reported n/a).
 
+A probe where either env returns a non-finite reward, observation or state (NaN, ±inf) is not
+compared (NaN differs from everything, itself included, and would read as an effect); it is
+listed in `report.non_finite`, and the audit fails: a context inside the spec's bounds must keep
+the env finite.
+
 Verdicts as in the Rust audit: claimed and measured -> ok (the claim held); claimed but never
 measured -> missing_effect (a dead claim: carl-bench's dead features are exactly this);
 measured but not claimed -> undeclared_effect.
@@ -35,7 +40,7 @@ import numpy as np
 from gymnasium import spaces
 
 from . import _core
-from .wrap import ApplyFn, EnvFactory, PathLike, load_user_spec, wrap
+from ._wrap import ApplyFn, EnvFactory, PathLike, load_user_spec, wrap
 
 EFFECTS = ("dynamics", "reward", "termination", "initial_state", "observation", "task_generation")
 GetState = Callable[[gymnasium.Env[Any, Any]], Any]
@@ -83,10 +88,15 @@ class AuditReport:
     reset_seeds: int
     features: list[FeatureAudit]
     contradictions: list[str]
+    #: Probes where the env returned a non-finite reward, observation or state (NaN or ±inf), one
+    #: line per context: such a probe is not compared (NaN differs from everything, itself
+    #: included), and the audit does not pass: a context inside the spec's bounds must keep the
+    #: env finite.
+    non_finite: list[str] = field(default_factory=list)
 
     @property
     def passed(self) -> bool:
-        return not self.contradictions
+        return not self.contradictions and not self.non_finite
 
     def feature(self, name: str) -> FeatureAudit:
         for f in self.features:
@@ -110,7 +120,14 @@ class AuditReport:
             ]
             lines.append(f"  {f.name}: " + (", ".join(cells) if cells else "claims nothing, changes nothing"))
         lines.extend(f"  ! {c}" for c in self.contradictions)
-        lines.append("PASSED" if self.passed else f"FAILED: {len(self.contradictions)} contradiction(s)")
+        lines.extend(f"  ! non-finite output: {n}" for n in self.non_finite)
+        if self.passed:
+            lines.append("PASSED")
+        else:
+            failed = [f"{len(self.contradictions)} contradiction(s)"] if self.contradictions else []
+            if self.non_finite:
+                failed.append(f"non-finite output under {len(self.non_finite)} context(s)")
+            lines.append("FAILED: " + ", ".join(failed))
         return "\n".join(lines)
 
 
@@ -194,6 +211,25 @@ class _Prober:
 
     def __init__(self, env: gymnasium.Env[Any, Any], get_state: GetState | None, set_state: SetState | None):
         self.env, self.get, self.set = env, get_state, set_state
+        #: Non-finite outputs seen: what ("reward", "observation", "state") -> (count, first value).
+        self.non_finite: dict[str, tuple[int, str]] = {}
+
+    def finite(self, **outputs: Any) -> bool:
+        """Whether every output is finite; the non-finite ones are recorded."""
+        ok = True
+        for what, x in outputs.items():
+            values = _flat(x)
+            if not np.isfinite(values).all():
+                ok = False
+                count, first = self.non_finite.get(what, (0, ""))
+                bad = values[~np.isfinite(values)][0]
+                self.non_finite[what] = (count + 1, first or str(bad))
+        return ok
+
+    def non_finite_text(self) -> str | None:
+        if not self.non_finite:
+            return None
+        return "; ".join(f"{what} {first} ({n} probe(s))" for what, (n, first) in self.non_finite.items())
 
     def state(self) -> np.ndarray:
         assert self.get is not None
@@ -223,11 +259,14 @@ class _Prober:
                 assert self.set is not None
                 self.set(self.env, s.copy())
                 obs, reward, terminated, _, _ = self.env.step(a)
-                steps.append((self.state(), float(reward), bool(terminated), _flat(obs)))
+                state = self.state()
+                ok = self.finite(reward=float(reward), observation=obs, state=state)
+                steps.append((state, float(reward), bool(terminated), _flat(obs), ok))
         initial = []
         for seed in range(seeds):
             obs, _ = self.env.reset(seed=seed)
-            initial.append((self.state(), _flat(obs)))
+            state = self.state()
+            initial.append((state, _flat(obs), self.finite(observation=obs, state=state)))
         return {"steps": steps, "initial": initial}
 
     def trajectory_responses(self, seeds: int, steps: int) -> dict[str, Any]:
@@ -237,18 +276,24 @@ class _Prober:
             obs, _ = self.env.reset(seed=seed)
             space = copy.deepcopy(self.env.action_space)
             space.seed(0x5EED_0000 + seed)
-            run = [(_flat(obs), 0.0, False)]
-            for _ in range(steps):
-                obs, reward, terminated, truncated, _ = self.env.step(space.sample())
-                run.append((_flat(obs), float(reward), bool(terminated)))
-                if terminated or truncated:
-                    break
+            run: list[tuple[np.ndarray, float, bool]] = []
+            if self.finite(observation=obs):
+                run.append((_flat(obs), 0.0, False))
+                for _ in range(steps):
+                    obs, reward, terminated, truncated, _ = self.env.step(space.sample())
+                    if not self.finite(reward=float(reward), observation=obs):
+                        break  # the run ends at its first non-finite output (never compared)
+                    run.append((_flat(obs), float(reward), bool(terminated)))
+                    if terminated or truncated:
+                        break
             runs.append(run)
         return {"runs": runs}
 
 
 def _compare_state(base: dict[str, Any], pert: dict[str, Any], value: float, accs: dict[str, _Acc]) -> None:
-    for (sa, ra, ta, oa), (sb, rb, tb, ob) in zip(base["steps"], pert["steps"]):
+    for (sa, ra, ta, oa, fa), (sb, rb, tb, ob, fb) in zip(base["steps"], pert["steps"]):
+        if not (fa and fb):
+            continue  # a non-finite output is reported as such, never read as a change
         dyn = _diff(sa, sb)
         accs["dynamics"].direct(dyn, value)
         r, t = abs(ra - rb) if ra != rb else 0.0, 0.0 if ta == tb else 1.0
@@ -259,7 +304,9 @@ def _compare_state(base: dict[str, Any], pert: dict[str, Any], value: float, acc
         else:
             accs["reward"].via_dynamics(r)
             accs["termination"].via_dynamics(t)
-    for (sa, oa), (sb, ob) in zip(base["initial"], pert["initial"]):
+    for (sa, oa, fa), (sb, ob, fb) in zip(base["initial"], pert["initial"]):
+        if not (fa and fb):
+            continue
         d = _diff(sa, sb)
         accs["initial_state"].direct(d, value)
         if d == 0.0:
@@ -268,6 +315,8 @@ def _compare_state(base: dict[str, Any], pert: dict[str, Any], value: float, acc
 
 def _compare_trajectories(base: dict[str, Any], pert: dict[str, Any], value: float, accs: dict[str, _Acc]) -> None:
     for run_a, run_b in zip(base["runs"], pert["runs"]):
+        if not (run_a and run_b):
+            continue  # a reset observation that is not finite
         accs["initial_state"].direct(_diff(run_a[0][0], run_b[0][0]), value)
         for i in range(1, min(len(run_a), len(run_b))):
             if _diff(run_a[i - 1][0], run_b[i - 1][0]) != 0.0:
@@ -361,6 +410,9 @@ def audit(
 
     features = []
     contradictions = []
+    non_finite = []
+    if (text := prober.non_finite_text()) is not None:
+        non_finite.append(f"default context: {text}")
     for f in doc["features"]:
         row = rows[f["name"]]
         fa = FeatureAudit(f["name"], f.get("default"), list(row["values"]), list(f.get("affects", [])), skipped=row["skipped"])
@@ -374,6 +426,8 @@ def audit(
                 answers = p.state_responses(states, actions, seeds) if state_mode else p.trajectory_responses(seeds, steps)
             except Exception as err:
                 raise RuntimeError(f"{doc['id']}: the env failed under {f['name']} = {x}: {type(err).__name__}: {err}") from err
+            if (text := p.non_finite_text()) is not None:
+                non_finite.append(f"{f['name']} = {_num(x)}: {text}")
             if state_mode:
                 _compare_state(reference, answers, x, accs)
             else:
@@ -400,4 +454,5 @@ def audit(
         reset_seeds=seeds,
         features=features,
         contradictions=contradictions,
+        non_finite=non_finite,
     )

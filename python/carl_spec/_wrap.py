@@ -25,7 +25,7 @@ from gymnasium import spaces
 
 from . import _core
 from ._args import NoiseStd, noise_triples
-from ._errors import UnknownNameError
+from ._errors import UnknownNameError, out_of_bounds_hint
 from .env import _fresh, os_entropy_seed
 
 PathLike = str | os.PathLike[str]
@@ -83,18 +83,22 @@ class ContextualWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
         self._spec = load_user_spec(spec, env_id)
         self._features: dict[str, dict[str, Any]] = {f["name"]: f for f in self._spec["features"]}
         self._visible = self._visible_names(obs_context)
-        self._chooser = _core.ContextChooser(
-            os.fspath(spec),
-            env=env_id,
-            context_json=None if context is None else json.dumps(context),
-            instances=instances,
-            distribution=distribution,
-            selection=selection,
-            instance=instance,
-            obs_context=self._visible,
-            noise=noise_triples(context_noise),
-            noise_redraw=context_noise_redraw,
-        )
+        if context is not None:
+            self._check_names_once(context)
+        # A user's spec states the bounds its env runs in: widening them is the way out.
+        with out_of_bounds_hint(f"widen its bounds in {os.fspath(spec)} to run it"):
+            self._chooser = _core.ContextChooser(
+                os.fspath(spec),
+                env=env_id,
+                context_json=None if context is None else json.dumps(context),
+                instances=instances,
+                distribution=distribution,
+                selection=selection,
+                instance=instance,
+                obs_context=self._visible,
+                noise=noise_triples(context_noise),
+                noise_redraw=context_noise_redraw,
+            )
         self._noise_per_step = self._chooser.noise_redraw() == "step"
         self._apply = apply
         self._attributes = self._check_attributes(attributes or {}) if apply is None else {}
@@ -139,6 +143,21 @@ class ContextualWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
                 raise ValueError(f"obs_context lists {canonical} twice")
             names.append(canonical)
         return names
+
+    def _check_names_once(self, context: dict[str, Any]) -> None:
+        """An alias and its canonical name (or two aliases) of one feature are refused, naming
+        both, rather than one silently winning."""
+        given: dict[str, str] = {}
+        for name in context:
+            try:
+                canon = self._canonical(name)
+            except UnknownNameError:
+                continue  # the chooser refuses it with the valid names
+            if canon in given:
+                raise ValueError(
+                    f'{self._spec["id"]}: the context gives feature {canon} twice, as "{given[canon]}" and "{name}"; give it once'
+                )
+            given[canon] = name
 
     def _canonical(self, name: str) -> str:
         for f in self._features.values():
