@@ -330,10 +330,10 @@ impl<E: Env> Env for TimeLimit<E> {
     fn step_into(&mut self, action: &Action, obs: &mut [f32]) -> Result<StepOutcome, EnvError> {
         let mut out = self.env.step_into(action, obs)?;
         self.elapsed += 1;
-        if let Some(max) = self.max_episode_steps {
-            if self.elapsed >= max {
-                out.truncated = true;
-            }
+        if let Some(max) = self.max_episode_steps
+            && self.elapsed >= max
+        {
+            out.truncated = true;
         }
         Ok(out)
     }

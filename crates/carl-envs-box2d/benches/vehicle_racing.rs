@@ -36,10 +36,10 @@ fn step(bencher: Bencher) {
     let mut t = 0usize;
     bencher.bench_local(move || {
         t = (t + 1) % TABLE;
-        if let Ok(out) = e.step_into(black_box(&acts[t]), &mut obs) {
-            if out.terminated || out.truncated {
-                let _ = e.reset_into(None, &mut obs);
-            }
+        if let Ok(out) = e.step_into(black_box(&acts[t]), &mut obs)
+            && (out.terminated || out.truncated)
+        {
+            let _ = e.reset_into(None, &mut obs);
         }
         black_box(&obs);
     });

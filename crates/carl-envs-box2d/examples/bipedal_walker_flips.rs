@@ -9,8 +9,8 @@
 //! largest |angle| 3.21). The former rapier2d engine (removed) flipped 8 of 300 (largest 10.0):
 //! its contact warm start threw the walker up at hard landings. `TRACE_EPISODE` prints that
 //! episode step by step.
-use carl_envs_box2d::{BipedalWalker, BipedalWalkerParams};
 use carl_env::api::{Action, Env};
+use carl_envs_box2d::{BipedalWalker, BipedalWalkerParams};
 use carl_spec_core::sampling::{Pcg64, dist};
 
 fn main() {

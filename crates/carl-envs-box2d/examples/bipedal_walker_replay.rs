@@ -6,9 +6,9 @@
 //!     /work/venvs/peers/bin/python scripts/bipedal_walker_record_box2d.py --seed 0 --steps 400 > rec.json
 //!     cargo run --release -p carl-envs-box2d --example bipedal_walker_replay -- rec.json
 
+use carl_env::api::{Action, Env};
 use carl_envs_box2d::bipedal_walker::{Terrain, TerrainSpec};
 use carl_envs_box2d::{BipedalWalker, BipedalWalkerParams};
-use carl_env::api::{Action, Env};
 use serde_json::Value;
 
 fn floats(v: &Value) -> Vec<f64> {

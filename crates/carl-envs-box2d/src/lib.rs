@@ -18,13 +18,13 @@
 pub mod bipedal_walker;
 pub mod heuristic;
 pub mod lunar_lander;
-pub mod vehicle_racing;
 mod registry;
+pub mod vehicle_racing;
 
-pub use registry::REGISTRATIONS;
 pub use bipedal_walker::{BipedalWalker, BipedalWalkerOptions, BipedalWalkerParams, WalkerHeuristic};
 pub use heuristic::{heuristic, heuristic_continuous};
 pub use lunar_lander::{LunarLander, LunarLanderOptions, LunarLanderParams, Outcome};
+pub use registry::REGISTRATIONS;
 pub use vehicle_racing::{VehicleRacing, VehicleRacingOptions, VehicleRacingParams};
 
 /// The physics behind LunarLander and BipedalWalker (VehicleRacing has its own, see its module

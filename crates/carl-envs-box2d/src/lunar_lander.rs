@@ -51,9 +51,7 @@ mod rigid;
 
 use carl_physics2d::{self as b2, BodyKind, Filter, FixtureDef, Polygon, RevoluteDef, Shape, V2, v2};
 
-use carl_env::api::{
-    Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features,
-};
+use carl_env::api::{Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features};
 use carl_env::rng::{self, EnvRng};
 
 const ID: &str = "lunar_lander";

@@ -576,10 +576,10 @@ impl Grasp {
                 }
                 impulse[OBJECT] += j;
                 for &d in &DISTALS {
-                    if let Some(l) = self.body_link[d] {
-                        if p.world.link_colliders[l].contains(&other) {
-                            impulse[d] += j;
-                        }
+                    if let Some(l) = self.body_link[d]
+                        && p.world.link_colliders[l].contains(&other)
+                    {
+                        impulse[d] += j;
                     }
                 }
             }

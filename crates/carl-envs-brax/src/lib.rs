@@ -25,18 +25,18 @@ pub mod params;
 pub mod physics;
 pub mod planar;
 pub mod reach;
+mod registry;
 pub mod render;
 pub mod vec3;
 pub mod world;
-mod registry;
 
-pub use registry::REGISTRATIONS;
 pub use fetch::Fetch;
 pub use grasp::Grasp;
 pub use locomotion::{ContactCost, ForwardVelocity, Locomotion, StepInfo, TaskConfig, VelocityNoise};
 pub use model::RobotModel;
 pub use params::RobotParams;
 pub use reach::Reach;
+pub use registry::REGISTRATIONS;
 pub use world::RobotWorld;
 
 /// The physics engine behind the rapier-based environments, pinned exactly in `Cargo.toml`

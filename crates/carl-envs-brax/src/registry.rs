@@ -199,7 +199,6 @@ fn missing_model(id: &str) -> MakeError {
     }
 }
 
-
 /// The robot's own default of feature `name` (its default `RobotParams`).
 fn robot_default(id: &str, name: &str) -> Option<f64> {
     robots::default_params(id)?.get(name).ok()

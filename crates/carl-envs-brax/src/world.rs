@@ -88,10 +88,10 @@ impl RobotWorld {
         for (i, link) in robot.links.iter_mut().enumerate() {
             let base = link.inertial.mass.value;
             let mut m = base;
-            if i == model.torso {
-                if let Some(t) = params.torso_mass {
-                    m = t;
-                }
+            if i == model.torso
+                && let Some(t) = params.torso_mass
+            {
+                m = t;
             }
             if let Some((_, v)) = params.link_masses.iter().find(|(n, _)| *n == link.name) {
                 m = *v;

@@ -13,10 +13,9 @@ pub mod mountain_car_continuous;
 pub mod pendulum;
 mod registry;
 
-pub use registry::REGISTRATIONS;
 pub use acrobot::{Acrobot, AcrobotParams, Dynamics};
 pub use cartpole::{CartPole, CartPoleParams};
 pub use mountain_car::{MountainCar, MountainCarParams, StartDistribution};
 pub use mountain_car_continuous::{MountainCarContinuous, MountainCarContinuousParams};
 pub use pendulum::{Pendulum, PendulumParams};
-
+pub use registry::REGISTRATIONS;

@@ -19,8 +19,8 @@
 mod params;
 mod registry;
 
-pub use registry::REGISTRATIONS;
 pub use params::MarioParams;
+pub use registry::REGISTRATIONS;
 
 use carl_mario::engine::Level;
 use carl_mario::game::{ACTIONS, Game};

@@ -3,10 +3,10 @@
 //! observations, info and errors. Needs the data directory (`CARL_SPEC_DATA`, else
 //! `shared/data` beside the checkout).
 
+use carl_env::api::{Action, Env, Space};
+use carl_envs_mario::{Mario, MarioOptions, MarioParams};
 use carl_mario::DataDir;
 use carl_mario::toad_gan::WidthMismatch;
-use carl_envs_mario::{Mario, MarioOptions, MarioParams};
-use carl_env::api::{Action, Env, Space};
 use serde_json::Value;
 use std::path::Path;
 

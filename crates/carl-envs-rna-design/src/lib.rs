@@ -14,9 +14,9 @@
 //! process disturbed each other); the observation after the last step is the window centred one
 //! past the end (LEARNA returns `None`).
 
+mod registry;
 mod reward;
 pub mod targets;
-mod registry;
 
 pub use registry::REGISTRATIONS;
 pub use reward::{Outcome, terminal_reward};
@@ -320,16 +320,16 @@ impl Env for RnaDesign {
             return info;
         }
         info.insert("target_id".into(), f64::from(self.target().id));
-        if !self.ready {
-            if let Some(o) = &self.last {
-                info.insert("hamming_distance".into(), o.distance as f64);
-                info.insert("hamming_distance_folded".into(), o.distance_folded as f64);
-                info.insert(
-                    "normalized_hamming_distance".into(),
-                    o.distance as f64 / self.target().len() as f64,
-                );
-                info.insert("improvement_folds".into(), o.improvement_folds as f64);
-            }
+        if !self.ready
+            && let Some(o) = &self.last
+        {
+            info.insert("hamming_distance".into(), o.distance as f64);
+            info.insert("hamming_distance_folded".into(), o.distance_folded as f64);
+            info.insert(
+                "normalized_hamming_distance".into(),
+                o.distance as f64 / self.target().len() as f64,
+            );
+            info.insert("improvement_folds".into(), o.improvement_folds as f64);
         }
         info
     }

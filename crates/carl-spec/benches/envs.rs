@@ -58,7 +58,10 @@ mod vec {
 
     fn run(bencher: Bencher, id: &str, threads: usize) {
         let specs = SpecSet::bundled().expect("bundled specs");
-        let n = carl_spec::envs::registry::lookup(id).expect("registered").cost.bench_num_envs();
+        let n = carl_spec::envs::registry::lookup(id)
+            .expect("registered")
+            .cost
+            .bench_num_envs();
         let mut r = VecRunner::new(specs.get(id).expect("spec"), n, threads).expect("VecRunner");
         bencher.counter(ItemsCount::new(n)).bench_local(move || r.step());
     }

@@ -64,9 +64,7 @@ pub mod heuristic;
 mod render;
 pub mod terrain;
 
-use carl_env::api::{
-    Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features,
-};
+use carl_env::api::{Action, DType, Env, EnvError, Space, StepOutcome, check_obs_len, check_state, context_features};
 use carl_spec_core::sampling::{Pcg64, dist};
 pub use heuristic::WalkerHeuristic;
 pub use terrain::{Obstacle, Terrain, TerrainSpec};
@@ -578,7 +576,7 @@ impl BipedalWalker {
     /// MOTORS_TORQUE·clip(|a|, 0, 1)`.
     fn motor(&self, j: usize, aj: f64) -> (f64, f64) {
         let p = &self.params;
-        let speed = if j % 2 == 0 { p.speed_hip } else { p.speed_knee };
+        let speed = if j.is_multiple_of(2) { p.speed_hip } else { p.speed_knee };
         let sign = if aj > 0.0 {
             1.0
         } else if aj < 0.0 {

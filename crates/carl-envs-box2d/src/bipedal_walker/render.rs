@@ -82,17 +82,17 @@ pub(super) fn render(env: &BipedalWalker) -> Option<Frame> {
         c.fill_polygon(&poly, OBSTACLE_FILL);
         outline(&mut c, &poly, OBSTACLE_EDGE);
     }
-    if env.options().render_lidar {
-        if let Some(rays) = env.lidar() {
-            for (p1, p2, f) in rays {
-                let hit = (p1.0 + f * (p2.0 - p1.0), p1.1 + f * (p2.1 - p1.1));
-                let s = Stroke {
-                    color: LIDAR,
-                    width: 1.0,
-                    dash: None,
-                };
-                c.line(to_px(p1), to_px(hit), s);
-            }
+    if env.options().render_lidar
+        && let Some(rays) = env.lidar()
+    {
+        for (p1, p2, f) in rays {
+            let hit = (p1.0 + f * (p2.0 - p1.0), p1.1 + f * (p2.1 - p1.1));
+            let s = Stroke {
+                color: LIDAR,
+                width: 1.0,
+                dash: None,
+            };
+            c.line(to_px(p1), to_px(hit), s);
         }
     }
 

@@ -104,7 +104,7 @@ fn attempt(rng: &mut Pcg64) -> Option<Track> {
                     break;
                 }
                 dest_i += 1;
-                if dest_i % CHECKPOINTS == 0 {
+                if dest_i.is_multiple_of(CHECKPOINTS) {
                     break;
                 }
             }

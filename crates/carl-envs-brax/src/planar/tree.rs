@@ -291,10 +291,10 @@ impl PlanarTree {
         for (i, link) in self.links.iter_mut().enumerate() {
             let base = link.mass;
             let mut m = base;
-            if i == model.torso {
-                if let Some(t) = params.torso_mass {
-                    m = t;
-                }
+            if i == model.torso
+                && let Some(t) = params.torso_mass
+            {
+                m = t;
             }
             if let Some((_, v)) = params.link_masses.iter().find(|(n, _)| *n == model.link_names[i]) {
                 m = *v;

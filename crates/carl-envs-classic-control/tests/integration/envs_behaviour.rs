@@ -1,10 +1,10 @@
 //! Behaviour of the classic-control environments that the benchmark relies on.
 
+use carl_env::api::{Action, Env, EnvError, Space, TimeLimit};
 use carl_envs_classic_control::{
     Acrobot, AcrobotParams, CartPole, CartPoleParams, MountainCar, MountainCarContinuous, MountainCarParams, Pendulum,
     PendulumParams,
 };
-use carl_env::api::{Action, Env, EnvError, Space, TimeLimit};
 
 fn rollout(env: &mut dyn Env, seed: u64, actions: &[Action]) -> Vec<(Vec<u32>, u64, bool, bool)> {
     env.reset(Some(seed));

@@ -6,11 +6,11 @@
 
 use std::path::PathBuf;
 
+use carl_env::api::{Action, Env, TimeLimit};
 use carl_envs_classic_control::{
     Acrobot, AcrobotParams, CartPole, CartPoleParams, Dynamics, MountainCar, MountainCarContinuous,
     MountainCarContinuousParams, MountainCarParams, Pendulum, PendulumParams,
 };
-use carl_env::api::{Action, Env, TimeLimit};
 use serde_json::Value;
 
 fn load(name: &str) -> Value {

@@ -143,7 +143,7 @@ pub fn randn(n: usize, seed: u64) -> Vec<f32> {
         box_muller16(&mut d[b..b + 16]);
         b += 16;
     }
-    if n % 16 != 0 {
+    if !n.is_multiple_of(16) {
         // torch draws 16 fresh uniforms and recomputes the last 16 positions.
         let mut blk = [0f32; 16];
         for v in &mut blk {

@@ -153,7 +153,7 @@ pub fn replay(traces: &Traces, run: &Value, keep_ticks: usize) -> Replay {
             w.status.code()
         )
         .unwrap();
-        if t % 10 == 0 {
+        if t.is_multiple_of(10) {
             write!(text, "S {t}").unwrap();
             for &id in &w.list {
                 if id != 0 {
@@ -175,7 +175,7 @@ pub fn replay(traces: &Traces, run: &Value, keep_ticks: usize) -> Replay {
         for _ in 0..fs {
             game.world.tick(buttons);
             t += 1;
-            if t % fs != 0 {
+            if !t.is_multiple_of(fs) {
                 emit(&game, t, &mut text, &mut ticks);
             }
         }

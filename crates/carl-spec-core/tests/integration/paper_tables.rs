@@ -381,10 +381,10 @@ fn specs_match_the_paper_tables() {
                     if got != Some(n) {
                         errors.push(format!("{at}: {got:?} choices != table n={n}"));
                     }
-                    if let (Some(labels), Some(choices)) = (&f.choice_labels, &f.choices) {
-                        if labels.len() != choices.len() {
-                            errors.push(format!("{at}: {} labels for {} choices", labels.len(), choices.len()));
-                        }
+                    if let (Some(labels), Some(choices)) = (&f.choice_labels, &f.choices)
+                        && labels.len() != choices.len()
+                    {
+                        errors.push(format!("{at}: {} labels for {} choices", labels.len(), choices.len()));
                     }
                 }
                 _ => {

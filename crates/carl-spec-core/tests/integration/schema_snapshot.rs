@@ -2,7 +2,9 @@
 
 #[test]
 fn committed_schema_matches_generated() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(carl_spec_core::schema::COMMITTED_PATH);
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(carl_spec_core::schema::COMMITTED_PATH);
     let committed = std::fs::read_to_string(&path).expect("schema/carl-spec.schema.json is committed");
     let generated = carl_spec_core::schema::schema_text();
     assert!(

@@ -216,13 +216,13 @@ pub fn base_states(env: &AnyEnv, opts: &AuditOptions) -> Result<Vec<Vec<f64>>, E
             (mid - 3.0 * half, mid + 3.0 * half)
         })
         .collect();
-    if let Space::Box { low, high, .. } = env.observation_space() {
-        if low.len() == dim {
-            for (i, b) in bounds.iter_mut().enumerate() {
-                let (l, h) = (f64::from(low[i]), f64::from(high[i]));
-                if l.is_finite() && h.is_finite() && l < h {
-                    *b = (l, h);
-                }
+    if let Space::Box { low, high, .. } = env.observation_space()
+        && low.len() == dim
+    {
+        for (i, b) in bounds.iter_mut().enumerate() {
+            let (l, h) = (f64::from(low[i]), f64::from(high[i]));
+            if l.is_finite() && h.is_finite() && l < h {
+                *b = (l, h);
             }
         }
     }

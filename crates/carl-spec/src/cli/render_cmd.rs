@@ -161,7 +161,7 @@ impl<E: Env + ?Sized> EpisodeListener<E> for FrameCollector {
     }
     fn on_step(&mut self, env: &E, s: &StepRecord<'_>) -> Result<Flow, EpisodeError> {
         let end = s.outcome.terminated || s.outcome.truncated;
-        if self.animated && (s.t % self.every == 0 || end) {
+        if self.animated && (s.t.is_multiple_of(self.every) || end) {
             return self.push(env);
         }
         Ok(Flow::Continue)

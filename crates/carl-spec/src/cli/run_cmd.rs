@@ -82,13 +82,13 @@ pub fn run(cli: &Cli, cmd: &RunCommand) -> CmdResult {
             for p in [out_path, figure].into_iter().flatten() {
                 output::check_file(p, *force).map_err(|e| Failure::usage(e.to_string()))?;
             }
-            if let (Some(a), Some(b)) = (out_path, figure) {
-                if a == b {
-                    return Err(Failure::usage(format!(
-                        "--out and --figure are both {}; give two different files",
-                        a.display()
-                    )));
-                }
+            if let (Some(a), Some(b)) = (out_path, figure)
+                && a == b
+            {
+                return Err(Failure::usage(format!(
+                    "--out and --figure are both {}; give two different files",
+                    a.display()
+                )));
             }
             let specs = load_specs(cli)?;
             let interactive = *policy == RunPolicy::Stdin;

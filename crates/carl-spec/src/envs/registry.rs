@@ -117,4 +117,3 @@ pub fn make_env(
     let env = (reg.build)(&values, &options)?;
     Ok(TimeLimit::new(env, spec.max_episode_steps))
 }
-

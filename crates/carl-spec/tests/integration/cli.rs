@@ -105,8 +105,11 @@ fn show_list_schema_stats() {
     assert!(stdout(&o).lines().any(|l| l.starts_with("cartpole ")));
 
     let o = carl(&["schema"]);
-    let committed =
-        std::fs::read_to_string(format!("{}/../../schema/carl-spec.schema.json", env!("CARGO_MANIFEST_DIR"))).unwrap();
+    let committed = std::fs::read_to_string(format!(
+        "{}/../../schema/carl-spec.schema.json",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
     assert_eq!(stdout(&o), committed);
 
     let o = carl(&["stats", "--format", "json"]);

@@ -55,10 +55,14 @@ impl Hash {
 /// finished episode is the next episode's first, as in the scalar loop below).
 fn batch_hash(spec: &carl_spec::spec::model::EnvSpec, n: usize, threads: usize, table: &ActionTable) -> String {
     let contexts = vec![Context::new(); n];
-    let mut venv = VecEnv::new(spec, &contexts, VecOptions {
-        threads,
-        ..Default::default()
-    })
+    let mut venv = VecEnv::new(
+        spec,
+        &contexts,
+        VecOptions {
+            threads,
+            ..Default::default()
+        },
+    )
     .unwrap();
     let d = venv.obs_dim();
     let mut h = Hash::new();
@@ -133,6 +137,9 @@ fn every_environment_version_keeps_its_golden_trajectory() {
         golden.extend(missing);
         std::fs::write(&path, serde_json::to_string_pretty(&golden).unwrap() + "\n").unwrap();
     } else {
-        assert!(missing.is_empty(), "no golden trajectory for {missing:?}: record them with CARL_SPEC_BLESS=1");
+        assert!(
+            missing.is_empty(),
+            "no golden trajectory for {missing:?}: record them with CARL_SPEC_BLESS=1"
+        );
     }
 }

@@ -4,13 +4,11 @@
 
 use crate::common;
 
-use carl_spec::envs::registry::{Context, SpecEnv, make};
-use carl_spec::envs::rng::EnvRng;
-use carl_spec::envs::brax::grasp::{
-    BRAX_DT, Grasp, HIT_BONUS, OBJECT_RADIUS, RewardInput, TARGET_START, grasp_reward,
-};
+use carl_spec::envs::brax::grasp::{BRAX_DT, Grasp, HIT_BONUS, OBJECT_RADIUS, RewardInput, TARGET_START, grasp_reward};
 use carl_spec::envs::brax::world::{Configuration, RobotWorld};
 use carl_spec::envs::brax::{RobotModel, default_params, make_grasp};
+use carl_spec::envs::registry::{Context, SpecEnv, make};
+use carl_spec::envs::rng::EnvRng;
 use carl_spec::envs::{Action, Env};
 use carl_spec::spec::SpecSet;
 use carl_spec::spec::model::{EnvSpec, Value};

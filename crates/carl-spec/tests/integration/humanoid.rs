@@ -5,9 +5,9 @@
 
 use crate::common;
 
+use carl_spec::envs::brax::RobotModel;
 use carl_spec::envs::registry::{Context, MakeOptions, SpecEnv, make, make_with};
 use carl_spec::envs::rng::EnvRng;
-use carl_spec::envs::brax::RobotModel;
 use carl_spec::envs::{Action, Env};
 use carl_spec::spec::SpecSet;
 use carl_spec::spec::model::{EnvSpec, Value};

@@ -1,11 +1,11 @@
 //! carl-spec's integration tests, one harness (one binary to link): the registry of every
 //! family, the CLI, the contextual wrapper, VecEnv, the audit, renders and experiments.
 
-mod common;
 mod audit;
 mod bench_cli;
 mod bipedal_walker;
 mod cli;
+mod common;
 mod context_noise;
 mod contextual;
 mod fetch;

@@ -4,10 +4,10 @@
 
 use crate::common;
 
-use carl_spec::envs::registry::{Context, SpecEnv, make, make_with};
-use carl_spec::envs::rng::EnvRng;
 use carl_spec::envs::brax::world::{Configuration, RobotWorld};
 use carl_spec::envs::brax::{RobotModel, default_params};
+use carl_spec::envs::registry::{Context, SpecEnv, make, make_with};
+use carl_spec::envs::rng::EnvRng;
 use carl_spec::envs::{Action, Env, EnvError};
 use carl_spec::spec::SpecSet;
 use carl_spec::spec::model::{EnvSpec, Value};
@@ -562,8 +562,8 @@ fn half_cheetah_motors_features_and_reward() {
 /// one exactly, replay included).
 #[test]
 fn half_cheetah_engines_and_state_round_trip() {
-    use carl_spec::envs::registry::{EnvOptions, MakeOptions, make_env};
     use carl_spec::envs::brax::Locomotion;
+    use carl_spec::envs::registry::{EnvOptions, MakeOptions, make_env};
     let mut on_rapier = EnvOptions::new();
     on_rapier.insert("rapier".into(), Value::Bool(true));
     let s = spec("half_cheetah");

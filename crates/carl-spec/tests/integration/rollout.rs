@@ -33,7 +33,10 @@ fn cli_rollouts_reproduce_gymnasium_fixtures() {
         "acrobot",
     ] {
         let spec = specs.get(env).unwrap();
-        let path = format!("{}/../carl-envs-classic-control/tests/fixtures/parity/{env}.json", env!("CARGO_MANIFEST_DIR"));
+        let path = format!(
+            "{}/../carl-envs-classic-control/tests/fixtures/parity/{env}.json",
+            env!("CARGO_MANIFEST_DIR")
+        );
         let fx: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
         for ep in fx["episodes"].as_array().unwrap() {
             // Runtime-only options (e.g. Acrobot's "nips" dynamics) are not context features.

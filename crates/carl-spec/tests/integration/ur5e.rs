@@ -3,9 +3,9 @@
 
 use crate::common;
 
+use carl_spec::envs::brax::reach::{HOME, TARGET_HEIGHT};
 use carl_spec::envs::registry::{Context, SpecEnv, make};
 use carl_spec::envs::rng::EnvRng;
-use carl_spec::envs::brax::reach::{HOME, TARGET_HEIGHT};
 use carl_spec::envs::{Action, Env};
 use carl_spec::spec::SpecSet;
 use carl_spec::spec::model::{EnvSpec, Value};

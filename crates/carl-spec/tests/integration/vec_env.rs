@@ -117,7 +117,7 @@ fn vec_env_equals_scalar_envs_for_every_runtime() {
     for reg in REGISTRY {
         let spec = specs.get(reg.id).unwrap();
         // Long enough for the time limit to truncate (tasks without one: several episodes).
-        let steps = spec.max_episode_steps.map_or(150, |m| m as usize + 10);
+        let steps = spec.max_episode_steps.map_or(520, |m| m as usize + 10);
         // Light environments: enough of them for several work-sharing blocks across threads;
         // heavy ones (a physics world or a fold per step): a few.
         let (alone, shared) = match reg.cost {
