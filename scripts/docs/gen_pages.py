@@ -2,17 +2,22 @@
 """The documentation pages made from the specs and the schema, through the built `carl-spec`.
 
     python3 scripts/docs/gen_pages.py --out target/docs-generated   # writes them, to read
+    python3 scripts/docs/gen_pages.py --pictures   # the environments' pictures to render (render_envs.sh)
 
 mkdocs calls `generate()` from scripts/docs/hooks.py at every build; python/tests/test_docs.py
 calls it too, to run the code blocks of the generated pages. Pages (paths below docs/):
 
-* `envs/index.md`: every environment (`carl-spec list`), with its family, feature count, engine and
-  fidelity (from the front matter of its page) and its picture.
+* `envs/index.md`: every environment (`carl-spec list`), with its version, family, feature count,
+  engine (the spec's) and fidelity (from the front matter of its page) and its picture.
 * `envs/<id>.md`: one page per environment from `carl-spec show <id> --format json`: description,
-  spaces, the picture made by `carl-spec render` (committed under docs/assets/envs/ by
-  scripts/docs/render_envs.sh), the features with units, bounds, effects and aliases, the
-  distributions and instance sets; then the hand-written part, docs/envs/<id>.md (front matter
-  `engine` and `fidelity`, sections on fidelity and deviations), if there is one.
+  version and Gymnasium id, spaces, the picture made by `carl-spec render` (committed under
+  docs/assets/envs/ by scripts/docs/render_envs.sh), the features with units, bounds, effects and
+  aliases, the distributions and instance sets; then the hand-written part, which lives beside the
+  environment's code in its family's crate, crates/carl-envs-<family>/docs/<id>.md (front matter
+  `fidelity` and optionally `engine_detail`, sections on the engine, fidelity and deviations), if
+  there is one. Adding an environment adds its page there; nothing under docs/ changes by hand
+  (its picture, asked for by the front matter `picture: FORMAT ARGS…`, is rendered into
+  docs/assets/envs/ by scripts/docs/render_envs.sh).
 * `reference/spec-language.md`: docs/reference/spec-language.md with the tables of every object of
   the JSON Schema (`carl-spec schema`) in place of its `<!-- generated: schema -->` line.
 * `reference/statistics.md`: docs/reference/statistics.md with `carl-spec stats` in place of its
@@ -65,11 +70,30 @@ def front_matter(text: str) -> tuple[dict[str, str], str]:
     return meta, text[m.end():]
 
 
-def env_meta(root: Path, env_id: str) -> dict[str, str]:
-    """The hand-written facts of an environment: engine and fidelity (its page's front matter)."""
-    p = root / "docs" / "envs" / f"{env_id}.md"
+def family_crate(family: str) -> str:
+    """The crate of an environment family: `carl-envs-<family>` (`rna_design` → `carl-envs-rna-design`)."""
+    return "carl-envs-" + family.replace("_", "-")
+
+
+def env_doc(root: Path, spec: dict[str, Any]) -> Path:
+    """The hand-written page of an environment, in its family's crate: `crates/carl-envs-<family>/docs/<id>.md`."""
+    return root / "crates" / family_crate(spec["family"]) / "docs" / f"{spec['id']}.md"
+
+
+def env_meta(root: Path, spec: dict[str, Any]) -> dict[str, str]:
+    """The facts of an environment beside its spec: the engine (the spec's `engine`, with the page's
+    `engine_detail`) and the fidelity to its reference (the page's front matter `fidelity`)."""
+    p = env_doc(root, spec)
     meta, _ = front_matter(p.read_text()) if p.exists() else ({}, "")
-    return {"engine": meta.get("engine", "–"), "fidelity": meta.get("fidelity", "–")}
+    engine = f"`{spec['engine']}`" if spec.get("engine") else "–"
+    if meta.get("engine_detail"):
+        engine += f" ({meta['engine_detail']})"
+    return {"engine": engine, "fidelity": meta.get("fidelity", "–")}
+
+
+def gym_id(spec: dict[str, Any]) -> str:
+    """The Gymnasium id of an environment: `carl_spec/<id>-v<version>`."""
+    return f"carl_spec/{spec['id']}-v{spec.get('version', 0)}"
 
 
 def num(x: Any) -> str:
@@ -160,7 +184,7 @@ def picture(root: Path, env_id: str) -> str | None:
 
 CARL_BENCH = Path("python/tests/fixtures/carl_bench_1_1_1.json")
 # Environments the paper has no appendix table for (their features are the 2021 CARL code's), and
-# the features beyond the paper's tables (carl-bench 1.1.1's): both as tests/paper_tables.rs has them.
+# the features beyond the paper's tables (carl-bench 1.1.1's): both as crates/carl-spec-core/tests/integration/paper_tables.rs has them.
 NO_PAPER_TABLE = {"half_cheetah", "ur5e", "mountain_car_continuous"}
 BEYOND_PAPER = {"mario": ("noise_seed", "level_width")}
 
@@ -171,10 +195,10 @@ def paper_section(spec: dict[str, Any]) -> list[str]:
               if f["name"].startswith("mass_") or f["name"] in BEYOND_PAPER.get(env_id, ())]
     if env_id in NO_PAPER_TABLE:
         text = ("The paper has no appendix table for this environment: its features are the 2021 CARL "
-                "code's definitions, checked by `tests/paper_tables.rs`.")
+                "code's definitions, checked by `crates/carl-spec-core/tests/integration/paper_tables.rs`.")
     else:
         text = ("Every feature of the paper's appendix table is here with the same name, default, bounds "
-                "and type (`tests/paper_tables.rs`; where the table prints a rounded number, the spec "
+                "and type (`crates/carl-spec-core/tests/integration/paper_tables.rs`; where the table prints a rounded number, the spec "
                 "holds the 2021 code's exact value, within 0.005).")
     if beyond:
         text += " Beyond the paper, from carl-bench 1.1.1: " + ", ".join(f"`{n}`" for n in beyond) + "."
@@ -231,6 +255,7 @@ def env_page(root: Path, spec: dict[str, Any], body: str, meta: dict[str, str], 
     rows = [
         ("Family", f"`{spec['family']}`"),
         ("Upstream", " ".join(str(up[k]) for k in ("library", "id", "version") if up.get(k))),
+        ("Version", f"{spec.get('version', 0)} (`{spec['id']}-v{spec.get('version', 0)}`)"),
         ("Engine", meta["engine"]),
         ("Fidelity", meta["fidelity"]),
         ("Observation space", space(spec["observation_space"])),
@@ -238,7 +263,7 @@ def env_page(root: Path, spec: dict[str, Any], body: str, meta: dict[str, str], 
         ("Episode limit", f"{spec['max_episode_steps']} steps" if spec.get("max_episode_steps") else "none"),
     ]
     if env_id in runtimes:
-        rows.append(("Gymnasium id", f"`carl_spec/{env_id}-v0`"))
+        rows.append(("Gymnasium id", f"`{gym_id(spec)}`"))
     if spec.get("source"):
         rows.append(("Source of the context", spec["source"]))
     out += ["| property | value |", "|---|---|"] + [f"| {k} | {cell(v)} |" for k, v in rows] + [""]
@@ -289,18 +314,21 @@ def env_index(root: Path, specs: list[dict[str, Any]]) -> str:
         "# Environments",
         "",
         "The 16 environments of the CARL paper, each described by its spec (`specs/<id>.json`). "
-        "Every page is generated from the spec (`carl-spec show ID --format json`); the engine, the "
-        "fidelity to the reference and the deviations are written by hand beside it "
-        "(`docs/envs/<id>.md`).",
+        "Every page is generated from the spec (`carl-spec show ID --format json`); the fidelity to "
+        "the reference and the deviations are written by hand beside the environment's code, in its "
+        "family's crate (`crates/carl-envs-<family>/docs/<id>.md`). An environment's version is bumped "
+        "whenever its dynamics, observation, reward or termination change "
+        "([contributing](../contributing.md#versions-and-golden-trajectories)).",
         "",
-        "| environment | family | features | engine | fidelity | picture |",
-        "|---|---|---:|---|---|---|",
+        "| environment | version | family | features | engine | fidelity | picture |",
+        "|---|---|---|---:|---|---|---|",
     ]
     for s in specs:
-        meta = env_meta(root, s["id"])
+        meta = env_meta(root, s)
         pic = picture(root, s["id"])
         img = f"![{s['id']}](../assets/envs/{pic}){{ width=\"120\" }}" if pic else ""
-        out.append(f"| [`{s['id']}`]({s['id']}.md) | `{s['family']}` | {len(s['features'])} | {cell(meta['engine'])} "
+        out.append(f"| [`{s['id']}`]({s['id']}.md) | `{s['id']}-v{s.get('version', 0)}` | `{s['family']}` "
+                   f"| {len(s['features'])} | {cell(meta['engine'])} "
                    f"| {cell(meta['fidelity'])} | {img} |")
     return "\n".join(out) + "\n"
 
@@ -384,8 +412,8 @@ def generate(bin_: Path | None = None, root: Path = ROOT) -> dict[str, str]:
     specs = [json.loads(run(bin_, "show", i, "--format", "json")) for i in ids]
     pages = {"envs/index.md": env_index(root, specs)}
     for spec in specs:
-        p = root / "docs" / "envs" / f"{spec['id']}.md"
-        meta = env_meta(root, spec["id"])
+        p = env_doc(root, spec)
+        meta = env_meta(root, spec)
         _, body = front_matter(p.read_text()) if p.exists() else ({}, "")
         pages[f"envs/{spec['id']}.md"] = env_page(root, spec, body, meta, runtimes)
     src = (root / "docs" / "reference" / "spec-language.md").read_text()
@@ -396,10 +424,32 @@ def generate(bin_: Path | None = None, root: Path = ROOT) -> dict[str, str]:
     return pages
 
 
+def pictures(bin_: Path | None = None, root: Path = ROOT) -> list[tuple[str, str, list[str]]]:
+    """(id, format, `carl-spec render` arguments) of every environment whose page asks for a
+    picture: front matter `picture: FORMAT ARGS…` (`gif --seed 0 --policy heuristic --steps 200`,
+    `png --seed 0`). scripts/docs/render_envs.sh renders them."""
+    bin_ = bin_ or binary(root)
+    out = []
+    for e in json.loads(run(bin_, "list", "--format", "json")):
+        p = env_doc(root, e)
+        meta, _ = front_matter(p.read_text()) if p.exists() else ({}, "")
+        if meta.get("picture"):
+            fmt, *args = meta["picture"].split()
+            out.append((e["id"], fmt, args))
+    return out
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", required=True, help="directory to write the generated pages into")
+    g = ap.add_mutually_exclusive_group(required=True)
+    g.add_argument("--out", help="directory to write the generated pages into")
+    g.add_argument("--pictures", action="store_true",
+                   help="print `ID FORMAT RENDER-ARGS…` of every environment whose page asks for a picture")
     args = ap.parse_args()
+    if args.pictures:
+        for env_id, fmt, render_args in pictures():
+            print(env_id, fmt, *render_args)
+        return
     for path, text in generate().items():
         p = Path(args.out) / path
         p.parent.mkdir(parents=True, exist_ok=True)

@@ -1,7 +1,9 @@
 """mkdocs hooks (mkdocs.yml `hooks:`): the pages made from the specs and the schema.
 
 At every build, `gen_pages.generate()` runs the built `carl-spec` (CARL_SPEC_BIN, default
-target/release/carl-spec) and its pages replace or join the files under docs/; the Environments
+target/release/carl-spec) and its pages replace or join the files under docs/: among them every
+environment's page, whose hand-written half lives in its family's crate
+(crates/carl-envs-<family>/docs/<id>.md), so docs/ holds no per-environment file. The Environments
 section of the navigation lists every environment it found.
 """
 
