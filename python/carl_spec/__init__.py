@@ -95,8 +95,14 @@ def make_vec(env: str, num_envs: int, **kwargs: Any) -> CarlVectorEnv:
 
 
 def gym_id(env: str) -> str:
-    """The Gymnasium id of a runtime, e.g. `carl_spec/cartpole-v0`."""
-    return f"carl_spec/{env}-v0"
+    """The Gymnasium id of a runtime, `carl_spec/<id>-v<version>`, e.g. `carl_spec/cartpole-v0`.
+
+    The version is the spec's: it is bumped whenever the environment's dynamics, observation,
+    reward or termination change, so results reported under one id stay comparable."""
+    version = _core.VERSIONS.get(env)
+    if version is None:
+        raise UnknownNameError(f"no runtime named {env!r}; runtimes: {', '.join(RUNTIMES)}")
+    return f"carl_spec/{env}-v{version}"
 
 
 def _register() -> None:

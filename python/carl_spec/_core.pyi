@@ -6,6 +6,7 @@ import numpy as np
 import numpy.typing as npt
 
 RUNTIMES: list[str]
+VERSIONS: dict[str, int]
 VERSION: str
 
 def cli_main(argv: list[str]) -> int: ...

@@ -311,9 +311,6 @@ def test_gymnasium_ids_are_versioned() -> None:
     want = {f"carl_spec/{e['id']}-v{e.get('version', 0)}" for e in cli_json("list", "--format", "json")}
     runtimes = {k.rsplit("-v", 1)[0] for k in registered}
     want = {w for w in want if w.rsplit("-v", 1)[0] in runtimes}
-    if registered != want and all(k.endswith("-v0") for k in registered):
-        pytest.xfail("the installed carl_spec still registers every id as -v0 (the Python side is switching to "
-                     f"carl_spec/<id>-v<version>): {sorted(want - registered)} missing")
     assert registered == want, f"registered {sorted(registered ^ want)} differ from carl_spec/<id>-v<version>"
 
 

@@ -16,6 +16,13 @@ pub type Context = BTreeMap<String, Value>;
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MakeError {
+    #[error("{env}: the context gives feature {feature} twice, as \"{first}\" and \"{second}\"; give it once")]
+    FeatureTwice {
+        env: String,
+        feature: String,
+        first: String,
+        second: String,
+    },
     #[error("environment \"{env}\" has a spec but no runtime yet; runtimes exist for: {available}")]
     NoRuntime { env: String, available: String },
     #[error("{env} has no option \"{name}\"; {valid}")]
@@ -85,6 +92,21 @@ pub fn resolve_context(spec: &EnvSpec, context: &Context, opts: MakeOptions) -> 
                 valid: names.collect::<Vec<_>>().join(", "),
             });
         }
+    }
+    // One feature named twice (an alias and its canonical name, or two aliases) would silently
+    // take one of the values.
+    let mut seen: Vec<(usize, &str)> = Vec::new();
+    for name in context.keys() {
+        let Some(i) = spec.feature_index(name) else { continue };
+        if let Some((_, first)) = seen.iter().find(|(j, _)| *j == i) {
+            return Err(MakeError::FeatureTwice {
+                env,
+                feature: spec.features[i].name.clone(),
+                first: (*first).to_string(),
+                second: name.clone(),
+            });
+        }
+        seen.push((i, name));
     }
     let mut out = Vec::with_capacity(spec.features.len());
     for f in &spec.features {

@@ -10,7 +10,6 @@ use carl_spec::envs::registry::{Context, EnvOptions, MakeError, has_runtime, ids
 use carl_spec::envs::{Features, Selection, Visibility};
 use carl_spec::instances::Store;
 use carl_spec::spec::SpecSet;
-use carl_spec::spec::model::EnvSpec;
 
 use crate::errors::{contextual_error, store_error, unknown_name, value_error};
 use crate::specs::require;
@@ -99,9 +98,7 @@ pub(crate) fn build_contextual(py: Python<'_>, specs: &SpecSet, env: &str, a: &S
     } else if let Some(name) = &a.distribution {
         ContextSource::Distribution { name: name.clone() }
     } else {
-        let context = a.context()?;
-        check_features_once(spec, &context)?;
-        ContextSource::Fixed(context)
+        ContextSource::Fixed(a.context()?)
     };
     let selection = parse_selection(&a.selection, a.instance)?;
     let visibility = if a.obs_context_all {
@@ -127,23 +124,6 @@ pub(crate) fn build_contextual(py: Python<'_>, specs: &SpecSet, env: &str, a: &S
         },
     )
     .map_err(|e| contextual_error(py, &e))
-}
-
-/// A context naming one feature twice (an alias and its canonical name, or two aliases) is
-/// refused, naming both; resolving it would silently take one of the values.
-pub(crate) fn check_features_once(spec: &EnvSpec, context: &Context) -> PyResult<()> {
-    let mut seen: Vec<(usize, &str)> = Vec::new();
-    for name in context.keys() {
-        let Some(i) = spec.feature_index(name) else { continue };
-        if let Some((_, first)) = seen.iter().find(|(j, _)| *j == i) {
-            return Err(value_error(format!(
-                "{}: the context gives feature {} twice, as \"{first}\" and \"{name}\"; give it once",
-                spec.id, spec.features[i].name
-            )));
-        }
-        seen.push((i, name));
-    }
-    Ok(())
 }
 
 /// The constructors' keyword arguments gathered and checked (`obs_context`: a list of feature

@@ -17,9 +17,9 @@
 //! package).
 
 use pyo3::prelude::*;
-use pyo3::types::PyList;
+use pyo3::types::{PyDict, PyList};
 
-use carl_spec::envs::registry::ids;
+use carl_spec::envs::registry::{has_runtime, ids};
 
 mod arrays;
 mod cli;
@@ -35,6 +35,29 @@ mod user_spec;
 mod vec_env;
 mod vec_infos;
 
+/// `{id: version}` of every runtime, from the bundled specs' `version` fields alone (read at
+/// import for the Gymnasium ids `carl_spec/<id>-v<version>`; the full specs load on first use).
+fn runtime_versions(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    #[derive(serde::Deserialize)]
+    struct Versioned {
+        id: Option<String>,
+        #[serde(default)]
+        version: u32,
+    }
+    let out = PyDict::new(py);
+    for (path, text) in carl_spec::spec::load::bundled_files() {
+        if path.contains('/') {
+            continue; // fragments and frozen sets
+        }
+        let v: Versioned = serde_json::from_str(text)
+            .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(format!("bundled spec {path}: {e}")))?;
+        if let Some(id) = v.id.filter(|id| has_runtime(id)) {
+            out.set_item(id, v.version)?;
+        }
+    }
+    Ok(out)
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(cli::cli_main, m)?)?;
@@ -48,6 +71,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<vec_env::VecEnv>()?;
     user_spec::register(m)?;
     m.add("RUNTIMES", PyList::new(m.py(), ids().collect::<Vec<_>>())?)?;
+    m.add("VERSIONS", runtime_versions(m.py())?)?;
     m.add("VERSION", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }
