@@ -8,7 +8,8 @@ Usage (a venv of its own, `.venv-*` is gitignored):
     .venv-gym/bin/pip install "gymnasium==1.4.*" numpy
     .venv-gym/bin/python scripts/gen_parity_fixtures.py [out_dir]
 
-Writes tests/fixtures/parity/<env>.json, replayed by tests/parity.rs.
+Writes crates/carl-envs-classic-control/tests/fixtures/parity/<env>.json, replayed by
+crates/carl-envs-classic-control/tests/integration/parity.rs.
 
 How a carl-spec context maps onto Gymnasium
 -------------------------------------------
@@ -258,7 +259,7 @@ def run_episode(name, gym_id, max_steps, ep_name, context, options, seed, explor
 
 def main():
     out_dir = sys.argv[1] if len(sys.argv) > 1 else os.path.join(
-        os.path.dirname(os.path.abspath(__file__)), "..", "tests", "fixtures", "parity")
+        os.path.dirname(os.path.abspath(__file__)), "..", "crates", "carl-envs-classic-control", "tests", "fixtures", "parity")
     os.makedirs(out_dir, exist_ok=True)
     for name, (gym_id, max_steps, contexts) in ENVS.items():
         episodes = []

@@ -6,9 +6,9 @@ relative to the lander are recorded until the first leg contact or `--steps` ste
 
 Usage (Gymnasium 1.4 with box2d in a venv of its own, `.venv-*` is gitignored):
     .venv-peers/bin/python scripts/lunar_lander_flight_box2d.py \
-        --out tests/fixtures/lunar_lander_flight_box2d.json
+        --out crates/carl-spec/tests/integration/fixtures/lunar_lander_flight_box2d.json
 
-`tests/lunar_lander.rs` replays the same actions from the same seeds (the same terrain, push and
+`crates/carl-spec/tests/integration/lunar_lander.rs` replays the same actions from the same seeds (the same terrain, push and
 engine dispersion: NumPy's generator in Gymnasium's order) and compares every step.
 """
 import argparse

@@ -6,7 +6,7 @@ Usage (Gymnasium in a venv of its own, `.venv-*` is gitignored):
     python3 -m venv .venv-peers && .venv-peers/bin/pip install swig \
         && .venv-peers/bin/pip install "gymnasium[box2d]==1.4.*"
     .venv-peers/bin/python scripts/lunar_lander_heuristic_check.py --episodes 50 \
-        --out tests/fixtures/lunar_lander_heuristic_gymnasium.json
+        --out crates/carl-spec/tests/integration/fixtures/lunar_lander_heuristic_gymnasium.json
 
 Gymnasium's constructor refuses gravity outside (-12, 0); like CARL we set the attribute the
 world is built from at reset (`env.unwrapped.gravity`) after construction. Seeds are 0..N-1.

@@ -8,9 +8,9 @@ leg joint deflection past its rest angle).
 
 Usage (Gymnasium 1.4 with box2d in a venv of its own, `.venv-*` is gitignored):
     .venv-peers/bin/python scripts/lunar_lander_touchdown_box2d.py --episodes 50 \
-        --out tests/fixtures/lunar_lander_touchdowns_box2d.json
+        --out crates/carl-spec/tests/integration/fixtures/lunar_lander_touchdowns_box2d.json
 
-`tests/lunar_lander.rs` loads every recorded state into carl-spec's lander, lets the same heuristic
+`crates/carl-spec/tests/integration/lunar_lander.rs` loads every recorded state into carl-spec's lander, lets the same heuristic
 finish the episode and compares outcomes seed by seed (the flight before touchdown is taken out of
 the comparison, the terrain is Gymnasium's own).
 """

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Known answers for src/envs/rng.rs from NumPy itself: SeedSequence words, PCG64(seed) raw
+"""Known answers for crates/carl-env/src/rng.rs from NumPy itself: SeedSequence words, PCG64(seed) raw
 outputs and Generator.uniform(-0.05, 0.05, size=4) (Gymnasium CartPole's reset) per seed.
 
 Usage: python3 scripts/numpy_seed_known_answers.py   (needs numpy)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Known-answer vectors for carl-spec's PCG64 (src/sampling/pcg64.rs), produced by NumPy itself.
+"""Known-answer vectors for carl-spec's PCG64 (crates/carl-spec-core/src/sampling/pcg64.rs), produced by NumPy itself.
 
 1. Raw states: set np.random.PCG64's state dict to a chosen (state, inc) and print random_raw().
 2. Seeding: re-implement Pcg64::new(seed, stream) (SplitMix64 expansion + PCG srandom) here in

@@ -12,9 +12,9 @@ per-step limits (translation < 2 m, rotation <= pi/2).
 
 Usage (pybox2d, e.g. the Gymnasium box2d extra, in a venv of its own):
     .venv-peers/bin/python scripts/physics2d_toi_box2d.py --cases 300 \
-        --out tests/fixtures/physics2d_toi_box2d.json
+        --out crates/carl-physics2d/tests/fixtures/physics2d_toi_box2d.json
 
-`src/physics2d/toi.rs` (test `matches_box2d_on_recorded_cases`) replays every case.
+`crates/carl-physics2d/src/toi.rs` (test `matches_box2d_on_recorded_cases`) replays every case.
 """
 import argparse
 import json

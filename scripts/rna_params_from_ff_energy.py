@@ -61,7 +61,7 @@ def main() -> None:
         "// ff_energy 0.5.0 (MIT licence, (c) the fuzzyfold authors,",
         "// https://github.com/bad-ants-fleet/fuzzyfold), with the triloop CUUAC corrected to GUUAC.",
         "// Index order: pairs AU, UA, CG, GC, GU, UG; bases A, C, G, U. `INF` marks impossible loops.",
-        "// Checked cell by cell against ViennaRNA 2.8.0 (tests/vienna_parity.rs).",
+        "// Checked cell by cell against ViennaRNA 2.8.0 (crates/carl-rna/tests/vienna_parity.rs).",
         "#![allow(clippy::all)]",
         "use super::INF;",
         "pub(crate) type Mismatch = [[[i32; 4]; 4]; 6];",

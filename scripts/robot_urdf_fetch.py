@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Write robots/fetch.urdf: the dog of Brax v0.0.x's `fetch` environment (brax/envs/fetch.py,
+"""Write crates/carl-envs-brax/robots/fetch.urdf: the dog of Brax v0.0.x's `fetch` environment (brax/envs/fetch.py,
 2021, _SYSTEM_CONFIG), as CARL 2021's CARLFetch used it.
 
 Brax's published geometry, kept as it is:
@@ -23,6 +23,9 @@ repository root: `python3 scripts/robot_urdf_fetch.py`; the output is committed.
 import math
 
 from robot_urdf import fmt, vec, joint_xml
+
+# The Brax family's robot files, relative to the repository root (run from there).
+ROBOTS = "crates/carl-envs-brax/robots"
 
 LIMIT = 60 * math.pi / 180
 TORSO = (0.75, 0.25, 0.125)
@@ -84,7 +87,7 @@ def main():
         "Box bodies, masses 1 kg, inertia diag(1,1,1), hinges limited to +-60 deg as in Brax. -->\n"
         f'<robot name="fetch">\n{body}\n</robot>\n'
     )
-    with open("robots/fetch.urdf", "w") as f:
+    with open(f"{ROBOTS}/fetch.urdf", "w") as f:
         f.write(text)
 
 

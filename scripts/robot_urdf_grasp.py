@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Write robots/grasp.urdf and robots/grasp.actuators.json from Brax's grasp system config.
+"""Write crates/carl-envs-brax/robots/grasp.urdf and robots/grasp.actuators.json from Brax's grasp system config.
 
 Source: Brax v0.0.9 (identical in v0.0.8..v0.0.10, the versions CARL 2021 ran),
 brax/envs/grasp.py `_SYSTEM_CONFIG`. Facts taken from it:
@@ -37,6 +37,9 @@ import json
 import math
 
 from robot_urdf import fmt, tiny_link, vec
+
+# The Brax family's robot files, relative to the repository root (run from there).
+ROBOTS = "crates/carl-envs-brax/robots"
 
 PI = math.pi
 DEG = PI / 180
@@ -184,7 +187,7 @@ def main():
         "knuckle, two hinges), Brax's masses (1 kg) and inertias. -->\n"
         f'<robot name="grasp">\n' + "\n".join(links + joints) + "\n</robot>\n"
     )
-    with open("robots/grasp.urdf", "w") as f:
+    with open(f"{ROBOTS}/grasp.urdf", "w") as f:
         f.write(text)
     side = {
         "robot": "grasp",
@@ -217,7 +220,7 @@ def main():
         "ground_contacts": False,
         "max_speed": 500.0,
     }
-    with open("robots/grasp.actuators.json", "w") as f:
+    with open(f"{ROBOTS}/grasp.actuators.json", "w") as f:
         f.write(json.dumps(side, indent=2) + "\n")
     print(f"palm height {palm_height:.6f}")
 

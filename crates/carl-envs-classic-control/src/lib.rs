@@ -4,7 +4,7 @@
 //! `Default`), reads it at step time and derives dependent quantities from it there, so a
 //! changed parameter always takes full effect. The arithmetic follows Gymnasium's Python/NumPy
 //! code operation by operation (including where NumPy 2 keeps float32), so trajectories are
-//! bit-identical to Gymnasium on the same machine; see `tests/parity.rs`.
+//! bit-identical to Gymnasium on the same machine; see the crate's `tests/integration/parity.rs`.
 
 pub mod acrobot;
 pub mod cartpole;

@@ -1,6 +1,7 @@
-//! The user-supplied data directory (`CARL_SPEC_DATA`), laid out like the project's
-//! `shared/data/`: `mario/levels/original/lvl-N.txt`, `mario/toad_gan/index.json`,
-//! `mario/toad_gan/<generator>/{manifest.json,weights.safetensors}`.
+//! The user-supplied data directory (`CARL_SPEC_DATA`, layout in the data guide
+//! docs/guides/data.md): `mario/levels/original/lvl-N.txt`, `mario/toad_gan/index.json`,
+//! `mario/toad_gan/<generator>/{manifest.json,weights.safetensors}`. Tests find the project's
+//! test data in a `shared/data` folder beside the checkout.
 
 use crate::error::{MarioError, Result};
 use std::path::{Path, PathBuf};

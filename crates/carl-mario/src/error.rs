@@ -7,10 +7,11 @@ use std::path::PathBuf;
 pub enum MarioError {
     #[error(
         "Mario data directory not found: {reason}.\n\
-         Set CARL_SPEC_DATA to a folder laid out like shared/data/, i.e. with \
+         Set CARL_SPEC_DATA (or pass --data-dir) to a folder with \
          mario/levels/original/lvl-1.txt … and mario/toad_gan/index.json + <generator>/{{manifest.json,weights.safetensors}}.\n\
          The levels and TOAD-GAN generators are CARL's (github.com/automl/CARL, carl/envs/mario/pcg_smb_env); \
-         convert the generators with gen_toad_gan_weights.py (numpy only) as described in the data README."
+         convert the generators with scripts/mario/gen_toad_gan_weights.py (numpy only) as the data guide \
+         (docs/guides/data.md) describes."
     )]
     DataDirMissing { reason: String },
 

@@ -5,7 +5,7 @@
 //! * [`data`]: where the user-supplied data (levels, converted generator weights) lives.
 //!
 //! Nothing Nintendo-derived is embedded: levels and weights are read from a data directory laid
-//! out like `shared/data/` (see [`data::DataDir`]).
+//! out as the data guide says (see [`data::DataDir`]).
 
 pub mod data;
 pub mod engine;

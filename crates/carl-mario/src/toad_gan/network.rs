@@ -2,7 +2,7 @@
 //! convolution, batch norm in eval mode, LeakyReLU, softmax over channels, bilinear resizing
 //! (torch's `align_corners=False`) and zero padding.
 //!
-//! Storage is f32 throughout; convolutions accumulate in f32 (the data README: the levels'
+//! Storage is f32 throughout; convolutions accumulate in f32 (the data guide, docs/guides/data.md: the levels'
 //! argmax does not depend on torch's accumulation order, checked on every fixture).
 
 /// A `(c, h, w)` feature map, row-major.

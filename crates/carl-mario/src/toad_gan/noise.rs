@@ -1,7 +1,7 @@
 //! `torch.randn(shape, generator=torch.Generator().manual_seed(seed))` on CPU, bit for bit as
 //! torch 2.4.1 computes it on x86-64 with AVX2/AVX512: MT19937, 24-bit uniforms, Box–Muller over
 //! blocks of 16 with Cephes-style f32 `log`/`sincos` polynomials and fused multiply-adds
-//! (observed behaviour documented in the data README; `mul_add` exactly where torch fuses).
+//! (observed behaviour of CARL's TOAD-GAN sampling; `mul_add` exactly where torch fuses).
 //! Constants are written with the Cephes decimals so that they round exactly as torch's do.
 #![allow(clippy::excessive_precision)]
 
