@@ -81,8 +81,18 @@ def test_provenance(planets: EvaluationResult) -> None:
     assert p["gym_id"] == cs.gym_id("lunar_lander")
     assert p["carl_spec_version"] == cs.__version__
     assert p["seed"] == 7 and p["episodes"] == 3 and p["num_envs"] == 4
-    assert "BLAKE2b" in p["seed_rule"]
-    assert p["policy"].startswith("callable ")
+    assert "SplitMix64" in p["seed_rule"]
+    assert p["policy"] == "function test_evaluation.heuristic"
+
+
+def test_episode_seeds() -> None:
+    from carl_spec.evaluation._run import _mix
+
+    # SplitMix64's first output from state 0 (its reference implementation's known answer).
+    assert int(_mix(np.array([0], dtype=np.uint64))[0]) == 0xE220A8397B1DCDAF
+    assert episode_seed(2**64 + 5, 1, 2, None) == episode_seed(5, 1, 2, None) < 2**63
+    assert {episode_seed(0, 4, e, 6) % 6 for e in range(50)} == {4}
+    assert len({episode_seed(0, k, e, None) for k in range(30) for e in range(30)}) == 900
 
 
 def test_same_seed_same_results_any_batch(planets: EvaluationResult) -> None:

@@ -37,8 +37,9 @@ def plot_report(data: dict[str, Any], path: str | os.PathLike[str] | None) -> An
 
     # Aggregates: one row per (metric, group), the estimate and its interval.
     ax = axes[0]
-    y = 0
-    ticks, labels = [], []
+    y = 0.0
+    ticks: list[float] = []
+    labels: list[str] = []
     for m in METRICS:
         for k in keys:
             a = groups[k]["aggregates"][m]

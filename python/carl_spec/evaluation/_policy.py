@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+import types
 from contextlib import contextmanager
 from typing import Any, Callable, Iterator
 
@@ -29,6 +30,8 @@ def describe(policy: Any) -> str:
         return f"torch module {name}"
     if callable(getattr(policy, "predict", None)):
         return f"model {name} (.predict)"
+    if isinstance(policy, (types.FunctionType, types.BuiltinFunctionType)):
+        return f"function {getattr(policy, '__module__', None)}.{getattr(policy, '__qualname__', '?')}"
     return f"callable {name}"
 
 
@@ -126,10 +129,10 @@ def check_actions(actions: Any, space: spaces.Space[Any], num_envs: int, env: st
             raise ValueError(f"{where}: environment {i} got action {a[i]}, outside {space} (valid: {lo}..{hi})")
         return a
     if isinstance(space, spaces.Box):
-        want = (num_envs, *space.shape)
-        if a.shape != want:
+        box_shape: tuple[int, ...] = (num_envs, *space.shape)
+        if a.shape != box_shape:
             raise ValueError(
-                f"{where} has shape {a.shape}; {space} takes shape {want} (num_envs={num_envs} rows of {space.shape})"
+                f"{where} has shape {a.shape}; {space} takes shape {box_shape} (num_envs={num_envs} rows of {space.shape})"
             )
         if a.dtype == np.bool_ or not (np.issubdtype(a.dtype, np.floating) or np.issubdtype(a.dtype, np.integer)):
             raise ValueError(f"{where} are {a.dtype}; {space} takes real numbers ({space.dtype})")

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import hashlib
 import json
 import os
 from dataclasses import replace
@@ -17,20 +16,39 @@ from ._result import Episode, EvaluationResult, Instance
 
 #: How each episode's seed derives from the evaluation's seed (recorded in the provenance).
 SEED_RULE = (
-    "h = first 8 bytes (little-endian) of BLAKE2b-64('carl-spec/evaluate/{seed}/{instance}/{episode}') >> 1; "
-    "instance sets: seed = h - h mod n + instance (a seeded reset of a set with round-robin selection "
-    "plays instance seed mod n); distributions and fixed contexts: seed = h"
+    "mix = SplitMix64's output function (x + 0x9E3779B97F4A7C15, then the xor-shift-multiply "
+    "finalizer, mod 2^64); h = mix(mix(mix(seed mod 2^64) ^ instance) ^ episode) >> 1; "
+    "instance sets: seed = h - h mod n + instance (a seeded reset of a set with round-robin "
+    "selection plays instance seed mod n); distributions (instance = the draw's number) and fixed "
+    "contexts (instance 0): seed = h"
 )
+
+_U64 = np.uint64
+
+
+def _mix(x: np.ndarray) -> np.ndarray:
+    """SplitMix64's output function on uint64 arrays (wrapping arithmetic)."""
+    z = x + _U64(0x9E3779B97F4A7C15)
+    z = (z ^ (z >> _U64(30))) * _U64(0xBF58476D1CE4E5B9)
+    z = (z ^ (z >> _U64(27))) * _U64(0x94D049BB133111EB)
+    return z ^ (z >> _U64(31))
+
+
+def episode_seeds(seed: int, instances: np.ndarray, episodes: np.ndarray, n_instances: int | None) -> np.ndarray:
+    """The reset seeds of many episodes at once (`SEED_RULE`), as uint64."""
+    base = _mix(np.array([seed % 2**64], dtype=np.uint64))
+    h = _mix(_mix(base ^ instances.astype(np.uint64)) ^ episodes.astype(np.uint64)) >> _U64(1)
+    if n_instances:
+        n = _U64(n_instances)
+        h = h - h % n + instances.astype(np.uint64)
+    return h
 
 
 def episode_seed(seed: int, instance: int, episode: int, n_instances: int | None) -> int:
     """The reset seed of one episode: a function of (seed, instance, episode) only, never of the
-    batch, so any `num_envs` plays the same episodes (see `SEED_RULE`)."""
-    digest = hashlib.blake2b(f"carl-spec/evaluate/{seed}/{instance}/{episode}".encode(), digest_size=8).digest()
-    h = int.from_bytes(digest, "little") >> 1
-    if n_instances:
-        h = h - h % n_instances + instance
-    return h
+    batch, so any `num_envs` plays the same episodes (see `SEED_RULE`; `n_instances`: the set's
+    size, None for a distribution or a fixed context)."""
+    return int(episode_seeds(seed, np.array([instance]), np.array([episode]), n_instances)[0])
 
 
 def _plain(x: Any) -> Any:
@@ -45,7 +63,8 @@ def _plain(x: Any) -> Any:
 
 
 def _spec_doc(env: str, specs_dir: str | None) -> dict[str, Any]:
-    return json.loads(_core.spec_json(env, specs_dir))
+    doc: dict[str, Any] = json.loads(_core.spec_json(env, specs_dir))
+    return doc
 
 
 def _canonical(env: str, specs_dir: str | None) -> str:
@@ -200,7 +219,9 @@ def evaluate(
         specs_dir=specs_dir,
         **make_source,
     )
-    seeds = [episode_seed(seed, k, e, n_mod) for k, e in jobs]
+    seeds = episode_seeds(
+        seed, np.fromiter((k for k, _ in jobs), np.int64, total), np.fromiter((e for _, e in jobs), np.int64, total), n_mod
+    ).tolist()
     records: list[Episode | None] = [None] * total
     draws_seen: dict[int, tuple[dict[str, Any], int]] = {}
     try:
@@ -264,7 +285,6 @@ def _play(
     obs, infos = venv.reset(seed=[seeds[j] for j in job_of])
     _check_started(venv, infos, jobs, job_of, range(n), draws_seen, drawing)
     step = venv.step
-    count_nonzero = np.count_nonzero
     t = 0
     remaining = total
     first = True
@@ -276,8 +296,9 @@ def _play(
         obs, reward, terminated, truncated, infos = step(actions)
         ret += reward
         t += 1
-        # count_nonzero: a fraction of ndarray.any()'s cost, paid at every batch step.
-        if not (count_nonzero(terminated) or count_nonzero(truncated)):
+        # A bool array's bytes searched for a 1: a fraction of ndarray.any()'s cost (paid at
+        # every batch step).
+        if not (1 in terminated.tobytes() or 1 in truncated.tobytes()):
             continue
         done = np.flatnonzero(terminated | truncated)
         reset_seeds: list[int | None] = [None] * n
