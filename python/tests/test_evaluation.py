@@ -182,6 +182,42 @@ def test_visible_context_and_options() -> None:
     assert c.provenance["options"] == {"continuous": True}
 
 
+def test_outcomes_from_info(monkeypatch: Any) -> None:
+    """Where the environment's info holds an `outcome` at an episode's end (Gymnasium's vector
+    layout: `infos["outcome"]`, `infos["_outcome"]`), each episode records it and the summary and
+    report count them. The batch here adds one as a stand-in for an environment that defines it."""
+    real_make_vec = cs.make_vec
+
+    class WithOutcome:
+        def __init__(self, venv: Any) -> None:
+            self._venv = venv
+
+        def __getattr__(self, name: str) -> Any:
+            return getattr(self._venv, name)
+
+        def step(self, actions: Any) -> Any:
+            obs, r, term, trunc, infos = self._venv.step(actions)
+            if term.any():
+                infos = dict(infos)
+                infos["outcome"] = np.where(r > 0, "landed", "crashed").astype(object)
+                infos["_outcome"] = term.copy()
+            return obs, r, term, trunc, infos
+
+    monkeypatch.setattr(cs, "make_vec", lambda *a, **k: WithOutcome(real_make_vec(*a, **k)))
+    r = cs.evaluate(heuristic, instances=PLANETS, episodes=3, seed=7, num_envs=4)
+    for e in r.episodes:
+        assert (e.outcome is None) == (not e.terminated)
+        assert e.outcome in (None, "landed", "crashed")
+    assert {e.outcome for e in r.episodes} >= {"landed", "crashed"}
+    for s in r.summary():
+        eps = [e for e in r.episodes if e.instance == s.instance.id]
+        assert s.outcomes == {o: sum(e.outcome == o for e in eps) for o in sorted({e.outcome for e in eps} - {None})}
+    assert EvaluationResult.from_json(r.to_json()) == r
+    rep = cs.report(test=[r], reps=10)
+    assert rep.groups["test"]["per_instance"][0]["outcomes"] == r.summary()[0].outcomes
+    assert "outcomes" in rep.to_markdown()
+
+
 class FakeModel:
     """What evaluate needs of a Stable-Baselines3 model."""
 
@@ -431,7 +467,8 @@ def test_report_refuses_mixed_results(runs: tuple[list[EvaluationResult], list[E
     with pytest.raises(ValueError, match="train and test differ in environments: 'lunar_lander' vs 'pendulum'"):
         cs.report(train=train, test=[pend])
     newer = dataclasses.replace(test[1], provenance={**test[1].provenance, "env_version": 99})
-    with pytest.raises(ValueError, match="test mixes environment versions: run 0 has 0, run 1 has 99"):
+    v = _core.VERSIONS["lunar_lander"]
+    with pytest.raises(ValueError, match=f"test mixes environment versions: run 0 has {v}, run 1 has 99"):
         cs.report(test=[test[0], newer])
     other = dataclasses.replace(test[1], provenance={**test[1].provenance, "carl_spec_version": "9.9.9"})
     with pytest.raises(ValueError, match="test mixes carl-spec versions"):
@@ -439,6 +476,12 @@ def test_report_refuses_mixed_results(runs: tuple[list[EvaluationResult], list[E
     visible = dataclasses.replace(test[1], provenance={**test[1].provenance, "obs_context": ["GRAVITY_Y"]})
     with pytest.raises(ValueError, match="test mixes visible context features"):
         cs.report(test=[test[0], visible])
+    d0 = cs.evaluate(zeros_box, "pendulum", distribution="q1_g_sigma_0_5", draws=3, seed=0, run=0)
+    d1 = cs.evaluate(zeros_box, "pendulum", distribution="q1_g_sigma_0_5", draws=3, seed=1, run=1)
+    with pytest.raises(ValueError, match="run 1 drew other contexts than run 0 .*with the same seed"):
+        cs.report(test=[d0, d1])
+    same = cs.evaluate(zeros_box, "pendulum", distribution="q1_g_sigma_0_5", draws=3, seed=0, run=1)
+    assert cs.report(test=[d0, same], reps=10).groups["test"]["instances"] == 3
     with pytest.raises(ValueError, match="holds run 0 twice"):
         cs.report(test=[test[0], test[0]])
     with pytest.raises(TypeError, match=r"test\[1\] is a dict, not an EvaluationResult"):

@@ -65,9 +65,16 @@ def _check_group(what: str, runs: list[EvaluationResult]) -> None:
     _same(what, runs, "obs_context", "visible context features (obs_context)")
     _same(what, runs, "context_noise", "context noise")
     ids = [(i.id, i.name, i.split) for i in runs[0].instances]
+    contexts = [i.context for i in runs[0].instances]
     for k, r in enumerate(runs[1:], 1):
         if [(i.id, i.name, i.split) for i in r.instances] != ids:
             raise ValueError(f"report: {what} run {k} evaluated other instances than run 0")
+        if [i.context for i in r.instances] != contexts:
+            raise ValueError(
+                f"report: {what} run {k} drew other contexts than run 0 (evaluation seeds "
+                f"{r.provenance.get('seed')!r} and {runs[0].provenance.get('seed')!r}); a report compares runs on the "
+                "same instances: evaluate every run of a distribution with the same seed"
+            )
     labels = [r.provenance.get("run") for r in runs]
     seen: dict[Any, int] = {}
     for k, lab in enumerate(labels):
