@@ -70,6 +70,10 @@ def test_every_instance_gets_its_episodes(planets: EvaluationResult) -> None:
     assert s.mean == pytest.approx(planets.returns("Mars").mean())
     assert planets.returns(3).tolist() == planets.returns("Mars").tolist()
     assert planets.scores.shape == (6,)
+    rows = planets.records()
+    assert len(rows) == 18
+    assert rows[9] == {**planets.episodes[9].to_dict(), "name": "Mars", "split": "in_distribution",
+                       "context": iset.contexts[3]}
 
 
 def test_provenance(planets: EvaluationResult) -> None:

@@ -188,6 +188,19 @@ class EvaluationResult:
         names = ", ".join(str(i.name if i.name is not None else i.id) for i in self.instances[:20])
         raise KeyError(f"no instance {key!r} in {self.source_name}; instances: {names}")
 
+    def records(self) -> list[dict[str, Any]]:
+        """One flat row per episode with its instance's name, split and context beside the
+        episode's fields (`pandas.DataFrame(result.records())` makes a table of them; the JSON
+        keeps each instance's context once, in `instances`)."""
+        by_id = {i.id: i for i in self.instances}
+        rows = []
+        for e in self.episodes:
+            inst = by_id[e.instance]
+            row = e.to_dict()
+            row.update(name=inst.name, split=inst.split, context=dict(inst.context))
+            rows.append(row)
+        return rows
+
     @property
     def scores(self) -> np.ndarray:
         """The mean return of each instance, in instance order (the report's per-task score)."""
