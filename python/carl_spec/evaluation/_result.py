@@ -6,7 +6,7 @@ import json
 import math
 import os
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -26,12 +26,12 @@ class Instance:
     context: dict[str, Any]
 
 
-@dataclass(frozen=True)
-class Episode:
+class Episode(NamedTuple):
     """One episode: its instance, its index among that instance's episodes, the seed it was reset
     with, its return (`return_`; `"return"` in JSON), length and how it ended. `outcome` is the
     environment's own verdict (landed, crashed, ...) where its info defines one, else None; a
-    distribution's draw also records `context_seed`."""
+    distribution's draw also records `context_seed`. (An immutable named tuple: one is made per
+    episode while the batch runs, five times faster than a frozen dataclass.)"""
 
     instance: int
     episode: int

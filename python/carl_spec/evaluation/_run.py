@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 import os
-from dataclasses import replace
 from typing import Any, Mapping
 
 import numpy as np
@@ -232,7 +231,7 @@ def evaluate(
 
     if distribution is not None:
         inst = [Instance(k, None, None, {f: draws_seen[k][0][f] for f in feats}) for k in range(n)]
-        records = [None if r is None else replace(r, context_seed=draws_seen[r.instance][1]) for r in records]
+        records = [None if r is None else r._replace(context_seed=draws_seen[r.instance][1]) for r in records]
     provenance = {
         "carl_spec_version": _core.VERSION,
         "env": env_id,
