@@ -20,6 +20,7 @@ from .env import CarlEnv
 if TYPE_CHECKING:
     from ._audit import AuditReport, audit
     from ._wrap import ContextualWrapper, wrap
+    from .evaluation import EvaluationResult, Report, evaluate, report
     from .specs import Diagnostic, InstanceSet, Spec, ValidationReport, instances, list_envs, sample, spec, validate
     from .vector import CarlVectorEnv
 
@@ -34,6 +35,7 @@ _LAZY: dict[str, str] = {
     "CarlVectorEnv": "vector",
     "ContextualWrapper": "_wrap",
     "wrap": "_wrap",
+    **dict.fromkeys(["EvaluationResult", "Report", "evaluate", "report"], "evaluation"),
     **dict.fromkeys(
         ["Diagnostic", "InstanceSet", "Spec", "ValidationReport", "instances", "list_envs", "sample", "spec", "validate"],
         "specs",
@@ -63,18 +65,22 @@ __all__ = [
     "CarlVectorEnv",
     "ContextualWrapper",
     "Diagnostic",
+    "EvaluationResult",
     "InstanceSet",
     "InvalidActionError",
     "RUNTIMES",
+    "Report",
     "Spec",
     "UnknownNameError",
     "audit",
     "ValidationReport",
+    "evaluate",
     "gym_id",
     "instances",
     "list_envs",
     "make",
     "make_vec",
+    "report",
     "sample",
     "spec",
     "validate",
