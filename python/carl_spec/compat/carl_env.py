@@ -3,8 +3,9 @@
 What carl-bench users rely on keeps working: `contexts={id: context}` (missing features at their
 defaults), `obs_context_features`, `obs_context_as_dict`, `context_selector` /
 `context_selector_kwargs`, the `{"obs", "context"}` Dict observation, `info["context_id"]`,
-`env.contexts`, `env.context`, `env.context_id`, `get_context_features()`,
-`get_default_context()`. Features are named as carl-bench names them.
+`env.contexts` (settable), `env.context`, `env.context_id`, `get_context_features()`,
+`get_default_context()`, `_progress_instance()`, `_update_context()`; an unseeded round robin starts
+at context 0 as carl-bench's. Features are named as carl-bench names them.
 
 What deliberately differs (carl-bench's flaws are not reproduced):
 * every context is checked when the env is built: unknown names, carl-bench features carl-spec does
@@ -14,7 +15,10 @@ What deliberately differs (carl-bench's flaws are not reproduced):
   LunarLander writes its context into Gymnasium's module globals);
 * `env.context` is the full context (carl-bench's lacks the defaults it filled into `contexts`);
 * context values in observations are float32 arrays, so observations lie in `observation_space`;
-* defaults are carl-spec's (Gymnasium's for the classic five, e.g. MountainCar's goal 0.5).
+* defaults are carl-spec's (Gymnasium's for the classic five, e.g. MountainCar's goal 0.5);
+* `env.contexts = {...}` replaces the set from the next reset (carl-bench's selector keeps the old
+  one), and `_update_context()` refuses a context changed in place (carl-bench pushes it into the
+  physics mid-episode); every difference is listed in docs/guides/migration.md.
 """
 
 from __future__ import annotations
