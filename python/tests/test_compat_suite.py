@@ -299,3 +299,25 @@ def test_mario_without_its_data_says_how_to_get_it(tmp_path: Path, monkeypatch: 
     monkeypatch.setenv("CARL_SPEC_DATA", str(tmp_path))
     with pytest.raises(ValueError, match=r"(?s)CARL_SPEC_DATA.*gen_toad_gan_weights\.py"):
         CARLMarioEnv().reset(seed=0)
+
+
+def test_context_sampler_takes_configspace_hyperparameters_and_hydra_spaces(tmp_path: Path) -> None:
+    configspace = pytest.importorskip("ConfigSpace", reason="ConfigSpace is optional (carl-spec[compat])")
+    omegaconf = pytest.importorskip("omegaconf", reason="omegaconf is optional (carl-spec[compat])")
+    from carl_spec.compat import ContextSampler
+
+    space = CARLCartPole.get_context_space()
+    hps = [configspace.UniformFloatHyperparameter("length", 0.2, 2.0), configspace.CategoricalHyperparameter("masscart", [1.0, 2.0])]
+    contexts = ContextSampler(hps, context_space=space, seed=0).sample_contexts(8)
+    assert all(0.2 <= c["length"] <= 2.0 and c["masscart"] in (1.0, 2.0) and c["tau"] == 0.02 for c in contexts.values())
+    CARLCartPole(contexts=contexts).reset(seed=0)
+    hydra = omegaconf.DictConfig({"hyperparameters": {"length": {"type": "uniform_float", "lower": 0.2, "upper": 2.0}}})
+    a = ContextSampler(hydra, context_space=space, seed=1).sample_contexts(3)
+    path = tmp_path / "space.json"
+    path.write_text('{"hyperparameters": [{"name": "length", "type": "uniform_float", "lower": 0.2, "upper": 2.0, "log": false}]}')
+    b = ContextSampler(str(path), context_space=space, seed=1).sample_contexts(3)
+    assert a == b and len({c["length"] for c in a.values()}) == 3
+    with pytest.raises(ValueError, match="NormalIntegerHyperparameter is not a distribution"):
+        ContextSampler([configspace.NormalIntegerHyperparameter("length", mu=1, sigma=1, lower=0, upper=3)], context_space=space, seed=0)
+    with pytest.raises(ValueError, match="unknown context feature"):
+        ContextSampler([configspace.UniformFloatHyperparameter("lenght", 0.2, 2.0)], context_space=space, seed=0)
