@@ -176,6 +176,16 @@ def test_contexts_setter_replaces_the_set_from_the_next_reset() -> None:
     ids = [env.reset()[1]["context_id"] for _ in range(4)]
     assert ids == [0, 1, 2, 0]  # a new set starts at its first context
     assert env.context == env.contexts["x"]
+    # a seeded run stays reproducible across the change of set (the new set's streams come from
+    # the env's own seeded np_random); unseeded envs differ
+    def curriculum(seed: int | None) -> list[bytes]:
+        e = CARLCartPole(contexts={0: {"length": 0.6}, 1: {"length": 0.7}})
+        e.reset(seed=seed)
+        e.contexts = {0: {"length": 0.9}, 1: {}}
+        return [e.reset()[0]["obs"].tobytes() for _ in range(3)]
+
+    assert curriculum(5) == curriculum(5)
+    assert curriculum(None) != curriculum(None)
     with pytest.raises(ValueError, match="length"):
         env.contexts = {0: {"length": 100.0}}
     assert len(env.contexts) == 3  # a refused set leaves the old one in place

@@ -239,6 +239,11 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
         self._started = False
         self._running: Any = None
         self._continue_after: int | None = None
+        # Its streams are seeded at its first reset: by that reset's seed, else by the OS (a new
+        # env) or by the env's own `np_random` (a set replaced by the `contexts` setter, so a
+        # seeded run stays reproducible).
+        self._derive_seed = self._seeded
+        self._seeded = False
         self._current = 0
         self.context: Context | None = None
 
@@ -376,7 +381,9 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
         the seed its runtime resets with. Round robin starts at the first context when the first
         selection is unseeded (as carl-bench's); a seed `s` starts it at `s mod n`."""
         first = not self._seeded
-        seed_for_streams: int | None = os_entropy_seed() if seed is None and first else seed
+        seed_for_streams = seed
+        if seed is None and first:
+            seed_for_streams = int(self.np_random.integers(2**63)) if self._derive_seed else os_entropy_seed()
         self._seeded = True
         if self._custom:
             self.context_selector.select()
