@@ -6,9 +6,11 @@
     env = CARLLunarLander(contexts={0: {"GRAVITY_Y": -3.7}, 1: {"GRAVITY_Y": -9.8}})
 
 Every `carl.` import has a `carl_spec.compat.` twin (`carl_spec.compat.envs`,
-`carl_spec.compat.context.selection`); importing this package registers the `carl/CARL<Name>-v0`
-Gymnasium ids. The differences from carl-bench (its flaws are not reproduced) are listed in
-`carl_spec.compat.carl_env`'s docstring and the README.
+`carl_spec.compat.context.selection`, `carl_spec.compat.envs.gymnasium.classic_control.carl_pendulum`,
+...); importing this package registers the `carl/CARL<Name>-v0` Gymnasium ids. carl-bench 1.1.1's
+own test suite runs against it (python/tests/carl_bench_suite). The differences from carl-bench
+(its flaws are not reproduced) and the environments still pending (`_pending`) are listed in
+docs/guides/migration.md.
 """
 
 from __future__ import annotations

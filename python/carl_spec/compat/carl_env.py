@@ -3,8 +3,9 @@
 What carl-bench users rely on keeps working: `contexts={id: context}` (missing features at their
 defaults), `obs_context_features`, `obs_context_as_dict`, `context_selector` /
 `context_selector_kwargs`, the `{"obs", "context"}` Dict observation, `info["context_id"]`,
-`env.contexts`, `env.context`, `env.context_id`, `get_context_features()`,
-`get_default_context()`. Features are named as carl-bench names them.
+`env.contexts` (settable), `env.context`, `env.context_id`, `get_context_features()`,
+`get_default_context()`, `_progress_instance()`, `_update_context()`; an unseeded round robin starts
+at context 0 as carl-bench's. Features are named as carl-bench names them.
 
 What deliberately differs (carl-bench's flaws are not reproduced):
 * every context is checked when the env is built: unknown names, carl-bench features carl-spec does
@@ -14,7 +15,10 @@ What deliberately differs (carl-bench's flaws are not reproduced):
   LunarLander writes its context into Gymnasium's module globals);
 * `env.context` is the full context (carl-bench's lacks the defaults it filled into `contexts`);
 * context values in observations are float32 arrays, so observations lie in `observation_space`;
-* defaults are carl-spec's (Gymnasium's for the classic five, e.g. MountainCar's goal 0.5).
+* defaults are carl-spec's (Gymnasium's for the classic five, e.g. MountainCar's goal 0.5);
+* `env.contexts = {...}` replaces the set from the next reset (carl-bench's selector keeps the old
+  one), and `_update_context()` refuses a context changed in place (carl-bench pushes it into the
+  physics mid-episode); every difference is listed in docs/guides/migration.md.
 """
 
 from __future__ import annotations
@@ -168,36 +172,11 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
             context_selector_kwargs=context_selector_kwargs,
             render_mode=render_mode,
         )
-        if contexts is None:
-            contexts = {0: {}}
-        if not isinstance(contexts, dict) or not contexts:
-            raise ValueError("contexts must be a non-empty dict {context_id: {feature: value}}")
-        self._to_compat = self._name_maps()[1]
-        canonical_contexts = [{self._canonical(k): v for k, v in c.items()} for c in contexts.values()]
-        self.context_selector = self._selector(contexts, context_selector, context_selector_kwargs)
-        mode = self.context_selector.mode
-        self._custom = mode is None
-        # The compat API has no out-of-bounds switch; carl-spec's own make has one.
-        with out_of_bounds_hint(f"carl_spec.make({self.env_id!r}, context=..., allow_out_of_bounds=True) runs it"):
-            if len(canonical_contexts) == 1:
-                # One context: carl-spec's fixed context, so unseeded resets continue the runtime's
-                # own stream (for the classic five: exactly Gymnasium's env, reset for reset).
-                self._chooser = _core.ContextChooser(None, env=self.env_id, context_json=json.dumps(canonical_contexts[0]))
-            else:
-                self._chooser = _core.ContextChooser(
-                    None,
-                    env=self.env_id,
-                    contexts_json=json.dumps(canonical_contexts),
-                    selection=mode or "round_robin",
-                    instance=0 if mode == "static" else None,
-                )
-            # One runtime per context, each checked now (names, bounds) like a carl-spec set.
-            self._envs = [_core.Env(self.env_id, context_json=json.dumps(c)) for c in canonical_contexts]
-        self._keys = list(contexts.keys())
-        resolved = [dict(c) for c in self._chooser.instance_contexts()]
-        self._contexts = {k: self._compat(c) for k, c in zip(self._keys, resolved)}
-        # What the agent observes: the numeric values (a string choice as its index).
-        self._numeric = [{self._to_compat[c]: float(v) for c, v in r.items()} for r in resolved]
+        # The selector's type is checked before the contexts (carl-bench's order of complaints).
+        self._check_selector(context_selector)
+        self._selector_spec = (context_selector, context_selector_kwargs)
+        self._seeded = False
+        self._set_contexts(contexts)
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be one of {self.metadata['render_modes']} or None, got {render_mode!r}")
         self.render_mode = render_mode
@@ -211,13 +190,61 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
                 raise ValueError(f"{n} has no numeric value to observe")
         self.obs_context_features: list[str] = list(obs_context_features)
         self.obs_context_as_dict = obs_context_as_dict
-        self.base_observation_space = self._hull([space_from_json(json.loads(e.observation_space_json())) for e in self._envs])
         self.action_space = space_from_json(json.loads(self._envs[0].action_space_json()))
         self._discrete = isinstance(self.action_space, spaces.Discrete)
         self.observation_space = self.get_observation_space(self.obs_context_features)
-        self._current = 0
         self._context_obs_cache: Any = None
+
+    def _set_contexts(self, contexts: Contexts | None) -> None:
+        """Check `contexts`, build one runtime per context and a fresh selector of the chosen kind
+        (the constructor and the `contexts` setter)."""
+        if contexts is None:
+            contexts = {0: {}}
+        if not isinstance(contexts, dict) or not contexts:
+            raise ValueError("contexts must be a non-empty dict {context_id: {feature: value}}")
+        self._to_compat = self._name_maps()[1]
+        canonical_contexts = [{self._canonical(k): v for k, v in c.items()} for c in contexts.values()]
+        selector = self._selector(contexts, *self._selector_spec)
+        mode = selector.mode
+        # The compat API has no out-of-bounds switch; carl-spec's own make has one.
+        with out_of_bounds_hint(f"carl_spec.make({self.env_id!r}, context=..., allow_out_of_bounds=True) runs it"):
+            if len(canonical_contexts) == 1:
+                # One context: carl-spec's fixed context, so unseeded resets continue the runtime's
+                # own stream (for the classic five: exactly Gymnasium's env, reset for reset).
+                chooser = _core.ContextChooser(None, env=self.env_id, context_json=json.dumps(canonical_contexts[0]))
+            else:
+                chooser = _core.ContextChooser(
+                    None,
+                    env=self.env_id,
+                    contexts_json=json.dumps(canonical_contexts),
+                    selection=mode or "round_robin",
+                    instance=0 if mode == "static" else None,
+                )
+            # One runtime per context, each checked now (names, bounds) like a carl-spec set.
+            envs = [_core.Env(self.env_id, context_json=json.dumps(c)) for c in canonical_contexts]
+        # Everything is checked: replace the set (a selector instance the user passed follows it).
+        selector.contexts, selector.contexts_keys = contexts, list(contexts.keys())
+        selector.context_ids, selector.context_id = list(range(len(contexts))), None
+        self.context_selector = selector
+        self._custom = mode is None
+        self._chooser, self._envs = chooser, envs
+        self._keys = list(contexts.keys())
+        resolved = [dict(c) for c in chooser.instance_contexts()]
+        self._contexts = {k: self._compat(c) for k, c in zip(self._keys, resolved)}
+        # What the agent observes: the numeric values (a string choice as its index).
+        self._numeric = [{self._to_compat[c]: float(v) for c, v in r.items()} for r in resolved]
+        self.base_observation_space = self._hull([space_from_json(json.loads(e.observation_space_json())) for e in envs])
+        # A new set starts over: its first reset selects as a new env's would.
+        self._chosen: int | None = None
+        self._started = False
+        self._running: Any = None
+        self._continue_after: int | None = None
+        # Its streams are seeded at its first reset: by that reset's seed, else by the OS (a new
+        # env) or by the env's own `np_random` (a set replaced by the `contexts` setter, so a
+        # seeded run stays reproducible).
+        self._derive_seed = self._seeded
         self._seeded = False
+        self._current = 0
         self.context: Context | None = None
 
     def _compat(self, canonical: dict[str, float]) -> Context:
@@ -260,6 +287,16 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
         raise ValueError(f"context_selector must be None or a selector class or instance, got {type(selector).__name__}")
 
     @staticmethod
+    def _check_selector(selector: Any) -> None:
+        if selector is None or isinstance(selector, AbstractSelector) or inspect.isclass(selector):
+            return
+        if type(selector).__name__ in _BUILTIN:
+            return
+        raise ValueError(
+            f"context_selector must be None or an AbstractSelector class or instance, got {type(selector).__name__}"
+        )
+
+    @staticmethod
     def _hull(spaces_: list[spaces.Space[Any]]) -> spaces.Space[Any]:
         first = spaces_[0]
         if not isinstance(first, spaces.Box) or len(spaces_) == 1:
@@ -291,6 +328,20 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
         """The context set by the user's keys, every feature filled in (carl-bench's names)."""
         return {k: dict(c) for k, c in self._contexts.items()}
 
+    @contexts.setter
+    def contexts(self, contexts: Contexts) -> None:
+        """Replace the context set (curricula): checked like the constructor's `contexts`, filled
+        with the defaults, selected by a fresh selector of the same kind from the next reset on
+        (round robin starts again at the first context). The running episode keeps its context:
+        carl-spec never changes a context during an episode."""
+        running = (self._runtime(), self._current, self.context) if self._started else None
+        self._set_contexts(contexts)
+        self._ctor["contexts"] = contexts
+        if running is not None:
+            # Steps until the next reset continue the running episode (its runtime, its context
+            # and its context_id in the infos).
+            self._running, self._current, self.context = running
+
     @property
     def context_id(self) -> int | None:
         """Position of the current context in `contexts` (None before the first reset)."""
@@ -305,7 +356,10 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
             raise ValueError(f"context id {new_id} is not in the context set (ids 0..{len(self._keys) - 1})")
         if len(self._keys) > 1:
             self._chooser.set_instance(int(new_id))
+            self._continue_after = int(new_id)
         self.context_selector.context_id = int(new_id)
+        self._chosen = int(new_id)
+        self.context = dict(self._contexts[self._keys[int(new_id)]])
 
     # -- the Gymnasium API -----------------------------------------------------------------
 
@@ -322,24 +376,66 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
         context = {n: a.copy() for n, a in c.items()} if isinstance(c, dict) else c.copy()
         return {"obs": obs, "context": context}
 
-    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[dict[str, Any], dict[str, Any]]:
-        super().reset(seed=seed)
-        if seed is None and not self._seeded:
-            seed = os_entropy_seed()
-        if seed is not None:
-            self._seeded = True
+    def _select(self, seed: int | None) -> tuple[int, int | None]:
+        """Choose the next context (carl-bench's `_progress_instance`): returns its position and
+        the seed its runtime resets with. Round robin starts at the first context when the first
+        selection is unseeded (as carl-bench's); a seed `s` starts it at `s mod n`."""
+        first = not self._seeded
+        seed_for_streams = seed
+        if seed is None and first:
+            seed_for_streams = int(self.np_random.integers(2**63)) if self._derive_seed else os_entropy_seed()
+        self._seeded = True
         if self._custom:
             self.context_selector.select()
             i = int(self.context_selector.context_id or 0)
-            env_seed = seed
+            env_seed = seed_for_streams if (seed is not None or first) else None
         else:
-            info, env_seed = self._chooser.reset(seed)
+            info, env_seed = self._chooser.reset(seed_for_streams)
+            n = len(self._keys)
+            after = self._continue_after
+            if seed is None and first and n > 1 and (self.context_selector.mode == "round_robin" or after is not None):
+                # The streams are seeded from the OS; the instances start at 0 as carl-bench's
+                # (or after the context `env.context_id = i` switched to).
+                self._chooser.set_instance(n - 1 if after is None else after)
+                info, env_seed = self._chooser.reset(None)
             i = int(info.get("instance_id", 0))
             self.context_selector.context_id = i
             self.context_selector.n_calls += 1
-        self._current = i
-        self._context_obs_cache = self._context_obs(i)
+        self._chosen = i
         self.context = dict(self._contexts[self._keys[i]])
+        return i, env_seed
+
+    def _runtime(self) -> Any:
+        """The runtime of the running episode (the replaced set's until the next reset)."""
+        return self._envs[self._current] if self._running is None else self._running
+
+    def _progress_instance(self) -> None:
+        """carl-bench's: select the next context (`env.context`, `env.context_id`) as a reset
+        does; the reset after it selects again. The runtime switches at the next reset."""
+        self._select(None)
+
+    def _update_context(self) -> None:
+        """carl-bench's: make `env.context` the context the physics runs. In carl-spec every
+        context of the set has its own runtime, bound when the set is built, so there is nothing to
+        push; a context changed in place never reaches the physics and is refused, naming the fix."""
+        if self.context is None or self._chosen is None:
+            return
+        bound = self._contexts[self._keys[self._chosen]]
+        if self.context != bound:
+            changed = sorted(k for k in set(self.context) | set(bound) if self.context.get(k) != bound.get(k))
+            raise ValueError(
+                f"{type(self).__name__}: env.context was changed in place ({', '.join(changed)}); carl-spec binds each "
+                "context when the set is built and never changes the physics during an episode. Set "
+                "`env.contexts = {id: context}` (checked, used from the next reset) instead"
+            )
+
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[dict[str, Any], dict[str, Any]]:
+        super().reset(seed=seed)
+        i, env_seed = self._select(seed)
+        self._current = i
+        self._running = None
+        self._started = True
+        self._context_obs_cache = self._context_obs(i)
         obs, _ = self._envs[i].reset(env_seed)
         return self._observe(obs), {"context_id": i}
 
@@ -348,15 +444,17 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
             action = np.asarray(action, dtype=np.float32).reshape(-1)
         elif type(action) is not int:
             action = discrete_action(type(self).__name__, self.action_space, action)
+        runtime = self._runtime()
         try:
-            obs, reward, terminated, truncated = self._envs[self._current].step(action)
+            obs, reward, terminated, truncated = runtime.step(action)
         except OverflowError:
             raise ValueError(f"{type(self).__name__}: action {action} is not in {self.action_space}") from None
         return self._observe(obs), reward, terminated, truncated, {"context_id": self._current}
 
     def render(self) -> np.ndarray | None:
         if self.render_mode == "rgb_array":
-            return self._envs[self._current].render()
+            frame: np.ndarray = self._runtime().render()
+            return frame
         return None
 
     def __reduce__(self) -> tuple[Any, ...]:

@@ -10,6 +10,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+from gymnasium import spaces
 
 Context = dict[str, Any]
 
@@ -39,6 +40,15 @@ class NumericalContextFeature(ContextFeature):
     pass
 
 
+def _finite(f: ContextFeature) -> None:
+    if not (np.isfinite(f.lower) and np.isfinite(f.upper)):
+        raise ValueError(
+            f"{f.name}: cannot draw uniformly from [{f.lower}, {f.upper}] (carl-bench's ConfigSpace returns inf for "
+            "every such draw); give the feature finite bounds, or sample it from a NormalFloatContextFeature "
+            "with a ContextSampler"
+        )
+
+
 class UniformFloatContextFeature(NumericalContextFeature):
     def __init__(self, name: str, lower: float, upper: float, default_value: float | None = None, log: bool = False) -> None:
         if default_value is None:
@@ -47,6 +57,7 @@ class UniformFloatContextFeature(NumericalContextFeature):
         self.log = log
 
     def sample(self, rng: np.random.Generator) -> float:
+        _finite(self)
         if self.log:
             return float(np.exp(rng.uniform(np.log(self.lower), np.log(self.upper))))
         return float(rng.uniform(self.lower, self.upper))
@@ -58,6 +69,7 @@ class UniformIntegerContextFeature(UniformFloatContextFeature):
         self.type = "int"
 
     def sample(self, rng: np.random.Generator) -> int:
+        _finite(self)
         return int(rng.integers(int(self.lower), int(self.upper) + 1))
 
 
@@ -130,6 +142,56 @@ class ContextSpace:
     def get_lower_and_upper_bound(self, context_feature_name: str) -> tuple[float, float]:
         f = self.context_space[context_feature_name]
         return f.lower, f.upper
+
+    def to_gymnasium_space(self, context_feature_names: list[str] | None = None, as_dict: bool = False) -> spaces.Space[Any]:
+        """The features as a Gymnasium space, as carl-bench's: `Dict` of `Box(1,)` per numeric
+        feature and `Discrete(n)` per categorical one (`as_dict=True`), else one float32 `Box`
+        (a categorical feature as its index, 0..n-1, where carl-bench fails)."""
+        names = self.context_feature_names if context_feature_names is None else list(context_feature_names)
+        for n in names:
+            if n not in self.context_space:
+                raise ValueError(f"unknown context feature {n!r}; features: {', '.join(self.context_feature_names)}")
+        feats = [self.context_space[n] for n in names]
+        if as_dict:
+            return spaces.Dict(
+                {
+                    f.name: spaces.Discrete(len(f.choices))
+                    if isinstance(f, CategoricalContextFeature)
+                    else spaces.Box(low=f.lower, high=f.upper, shape=(1,), dtype=np.float32)
+                    for f in feats
+                }
+            )
+
+        def bounds(f: ContextFeature) -> tuple[float, float]:
+            if isinstance(f, CategoricalContextFeature):
+                return 0.0, float(len(f.choices) - 1)
+            return f.lower, f.upper
+
+        low = np.array([bounds(f)[0] for f in feats], dtype=np.float32)
+        high = np.array([bounds(f)[1] for f in feats], dtype=np.float32)
+        return spaces.Box(low=low, high=high, dtype=np.float32)
+
+    def sample_contexts(
+        self, context_keys: list[str] | None = None, size: int = 1, *, seed: int | None = None
+    ) -> Context | list[Context]:
+        """`size` contexts with the features `context_keys` (None: every feature) drawn from their
+        distributions and the others at their defaults; one context when `size == 1`, else a list
+        (carl-bench's shapes). `seed` seeds the draws (None: fresh entropy). carl-bench draws every
+        feature whatever `context_keys` says; here only the named ones are drawn.
+
+        Raises ValueError for a name that is not a feature, or for a uniform feature with an
+        infinite bound (carl-bench returns inf for every such draw)."""
+        if context_keys is None:
+            keys = self.context_feature_names
+        else:
+            keys = list(context_keys)
+            for key in keys:
+                if key not in self.context_space:
+                    raise ValueError(f"Invalid context feature name: {key}; features: {', '.join(self.context_feature_names)}")
+        rng = np.random.default_rng(seed)
+        defaults = self.get_default_context()
+        contexts = [{**defaults, **{k: self.context_space[k].sample(rng) for k in keys}} for _ in range(size)]
+        return contexts[0] if size == 1 else contexts
 
 
 __all__ = [

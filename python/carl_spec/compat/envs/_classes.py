@@ -1,5 +1,5 @@
-"""carl-bench 1.1.1's environment classes (`carl.envs`) over carl-spec's runtimes.
-
+"""carl-bench 1.1.1's environment classes over carl-spec's runtimes (defined here, exported from their
+carl-bench module twins, e.g. `carl_spec.compat.envs.gymnasium.classic_control.carl_pendulum`).
 Each class names its carl-spec runtime, carl-bench's names of the features carl-spec has (in
 carl-bench's order; carl-spec's spec lists them as aliases where they differ), and the carl-bench
 features carl-spec does not have, with the reason a user gets when passing one.
@@ -7,7 +7,10 @@ features carl-spec does not have, with the reason a user gets when passing one.
 
 from __future__ import annotations
 
-from .carl_env import CARLEnv
+from typing import Any
+
+from .._pending import GOAL, PendingEnvironmentError
+from ..carl_env import CARLEnv
 
 _START = "carl-spec starts {env} exactly as Gymnasium does (same initial state for the same seed), so it has no {what} features"
 _ROBOT = (
@@ -17,9 +20,33 @@ _ROBOT = (
 )
 
 
+_GOAL = (
+    "it is a goal feature of carl-bench's BraxWalkerGoalWrapper; carl-spec's {env} has no goal features yet: "
+    "it needs {goal}"
+)
+
+
 def _robot_only(env: str) -> dict[str, str]:
     why = _ROBOT.format(env=env)
-    return {n: why for n in ("elasticity", "viscosity", "target_distance", "target_direction", "target_radius")}
+    goal = _GOAL.format(env=env, goal=GOAL)
+    return {
+        "elasticity": why,
+        "viscosity": why,
+        **{n: goal for n in ("target_distance", "target_direction", "target_radius")},
+    }
+
+
+class _Robot(CARLEnv):
+    """carl-bench's Brax classes take `use_language_goals` (its goal option, pending here)."""
+
+    def __init__(self, *args: Any, use_language_goals: bool = False, batch_size: int = 1, **kwargs: Any) -> None:
+        if use_language_goals:
+            raise PendingEnvironmentError(
+                f"{type(self).__name__}(use_language_goals=True): carl-spec's {self.env_id} has no goal features yet: it needs {GOAL}"
+            )
+        if batch_size != 1:
+            raise ValueError(f"{type(self).__name__}: batch_size={batch_size}: use carl_spec.make_vec({self.env_id!r}, num_envs)")
+        super().__init__(*args, **kwargs)
 
 
 class CARLCartPole(CARLEnv):
@@ -97,13 +124,13 @@ class CARLVehicleRacing(CARLEnv):
     bench_names = ("VEHICLE_ID",)
 
 
-class CARLBraxAnt(CARLEnv):
+class CARLBraxAnt(_Robot):
     env_id = "ant"
     bench_names = ("gravity", "friction", "ang_damping", "mass_torso")
     bench_only = _robot_only("ant")
 
 
-class CARLBraxHalfcheetah(CARLEnv):
+class CARLBraxHalfcheetah(_Robot):
     env_id = "half_cheetah"
     bench_names = (
         "gravity", "friction", "ang_damping", "mass_torso", "mass_bthigh", "mass_bshin", "mass_bfoot",
@@ -112,7 +139,7 @@ class CARLBraxHalfcheetah(CARLEnv):
     bench_only = _robot_only("half_cheetah")
 
 
-class CARLBraxHumanoid(CARLEnv):
+class CARLBraxHumanoid(_Robot):
     env_id = "humanoid"
     bench_names = (
         "gravity", "friction", "ang_damping", "mass_torso", "mass_lwaist", "mass_pelvis", "mass_right_thigh",
@@ -141,4 +168,4 @@ CLASSES: dict[str, type[CARLEnv]] = {
     )
 }
 
-__all__ = [*CLASSES, "CARLEnv", "CLASSES"]
+__all__ = [*CLASSES, "CLASSES"]

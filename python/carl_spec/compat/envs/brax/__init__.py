@@ -1,0 +1,26 @@
+"""carl-bench's `carl.envs.brax`: Ant, HalfCheetah and Humanoid run on carl-spec's robots; the
+other seven are pending (building one raises `PendingEnvironmentError`, see `_pending`)."""
+
+from .carl_ant import CARLBraxAnt
+from .carl_halfcheetah import CARLBraxHalfcheetah
+from .carl_hopper import CARLBraxHopper
+from .carl_humanoid import CARLBraxHumanoid
+from .carl_humanoidstandup import CARLBraxHumanoidStandup
+from .carl_inverted_double_pendulum import CARLBraxInvertedDoublePendulum
+from .carl_inverted_pendulum import CARLBraxInvertedPendulum
+from .carl_pusher import CARLBraxPusher
+from .carl_reacher import CARLBraxReacher
+from .carl_walker2d import CARLBraxWalker2d
+
+__all__ = [
+    "CARLBraxAnt",
+    "CARLBraxHalfcheetah",
+    "CARLBraxHopper",
+    "CARLBraxHumanoid",
+    "CARLBraxHumanoidStandup",
+    "CARLBraxInvertedDoublePendulum",
+    "CARLBraxInvertedPendulum",
+    "CARLBraxPusher",
+    "CARLBraxReacher",
+    "CARLBraxWalker2d",
+]

@@ -1,0 +1,10 @@
+"""carl-bench's `carl.envs.dmc`: the dm_control family is pending (issue 27); building one of
+these classes raises `PendingEnvironmentError` naming the missing environment."""
+
+from .carl_dm_finger import CARLDmcFingerEnv
+from .carl_dm_fish import CARLDmcFishEnv
+from .carl_dm_pointmass import CARLDmcPointMassEnv
+from .carl_dm_quadruped import CARLDmcQuadrupedEnv
+from .carl_dm_walker import CARLDmcWalkerEnv
+
+__all__ = ["CARLDmcFingerEnv", "CARLDmcFishEnv", "CARLDmcQuadrupedEnv", "CARLDmcWalkerEnv", "CARLDmcPointMassEnv"]

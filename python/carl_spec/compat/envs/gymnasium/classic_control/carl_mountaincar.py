@@ -1,0 +1,5 @@
+"""carl-bench's `carl.envs.gymnasium.classic_control.carl_mountaincar`."""
+
+from ..._classes import CARLMountainCar
+
+__all__ = ["CARLMountainCar"]

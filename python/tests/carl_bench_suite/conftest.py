@@ -1,0 +1,151 @@
+"""carl-bench 1.1.1's own test suite, run against `carl_spec.compat` (see PROVENANCE.md).
+
+The vendored test files are carl-bench's with only the import prefix changed; this file is ours.
+Every test passes except those listed here, each with its reason:
+
+* `PENDING`: tests of environments carl-spec does not have yet (the seven Brax classes and the
+  dm_control family, `carl_spec.compat._pending`, and the goal option of the Brax walkers). They
+  are skipped, the skip naming the missing environment and its issue.
+* `CARL_BENCH_BUGS`: tests that rely on a carl-bench bug compat deliberately does not reproduce
+  (docs/guides/migration.md). They are strict xfails raising the stated error: one that starts
+  passing, or fails differently, fails the run.
+* the search-space tests import ConfigSpace and omegaconf (optional: `carl-spec[compat]`); without
+  them the file is skipped, saying so.
+* `test_box2d_envs.py` checks nothing when the Box2D package is missing (carl-spec never needs it):
+  then it is skipped, saying so, rather than passing empty; python/tests/test_compat_suite.py runs
+  its body whatever is installed.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from carl_spec._errors import UnknownNameError
+from carl_spec.compat._pending import GOAL, PENDING, message, reason
+
+HERE = Path(__file__).parent
+BRAX_PENDING = [c for c, (_, issue) in PENDING.items() if issue == 26]
+
+
+def _dmc(*classes: str) -> str:
+    return "; ".join(reason(c) for c in classes)
+
+
+_GOAL_REASON = f"needs {GOAL}: pending issue 26 (carl-spec's CARLBraxAnt/CARLBraxHalfcheetah have no target_* features yet)"
+
+#: test id -> why it is skipped (the environment carl-spec does not have yet)
+PENDING_TESTS: dict[str, str] = {
+    "test_brax_env.py::TestBraxEnvs::test_envs": "builds every class of carl.envs.brax; "
+    + "; ".join(reason(c) for c in BRAX_PENDING)
+    + " (Ant, HalfCheetah and Humanoid are checked by python/tests/test_compat_suite.py)",
+    "test_dmc.py::TestDMCLoader::test_load_classic_dmc_env": _dmc("CARLDmcWalkerEnv"),
+    "test_dmc.py::TestDMCLoader::test_load_context_dmc_env": _dmc("CARLDmcWalkerEnv"),
+    "test_dmc.py::TestDMCLoader::test_load_unknowntask_dmc_env": _dmc("CARLDmcWalkerEnv"),
+    "test_dmc.py::TestDMCLoader::test_load_unknowndomain_dmc_env": message("load_dmc_env", "dm_control family", 27),
+    "test_dmc.py::TestFinger::test_finger_constraints": _dmc("CARLDmcFingerEnv"),
+    "test_dmc.py::TestFinger::test_finger_tasks": _dmc("CARLDmcFingerEnv"),
+    "test_dmc.py::TestDmcUtils::test_adapt_context_no_context": _dmc("CARLDmcFingerEnv"),
+    "test_dmc.py::TestDmcUtils::test_adapt_context_partialcontext": _dmc("CARLDmcFingerEnv"),
+    "test_dmc.py::TestDmcUtils::test_adapt_context_fullcontext": _dmc("CARLDmcFingerEnv"),
+    "test_dmc.py::TestDmcUtils::test_adapt_context_friction": _dmc("CARLDmcWalkerEnv"),
+    "test_dmc.py::TestQuadruped::test_make_model": _dmc("CARLDmcQuadrupedEnv"),
+    "test_dmc.py::TestQuadruped::test_instantiate_env_with_context": _dmc("CARLDmcQuadrupedEnv"),
+    "test_dmc.py::TestFish::test_make_model": _dmc("CARLDmcQuadrupedEnv"),  # carl-bench's fish test builds the quadruped
+    "test_dmc.py::TestFish::test_instantiate_env_with_context": _dmc("CARLDmcFishEnv"),
+    "test_dmc.py::TestPointmass::test_make_model": _dmc("CARLDmcPointMassEnv"),
+    "test_dmc.py::TestPointmass::test_instantiate_env_with_context": _dmc("CARLDmcPointMassEnv"),
+    "test_dmc.py::TestPointmass::test_constraints": _dmc("CARLDmcPointMassEnv"),
+    "test_language_goals.py::TestGoalSampling::test_uniform_sampling": _GOAL_REASON,
+    "test_language_goals.py::TestGoalSampling::test_normal_sampling": _GOAL_REASON,
+    "test_language_goals.py::TestGoalWrapper::test_reset": _GOAL_REASON,
+    "test_language_goals.py::TestGoalWrapper::test_reward_scale": _GOAL_REASON,
+    "test_language_goals.py::TestLanguageWrapper::test_reset": _GOAL_REASON,
+    "test_language_goals.py::TestLanguageWrapper::test_step": _GOAL_REASON,
+}
+
+_DEAD_GRAVITY = (
+    "its contexts set CARLPendulum's `gravity`, which is dead in carl-bench 1.1.1 (Gymnasium's Pendulum reads `g`: "
+    "the value never reaches the physics); compat refuses it, naming `g`"
+)
+
+#: test id -> (the error compat raises, why: the carl-bench bug the test relies on)
+CARL_BENCH_BUGS: dict[str, tuple[type[BaseException], str]] = {
+    "test_context_selector.py::TestContextSelection::test_default_selector": (UnknownNameError, _DEAD_GRAVITY),
+    "test_context_selector.py::TestContextSelection::test_roundrobin_selector_init": (UnknownNameError, _DEAD_GRAVITY),
+    "test_context_selector.py::TestContextSelection::test_random_selector_init": (UnknownNameError, _DEAD_GRAVITY),
+    "test_context_selector.py::TestContextSelection::test_random_selectorclass_init": (UnknownNameError, _DEAD_GRAVITY),
+    "test_context_space.py::TestContextSpace::test_sample": (
+        ValueError,
+        "samples `gravity` from U(0.1, inf): carl-bench (ConfigSpace) returns inf for every draw and the test accepts "
+        "it; compat refuses to draw uniformly from an unbounded range, naming the feature",
+    ),
+}
+
+BOX2D_TEST = "test_box2d_envs.py::TestBox2DEnvs::test_envs"
+BOX2D_REASON = (
+    "carl-bench's test checks nothing without the Box2D package (carl-spec's Box2D family never needs it); "
+    "python/tests/test_compat_suite.py::test_box2d_classes_run_as_carl_bench_test_box2d_envs_does runs its body"
+)
+
+OPTIONAL = {"test_search_space_encoding.py": ("ConfigSpace", "omegaconf")}
+
+
+class _SkippedFile(pytest.File):
+    """A vendored file whose imports are optional packages that are missing: one skipped item."""
+
+    reason: str = ""
+
+    def collect(self) -> Any:
+        yield _Skipped.from_parent(self, name="module")
+
+
+class _Skipped(pytest.Item):
+    def runtest(self) -> None:
+        assert isinstance(self.parent, _SkippedFile)
+        pytest.skip(self.parent.reason)
+
+    def reportinfo(self) -> tuple[Path, int, str]:
+        return self.path, 0, self.name
+
+
+def pytest_pycollect_makemodule(module_path: Path, parent: Any) -> Any:
+    needs = OPTIONAL.get(module_path.name)
+    if needs and module_path.parent == HERE:
+        missing = [m for m in needs if importlib.util.find_spec(m) is None]
+        if missing:
+            f = _SkippedFile.from_parent(parent, path=module_path)
+            f.reason = (
+                f"carl-bench's search-space tests import {', '.join(missing)}, not installed "
+                '(optional: pip install "carl-spec[compat]")'
+            )
+            return f
+    return None
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    seen: set[str] = set()
+    files: set[str] = set()
+    for item in items:
+        if item.path.parent != HERE:
+            continue
+        key = item.nodeid.split("carl_bench_suite/", 1)[-1]
+        files.add(key.split("::", 1)[0])
+        if key in PENDING_TESTS:
+            seen.add(key)
+            item.add_marker(pytest.mark.skip(reason=f"pending: {PENDING_TESTS[key]}"))
+        elif key == BOX2D_TEST and importlib.util.find_spec("Box2D") is None:
+            item.add_marker(pytest.mark.skip(reason=BOX2D_REASON))
+        elif key in CARL_BENCH_BUGS:
+            seen.add(key)
+            raises, why = CARL_BENCH_BUGS[key]
+            item.add_marker(pytest.mark.xfail(raises=raises, strict=True, reason=f"asserts a carl-bench bug: {why}"))
+    # Every listed test exists (a renamed test must not leave a stale entry behind).
+    listed = {k for k in [*PENDING_TESTS, *CARL_BENCH_BUGS] if k.split("::", 1)[0] in files}
+    stale = listed - seen
+    selected = config.getoption("keyword") or config.getoption("markexpr") or any("::" in a for a in config.args)
+    if stale and not selected:
+        raise pytest.UsageError(f"carl_bench_suite/conftest.py lists tests that do not exist: {sorted(stale)}")
