@@ -8,6 +8,7 @@ import os
 import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -66,12 +67,11 @@ def test_rollout_reads_actions_from_stdin() -> None:
 @pytest.mark.skipif(os.name == "nt", reason="POSIX signals")
 def test_ctrl_c_ends_a_long_command() -> None:
     """Python's own SIGINT handler would wait for the native call; the script restores the default."""
-    p = subprocess.Popen([script(), "bench", "cartpole", "--steps", "100000000"], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
-    try:
-        import time
-
-        time.sleep(1.0)
-        p.send_signal(signal.SIGINT)
-        assert p.wait(timeout=5) == -signal.SIGINT
-    finally:
-        p.kill()
+    cmd = [script(), "bench", "cartpole", "--steps", "100000000"]
+    with subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL) as p:
+        try:
+            time.sleep(1.0)
+            p.send_signal(signal.SIGINT)
+            assert p.wait(timeout=5) == -signal.SIGINT
+        finally:
+            p.kill()
