@@ -24,7 +24,7 @@ use crate::info_keys::{Columns, keyed};
 use crate::obs_layout::ObsLayout;
 use crate::specs::{require, space_json, with_specs};
 use crate::stock::Stock;
-use crate::vec_infos::{mask, set_column, set_nested};
+use crate::vec_infos::{mask, read_only_any, set_column, set_nested};
 
 /// Largest `threads` (as `carl-spec bench --threads`).
 const MAX_THREADS: usize = 256;
@@ -76,6 +76,10 @@ pub(crate) struct VecEnv {
     bounds: Option<BoxBounds>,
     /// Batch steps since construction (named when an output is not finite).
     steps: u64,
+    /// Every env's context infos (see `cached_context_infos`), until a context may change.
+    context_cache: Option<Py<PyDict>>,
+    /// Whether an episode ended in the last step (its env resets in the next, next-step mode).
+    last_any_done: bool,
     /// The tuples the last two steps returned, released while the workers step a later batch
     /// (see `step`).
     returned: [Option<Py<PyTuple>>; 2],
@@ -118,11 +122,12 @@ impl VecEnv {
     fn take_actions<'py>(&mut self, actions: &Bound<'py, PyAny>) -> PyResult<()> {
         let py = actions.py();
         let (n, id) = (self.inner.num_envs(), self.inner.id());
-        let numpy = py.import(pyo3::intern!(py, "numpy"))?;
+        // NumPy is looked up only off the fast path (an int64 / float32 C-contiguous array).
+        let numpy = || py.import(pyo3::intern!(py, "numpy"));
         let convert = |x: &Bound<'py, PyAny>, dtype: &str| -> PyResult<Bound<'py, PyAny>> {
             let kwargs = PyDict::new(py);
             kwargs.set_item(pyo3::intern!(py, "dtype"), dtype)?;
-            numpy
+            numpy()?
                 .getattr(pyo3::intern!(py, "ascontiguousarray"))?
                 .call((x,), Some(&kwargs))
         };
@@ -130,12 +135,12 @@ impl VecEnv {
         let a = match actions.cast::<PyUntypedArray>() {
             Ok(a) => a,
             Err(_) => {
-                given = numpy.getattr(pyo3::intern!(py, "asarray"))?.call1((actions,))?;
+                given = numpy()?.getattr(pyo3::intern!(py, "asarray"))?.call1((actions,))?;
                 given.cast::<PyUntypedArray>()?
             }
         };
         let kind = a.dtype().kind();
-        let shape = a.shape().to_vec();
+        let shape = a.shape();
         let describe = || format!("{} array of shape {:?}", a.dtype(), shape);
         if self.discrete {
             if !matches!(kind, b'i' | b'u') || shape != [n] {
@@ -205,7 +210,7 @@ impl VecEnv {
     }
 
     /// A non-finite observation or reward after a step or reset, naming the environment.
-    fn check_outputs(&self, what: &str) -> PyResult<()> {
+    fn check_outputs(&self, what: impl Fn() -> String) -> PyResult<()> {
         let (obs, d) = (self.inner.obs(), self.inner.obs_dim());
         let rewards = self.inner.rewards();
         let wide = self.inner.obs_f64();
@@ -217,6 +222,7 @@ impl VecEnv {
             return Ok(());
         }
         for i in 0..self.inner.num_envs() {
+            let what = what();
             let reward = if what == "reset" { 0.0 } else { rewards[i] };
             let w = wide.map_or(&[][..], |w| &w[i * d..(i + 1) * d]);
             check_obs(
@@ -227,6 +233,32 @@ impl VecEnv {
             )?;
         }
         Ok(())
+    }
+
+    /// A fresh infos dict holding every env's context infos (`context_infos` of all envs), from
+    /// a cache kept while no context changes: the outer dict and the nested `context` dict are
+    /// fresh copies, the arrays in them read-only and shared with later steps' infos.
+    fn cached_context_infos<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        if self.context_cache.is_none() {
+            let d = PyDict::new(py);
+            let all: Vec<usize> = (0..self.inner.num_envs()).collect();
+            let infos: Vec<(usize, &ContextInfo)> = all.iter().map(|&i| (i, self.current_info(i))).collect();
+            self.set_context_infos(&d, &infos)?;
+            for (_, v) in d.iter() {
+                match v.cast::<PyDict>() {
+                    Ok(nested) => nested.iter().for_each(|(_, a)| read_only_any(&a)),
+                    Err(_) => read_only_any(&v),
+                }
+            }
+            self.context_cache = Some(d.unbind());
+        }
+        let cached = self.context_cache.as_ref().expect("made above").bind(py);
+        let out = cached.copy()?;
+        let key = pyo3::intern!(py, "context");
+        if let Some(ctx) = cached.get_item(key)? {
+            out.set_item(key, ctx.cast::<PyDict>()?.copy()?)?;
+        }
+        Ok(out)
     }
 
     /// Environment `i`'s current context info (a plain batch: the one fixed context).
@@ -434,6 +466,8 @@ impl VecEnv {
             visible_keys: Columns::new(py, proto.visible_features().iter().map(String::as_str))?,
             bounds: BoxBounds::of(&inner.action_space()),
             steps: 0,
+            context_cache: None,
+            last_any_done: false,
             inner,
             layout,
             discrete,
@@ -488,7 +522,9 @@ impl VecEnv {
         py.detach(|| {
             inner.reset_masked(seed, mask_slice);
         });
-        this.check_outputs("reset")?;
+        this.context_cache = None;
+        this.last_any_done = false;
+        this.check_outputs(|| "reset".to_string())?;
         this.batch_obs(py)
     }
 
@@ -536,17 +572,32 @@ impl VecEnv {
             .map_err(|e| env_error(&e))?;
         restocked?;
         this.steps += 1;
-        this.check_outputs(&format!("step {}", this.steps))?;
+        let t = this.steps;
+        this.check_outputs(|| format!("step {t}"))?;
         let (term, trunc) = (this.inner.terminated(), this.inner.truncated());
-        let infos = PyDict::new(py);
         // Most batch steps end no episode: one branch-free pass tells (a filter over all envs
         // cost ~450 instructions per step).
-        if this.same_step && term.iter().zip(trunc).fold(false, |any, (&a, &b)| any | a | b) {
-            let ended: Vec<usize> = (0..n).filter(|&i| term[i] | trunc[i]).collect();
+        let any_done = term.iter().zip(trunc).fold(false, |any, (&a, &b)| any | a | b);
+        let ended: Vec<usize> = if this.same_step && any_done {
+            (0..n).filter(|&i| term[i] | trunc[i]).collect()
+        } else {
+            Vec::new()
+        };
+        // Contexts change only where an env resets: in this step (same-step) or the next
+        // (next-step); a plain batch has one fixed context.
+        if this.contextual && (any_done || this.last_any_done) {
+            this.context_cache = None;
+        }
+        this.last_any_done = any_done;
+        let infos = this.cached_context_infos(py)?;
+        if !ended.is_empty() {
             this.final_infos(&infos, &ended)?;
         }
-        let all: Vec<usize> = (0..n).collect();
-        this.context_infos(&infos, &all)?;
+        if this.noisy {
+            let all: Vec<usize> = (0..n).collect();
+            this.set_observed(&infos, this.inner.obs(), &all)?;
+        }
+        let (term, trunc) = (this.inner.terminated(), this.inner.truncated());
         let out = PyTuple::new(
             py,
             [
