@@ -44,6 +44,12 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
     plus Gymnasium's `_feature` / `_observed_context` masks). In same-step mode
     `infos["final_info"]` is the finished episodes' step info (`context`, `instance_id`, ...) in
     the same vector layout, as Gymnasium's `SyncVectorEnv` over `carl_spec.make` envs gives it.
+    The infos at reset and at every step are `SyncVectorEnv`'s over `cs.make` envs key for key
+    (`context`, `instance_id` / `instance_name` from a set, `context_seed` from a distribution,
+    masked to the envs that were reset); their context arrays are read-only. Actions, seeds and
+    outputs are checked as `cs.make` checks them; `num_envs` is at most 65,536 (4,096 for physics
+    and pixel envs) and `threads` at most 256, as `carl-spec bench`. `get_attr` / `call` give each
+    environment's `context`, `context_info()`, `instance_id`, `state` and spaces.
     Episodes are truncated at the spec's limit (`max_episode_steps`, if given, must equal it).
     `close()` frees the batch; any later call raises Gymnasium's `ClosedEnvironmentError`.
     """
