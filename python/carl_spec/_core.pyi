@@ -18,22 +18,31 @@ def load_instances_json(name: str, specs_dir: str | None = None) -> str: ...
 def sample_json(env: str, distribution: str, n: int, seed: int, specs_dir: str | None = None) -> str: ...
 
 @final
-class Env:
+class ContextArgs:
     def __new__(
         cls,
-        env: str,
         *,
-        context_json: str | None = None,
+        context: str | None = None,
         instances: str | None = None,
         distribution: str | None = None,
         selection: str = "round_robin",
         instance: int | None = None,
         obs_context: list[str] | bool | None = None,
-        options_json: str | None = None,
-        noise: list[tuple[str, str, float]] | None = None,
-        noise_redraw: str = "episode",
+        context_noise: list[tuple[str, str, float]] | None = None,
+        context_noise_redraw: str = "episode",
+        options: str | None = None,
         allow_out_of_bounds: bool = False,
+    ) -> ContextArgs: ...
+
+@final
+class Env:
+    def __new__(
+        cls,
+        env: str,
+        args: ContextArgs | None = None,
+        *,
         specs_dir: str | None = None,
+        context_json: str | None = None,
     ) -> Env: ...
     def reset(self, seed: int | None = None) -> tuple[Any, dict[str, Any]]: ...
     def step(self, action: Any) -> tuple[Any, float, bool, bool]: ...
@@ -62,17 +71,8 @@ class VecEnv:
         cls,
         env: str,
         num_envs: int,
+        args: ContextArgs | None = None,
         *,
-        context_json: str | None = None,
-        instances: str | None = None,
-        distribution: str | None = None,
-        selection: str = "round_robin",
-        instance: int | None = None,
-        obs_context: list[str] | bool | None = None,
-        options_json: str | None = None,
-        noise: list[tuple[str, str, float]] | None = None,
-        noise_redraw: str = "episode",
-        allow_out_of_bounds: bool = False,
         autoreset_mode: str = "next_step",
         threads: int = 1,
         specs_dir: str | None = None,
@@ -82,7 +82,7 @@ class VecEnv:
         self, actions: Any
     ) -> tuple[Any, npt.NDArray[np.float64], npt.NDArray[np.bool_], npt.NDArray[np.bool_], dict[str, Any]]: ...
     def native_steps(self, actions: list[Any], steps: int) -> None: ...
-    def infos(self) -> dict[str, Any]: ...
+    def infos(self, mask: npt.NDArray[np.bool_] | None = None) -> dict[str, Any]: ...
     def final_obs(self) -> Any: ...
     def episode_end_info(self, i: int) -> dict[str, Any] | None: ...
     @property
@@ -113,17 +113,13 @@ class ContextChooser:
     def __new__(
         cls,
         path: str | None,
+        args: ContextArgs | None = None,
         *,
         env: str | None = None,
         context_json: str | None = None,
         contexts_json: str | None = None,
-        instances: str | None = None,
-        distribution: str | None = None,
-        selection: str = "round_robin",
+        selection: str | None = None,
         instance: int | None = None,
-        obs_context: list[str] | None = None,
-        noise: list[tuple[str, str, float]] | None = None,
-        noise_redraw: str = "episode",
     ) -> ContextChooser: ...
     def reset(self, seed: int | None = None) -> tuple[dict[str, Any], int | None]: ...
     def after_step(self) -> dict[str, float] | None: ...

@@ -24,7 +24,7 @@ import numpy as np
 from gymnasium import spaces
 
 from . import _core
-from ._args import NoiseStd, noise_triples
+from ._args import NoiseStd, context_args
 from ._errors import UnknownNameError, out_of_bounds_hint
 from .env import _fresh, os_entropy_seed
 
@@ -89,15 +89,17 @@ class ContextualWrapper(gymnasium.Wrapper[Any, Any, Any, Any]):
         with out_of_bounds_hint(f"widen its bounds in {os.fspath(spec)} to run it"):
             self._chooser = _core.ContextChooser(
                 os.fspath(spec),
+                context_args(
+                    context=context,
+                    instances=instances,
+                    distribution=distribution,
+                    selection=selection,
+                    instance=instance,
+                    obs_context=self._visible,
+                    context_noise=context_noise,
+                    context_noise_redraw=context_noise_redraw,
+                ),
                 env=env_id,
-                context_json=None if context is None else json.dumps(context),
-                instances=instances,
-                distribution=distribution,
-                selection=selection,
-                instance=instance,
-                obs_context=self._visible,
-                noise=noise_triples(context_noise),
-                noise_redraw=context_noise_redraw,
             )
         self._noise_per_step = self._chooser.noise_redraw() == "step"
         self._apply = apply

@@ -12,7 +12,7 @@ import numpy as np
 from gymnasium.envs.registration import EnvSpec
 
 from . import _core
-from ._args import NoiseStd, core_kwargs
+from ._args import NoiseStd, check_name, check_seed, context_args
 from ._errors import InvalidActionError
 from ._spaces import space_from_json
 
@@ -46,6 +46,23 @@ def discrete_action(env_id: str, space: gymnasium.spaces.Space[Any], action: Any
     raise InvalidActionError(
         f"{env_id}: a {space} action is an int (or a NumPy integer scalar), got {type(action).__name__} {action!r:.80}"
     )
+
+
+def box_action(env_id: str, space: gymnasium.spaces.Space[Any], action: Any) -> np.ndarray:
+    """A Box action as float64 components: numbers only (None, strings, objects and bools are
+    refused, naming the space); the native step refuses non-finite components and clips finite
+    ones to the space, as Gymnasium's own environments clip."""
+    a = action if isinstance(action, np.ndarray) else np.asarray(action)
+    if a.dtype.kind not in "iuf":
+        raise InvalidActionError(
+            f"{env_id}: a {space} action is numbers, got {type(action).__name__} {_short(action)}"
+        )
+    return np.ascontiguousarray(a, dtype=np.float64).reshape(-1)
+
+
+def _short(x: Any) -> str:
+    text = repr(x)
+    return text if len(text) <= 80 else text[:80] + "…"
 
 
 def _with_numpy_seed(info: dict[str, Any]) -> dict[str, Any]:
@@ -90,8 +107,13 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
 
     Actions: a Discrete action is an int, a NumPy integer scalar or a 0-d integer array; bools,
     floats and arrays of other shapes raise `carl_spec.InvalidActionError` (a ValueError and a
-    TypeError), an int outside the space a ValueError. A Box action is anything NumPy turns into
-    the space's float32 components.
+    TypeError), an int outside the space a ValueError. A Box action is numbers NumPy turns into
+    the space's components (None, strings and bools raise `InvalidActionError`); NaN and ±inf
+    raise a ValueError naming the component, and finite values outside the space are clipped to
+    it, as Gymnasium's own environments clip. A non-finite observation or reward (a context that
+    drives the dynamics outside their meaningful range) raises a ValueError naming the step and
+    the component, as `carl-spec rollout` does. Seeds follow Gymnasium's rule (None or a
+    non-negative int), below 2**64.
 
     Episodes truncate at the spec's `max_episode_steps` (`env.spec.max_episode_steps` under
     `gymnasium.make`). Pickling (what `AsyncVectorEnv`, SB3's `SubprocVecEnv` and Ray do with
@@ -129,11 +151,14 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
             context_noise_redraw=context_noise_redraw,
             options=options,
             allow_out_of_bounds=allow_out_of_bounds,
-            specs_dir=specs_dir,
         )
-        self._ctor: dict[str, Any] = dict(env=env, render_mode=render_mode, **source)
+        self._ctor: dict[str, Any] = dict(env=env, render_mode=render_mode, specs_dir=specs_dir, **source)
         self._spec: EnvSpec | None = None
-        self._core = _core.Env(env, **core_kwargs(**source))
+        self._core = _core.Env(
+            check_name("env", env),
+            context_args(**source),
+            specs_dir=None if specs_dir is None else os.fspath(specs_dir),
+        )
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be one of {self.metadata['render_modes']} or None, got {render_mode!r}")
         if render_mode is not None and not self._core.has_renderer():
@@ -148,6 +173,7 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
         self._noise_per_step = self._core.noise_redraw() == "step"
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[np.ndarray, dict[str, Any]]:
+        check_seed(seed)
         super().reset(seed=seed)
         if seed is None and not self._seeded:
             seed = os_entropy_seed()
@@ -159,7 +185,7 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
 
     def step(self, action: Any) -> tuple[np.ndarray, SupportsFloat, bool, bool, dict[str, Any]]:
         if not self._discrete:
-            action = np.asarray(action, dtype=np.float32).reshape(-1)
+            action = box_action(self.env_id, self.action_space, action)
         elif type(action) is not int:
             action = discrete_action(self.env_id, self.action_space, action)
         try:

@@ -182,7 +182,9 @@ class CarlSB3VecEnv(VecEnv):  # type: ignore[misc]  # VecEnv is Any where SB3 is
                 context=ctx,
                 obs_context=c["obs_context"],
                 options=c.get("options"),
-                allow_out_of_bounds=c.get("allow_out_of_bounds", False),
+                # A context the batch drew from its set or distribution was checked there (a set
+                # may declare contexts outside the bounds): draw it as the batch runs it.
+                allow_out_of_bounds=bool(c.get("allow_out_of_bounds")) or self.venv.context_info(i) is not None,
                 specs_dir=c["specs_dir"],
                 render_mode="rgb_array",
             )

@@ -10,6 +10,7 @@ from typing import Any
 from gymnasium import spaces
 
 from . import _core
+from ._args import check_int, check_name, check_seed
 from ._spaces import space_from_json
 
 PathLike = str | os.PathLike[str]
@@ -75,7 +76,7 @@ class Spec:
 
 def spec(env: str, *, specs_dir: PathLike | None = None) -> Spec:
     """The resolved spec of `env` (id or alias)."""
-    raw = json.loads(_core.spec_json(env, _dir(specs_dir)))
+    raw = json.loads(_core.spec_json(check_name("env", env), _dir(specs_dir)))
     runtime_spaces = raw.pop("runtime_spaces", None)
     return Spec(
         id=raw["id"],
@@ -196,7 +197,7 @@ class instances:  # noqa: N801 - a namespace: cs.instances.load(...), cs.instanc
     @staticmethod
     def load(name: str, *, specs_dir: PathLike | None = None) -> InstanceSet:
         """`ENV/SET`, checked against its hash and its spec."""
-        return _instance_set(json.loads(_core.load_instances_json(name, _dir(specs_dir))))
+        return _instance_set(json.loads(_core.load_instances_json(check_name("instances", name), _dir(specs_dir))))
 
 
 def sample(
@@ -204,5 +205,9 @@ def sample(
 ) -> list[dict[str, Any]]:
     """`n` contexts (the varied features only) drawn from a named distribution, as
     `carl-spec sample ENV --distribution D -n N --seed S`."""
-    raw = json.loads(_core.sample_json(env, distribution, n, seed, _dir(specs_dir)))
+    n = check_int("n", n)
+    checked = check_seed(seed)
+    if checked is None:
+        raise ValueError("seed must be a non-negative int below 2**64, got None")
+    raw = json.loads(_core.sample_json(check_name("env", env), check_name("distribution", distribution), n, checked, _dir(specs_dir)))
     return [i["context"] for i in raw["instances"]]

@@ -13,7 +13,7 @@ from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
 from . import _core
-from ._args import NoiseStd, core_kwargs
+from ._args import NoiseStd, check_int, check_name, check_seed, context_args, quote
 from ._spaces import space_from_json
 from .env import os_entropy_seed
 
@@ -44,6 +44,12 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
     plus Gymnasium's `_feature` / `_observed_context` masks). In same-step mode
     `infos["final_info"]` is the finished episodes' step info (`context`, `instance_id`, ...) in
     the same vector layout, as Gymnasium's `SyncVectorEnv` over `carl_spec.make` envs gives it.
+    The infos at reset and at every step are `SyncVectorEnv`'s over `cs.make` envs key for key
+    (`context`, `instance_id` / `instance_name` from a set, `context_seed` from a distribution,
+    masked to the envs that were reset); their context arrays are read-only. Actions, seeds and
+    outputs are checked as `cs.make` checks them; `num_envs` is at most 65,536 (4,096 for physics
+    and pixel envs) and `threads` at most 256, as `carl-spec bench`. `get_attr` / `call` give each
+    environment's `context`, `context_info()`, `instance_id`, `state` and spaces.
     Episodes are truncated at the spec's limit (`max_episode_steps`, if given, must equal it).
     `close()` frees the batch; any later call raises Gymnasium's `ClosedEnvironmentError`.
     """
@@ -85,10 +91,20 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
             context_noise_redraw=context_noise_redraw,
             options=options,
             allow_out_of_bounds=allow_out_of_bounds,
-            specs_dir=specs_dir,
         )
-        self._ctor: dict[str, Any] = dict(env=env, num_envs=num_envs, autoreset_mode=mode, threads=threads, **source)
-        self._core = _core.VecEnv(env, num_envs, autoreset_mode=mode, threads=threads, **core_kwargs(**source))
+        num_envs = check_int("num_envs", num_envs, 1)
+        threads = check_int("threads", threads, 1)
+        self._ctor: dict[str, Any] = dict(
+            env=env, num_envs=num_envs, autoreset_mode=mode, threads=threads, specs_dir=specs_dir, **source
+        )
+        self._core = _core.VecEnv(
+            check_name("env", env),
+            num_envs,
+            context_args(**source),
+            autoreset_mode=check_name("autoreset_mode", mode),
+            threads=threads,
+            specs_dir=None if specs_dir is None else os.fspath(specs_dir),
+        )
         self.num_envs = num_envs
         self.render_mode = None
         self.metadata = {"autoreset_mode": _MODES[mode], "render_modes": []}
@@ -118,26 +134,38 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
         if isinstance(seed, (list, tuple)):
             if len(seed) != self.num_envs:
                 raise ValueError(f"seed list must have num_envs={self.num_envs} entries, got {len(seed)}")
+            seeds = [check_seed(s, f"seed[{i}]") for i, s in enumerate(seed)]
             base = np.zeros(self.num_envs, dtype=np.bool_) if mask is None else ~mask
             obs = None
-            for i, s in enumerate(seed):
+            for i, s in enumerate(seeds):
                 if not base[i]:
                     one = np.zeros(self.num_envs, dtype=np.bool_)
                     one[i] = True
                     # The batch seeds env i with seed + i; pass s - i (mod 2^64).
-                    s_i = None if s is None else (int(s) - i) % 2**64
+                    s_i = None if s is None else (s - i) % 2**64
                     if s is None and not self._seeded:
                         s_i = (os_entropy_seed() - i) % 2**64
                     obs = self._core.reset(s_i, one)
             self._seeded = True
-            return self._core.reset(None, np.zeros(self.num_envs, dtype=np.bool_)) if obs is None else obs, self._core.infos()
+            if obs is None:
+                obs = self._core.reset(None, np.zeros(self.num_envs, dtype=np.bool_))
+            return obs, self._core.infos(~base)
+        if isinstance(seed, int) and not isinstance(seed, bool):
+            # Env i gets seed + i, as Gymnasium's vector envs seed it: each must be a seed.
+            check_seed(seed)
+            if seed + self.num_envs - 1 >= 2**64:
+                raise ValueError(
+                    f"seed={seed}: environment i is seeded with seed + i, and the last environment's seed "
+                    f"({seed + self.num_envs - 1}) is not below 2**64"
+                )
+        else:
+            check_seed(seed)
         if seed is None and not self._seeded:
-            seed = os_entropy_seed()
+            seed = os_entropy_seed() % (2**64 - self.num_envs)
         if seed is not None:
             self._seeded = True
-            seed = int(seed) % 2**64
         obs = self._core.reset(seed, mask)
-        return obs, self._core.infos()
+        return obs, self._core.infos(mask)
 
     def step(self, actions: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
         # One call: actions in, the GIL released around the native batch step, the arrays and
@@ -168,10 +196,72 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
 
     def context_info(self, i: int) -> dict[str, Any] | None:
         """Environment `i`'s current context info (contexts from a set or distribution)."""
-        return self._core.context_info(i)
+        return self._core.context_info(check_int("i", i, 0, self.num_envs - 1))
+
+    # -- Gymnasium's per-environment access (`SyncVectorEnv.get_attr` / `call` / `set_attr`) -----
+
+    def call(self, name: str, *args: Any, **kwargs: Any) -> tuple[Any, ...]:
+        """Each environment's attribute `name` (called with the arguments if it is a method), as
+        `SyncVectorEnv.call` returns it for `cs.make` environments. The batch's environments are
+        native, so these are available: `context`, `context_info()`, `instance_id`, `state`,
+        `observation_space`, `action_space`, `render_mode`, `metadata`, `np_random_seed` is not."""
+        name = check_name("name", name)
+        out = []
+        for i in range(self.num_envs):
+            value = self._env_attr(i, name)
+            out.append(value(*args, **kwargs) if callable(value) and not isinstance(value, gymnasium.spaces.Space) else value)
+        return tuple(out)
+
+    def get_attr(self, name: str) -> tuple[Any, ...]:
+        """Each environment's attribute `name` (see `call`)."""
+        return self.call(name)
+
+    def set_attr(self, name: str, values: list[Any] | tuple[Any, ...] | Any) -> None:
+        """Gymnasium's `set_attr`: the batch's environments are native and have no settable
+        attribute, so this raises, naming what to do instead."""
+        raise AttributeError(
+            f"make_vec environments have no settable attribute {quote(str(name))}: contexts come from "
+            "context=, instances= or distribution= (make a new batch to change them)"
+        )
+
+    def _env_attr(self, i: int, name: str) -> Any:
+        core = self._core
+        if name == "context":
+            info = core.context_info(i)
+            return dict(info["context"]) if info is not None else _plain_context(core.infos(), i)
+        if name == "context_info":
+            return lambda: _context_info(core, i)
+        if name == "instance_id":
+            info = _context_info(core, i)
+            return info.get("instance_id")
+        if name == "state":
+            return core.state(i)
+        if name == "observation_space":
+            return self.single_observation_space
+        if name == "action_space":
+            return self.single_action_space
+        if name in ("render_mode", "metadata", "spec"):
+            return getattr(self, name)
+        raise AttributeError(
+            f"make_vec environments have no attribute {quote(name)} (get_attr/call support context, context_info, "
+            "instance_id, state, observation_space, action_space, render_mode, metadata, spec)"
+        )
 
     def __reduce__(self) -> tuple[Any, ...]:
         return (_rebuild_vec, (self._ctor,))
+
+
+def _context_info(core: Any, i: int) -> dict[str, Any]:
+    """Environment `i`'s info as `cs.make` reports it (`context`, and its set or draw labels)."""
+    info = core.context_info(i)
+    if info is not None:
+        return dict(info)
+    return {"context": _plain_context(core.infos(), i)}
+
+
+def _plain_context(infos: dict[str, Any], i: int) -> dict[str, float]:
+    ctx = infos["context"]
+    return {k: float(v[i]) for k, v in ctx.items() if not k.startswith("_")}
 
 
 def _check_episode_limit(env: str, max_episode_steps: int, specs_dir: str | os.PathLike[str] | None) -> None:

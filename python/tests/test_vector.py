@@ -227,9 +227,13 @@ def test_step_outputs_are_fresh_and_never_change_later(threads: int) -> None:
     assert ends > 5
     for out, snap in kept:
         _assert_same(out, snap)
-    # Within a step one read-only mask serves all features; across steps nothing is shared.
+    # Within a step one read-only mask serves all features, and the read-only context arrays are
+    # shared while no context changes; across steps no writeable array is shared.
     owners = [
-        (k, a) for k, (out, _) in enumerate(kept) for a in {id(a): a for a in _arrays(out)}.values() if a.base is None
+        (k, a)
+        for k, (out, _) in enumerate(kept)
+        for a in {id(a): a for a in _arrays(out)}.values()
+        if a.base is None and a.flags.writeable
     ]
     for i, (k, a) in enumerate(owners):
         for m, b in owners[i + 1 :]:

@@ -219,3 +219,24 @@ def test_sb3_training_leaves_no_log_folder_in_tmp(tmp_path: object) -> None:
     model.learn(32)
     assert set(tmp.glob("SB3-*")) == before, "SB3 wrote a log folder into the system temp dir"
     assert (Path(str(tmp_path)) / "sb3-logs").is_dir()
+
+
+def test_render_a_set_that_allows_out_of_bounds_contexts() -> None:
+    # Issue 31, item 8: the renderer took the set's contexts as a fixed context= and refused the
+    # ones outside the bounds that the set itself allows.
+    venv = CarlSB3VecEnv("lunar_lander", 2, instances="lunar_lander/landing_in_space_test_planets", render_mode="rgb_array")
+    venv.seed(0)
+    venv.reset()
+    frames = venv.get_images()
+    assert len(frames) == 2 and all(f is not None and f.ndim == 3 for f in frames)
+    venv.close()
+
+
+def test_non_finite_actions_refused_through_the_adapter() -> None:
+    # Issue 31, item 3: the adapter goes through make_vec's checks.
+    venv = CarlSB3VecEnv("pendulum", 2)
+    venv.seed(0)
+    venv.reset()
+    with pytest.raises(ValueError, match="finite"):
+        venv.step(np.array([[np.nan], [0.0]], dtype=np.float32))
+    venv.close()

@@ -30,6 +30,27 @@ pub(crate) struct SourceArgs {
     pub(crate) allow_out_of_bounds: bool,
 }
 
+impl Default for SourceArgs {
+    /// The default context, hidden, without noise.
+    fn default() -> Self {
+        SourceArgs {
+            context_json: None,
+            instances: None,
+            distribution: None,
+            selection: "round_robin".into(),
+            instance: None,
+            obs_context: None,
+            obs_context_all: false,
+            options_json: None,
+            noise: ContextNoise {
+                features: Vec::new(),
+                redraw: NoiseRedraw::Episode,
+            },
+            allow_out_of_bounds: false,
+        }
+    }
+}
+
 impl SourceArgs {
     pub(crate) fn context(&self) -> PyResult<Context> {
         match &self.context_json {
@@ -126,42 +147,79 @@ pub(crate) fn build_contextual(py: Python<'_>, specs: &SpecSet, env: &str, a: &S
     .map_err(|e| contextual_error(py, &e))
 }
 
-/// The constructors' keyword arguments gathered and checked (`obs_context`: a list of feature
-/// names or `"all"`).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn env_source_args(
-    context_json: Option<String>,
-    instances: Option<String>,
-    distribution: Option<String>,
-    selection: &str,
-    instance: Option<usize>,
-    obs_context: Option<&Bound<'_, PyAny>>,
-    options_json: Option<String>,
-    noise: Option<Vec<(String, String, f64)>>,
-    noise_redraw: &str,
-    allow_out_of_bounds: bool,
-) -> PyResult<SourceArgs> {
-    let (obs_context, obs_context_all) = match obs_context {
-        None => (None, false),
-        Some(v) if v.is_none() => (None, false),
-        Some(v) => match v.extract::<bool>() {
-            Ok(all) => (None, all),
-            Err(_) => (Some(v.extract::<Vec<String>>()?), false),
-        },
-    };
-    Ok(SourceArgs {
-        context_json,
-        instances,
-        distribution,
-        selection: selection.to_string(),
-        instance,
-        obs_context,
-        obs_context_all,
-        options_json,
-        noise: context_noise_arg(noise, noise_redraw)?,
-        allow_out_of_bounds,
-    })
+/// Everything about contexts that `make`, `make_vec` and `wrap` take, as one frozen value: built
+/// once by `carl_spec._args.context_args` from the public keyword arguments (`context` and
+/// `options` as JSON objects, `context_noise` as `(feature, "absolute" | "relative", std)`
+/// triples; `obs_context`: a list of feature names or True) and handed to `Env`, `VecEnv` and
+/// `ContextChooser`. This constructor is the one place the binding reads those arguments.
+#[pyclass(module = "carl_spec._core", frozen, name = "ContextArgs")]
+pub(crate) struct ContextArgs {
+    pub(crate) source: SourceArgs,
 }
+
+#[pymethods]
+impl ContextArgs {
+    #[new]
+    #[pyo3(signature = (*, context=None, instances=None, distribution=None, selection="round_robin", instance=None, obs_context=None, context_noise=None, context_noise_redraw="episode", options=None, allow_out_of_bounds=false))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        context: Option<String>,
+        instances: Option<String>,
+        distribution: Option<String>,
+        selection: &str,
+        instance: Option<&Bound<'_, PyAny>>,
+        obs_context: Option<&Bound<'_, PyAny>>,
+        context_noise: Option<Vec<(String, String, f64)>>,
+        context_noise_redraw: &str,
+        options: Option<String>,
+        allow_out_of_bounds: bool,
+    ) -> PyResult<Self> {
+        let (obs_context, obs_context_all) = match obs_context {
+            None => (None, false),
+            Some(v) if v.is_none() => (None, false),
+            Some(v) => match v.extract::<bool>() {
+                Ok(all) => (None, all),
+                Err(_) => (Some(v.extract::<Vec<String>>()?), false),
+            },
+        };
+        let instance = match instance {
+            None => None,
+            Some(v) if v.is_none() => None,
+            Some(v) => Some(
+                v.extract::<usize>()
+                    .map_err(|_| value_error(format!("instance must be a non-negative int, got {}", short_repr(v))))?,
+            ),
+        };
+        Ok(ContextArgs {
+            source: SourceArgs {
+                context_json: context,
+                instances,
+                distribution,
+                selection: selection.to_string(),
+                instance,
+                obs_context,
+                obs_context_all,
+                options_json: options,
+                noise: context_noise_arg(context_noise, context_noise_redraw)?,
+                allow_out_of_bounds,
+            },
+        })
+    }
+}
+
+/// `repr(v)` escaped and cut, for messages.
+pub(crate) fn short_repr(v: &Bound<'_, PyAny>) -> String {
+    let text = v.repr().map(|r| r.to_string()).unwrap_or_else(|_| "?".into());
+    carl_spec::text::escape(&text)
+}
+
+/// The source a native constructor was given (`None`: the default context).
+pub(crate) fn source_of(args: Option<&Bound<'_, ContextArgs>>) -> SourceArgs {
+    args.map_or_else(SourceArgs::default, |a| a.get().source.clone())
+}
+
+/// Largest noise std: draws many std away still fit a float32 observation (3.4e38).
+const MAX_NOISE_STD: f64 = 1e36;
 
 pub(crate) const NOISE_NEEDS_OBS_CONTEXT: &str =
     "context_noise applies to observed context features: name them in obs_context= (or obs_context=True)";
@@ -174,18 +232,38 @@ pub(crate) fn context_noise_arg(noise: Option<Vec<(String, String, f64)>>, redra
         "step" => NoiseRedraw::Step,
         other => {
             return Err(value_error(format!(
-                "context_noise_redraw must be \"episode\" or \"step\", got \"{other}\""
+                "context_noise_redraw must be \"episode\" or \"step\", got {}",
+                carl_spec::text::quote(other)
             )));
         }
     };
     let mut features = Vec::new();
     for (name, kind, std) in noise.unwrap_or_default() {
+        let problem = if !std.is_finite() {
+            Some("is not a finite number".to_string())
+        } else if std < 0.0 {
+            Some("must be >= 0".to_string())
+        } else if std > MAX_NOISE_STD {
+            Some(format!(
+                "is too large: at most {MAX_NOISE_STD:e} (observations are float32)"
+            ))
+        } else {
+            None
+        };
+        if let Some(problem) = problem {
+            return Err(value_error(format!(
+                "context_noise[{}]: std {std} {problem}",
+                carl_spec::text::quote(&name)
+            )));
+        }
         let std = match kind.as_str() {
             "absolute" => NoiseStd::Absolute(std),
             "relative" => NoiseStd::Relative(std),
             other => {
                 return Err(value_error(format!(
-                    "context_noise[{name:?}]: kind must be \"absolute\" or \"relative\", got \"{other}\""
+                    "context_noise[{}]: kind must be \"absolute\" or \"relative\", got {}",
+                    carl_spec::text::quote(&name),
+                    carl_spec::text::quote(other)
                 )));
             }
         };
@@ -203,7 +281,8 @@ pub(crate) fn parse_selection(selection: &str, instance: Option<usize>) -> PyRes
         ("static", None) => Err(value_error("selection=\"static\" needs instance=<index>")),
         (_, Some(_)) => Err(value_error("instance= goes with selection=\"static\"")),
         (other, None) => Err(value_error(format!(
-            "selection must be \"round_robin\", \"random\" or \"static\", got \"{other}\""
+            "selection must be \"round_robin\", \"random\" or \"static\", got {}",
+            carl_spec::text::quote(other)
         ))),
     }
 }

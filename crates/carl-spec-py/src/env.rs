@@ -9,7 +9,8 @@ use pyo3::types::PyDict;
 use carl_spec::envs::contextual::{ContextualEnv, NoiseRedraw};
 use carl_spec::envs::{Action, Env as _, Space};
 
-use crate::context_args::{build_contextual, env_source_args};
+use crate::actions::{BoxBounds, check_obs};
+use crate::context_args::{ContextArgs, build_contextual, source_of};
 use crate::env_infos::{episode_end_info, info_dict, observed_dict};
 use crate::errors::{env_error, value_error};
 use crate::obs_layout::ObsLayout;
@@ -24,6 +25,10 @@ pub(crate) struct Env {
     /// The float64 observation (float64 spaces only, else empty).
     obs64: Vec<f64>,
     layout: ObsLayout,
+    /// Continuous actions: the space's bounds (finite actions are clipped to them).
+    bounds: Option<BoxBounds>,
+    /// Steps since the last reset (named when an output is not finite).
+    t: u64,
 }
 
 impl Env {
@@ -42,36 +47,25 @@ impl Env {
 
 #[pymethods]
 impl Env {
+    /// `args`: the context source (`carl_spec._args.context_args`; None: the default context).
+    /// `context_json` is `carl_spec.compat`'s spelling of a fixed context (JSON), kept until it
+    /// passes `ContextArgs` too.
     #[new]
-    #[pyo3(signature = (env, *, context_json=None, instances=None, distribution=None, selection="round_robin", instance=None, obs_context=None, options_json=None, noise=None, noise_redraw="episode", allow_out_of_bounds=false, specs_dir=None))]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (env, args=None, *, specs_dir=None, context_json=None))]
     fn new(
         py: Python<'_>,
         env: &str,
-        context_json: Option<String>,
-        instances: Option<String>,
-        distribution: Option<String>,
-        selection: &str,
-        instance: Option<usize>,
-        obs_context: Option<&Bound<'_, PyAny>>,
-        options_json: Option<String>,
-        noise: Option<Vec<(String, String, f64)>>,
-        noise_redraw: &str,
-        allow_out_of_bounds: bool,
+        args: Option<&Bound<'_, ContextArgs>>,
         specs_dir: Option<PathBuf>,
+        context_json: Option<String>,
     ) -> PyResult<Self> {
-        let args = env_source_args(
-            context_json,
-            instances,
-            distribution,
-            selection,
-            instance,
-            obs_context,
-            options_json,
-            noise,
-            noise_redraw,
-            allow_out_of_bounds,
-        )?;
+        let mut args = source_of(args);
+        if context_json.is_some() {
+            if args.context_json.is_some() {
+                return Err(value_error("give the context in args or context_json, not both"));
+            }
+            args.context_json = context_json;
+        }
         let inner = with_specs(specs_dir, |specs| build_contextual(py, specs, env, &args))?;
         let action = match inner.action_space() {
             Space::Discrete { .. } => Action::Discrete(0),
@@ -83,6 +77,8 @@ impl Env {
             inner.visible_features().len(),
         );
         Ok(Env {
+            bounds: BoxBounds::of(&inner.action_space()),
+            t: 0,
             obs: vec![0.0; inner.obs_dim()],
             obs64: if layout.wide() {
                 vec![0.0; inner.obs_dim()]
@@ -99,7 +95,9 @@ impl Env {
     #[pyo3(signature = (seed=None))]
     fn reset<'py>(&mut self, py: Python<'py>, seed: Option<u64>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
         self.inner.reset_into(seed, &mut self.obs).map_err(|e| env_error(&e))?;
+        self.t = 0;
         let obs = self.observation(py)?;
+        check_obs(|| format!("{} reset", self.inner.id()), &self.obs, &self.obs64, 0.0)?;
         let info = info_dict(py, self.inner.context_info())?;
         if self.inner.noise().is_some() {
             info.set_item("observed_context", observed_dict(py, &self.inner)?)?;
@@ -117,24 +115,36 @@ impl Env {
         match &mut self.action {
             Action::Discrete(a) => *a = action.extract::<i64>()?,
             Action::Continuous(v) => {
-                let arr: PyReadonlyArray1<'_, f32> = action.extract()?;
-                let s = arr.as_slice().map_err(value_error)?;
-                if s.len() != v.len() {
-                    return Err(value_error(format!(
-                        "{}: continuous action must have {} component(s), got {}",
-                        self.inner.id(),
-                        v.len(),
-                        s.len()
-                    )));
+                // float64 from `CarlEnv.step` (float32 is read as well): checked finite and
+                // clipped to the space before the cast to float32.
+                let id = self.inner.id();
+                let bounds = self.bounds.as_ref().expect("a Box action space has bounds");
+                if let Ok(arr) = action.extract::<PyReadonlyArray1<'_, f64>>() {
+                    bounds.take(id, None, arr.as_slice().map_err(value_error)?, v)?;
+                } else {
+                    let arr: PyReadonlyArray1<'_, f32> = action.extract()?;
+                    let wide: Vec<f64> = arr
+                        .as_slice()
+                        .map_err(value_error)?
+                        .iter()
+                        .map(|&x| f64::from(x))
+                        .collect();
+                    bounds.take(id, None, &wide, v)?;
                 }
-                v.copy_from_slice(s);
             }
         }
         let out = self
             .inner
             .step_into(&self.action, &mut self.obs)
             .map_err(|e| env_error(&e))?;
+        self.t += 1;
         let obs = self.observation(py)?;
+        check_obs(
+            || format!("{} step {}", self.inner.id(), self.t),
+            &self.obs,
+            &self.obs64,
+            out.reward,
+        )?;
         Ok((obs, out.reward, out.terminated, out.truncated))
     }
 

@@ -24,6 +24,18 @@ pub(crate) fn unknown_name(py: Python<'_>, message: String) -> PyErr {
     }
 }
 
+/// `carl_spec.InvalidActionError(message)` (a ValueError and a TypeError, as `cs.make` raises).
+pub(crate) fn invalid_action(py: Python<'_>, message: String) -> PyErr {
+    match py
+        .import("carl_spec._errors")
+        .and_then(|m| m.getattr("InvalidActionError"))
+        .and_then(|cls| cls.call1((message.clone(),)))
+    {
+        Ok(exc) => PyErr::from_value(exc),
+        Err(_) => PyValueError::new_err(message),
+    }
+}
+
 /// The library's message, with the CLI's flag named as the Python keyword.
 pub(crate) fn value_error(e: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(

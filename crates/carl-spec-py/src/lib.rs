@@ -21,6 +21,7 @@ use pyo3::types::{PyDict, PyList};
 
 use carl_spec::envs::registry::{has_runtime, ids};
 
+mod actions;
 mod arrays;
 mod cli;
 mod context_args;
@@ -67,6 +68,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(specs::instance_sets, m)?)?;
     m.add_function(wrap_pyfunction!(specs::load_instances_json, m)?)?;
     m.add_function(wrap_pyfunction!(specs::sample_json, m)?)?;
+    m.add_class::<context_args::ContextArgs>()?;
     m.add_class::<env::Env>()?;
     m.add_class::<vec_env::VecEnv>()?;
     user_spec::register(m)?;

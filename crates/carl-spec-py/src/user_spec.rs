@@ -24,7 +24,7 @@ use carl_spec::spec::SpecSet;
 use carl_spec::spec::load::{bundled_inputs, read_inputs};
 use carl_spec::spec::model::{Distribution, EnvSpec};
 
-use crate::context_args::parse_selection;
+use crate::context_args::{ContextArgs, SourceArgs, parse_selection, source_of};
 use crate::errors::{unknown_name, value_error};
 
 /// The user's spec file(s) (a file or a directory), validated like `carl-spec validate PATH`
@@ -159,27 +159,61 @@ impl ContextChooser {
 #[pymethods]
 impl ContextChooser {
     /// `path`: the user's spec file or directory (`env` picks one of its environments); None: the
-    /// bundled spec of `env`. `contexts_json`: an inline list of contexts used like a set (ids are
-    /// positions), for `carl_spec.compat`. `obs_context`: the features the wrapper shows the agent
-    /// (in order); `noise` / `noise_redraw`: `cs.make`'s context noise on them.
+    /// bundled spec of `env`. `args`: the context source as `cs.wrap` takes it
+    /// (`carl_spec._args.context_args`; its `obs_context` are the features the wrapper shows the
+    /// agent, in order; `allow_out_of_bounds` is refused: a user's spec states its bounds).
+    /// `context_json`, `contexts_json` (an inline list of contexts used like a set, ids are
+    /// positions), `selection` and `instance` are `carl_spec.compat`'s spellings, kept until it
+    /// passes `ContextArgs` too.
     #[new]
-    #[pyo3(signature = (path, *, env=None, context_json=None, contexts_json=None, instances=None, distribution=None, selection="round_robin", instance=None, obs_context=None, noise=None, noise_redraw="episode"))]
+    #[pyo3(signature = (path, args=None, *, env=None, context_json=None, contexts_json=None, selection=None, instance=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
         path: Option<PathBuf>,
+        args: Option<&Bound<'_, ContextArgs>>,
         env: Option<&str>,
         context_json: Option<String>,
         contexts_json: Option<String>,
-        instances: Option<String>,
-        distribution: Option<String>,
-        selection: &str,
+        selection: Option<String>,
         instance: Option<usize>,
-        obs_context: Option<Vec<String>>,
-        noise: Option<Vec<(String, String, f64)>>,
-        noise_redraw: &str,
     ) -> PyResult<Self> {
-        let noise = crate::context_args::context_noise_arg(noise, noise_redraw)?;
+        let legacy = context_json.is_some() || contexts_json.is_some() || selection.is_some() || instance.is_some();
+        if args.is_some() && legacy {
+            return Err(value_error("give args or compat's keywords, not both"));
+        }
+        let mut a = source_of(args);
+        if legacy {
+            a.context_json = context_json;
+            a.selection = selection.unwrap_or_else(|| "round_robin".into());
+            a.instance = instance;
+        }
+        if a.allow_out_of_bounds {
+            return Err(value_error(
+                "allow_out_of_bounds applies to carl_spec.make; a user's spec states its own bounds",
+            ));
+        }
+        if a.options_json.is_some() {
+            return Err(value_error(
+                "options apply to carl_spec.make's runtimes, not to a wrapped env",
+            ));
+        }
+        if a.obs_context_all {
+            return Err(value_error(
+                "ContextChooser takes obs_context as a list of feature names",
+            ));
+        }
+        let SourceArgs {
+            context_json,
+            instances,
+            distribution,
+            selection,
+            instance,
+            obs_context,
+            noise,
+            ..
+        } = a;
+        let selection = selection.as_str();
         let (specs, id) = match &path {
             Some(path) => load_set(py, path, env)?,
             None => {

@@ -4,7 +4,9 @@
 use std::borrow::Cow;
 use std::path::PathBuf;
 
-use numpy::{PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods};
+use numpy::{
+    PyArray1, PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyUntypedArray, PyUntypedArrayMethods,
+};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use pyo3::{PyTraverseError, PyVisit};
@@ -14,14 +16,26 @@ use carl_spec::envs::registry::{MakeOptions, make_env};
 use carl_spec::envs::vec_env::{AutoresetMode, VecActions, VecEnv as RustVecEnv, VecEnvError, VecOptions};
 use carl_spec::envs::{Env as _, Space};
 
-use crate::context_args::{build_contextual, env_source_args};
+use crate::actions::{BoxBounds, check_obs};
+use crate::context_args::{ContextArgs, build_contextual, source_of};
 use crate::env_infos::{episode_end_info, has_episode_end_info, info_dict};
-use crate::errors::{env_error, make_error, value_error};
+use crate::errors::{env_error, invalid_action, make_error, value_error};
 use crate::info_keys::{Columns, keyed};
 use crate::obs_layout::ObsLayout;
 use crate::specs::{require, space_json, with_specs};
 use crate::stock::Stock;
-use crate::vec_infos::{mask, read_only, set_column, set_nested};
+use crate::vec_infos::{mask, read_only_any, set_column, set_nested};
+
+/// Largest `threads` (as `carl-spec bench --threads`).
+const MAX_THREADS: usize = 256;
+
+/// A batch is stepped by one call at a time: a second thread gets this instead of PyO3's
+/// "Already borrowed".
+fn busy() -> PyErr {
+    pyo3::exceptions::PyRuntimeError::new_err(
+        "this vector env is being used by another thread (one call at a time: give each thread its own make_vec)",
+    )
+}
 
 fn autoreset_mode(name: &str) -> PyResult<AutoresetMode> {
     match name {
@@ -58,9 +72,14 @@ pub(crate) struct VecEnv {
     /// them all) and the visible ones.
     feature_keys: Columns,
     visible_keys: Columns,
-    /// `_instance_id` of a contextual batch (every env has an instance id): one read-only
-    /// all-true mask shared by every step's infos.
-    all_envs: Py<PyAny>,
+    /// Continuous actions: the space's bounds (finite actions are clipped to them).
+    bounds: Option<BoxBounds>,
+    /// Batch steps since construction (named when an output is not finite).
+    steps: u64,
+    /// Every env's context infos (see `cached_context_infos`), until a context may change.
+    context_cache: Option<Py<PyDict>>,
+    /// Whether an episode ended in the last step (its env resets in the next, next-step mode).
+    last_any_done: bool,
     /// The tuples the last two steps returned, released while the workers step a later batch
     /// (see `step`).
     returned: [Option<Py<PyTuple>>; 2],
@@ -96,77 +115,210 @@ impl VecEnv {
         )
     }
 
-    /// Copy the batch's actions out of NumPy (the GIL is held). An int64 (discrete) or float32
-    /// C-contiguous array is read as it is; anything else goes through
-    /// `numpy.ascontiguousarray(actions, dtype)` first, as `CarlVectorEnv.step` always did.
-    fn take_actions(&mut self, actions: &Bound<'_, PyAny>) -> PyResult<()> {
+    /// Copy the batch's actions out of NumPy (the GIL is held), checked as `cs.make` checks one
+    /// action: discrete actions are integers (bools, floats and strings refused) of shape
+    /// `(num_envs,)`; continuous ones are numbers of shape `(num_envs, *action_shape)` (or
+    /// `(num_envs,)` for one component), finite, clipped to the space.
+    fn take_actions<'py>(&mut self, actions: &Bound<'py, PyAny>) -> PyResult<()> {
         let py = actions.py();
         let (n, id) = (self.inner.num_envs(), self.inner.id());
-        let convert = |dtype: &str| -> PyResult<Bound<'_, PyAny>> {
-            let numpy = py.import(pyo3::intern!(py, "numpy"))?;
+        // NumPy is looked up only off the fast path (an int64 / float32 C-contiguous array).
+        let numpy = || py.import(pyo3::intern!(py, "numpy"));
+        let convert = |x: &Bound<'py, PyAny>, dtype: &str| -> PyResult<Bound<'py, PyAny>> {
             let kwargs = PyDict::new(py);
             kwargs.set_item(pyo3::intern!(py, "dtype"), dtype)?;
-            numpy
+            numpy()?
                 .getattr(pyo3::intern!(py, "ascontiguousarray"))?
-                .call((actions,), Some(&kwargs))
+                .call((x,), Some(&kwargs))
         };
+        let given;
+        let a = match actions.cast::<PyUntypedArray>() {
+            Ok(a) => a,
+            Err(_) => {
+                given = numpy()?.getattr(pyo3::intern!(py, "asarray"))?.call1((actions,))?;
+                given.cast::<PyUntypedArray>()?
+            }
+        };
+        let kind = a.dtype().kind();
+        let shape = a.shape();
+        let describe = || format!("{} array of shape {:?}", a.dtype(), shape);
         if self.discrete {
+            if !matches!(kind, b'i' | b'u') || shape != [n] {
+                return Err(invalid_action(
+                    py,
+                    format!(
+                        "{id}: discrete actions are integers of shape ({n},), got a {}",
+                        describe()
+                    ),
+                ));
+            }
             let owned;
-            let a = match actions.cast::<PyArrayDyn<i64>>() {
+            let a = match a.as_any().cast::<PyArrayDyn<i64>>() {
                 Ok(a) if a.is_c_contiguous() => a,
                 _ => {
-                    owned = convert("int64")?;
+                    owned = convert(a.as_any(), "int64")?;
                     owned.cast::<PyArrayDyn<i64>>()?
                 }
             };
-            if a.len() != n {
-                return Err(value_error(format!("{id}: expected {n} actions, got {}", a.len())));
-            }
             // SAFETY: C-contiguous (checked or made so), and read while the GIL is held: no
             // Python code runs until the copy is done.
             self.discrete_actions
                 .copy_from_slice(unsafe { a.as_slice() }.map_err(value_error)?);
         } else {
-            let owned;
-            let a = match actions.cast::<PyArrayDyn<f32>>() {
-                Ok(a) if a.is_c_contiguous() => a,
-                _ => {
-                    owned = convert("float32")?;
-                    owned.cast::<PyArrayDyn<f32>>()?
-                }
-            };
-            if a.len() != n * self.action_dim {
-                return Err(value_error(format!(
-                    "{}: expected actions of shape ({}, {}), got {:?}",
-                    id,
-                    n,
-                    self.action_dim,
-                    a.shape()
-                )));
+            let dim = self.action_dim;
+            let rows_ok = shape.first() == Some(&n) && shape[1..].iter().product::<usize>() == dim;
+            if !matches!(kind, b'i' | b'u' | b'f') || !rows_ok {
+                return Err(invalid_action(
+                    py,
+                    format!(
+                        "{id}: continuous actions are numbers of shape ({n}, {dim}), got a {}",
+                        describe()
+                    ),
+                ));
             }
-            // SAFETY: as above.
-            self.continuous_actions
-                .copy_from_slice(unsafe { a.as_slice() }.map_err(value_error)?);
+            let bounds = self.bounds.as_ref().expect("a Box action space has bounds");
+            let out = &mut self.continuous_actions;
+            match a.as_any().cast::<PyArrayDyn<f32>>() {
+                Ok(f) if f.is_c_contiguous() => {
+                    // SAFETY: as below.
+                    let src = unsafe { f.as_slice() }.map_err(value_error)?;
+                    let mut row = vec![0.0f64; dim];
+                    for i in 0..n {
+                        for (r, x) in row.iter_mut().zip(&src[i * dim..(i + 1) * dim]) {
+                            *r = f64::from(*x);
+                        }
+                        bounds.take(id, Some(i), &row, &mut out[i * dim..(i + 1) * dim])?;
+                    }
+                }
+                _ => {
+                    let owned = convert(a.as_any(), "float64")?;
+                    let f = owned.cast::<PyArrayDyn<f64>>()?;
+                    // SAFETY: C-contiguous (made so), read while the GIL is held.
+                    let src = unsafe { f.as_slice() }.map_err(value_error)?;
+                    for i in 0..n {
+                        bounds.take(
+                            id,
+                            Some(i),
+                            &src[i * dim..(i + 1) * dim],
+                            &mut out[i * dim..(i + 1) * dim],
+                        )?;
+                    }
+                }
+            }
         }
         Ok(())
     }
 
-    /// What every step's (and reset's) infos carry: `instance_id` (contextual batches) and
-    /// `observed_context` (with context noise), in Gymnasium's vector layout.
-    fn context_infos<'py>(&self, d: &Bound<'py, PyDict>) -> PyResult<()> {
-        let py = d.py();
-        if self.contextual {
-            let ids = self.inner.instance_ids();
-            d.set_item(
-                pyo3::intern!(py, "instance_id"),
-                self.stock
-                    .filled(py, &[ids.len()], |o: &mut [i64]| o.copy_from_slice(ids)),
-            )?;
-            d.set_item(pyo3::intern!(py, "_instance_id"), self.all_envs.bind(py))?;
+    /// A non-finite observation or reward after a step or reset, naming the environment.
+    fn check_outputs(&self, what: impl Fn() -> String) -> PyResult<()> {
+        let (obs, d) = (self.inner.obs(), self.inner.obs_dim());
+        let rewards = self.inner.rewards();
+        let wide = self.inner.obs_f64();
+        let fine = match wide {
+            Some(w) => w.iter().all(|x| x.is_finite()),
+            None => obs.iter().all(|x| x.is_finite()),
+        } && rewards.iter().all(|r| r.is_finite());
+        if fine {
+            return Ok(());
         }
-        if self.noisy {
+        for i in 0..self.inner.num_envs() {
+            let what = what();
+            let reward = if what == "reset" { 0.0 } else { rewards[i] };
+            let w = wide.map_or(&[][..], |w| &w[i * d..(i + 1) * d]);
+            check_obs(
+                || format!("{} environment {i}, {what}", self.inner.id()),
+                &obs[i * d..(i + 1) * d],
+                w,
+                reward,
+            )?;
+        }
+        Ok(())
+    }
+
+    /// A fresh infos dict holding every env's context infos (`context_infos` of all envs), from
+    /// a cache kept while no context changes: the outer dict and the nested `context` dict are
+    /// fresh copies, the arrays in them read-only and shared with later steps' infos.
+    fn cached_context_infos<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        if self.context_cache.is_none() {
+            let d = PyDict::new(py);
             let all: Vec<usize> = (0..self.inner.num_envs()).collect();
-            self.set_observed(d, self.inner.obs(), &all)?;
+            let infos: Vec<(usize, &ContextInfo)> = all.iter().map(|&i| (i, self.current_info(i))).collect();
+            self.set_context_infos(&d, &infos)?;
+            for (_, v) in d.iter() {
+                match v.cast::<PyDict>() {
+                    Ok(nested) => nested.iter().for_each(|(_, a)| read_only_any(&a)),
+                    Err(_) => read_only_any(&v),
+                }
+            }
+            self.context_cache = Some(d.unbind());
+        }
+        let cached = self.context_cache.as_ref().expect("made above").bind(py);
+        let out = cached.copy()?;
+        let key = pyo3::intern!(py, "context");
+        if let Some(ctx) = cached.get_item(key)? {
+            out.set_item(key, ctx.cast::<PyDict>()?.copy()?)?;
+        }
+        Ok(out)
+    }
+
+    /// Environment `i`'s current context info (a plain batch: the one fixed context).
+    fn current_info(&self, i: usize) -> &ContextInfo {
+        self.inner.context_info(i).unwrap_or(&self.fixed_info)
+    }
+
+    /// What every step's (and reset's) infos carry for the envs `rows`, as `cs.make`'s info
+    /// (`context`, `instance_id` / `instance_name` from a set, `context_seed` from a
+    /// distribution, `observed_context` with noise) in Gymnasium's vector layout.
+    fn context_infos(&self, d: &Bound<'_, PyDict>, rows: &[usize]) -> PyResult<()> {
+        let infos: Vec<(usize, &ContextInfo)> = rows.iter().map(|&i| (i, self.current_info(i))).collect();
+        self.set_context_infos(d, &infos)?;
+        if self.noisy {
+            self.set_observed(d, self.inner.obs(), rows)?;
+        }
+        Ok(())
+    }
+
+    /// `context`, `instance_id`, `instance_name` and `context_seed` of `infos` (env, its
+    /// context info) into `d`, each with its mask, as `SyncVectorEnv._add_info` lays them out.
+    fn set_context_infos(&self, d: &Bound<'_, PyDict>, infos: &[(usize, &ContextInfo)]) -> PyResult<()> {
+        let py = d.py();
+        let n = self.inner.num_envs();
+        let rows: Vec<usize> = infos.iter().map(|(i, _)| *i).collect();
+        let value = |k: usize, j: usize| infos[k].1.context.get(j).map_or(0.0, |(_, v)| *v);
+        set_nested(
+            &self.stock,
+            d,
+            &keyed!(py, "context"),
+            n,
+            &self.feature_keys,
+            &rows,
+            value,
+        )?;
+        let ids: Vec<(usize, i64)> = infos
+            .iter()
+            .filter_map(|(i, ci)| Some((*i, ci.instance_id? as i64)))
+            .collect();
+        if !ids.is_empty() {
+            set_column(&self.stock, d, &keyed!(py, "instance_id"), n, &ids)?;
+        }
+        if infos.iter().any(|(_, ci)| ci.instance_name.is_some()) {
+            let mut names: Vec<Py<PyAny>> = (0..n).map(|_| py.None()).collect();
+            let mut has = Vec::new();
+            for (i, ci) in infos {
+                if let Some(name) = &ci.instance_name {
+                    names[*i] = name.into_pyobject(py)?.into_any().unbind();
+                    has.push(*i);
+                }
+            }
+            d.set_item(pyo3::intern!(py, "instance_name"), PyArray1::from_vec(py, names))?;
+            d.set_item(pyo3::intern!(py, "_instance_name"), mask(&self.stock, py, n, &has))?;
+        }
+        let seeds: Vec<(usize, u64)> = infos
+            .iter()
+            .filter_map(|(i, ci)| Some((*i, ci.context_seed?)))
+            .collect();
+        if !seeds.is_empty() {
+            set_column(&self.stock, d, &keyed!(py, "context_seed"), n, &seeds)?;
         }
         Ok(())
     }
@@ -212,7 +364,6 @@ impl VecEnv {
     /// `instance_id`, `instance_name`, `context_seed`, `observed_context`) in the vector info
     /// layout, masked to the finished envs.
     fn final_info<'py>(&self, py: Python<'py>, ended: &[usize]) -> PyResult<Bound<'py, PyDict>> {
-        let n = self.inner.num_envs();
         // Plain batches: every episode has the one fixed context (borrowed, not copied).
         let infos: Vec<(usize, Cow<'_, ContextInfo>)> = ended
             .iter()
@@ -226,43 +377,8 @@ impl VecEnv {
             })
             .collect();
         let d = PyDict::new(py);
-        let rows: Vec<usize> = infos.iter().map(|(i, _)| *i).collect();
-        let value = |k: usize, j: usize| infos[k].1.context.get(j).map_or(0.0, |(_, v)| *v);
-        set_nested(
-            &self.stock,
-            &d,
-            &keyed!(py, "context"),
-            n,
-            &self.feature_keys,
-            &rows,
-            value,
-        )?;
-        let ids: Vec<(usize, i64)> = infos
-            .iter()
-            .filter_map(|(i, ci)| Some((*i, ci.instance_id? as i64)))
-            .collect();
-        if !ids.is_empty() {
-            set_column(&self.stock, &d, &keyed!(py, "instance_id"), n, &ids)?;
-        }
-        if infos.iter().any(|(_, ci)| ci.instance_name.is_some()) {
-            let mut names: Vec<Py<PyAny>> = (0..n).map(|_| py.None()).collect();
-            let mut has = Vec::new();
-            for (i, ci) in &infos {
-                if let Some(name) = &ci.instance_name {
-                    names[*i] = name.into_pyobject(py)?.into_any().unbind();
-                    has.push(*i);
-                }
-            }
-            d.set_item(pyo3::intern!(py, "instance_name"), PyArray1::from_vec(py, names))?;
-            d.set_item(pyo3::intern!(py, "_instance_name"), mask(&self.stock, py, n, &has))?;
-        }
-        let seeds: Vec<(usize, u64)> = infos
-            .iter()
-            .filter_map(|(i, ci)| Some((*i, ci.context_seed?)))
-            .collect();
-        if !seeds.is_empty() {
-            set_column(&self.stock, &d, &keyed!(py, "context_seed"), n, &seeds)?;
-        }
+        let refs: Vec<(usize, &ContextInfo)> = infos.iter().map(|(i, ci)| (*i, &**ci)).collect();
+        self.set_context_infos(&d, &refs)?;
         if self.noisy {
             self.set_observed(&d, self.inner.final_observations(), ended)?;
         }
@@ -272,43 +388,24 @@ impl VecEnv {
 
 #[pymethods]
 impl VecEnv {
+    /// `args`: the context source (`carl_spec._args.context_args`; None: the default context).
+    /// `num_envs` and `threads` are bounded as `carl-spec bench` bounds them.
     #[new]
-    #[pyo3(signature = (env, num_envs, *, context_json=None, instances=None, distribution=None, selection="round_robin", instance=None, obs_context=None, options_json=None, noise=None, noise_redraw="episode", allow_out_of_bounds=false, autoreset_mode="next_step", threads=1, specs_dir=None))]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (env, num_envs, args=None, *, autoreset_mode="next_step", threads=1, specs_dir=None))]
     fn new(
         py: Python<'_>,
         env: &str,
         num_envs: usize,
-        context_json: Option<String>,
-        instances: Option<String>,
-        distribution: Option<String>,
-        selection: &str,
-        instance: Option<usize>,
-        obs_context: Option<&Bound<'_, PyAny>>,
-        options_json: Option<String>,
-        noise: Option<Vec<(String, String, f64)>>,
-        noise_redraw: &str,
-        allow_out_of_bounds: bool,
+        args: Option<&Bound<'_, ContextArgs>>,
         autoreset_mode: &str,
         threads: usize,
         specs_dir: Option<PathBuf>,
     ) -> PyResult<Self> {
         let mode = self::autoreset_mode(autoreset_mode)?;
-        if num_envs == 0 {
-            return Err(value_error("num_envs must be at least 1"));
+        if threads == 0 || threads > MAX_THREADS {
+            return Err(value_error(format!("threads={threads} is outside 1..={MAX_THREADS}")));
         }
-        let args = env_source_args(
-            context_json,
-            instances,
-            distribution,
-            selection,
-            instance,
-            obs_context,
-            options_json,
-            noise,
-            noise_redraw,
-            allow_out_of_bounds,
-        )?;
+        let args = source_of(args);
         let plain = args.is_plain();
         let opts = VecOptions {
             threads,
@@ -321,6 +418,15 @@ impl VecEnv {
         let (inner, layout, proto) = with_specs(specs_dir, |specs| {
             // Validate everything (names, selection, options, bounds) through the contextual
             // path first.
+            let max = carl_spec::bench::max_num_envs(require(py, specs, env)?);
+            if num_envs == 0 || num_envs > max {
+                return Err(value_error(format!(
+                    "num_envs={num_envs} is outside 1..={max} for {env} (the limit of `carl-spec bench`: \
+                     {} for closed-form environments, {} for physics and pixel ones)",
+                    carl_spec::bench::MAX_NUM_ENVS_LIGHT,
+                    carl_spec::bench::MAX_NUM_ENVS_HEAVY
+                )));
+            }
             let proto = build_contextual(py, specs, env, &args)?;
             let layout = ObsLayout::new(
                 &proto.inner().observation_space(),
@@ -358,13 +464,10 @@ impl VecEnv {
             same_step: mode == AutoresetMode::SameStep,
             feature_keys: Columns::new(py, fixed_info.context.iter().map(|(k, _)| k.as_str()))?,
             visible_keys: Columns::new(py, proto.visible_features().iter().map(String::as_str))?,
-            all_envs: read_only(mask(
-                &Stock::default(),
-                py,
-                num_envs,
-                &(0..num_envs).collect::<Vec<_>>(),
-            ))
-            .unbind(),
+            bounds: BoxBounds::of(&inner.action_space()),
+            steps: 0,
+            context_cache: None,
+            last_any_done: false,
             inner,
             layout,
             discrete,
@@ -394,18 +497,20 @@ impl VecEnv {
     /// (None: continue its stream). Returns the observations.
     #[pyo3(signature = (seed=None, mask=None))]
     fn reset<'py>(
-        &mut self,
-        py: Python<'py>,
+        slf: &Bound<'py, Self>,
         seed: Option<u64>,
         mask: Option<PyReadonlyArray1<'py, bool>>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let mut guard = slf.try_borrow_mut().map_err(|_| busy())?;
+        let this = &mut *guard;
+        let py = slf.py();
         let mask_slice = match &mask {
             Some(m) => {
                 let s = m.as_slice().map_err(value_error)?;
-                if s.len() != self.inner.num_envs() {
+                if s.len() != this.inner.num_envs() {
                     return Err(value_error(format!(
                         "reset_mask must have {} entries, got {}",
-                        self.inner.num_envs(),
+                        this.inner.num_envs(),
                         s.len()
                     )));
                 }
@@ -413,11 +518,14 @@ impl VecEnv {
             }
             None => None,
         };
-        let inner = &mut self.inner;
+        let inner = &mut this.inner;
         py.detach(|| {
             inner.reset_masked(seed, mask_slice);
         });
-        self.batch_obs(py)
+        this.context_cache = None;
+        this.last_any_done = false;
+        this.check_outputs(|| "reset".to_string())?;
+        this.batch_obs(py)
     }
 
     /// `(observations, rewards, terminated, truncated, infos)`: fresh NumPy arrays and the step's
@@ -436,18 +544,21 @@ impl VecEnv {
     /// outputs will need; then this thread steps the blocks left with the GIL released, and
     /// restocks while a worker still steps its last block. What is not ready is made when needed
     /// (with one thread: all of it).
-    fn step<'py>(&mut self, py: Python<'py>, actions: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyTuple>> {
-        self.take_actions(actions)?;
-        let acts = if self.discrete {
-            VecActions::Discrete(&self.discrete_actions)
+    fn step<'py>(slf: &Bound<'py, Self>, actions: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyTuple>> {
+        let mut guard = slf.try_borrow_mut().map_err(|_| busy())?;
+        let this = &mut *guard;
+        let py = slf.py();
+        this.take_actions(actions)?;
+        let acts = if this.discrete {
+            VecActions::Discrete(&this.discrete_actions)
         } else {
-            VecActions::Continuous(&self.continuous_actions)
+            VecActions::Continuous(&this.continuous_actions)
         };
-        let oldest = self.returned[0].take();
-        let (stock, n) = (&self.stock, self.inner.num_envs());
-        let nested = [&self.feature_keys, &self.visible_keys];
+        let oldest = this.returned[0].take();
+        let (stock, n) = (&this.stock, this.inner.num_envs());
+        let nested = [&this.feature_keys, &this.visible_keys];
         let mut restocked = Ok(());
-        self.inner
+        this.inner
             .step_with(acts, |share| {
                 if let Some(t) = oldest {
                     stock.reclaim(t.into_bound(py).into_any(), &nested, n);
@@ -460,27 +571,45 @@ impl VecEnv {
             .map(|_| ())
             .map_err(|e| env_error(&e))?;
         restocked?;
-        let (term, trunc) = (self.inner.terminated(), self.inner.truncated());
-        let infos = PyDict::new(py);
+        this.steps += 1;
+        let t = this.steps;
+        this.check_outputs(|| format!("step {t}"))?;
+        let (term, trunc) = (this.inner.terminated(), this.inner.truncated());
         // Most batch steps end no episode: one branch-free pass tells (a filter over all envs
         // cost ~450 instructions per step).
-        if self.same_step && term.iter().zip(trunc).fold(false, |any, (&a, &b)| any | a | b) {
-            let ended: Vec<usize> = (0..n).filter(|&i| term[i] | trunc[i]).collect();
-            self.final_infos(&infos, &ended)?;
+        let any_done = term.iter().zip(trunc).fold(false, |any, (&a, &b)| any | a | b);
+        let ended: Vec<usize> = if this.same_step && any_done {
+            (0..n).filter(|&i| term[i] | trunc[i]).collect()
+        } else {
+            Vec::new()
+        };
+        // Contexts change only where an env resets: in this step (same-step) or the next
+        // (next-step); a plain batch has one fixed context.
+        if this.contextual && (any_done || this.last_any_done) {
+            this.context_cache = None;
         }
-        self.context_infos(&infos)?;
+        this.last_any_done = any_done;
+        let infos = this.cached_context_infos(py)?;
+        if !ended.is_empty() {
+            this.final_infos(&infos, &ended)?;
+        }
+        if this.noisy {
+            let all: Vec<usize> = (0..n).collect();
+            this.set_observed(&infos, this.inner.obs(), &all)?;
+        }
+        let (term, trunc) = (this.inner.terminated(), this.inner.truncated());
         let out = PyTuple::new(
             py,
             [
-                self.batch_obs(py)?,
-                self.stock
-                    .filled(py, &[n], |o: &mut [f64]| o.copy_from_slice(self.inner.rewards())),
-                self.stock.filled(py, &[n], |o: &mut [bool]| o.copy_from_slice(term)),
-                self.stock.filled(py, &[n], |o: &mut [bool]| o.copy_from_slice(trunc)),
+                this.batch_obs(py)?,
+                this.stock
+                    .filled(py, &[n], |o: &mut [f64]| o.copy_from_slice(this.inner.rewards())),
+                this.stock.filled(py, &[n], |o: &mut [bool]| o.copy_from_slice(term)),
+                this.stock.filled(py, &[n], |o: &mut [bool]| o.copy_from_slice(trunc)),
                 infos.into_any(),
             ],
         )?;
-        self.returned = [self.returned[1].take(), Some(out.clone().unbind())];
+        this.returned = [this.returned[1].take(), Some(out.clone().unbind())];
         Ok(out)
     }
 
@@ -489,38 +618,66 @@ impl VecEnv {
     /// released, no outputs made for Python. `python/bench/bench_python_api.py` times it in the
     /// same process as `step`, alternating with it, over the same window of the same episodes:
     /// the native rate under the same machine conditions as the Python-driven one.
-    fn native_steps(&mut self, py: Python<'_>, actions: Vec<Bound<'_, PyAny>>, steps: usize) -> PyResult<()> {
+    fn native_steps(slf: &Bound<'_, Self>, actions: Vec<Bound<'_, PyAny>>, steps: usize) -> PyResult<()> {
+        let mut guard = slf.try_borrow_mut().map_err(|_| busy())?;
+        let this = &mut *guard;
+        let py = slf.py();
         if actions.is_empty() {
             return Err(value_error("native_steps needs at least one action batch"));
         }
         let (mut discrete, mut continuous) = (Vec::new(), Vec::new());
         for a in &actions {
-            self.take_actions(a)?;
-            if self.discrete {
-                discrete.push(self.discrete_actions.clone());
+            this.take_actions(a)?;
+            if this.discrete {
+                discrete.push(this.discrete_actions.clone());
             } else {
-                continuous.push(self.continuous_actions.clone());
+                continuous.push(this.continuous_actions.clone());
             }
         }
-        let inner = &mut self.inner;
-        py.detach(|| -> Result<(), carl_spec::envs::EnvError> {
-            for k in 0..steps {
-                let acts = if discrete.is_empty() {
-                    VecActions::Continuous(&continuous[k % continuous.len()])
-                } else {
-                    VecActions::Discrete(&discrete[k % discrete.len()])
-                };
-                inner.step(acts)?;
-            }
-            Ok(())
-        })
-        .map_err(|e| env_error(&e))
+        // In slices of ~50 ms with the GIL released, checking for Ctrl-C between them.
+        let inner = &mut this.inner;
+        let mut k = 0;
+        while k < steps {
+            py.check_signals()?;
+            k = py
+                .detach(|| -> Result<usize, carl_spec::envs::EnvError> {
+                    let t0 = std::time::Instant::now();
+                    let mut k = k;
+                    while k < steps {
+                        let acts = if discrete.is_empty() {
+                            VecActions::Continuous(&continuous[k % continuous.len()])
+                        } else {
+                            VecActions::Discrete(&discrete[k % discrete.len()])
+                        };
+                        inner.step(acts)?;
+                        k += 1;
+                        if t0.elapsed() > std::time::Duration::from_millis(50) {
+                            break;
+                        }
+                    }
+                    Ok(k)
+                })
+                .map_err(|e| env_error(&e))?;
+        }
+        Ok(())
     }
 
-    /// The infos every step and reset carry (`instance_id`, `observed_context`), for `reset`.
-    fn infos<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+    /// The infos of a reset of the envs where `mask` is true (all for None): `cs.make`'s reset
+    /// info (`context`, ...) of each, in Gymnasium's vector layout.
+    #[pyo3(signature = (mask=None))]
+    fn infos<'py>(slf: &Bound<'py, Self>, mask: Option<PyReadonlyArray1<'py, bool>>) -> PyResult<Bound<'py, PyDict>> {
+        let this = slf.try_borrow().map_err(|_| busy())?;
+        let py = slf.py();
+        let n = this.inner.num_envs();
+        let rows: Vec<usize> = match &mask {
+            Some(m) => {
+                let s = m.as_slice().map_err(value_error)?;
+                (0..n).filter(|&i| s.get(i).copied().unwrap_or(false)).collect()
+            }
+            None => (0..n).collect(),
+        };
         let d = PyDict::new(py);
-        self.context_infos(&d)?;
+        this.context_infos(&d, &rows)?;
         Ok(d)
     }
 

@@ -4,7 +4,7 @@
 //! ends, so every allocation per feature counts.
 
 use numpy::npyffi::{_PyArray_GET_ITEM_DATA, NPY_ARRAY_WRITEABLE};
-use numpy::{PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods};
+use numpy::{PyArrayDyn, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -29,6 +29,15 @@ pub(crate) fn read_only(array: Bound<'_, PyAny>) -> Bound<'_, PyAny> {
     // flag is what `ndarray.setflags(write=False)` does.
     unsafe { (*_PyArray_GET_ITEM_DATA(a.as_array_ptr())).flags &= !NPY_ARRAY_WRITEABLE };
     array
+}
+
+/// `obj` made read-only if it is a NumPy array (what a cache shares between steps' infos).
+pub(crate) fn read_only_any(obj: &Bound<'_, PyAny>) {
+    if let Ok(a) = obj.cast::<PyUntypedArray>() {
+        // SAFETY: clearing the flag is what `ndarray.setflags(write=False)` does; no Rust borrow
+        // of the array is alive.
+        unsafe { (*_PyArray_GET_ITEM_DATA(a.as_array_ptr())).flags &= !NPY_ARRAY_WRITEABLE };
+    }
 }
 
 /// A column of numbers: `key` holds each listed env's value (zero elsewhere), `_key` the mask of
