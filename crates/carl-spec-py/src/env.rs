@@ -48,24 +48,15 @@ impl Env {
 #[pymethods]
 impl Env {
     /// `args`: the context source (`carl_spec._args.context_args`; None: the default context).
-    /// `context_json` is `carl_spec.compat`'s spelling of a fixed context (JSON), kept until it
-    /// passes `ContextArgs` too.
     #[new]
-    #[pyo3(signature = (env, args=None, *, specs_dir=None, context_json=None))]
+    #[pyo3(signature = (env, args=None, *, specs_dir=None))]
     fn new(
         py: Python<'_>,
         env: &str,
         args: Option<&Bound<'_, ContextArgs>>,
         specs_dir: Option<PathBuf>,
-        context_json: Option<String>,
     ) -> PyResult<Self> {
-        let mut args = source_of(args);
-        if context_json.is_some() {
-            if args.context_json.is_some() {
-                return Err(value_error("give the context in args or context_json, not both"));
-            }
-            args.context_json = context_json;
-        }
+        let args = source_of(args);
         let inner = with_specs(specs_dir, |specs| build_contextual(py, specs, env, &args))?;
         let action = match inner.action_space() {
             Space::Discrete { .. } => Action::Discrete(0),

@@ -162,32 +162,18 @@ impl ContextChooser {
     /// bundled spec of `env`. `args`: the context source as `cs.wrap` takes it
     /// (`carl_spec._args.context_args`; its `obs_context` are the features the wrapper shows the
     /// agent, in order; `allow_out_of_bounds` is refused: a user's spec states its bounds).
-    /// `context_json`, `contexts_json` (an inline list of contexts used like a set, ids are
-    /// positions), `selection` and `instance` are `carl_spec.compat`'s spellings, kept until it
-    /// passes `ContextArgs` too.
+    /// `contexts_json`: an inline list of contexts used like an instance set (ids are positions;
+    /// `carl_spec.compat`'s `contexts` dict), selected by `args`' selection.
     #[new]
-    #[pyo3(signature = (path, args=None, *, env=None, context_json=None, contexts_json=None, selection=None, instance=None))]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (path, args=None, *, env=None, contexts_json=None))]
     fn new(
         py: Python<'_>,
         path: Option<PathBuf>,
         args: Option<&Bound<'_, ContextArgs>>,
         env: Option<&str>,
-        context_json: Option<String>,
         contexts_json: Option<String>,
-        selection: Option<String>,
-        instance: Option<usize>,
     ) -> PyResult<Self> {
-        let legacy = context_json.is_some() || contexts_json.is_some() || selection.is_some() || instance.is_some();
-        if args.is_some() && legacy {
-            return Err(value_error("give args or compat's keywords, not both"));
-        }
-        let mut a = source_of(args);
-        if legacy {
-            a.context_json = context_json;
-            a.selection = selection.unwrap_or_else(|| "round_robin".into());
-            a.instance = instance;
-        }
+        let a = source_of(args);
         if a.allow_out_of_bounds {
             return Err(value_error(
                 "allow_out_of_bounds applies to carl_spec.make; a user's spec states its own bounds",

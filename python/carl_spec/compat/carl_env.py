@@ -33,6 +33,7 @@ import numpy as np
 from gymnasium import spaces
 
 from .. import _core
+from .._args import context_args
 from .._errors import UnknownNameError, out_of_bounds_hint
 from .._spaces import space_from_json
 from ..env import discrete_action, os_entropy_seed
@@ -211,17 +212,16 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
             if len(canonical_contexts) == 1:
                 # One context: carl-spec's fixed context, so unseeded resets continue the runtime's
                 # own stream (for the classic five: exactly Gymnasium's env, reset for reset).
-                chooser = _core.ContextChooser(None, env=self.env_id, context_json=json.dumps(canonical_contexts[0]))
+                chooser = _core.ContextChooser(None, context_args(context=canonical_contexts[0]), env=self.env_id)
             else:
                 chooser = _core.ContextChooser(
                     None,
+                    context_args(selection=mode or "round_robin", instance=0 if mode == "static" else None),
                     env=self.env_id,
                     contexts_json=json.dumps(canonical_contexts),
-                    selection=mode or "round_robin",
-                    instance=0 if mode == "static" else None,
                 )
             # One runtime per context, each checked now (names, bounds) like a carl-spec set.
-            envs = [_core.Env(self.env_id, context_json=json.dumps(c)) for c in canonical_contexts]
+            envs = [_core.Env(self.env_id, context_args(context=c)) for c in canonical_contexts]
         # Everything is checked: replace the set (a selector instance the user passed follows it).
         selector.contexts, selector.contexts_keys = contexts, list(contexts.keys())
         selector.context_ids, selector.context_id = list(range(len(contexts))), None
