@@ -227,18 +227,16 @@ pub fn write_file(path: &Path, bytes: &[u8], force: bool) -> Result<(), OutputEr
         path: shown.clone(),
         source,
     })?;
-    let result = (|| {
-        if force {
-            std::fs::rename(&tmp, path)
-        } else {
-            match std::fs::hard_link(&tmp, path) {
-                Ok(()) => std::fs::remove_file(&tmp),
-                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Err(e),
-                // File systems without hard links: checked above, rename.
-                Err(_) => std::fs::rename(&tmp, path),
-            }
+    let result = if force {
+        std::fs::rename(&tmp, path)
+    } else {
+        match std::fs::hard_link(&tmp, path) {
+            Ok(()) => std::fs::remove_file(&tmp),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Err(e),
+            // File systems without hard links: checked above, rename.
+            Err(_) => std::fs::rename(&tmp, path),
         }
-    })();
+    };
     match result {
         Ok(()) => Ok(()),
         Err(e) => {
