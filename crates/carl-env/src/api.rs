@@ -96,6 +96,13 @@ pub enum EnvError {
         expected: &'static str,
         got: &'static str,
     },
+    /// A continuous action component is NaN or infinite (an `f32`: `1e300` is infinite too).
+    #[error("{env}: action component {index} is not finite ({value}); actions must be finite numbers")]
+    ActionNotFinite {
+        env: &'static str,
+        index: usize,
+        value: f32,
+    },
     #[error("{env}: continuous action must have {expected} component(s), got {got}")]
     ActionLength {
         env: &'static str,
@@ -136,6 +143,55 @@ pub enum EnvError {
     /// failed); raised by carl-spec's `ContextualEnv`.
     #[error("{env}: {message}")]
     Context { env: &'static str, message: String },
+    /// The environment produced a NaN or infinite observation component or reward
+    /// ([`check_finite_output`]): the context drove the dynamics outside the range where they
+    /// mean anything.
+    #[error(
+        "{env}: the environment produced a non-finite {what} ({value}); the context drives the dynamics outside their meaningful range"
+    )]
+    NonFiniteOutput {
+        env: &'static str,
+        what: String,
+        value: f64,
+    },
+    /// Long native work was cancelled by the check installed with [`crate::cancel::with_check`]
+    /// (e.g. Ctrl-C in Python). The environment needs a reset before it steps again.
+    #[error("{env}: interrupted")]
+    Interrupted { env: &'static str },
+}
+
+/// The first NaN or infinite component of `obs`, or a non-finite `reward`, as
+/// [`EnvError::NonFiniteOutput`] naming the component. The one check every front end (the CLI's
+/// episodes, the Python binding) applies after `reset` (with reward 0) and `step`.
+pub fn check_finite_output(env: &'static str, obs: &[f32], reward: f64) -> Result<(), EnvError> {
+    if let Some((i, x)) = obs.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+        return Err(EnvError::NonFiniteOutput {
+            env,
+            what: format!("observation component {i}"),
+            value: f64::from(*x),
+        });
+    }
+    if !reward.is_finite() {
+        return Err(EnvError::NonFiniteOutput {
+            env,
+            what: "reward".into(),
+            value: reward,
+        });
+    }
+    Ok(())
+}
+
+/// The first NaN or infinite component of a continuous action, as [`EnvError::ActionNotFinite`].
+#[inline]
+pub fn check_finite_action(env: &'static str, v: &[f32]) -> Result<(), EnvError> {
+    match v.iter().position(|x| !x.is_finite()) {
+        Some(index) => Err(EnvError::ActionNotFinite {
+            env,
+            index,
+            value: v[index],
+        }),
+        None => Ok(()),
+    }
 }
 
 /// A context feature name that an environment's `Params` does not know.
@@ -408,11 +464,12 @@ pub fn discrete_action(env: &'static str, action: &Action, n: i64) -> Result<i64
     }
 }
 
-/// The components of an `n`-dimensional continuous action.
+/// The components of an `n`-dimensional continuous action, all finite
+/// ([`EnvError::ActionNotFinite`] names the first that is not).
 #[inline]
 pub fn vector_action<'a>(env: &'static str, action: &'a Action, n: usize) -> Result<&'a [f32], EnvError> {
     match action {
-        Action::Continuous(v) if v.len() == n => Ok(v),
+        Action::Continuous(v) if v.len() == n => check_finite_action(env, v).map(|()| v.as_slice()),
         Action::Continuous(v) => Err(EnvError::ActionLength {
             env,
             expected: n,
@@ -426,11 +483,11 @@ pub fn vector_action<'a>(env: &'static str, action: &'a Action, n: usize) -> Res
     }
 }
 
-/// The single component of a 1-D continuous action.
+/// The single component of a 1-D continuous action, finite.
 #[inline]
 pub fn scalar_action(env: &'static str, action: &Action) -> Result<f32, EnvError> {
     match action {
-        Action::Continuous(v) if v.len() == 1 => Ok(v[0]),
+        Action::Continuous(v) if v.len() == 1 => check_finite_action(env, v).map(|()| v[0]),
         Action::Continuous(v) => Err(EnvError::ActionLength {
             env,
             expected: 1,

@@ -10,13 +10,18 @@ use std::collections::BTreeMap;
 
 use carl_spec_core::spec::model::{EnvSpec, FeatureType, Scalar, Value};
 use carl_spec_core::suggest::did_you_mean;
+use carl_spec_core::text::quote;
 
 /// Feature values by name (canonical names or aliases); missing features take their defaults.
 pub type Context = BTreeMap<String, Value>;
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MakeError {
-    #[error("{env}: the context gives feature {feature} twice, as \"{first}\" and \"{second}\"; give it once")]
+    #[error(
+        "{env}: the context gives feature {feature} twice, as {} and {}; give it once",
+        quote(first),
+        quote(second)
+    )]
     FeatureTwice {
         env: String,
         feature: String,
@@ -25,7 +30,7 @@ pub enum MakeError {
     },
     #[error("environment \"{env}\" has a spec but no runtime yet; runtimes exist for: {available}")]
     NoRuntime { env: String, available: String },
-    #[error("{env} has no option \"{name}\"; {valid}")]
+    #[error("{env} has no option {}; {valid}", quote(name))]
     UnknownOption { env: String, name: String, valid: String },
     #[error("{env}: option {name} needs {expected}, got {got}")]
     BadOption {
@@ -34,7 +39,7 @@ pub enum MakeError {
         expected: String,
         got: String,
     },
-    #[error("{env} has no context feature \"{name}\"{hint}; valid names: {valid}")]
+    #[error("{env} has no context feature {}{hint}; valid names: {valid}", quote(name))]
     UnknownFeature {
         env: String,
         name: String,

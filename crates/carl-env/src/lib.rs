@@ -7,8 +7,10 @@
 //! * [`context`]: a context and variant options checked against the environment's spec.
 //! * [`policy`]: who acts (random, no-op, the registrations' hand-written controllers).
 //! * [`rng`]: the small deterministic stream used by `reset`.
+//! * [`cancel`]: a check installed around a call (Ctrl-C in Python) that long native loops poll.
 
 pub mod api;
+pub mod cancel;
 pub mod context;
 pub mod policy;
 pub mod registration;

@@ -731,7 +731,8 @@ impl LunarLander {
                     });
                 }
             };
-            // np.clip(action, -1, 1) in float64; NaN compares false everywhere (engines off).
+            carl_env::api::check_finite_action(ID, v)?;
+            // np.clip(action, -1, 1) in float64.
             let a0 = carl_env::api::np_clip(v[0] as f64, -1.0, 1.0);
             let a1 = carl_env::api::np_clip(v[1] as f64, -1.0, 1.0);
             let m = if a0 > 0.0 {

@@ -50,6 +50,16 @@ pub const REGISTRATIONS: &[Registration] = &[
         id: "bipedal_walker",
         build: |v, o| {
             let p = params::<BipedalWalkerParams>("bipedal_walker", v, BipedalWalkerParams::set)?;
+            let max = crate::bipedal_walker::MAX_TERRAIN_LENGTH;
+            if p.terrain_length > max as f64 {
+                return Err(MakeError::Runtime {
+                    env: "bipedal_walker".into(),
+                    message: format!(
+                        "TERRAIN_LENGTH = {} is more than this runtime builds (at most {max} steps, even out of bounds: every step is a static edge the walker is tested against)",
+                        p.terrain_length
+                    ),
+                });
+            }
             let opts = BipedalWalkerOptions {
                 hardcore: o.flag("hardcore"),
                 ..BipedalWalkerOptions::default()

@@ -37,6 +37,11 @@ const PAD: f32 = 3.0;
 const ACTION_BASE: [u8; 4] = *b"GAUC";
 const ACTION_PAIR: [[u8; 2]; 4] = [*b"GC", *b"CG", *b"AU", *b"UA"];
 
+/// The largest `state_radius` the runtime accepts, even with out-of-bounds values allowed (the
+/// spec's bound is 500): the observation has 2·r+1 entries, so an unbounded radius would ask for
+/// more memory than there is.
+pub const MAX_STATE_RADIUS: usize = 1 << 16;
+
 /// The context of `rna_design` (CARL's features) and the runtime's options.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RnaDesignParams {
@@ -45,7 +50,8 @@ pub struct RnaDesignParams {
     /// `max_improvement_folds`.
     pub mutation_threshold: f64,
     pub reward_exponent: f64,
-    /// Half-width of the observation window (integer ≥ 1; the observation has 2r+1 entries).
+    /// Half-width of the observation window (integer ≥ 1, at most [`MAX_STATE_RADIUS`]; the
+    /// observation has 2r+1 entries).
     pub state_radius: usize,
     pub dataset: Dataset,
     /// Target ids (puzzle / file numbers) to design for; `None`: the whole dataset.
@@ -245,7 +251,9 @@ impl Env for RnaDesign {
             p.mutation_threshold,
             p.reward_exponent,
             p.max_improvement_folds,
-        );
+        )
+        // The episode is over either way (`ready` is false): a reset starts the next one.
+        .map_err(|_| EnvError::Interrupted { env: ID })?;
         let reward = outcome.reward;
         self.last = Some(outcome);
         Ok(StepOutcome {
@@ -442,7 +450,7 @@ mod tests {
     fn local_improvement_matches_learna() {
         let target = targets::load(Dataset::Eterna, Some(&[1]), None).unwrap().remove(0);
         // Folds into "(((((.....)))))." (d = 2); the third assignment reaches 0.
-        let repaired = terminal_reward(&target, "GGGGGAAAAACCCCCA", 5.0, 1.0, None);
+        let repaired = terminal_reward(&target, "GGGGGAAAAACCCCCA", 5.0, 1.0, None).unwrap();
         assert_eq!(repaired.folded, "(((((.....))))).");
         assert_eq!(
             (repaired.distance_folded, repaired.distance, repaired.improvement_folds),
@@ -450,19 +458,52 @@ mod tests {
         );
         assert_eq!(repaired.reward, 1.0);
         // Folds into ".((((.......))))" (d = 2); none of the 16 assignments does better.
-        let stuck = terminal_reward(&target, "GGGGAAAAAAAAUCCC", 5.0, 2.0, None);
+        let stuck = terminal_reward(&target, "GGGGAAAAAAAAUCCC", 5.0, 2.0, None).unwrap();
         assert_eq!(
             (stuck.distance_folded, stuck.distance, stuck.improvement_folds),
             (2, 2, 16)
         );
         assert_eq!(stuck.reward, (1.0 - 2.0 / 16.0f64).powf(2.0));
         // d = 2 is not below a threshold of 2: no improvement.
-        let off = terminal_reward(&target, "GGGGGAAAAACCCCCA", 2.0, 1.0, None);
+        let off = terminal_reward(&target, "GGGGGAAAAACCCCCA", 2.0, 1.0, None).unwrap();
         assert_eq!((off.distance, off.improvement_folds), (2, 0));
         // The opt-in cap stops after 2 folds, before the repairing third assignment.
-        let capped = terminal_reward(&target, "GGGGGAAAAACCCCCA", 5.0, 1.0, Some(2));
+        let capped = terminal_reward(&target, "GGGGGAAAAACCCCCA", 5.0, 1.0, Some(2)).unwrap();
         assert_eq!(capped.improvement_folds, 2);
         assert!(capped.distance > 0);
+    }
+
+    /// The caller's cancellation check stops the local improvement (the binding's Ctrl-C) and
+    /// the step reports it; work that runs no improvement never asks.
+    #[test]
+    fn local_improvement_can_be_cancelled() {
+        use carl_env::cancel::{Interrupted, with_check};
+        let target = targets::load(Dataset::Eterna, Some(&[1]), None).unwrap().remove(0);
+        let stopped = with_check(|| true, || terminal_reward(&target, "GGGGAAAAAAAAUCCC", 5.0, 2.0, None));
+        assert_eq!(stopped, Err(Interrupted));
+        let off = with_check(|| true, || terminal_reward(&target, "GGGGAAAAAAAAUCCC", 2.0, 2.0, None));
+        assert!(off.is_ok());
+
+        let mut e = env(&[1], Dataset::Eterna);
+        e.reset(Some(0));
+        // The stuck design above with its last site unassigned; codes A 0, C 1, G 2, U 3.
+        let code = |b: u8| match b {
+            b'A' => 0.0,
+            b'C' => 1.0,
+            b'G' => 2.0,
+            _ => 3.0,
+        };
+        let mut state: Vec<f64> = vec![0.0];
+        state.extend(b"GGGGAAAAAAAAUCC".iter().map(|&b| code(b)));
+        state.push(-1.0);
+        e.set_state(&state).unwrap();
+        let err = with_check(|| true, || e.step(&Action::Discrete(3))).unwrap_err();
+        assert_eq!(err, EnvError::Interrupted { env: ID });
+        assert!(matches!(e.step(&Action::Discrete(0)), Err(EnvError::NeedsReset { .. })));
+        e.set_state(&state).unwrap();
+        let done = e.step(&Action::Discrete(3)).unwrap();
+        assert!(done.terminated);
+        assert_eq!(e.last_outcome().map(|o| o.improvement_folds), Some(16));
     }
 
     #[test]

@@ -64,7 +64,18 @@ fn rna_design_params(values: &[(String, f64)], options: &OptionValues) -> Result
         match name.as_str() {
             "mutation_threshold" => p.mutation_threshold = *x,
             "reward_exponent" => p.reward_exponent = *x,
-            "state_radius" => p.state_radius = *x as usize,
+            "state_radius" => {
+                if !(0.0..=crate::MAX_STATE_RADIUS as f64).contains(x) {
+                    return Err(MakeError::Runtime {
+                        env: "rna_design".into(),
+                        message: format!(
+                            "state_radius = {x} is more than this runtime can observe (at most {}, even out of bounds: the observation has 2*state_radius + 1 entries)",
+                            crate::MAX_STATE_RADIUS
+                        ),
+                    });
+                }
+                p.state_radius = *x as usize;
+            }
             "dataset" => {
                 p.dataset = match *x as usize {
                     0 => Dataset::Eterna,

@@ -1,6 +1,8 @@
 //! LEARNA's terminal reward: fold the design, Hamming distance d to the target, local improvement
 //! when 0 < d < mutation_threshold, reward (1 − d/n)^reward_exponent.
 
+use carl_env::cancel::{self, Interrupted, POLL_EVERY};
+
 use super::targets::Target;
 
 /// What the terminal step found.
@@ -27,24 +29,26 @@ pub(crate) fn hamming(a: &str, b: &str) -> usize {
 }
 
 /// Reward of `design` for `target`. `max_folds` caps the local improvement (LEARNA: no cap, up
-/// to 4^d folds): only the first `max_folds` assignments in LEARNA's order are tried.
+/// to 4^d folds): only the first `max_folds` assignments in LEARNA's order are tried. The
+/// improvement polls [`carl_env::cancel::poll`] every [`carl_env::cancel::POLL_EVERY`] folds and
+/// stops with `Err(Interrupted)` when the caller's check says so.
 pub fn terminal_reward(
     target: &Target,
     design: &str,
     mutation_threshold: f64,
     reward_exponent: f64,
     max_folds: Option<u64>,
-) -> Outcome {
+) -> Result<Outcome, Interrupted> {
     let folded = carl_rna::fold(design).expect("designs hold only A, C, G, U").structure;
     let distance_folded = hamming(&folded, &target.structure);
     let mut distance = distance_folded;
     let mut improvement_folds = 0;
     if distance > 0 && (distance as f64) < mutation_threshold {
-        (distance, improvement_folds) = local_improvement(target, design, &folded, max_folds);
+        (distance, improvement_folds) = local_improvement(target, design, &folded, max_folds)?;
     }
     let n = target.len() as f64;
     let reward = (1.0 - distance as f64 / n).powf(reward_exponent);
-    Outcome {
+    Ok(Outcome {
         target_id: target.id,
         target_structure: target.structure.clone(),
         design: design.to_string(),
@@ -53,13 +57,18 @@ pub fn terminal_reward(
         distance,
         improvement_folds,
         reward,
-    }
+    })
 }
 
 /// LEARNA's `_local_improvement`: every assignment of A, G, C, U (itertools.product order, last
 /// site fastest) to the sites where the fold differs from the target (their partners untouched);
 /// the smallest distance found, stopping at the first 0. Returns (distance, folds made).
-fn local_improvement(target: &Target, design: &str, folded: &str, max_folds: Option<u64>) -> (usize, u64) {
+fn local_improvement(
+    target: &Target,
+    design: &str,
+    folded: &str,
+    max_folds: Option<u64>,
+) -> Result<(usize, u64), Interrupted> {
     const BASES: [u8; 4] = *b"AGCU";
     let sites: Vec<usize> = (0..target.len())
         .filter(|&k| folded.as_bytes()[k] != target.structure.as_bytes()[k])
@@ -69,6 +78,9 @@ fn local_improvement(target: &Target, design: &str, folded: &str, max_folds: Opt
     let mut seq = design.as_bytes().to_vec();
     let mut best = usize::MAX;
     for index in 0..limit {
+        if index % POLL_EVERY == 0 {
+            cancel::poll()?;
+        }
         let mut rest = index;
         for &site in sites.iter().rev() {
             seq[site] = BASES[(rest % 4) as usize];
@@ -78,8 +90,8 @@ fn local_improvement(target: &Target, design: &str, folded: &str, max_folds: Opt
         let d = hamming(&carl_rna::fold(text).expect("valid bases").structure, &target.structure);
         best = best.min(d);
         if d == 0 {
-            return (0, index + 1);
+            return Ok((0, index + 1));
         }
     }
-    (best.min(hamming(folded, &target.structure)), limit)
+    Ok((best.min(hamming(folded, &target.structure)), limit))
 }

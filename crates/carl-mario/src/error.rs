@@ -38,6 +38,19 @@ pub enum MarioError {
     #[error("level_index {index} out of range: the data directory has {available} generators (0..={last})", last = available.saturating_sub(1))]
     UnknownGenerator { index: usize, available: usize },
 
+    /// A generator name in `toad_gan/index.json` that is not a plain folder name inside
+    /// `toad_gan/` (a path separator, `.`, `..`, an absolute path, a control character).
+    #[error(
+        "{index}: generator {position} is named {name}, which is not a plain folder name inside toad_gan/ \
+         (no path separators, `.`, `..` or control characters)"
+    )]
+    BadGeneratorName {
+        index: PathBuf,
+        position: usize,
+        /// The name, escaped and cut for the message.
+        name: String,
+    },
+
     #[error("level width {width} out of range: TOAD-GAN levels are {min}..={max} tiles wide")]
     WidthOutOfRange { width: usize, min: usize, max: usize },
 

@@ -98,3 +98,51 @@ fn a_level_without_floor_or_wider_than_the_screen_is_playable() {
         }
     }
 }
+
+/// Generator names from `toad_gan/index.json` are plain folder names inside `toad_gan/`: a
+/// name that climbs out (`../..`), is absolute or holds control characters is refused, naming
+/// the index file and the entry, before any file is read.
+#[test]
+fn generator_names_are_confined_to_the_data_directory() {
+    use carl_mario::DataDir;
+    use carl_mario::toad_gan::generator_names;
+    let root = std::env::temp_dir().join(format!("carl-mario-names-{}", std::process::id()));
+    let toad = root.join("mario/toad_gan");
+    std::fs::create_dir_all(&toad).unwrap();
+    // A generator outside the data directory that a `../` name would reach.
+    let outside = root.join("outside");
+    std::fs::create_dir_all(&outside).unwrap();
+    let data = DataDir::new(&root).unwrap();
+    let long = "x".repeat(300);
+    for bad in [
+        "../../outside",
+        "..",
+        "/etc",
+        "a/b",
+        "a\\b",
+        "",
+        "c:x",
+        "x\u{1b}[2J",
+        long.as_str(),
+    ] {
+        let index = serde_json::json!({ "generators": [{ "name": "TOAD_GAN_1-1" }, { "name": bad }] });
+        std::fs::write(toad.join("index.json"), index.to_string()).unwrap();
+        let e = generator_names(&data).unwrap_err();
+        assert!(
+            matches!(e, MarioError::BadGeneratorName { position: 1, .. }),
+            "{bad:?}: {e}"
+        );
+        let msg = e.to_string();
+        assert!(
+            msg.contains("index.json") && msg.contains("not a plain folder name"),
+            "{msg}"
+        );
+        assert!(!msg.contains('\u{1b}') && msg.len() < 400, "{msg}");
+        let e = Generator::load_index(&data, 1).unwrap_err();
+        assert!(matches!(e, MarioError::BadGeneratorName { .. }), "{bad:?}: {e}");
+    }
+    let ok = serde_json::json!({ "generators": [{ "name": "TOAD_GAN_1-1" }, { "name": "my gen.v2" }] });
+    std::fs::write(toad.join("index.json"), ok.to_string()).unwrap();
+    assert_eq!(generator_names(&data).unwrap(), ["TOAD_GAN_1-1", "my gen.v2"]);
+    let _ = std::fs::remove_dir_all(&root);
+}

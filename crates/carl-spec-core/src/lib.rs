@@ -9,10 +9,12 @@
 //! * [`json`]: a JSON parser that keeps source positions, JSON pointers, line/column mapping.
 //! * [`sampling`]: the portable generator (PCG64) and samplers (libm only).
 //! * [`instances`]: derive, freeze, load and verify instance sets.
-//! * [`output`]: the one rule for writing output files.
+//! * [`output`]: the one rule for writing output files; [`input`]: reading input with a size
+//!   limit.
 //! * [`text`] (quoting input into messages) and [`suggest`] ("did you mean").
 
 pub mod diagnostics;
+pub mod input;
 pub mod instances;
 pub mod json;
 pub mod output;

@@ -4,7 +4,7 @@
 //!
 //! Below it (re-exported under their module names so `carl_spec::spec`, `carl_spec::envs::api`,
 //! … name each concept once): the spec core [`carl_spec_core`] (`text`, `suggest`,
-//! `diagnostics`, `json`, `spec`, `schema`, `validate`, `sampling`, `instances`, `output`), the
+//! `diagnostics`, `json`, `spec`, `schema`, `validate`, `sampling`, `instances`, `input`, `output`), the
 //! drawing layer [`pixels`], the 2-D engine [`physics2d`], the environment API and the
 //! families ([`envs`]).
 //!
@@ -19,7 +19,9 @@
 #[cfg(feature = "envs")]
 pub use carl_physics2d as physics2d;
 pub use carl_pixels as pixels;
-pub use carl_spec_core::{diagnostics, instances, json, output, sampling, schema, spec, suggest, text, validate};
+pub use carl_spec_core::{
+    diagnostics, input, instances, json, output, sampling, schema, spec, suggest, text, validate,
+};
 
 pub mod cli;
 pub mod plot;

@@ -52,7 +52,8 @@
 //! and the joints; the two lower-leg contact flags (14, 15), game over (16), the previous shaping
 //! as flag and value (17, 18); and the terrain's generator record (19–26: seed,
 //! `TERRAIN_STEP`, `TERRAIN_LENGTH`, `TERRAIN_HEIGHT`, `TERRAIN_GRASS`, `TERRAIN_STARTPAD`,
-//! roughness `SCALE`, hardcore flag). The course is regenerated from its record, so it does not
+//! roughness `SCALE`, hardcore flag; a `TERRAIN_LENGTH` above [`MAX_TERRAIN_LENGTH`] is refused,
+//! at `make` as in `set_state`). The course is regenerated from its record, so it does not
 //! depend on the context `set_state` is called under (the terrain features act at reset, when the
 //! course is generated, and on the finish line); physical properties (friction, shapes, masses,
 //! gravity, motors) come from the context. `set_state` rebuilds the world assembled from the
@@ -92,6 +93,12 @@ pub const OBS_DIM: usize = 24;
 pub const STATE_DIM: usize = 27;
 /// Seeds of the terrain stream are below this (exact in an f64 state component).
 const TERRAIN_SEED_LIMIT: u64 = 1 << 53;
+/// The longest course the runtime builds (`TERRAIN_LENGTH` steps), even with out-of-bounds
+/// values allowed (the spec's bound is 500): every step is a static edge in the physics world,
+/// and each physics step tests the walker's fixtures against all of them, so a longer course
+/// costs memory and time in proportion without being a different task. `make` refuses a
+/// longer one, and so does `set_state`.
+pub const MAX_TERRAIN_LENGTH: usize = 10_000;
 
 /// BipedalWalker context (CARL's 20 features). `Default` is CARL's defaults: Gymnasium's module
 /// constants with `TERRAIN_HEIGHT = 5` (CARL) instead of Gymnasium's `VIEWPORT_H/SCALE/4`.
@@ -411,7 +418,7 @@ impl BipedalWalker {
         TerrainSpec {
             seed,
             step: p.terrain_step,
-            length: int(p.terrain_length).clamp(2, 1 << 20) as usize,
+            length: int(p.terrain_length).clamp(2, MAX_TERRAIN_LENGTH as i64) as usize,
             height: p.terrain_height,
             grass: int(p.terrain_grass),
             startpad: int(p.terrain_startpad),
@@ -468,7 +475,7 @@ impl BipedalWalker {
         let spec = TerrainSpec {
             seed: int(t[0], 0.0, (TERRAIN_SEED_LIMIT - 1) as f64) as u64,
             step: t[1],
-            length: int(t[2], 2.0, (1 << 20) as f64) as usize,
+            length: int(t[2], 2.0, MAX_TERRAIN_LENGTH as f64) as usize,
             height: t[3],
             grass: int(t[4], -1e9, 1e9) as i64,
             startpad: int(t[5], -1e9, 1e9) as i64,
@@ -545,13 +552,13 @@ impl BipedalWalker {
         s
     }
 
-    /// Validate an action: 4 finite-or-NaN components (NaN means "motor off").
+    /// Validate an action: 4 finite components (NaN or ±inf is refused, naming the component).
     fn parse_action(action: &Action) -> Result<[f64; 4], EnvError> {
         match action {
-            Action::Continuous(v) if v.len() == 4 => Ok(std::array::from_fn(|i| {
-                let a = v[i] as f64;
-                if a.is_nan() { 0.0 } else { a }
-            })),
+            Action::Continuous(v) if v.len() == 4 => {
+                carl_env::api::check_finite_action(ID, v)?;
+                Ok(std::array::from_fn(|i| f64::from(v[i])))
+            }
             Action::Continuous(v) => Err(EnvError::ActionLength {
                 env: ID,
                 expected: 4,
@@ -757,6 +764,15 @@ impl Env for BipedalWalker {
 
     fn set_state(&mut self, state: &[f64]) -> Result<(), EnvError> {
         let s = check_state::<STATE_DIM>(ID, state)?;
+        if s[21] > MAX_TERRAIN_LENGTH as f64 {
+            return Err(EnvError::Context {
+                env: ID,
+                message: format!(
+                    "state component 21 (the course's TERRAIN_LENGTH) = {} is more than this runtime builds (at most {MAX_TERRAIN_LENGTH})",
+                    s[21]
+                ),
+            });
+        }
         self.load_state(&s);
         // Bookkeeping cleared as after a reset.
         self.game_over = false;

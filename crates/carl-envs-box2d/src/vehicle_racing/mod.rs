@@ -835,12 +835,7 @@ impl VehicleRacing {
         if self.opts.continuous {
             match action {
                 Action::Continuous(v) if v.len() == 3 => {
-                    if v.iter().any(|x| !x.is_finite()) {
-                        return Err(EnvError::Context {
-                            env: ID,
-                            message: format!("action {v:?} is not finite"),
-                        });
-                    }
+                    carl_env::api::check_finite_action(ID, v)?;
                     Ok((-f64::from(v[0]), f64::from(v[1]), f64::from(v[2])))
                 }
                 Action::Continuous(v) => Err(EnvError::ActionLength {

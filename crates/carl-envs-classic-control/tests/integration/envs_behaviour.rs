@@ -187,7 +187,18 @@ fn bad_actions_are_errors_not_panics() {
 
     let mut mcc = MountainCarContinuous::default();
     mcc.reset(None);
-    assert!(mcc.step(&Action::Continuous(vec![f32::NAN])).is_ok());
+    assert!(matches!(
+        mcc.step(&Action::Continuous(vec![f32::NAN])),
+        Err(EnvError::ActionNotFinite { index: 0, .. })
+    ));
+    let err = mcc
+        .step(&Action::Continuous(vec![f32::INFINITY]))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("mountain_car_continuous: action component 0 is not finite"),
+        "{err}"
+    );
     let mut buf = [0.0f32; 5];
     assert!(matches!(
         mcc.step_into(&Action::Continuous(vec![0.0]), &mut buf),

@@ -73,10 +73,40 @@ struct IndexEntry {
     name: String,
 }
 
-/// Generator names in CARL's `level_index` order (`toad_gan/index.json`).
+/// Generator names in CARL's `level_index` order (`toad_gan/index.json`). Every name must be a
+/// plain folder name ([`is_plain_name`]), so a generator is always read from inside `toad_gan/`.
 pub fn generator_names(data: &DataDir) -> Result<Vec<String>> {
-    let index: Index = read_json(&data.toad_gan().join("index.json"))?;
-    Ok(index.generators.into_iter().map(|g| g.name).collect())
+    let index_path = data.toad_gan().join("index.json");
+    let index: Index = read_json(&index_path)?;
+    let names: Vec<String> = index.generators.into_iter().map(|g| g.name).collect();
+    if let Some((position, bad)) = names.iter().enumerate().find(|(_, n)| !is_plain_name(n)) {
+        return Err(MarioError::BadGeneratorName {
+            index: index_path,
+            position,
+            name: shown_name(bad),
+        });
+    }
+    Ok(names)
+}
+
+/// Whether `name` names an entry directly inside a directory: not empty, not `.` or `..`, no
+/// `/`, `\` or `:` (a Windows drive or stream), no control characters, at most 255 bytes.
+pub fn is_plain_name(name: &str) -> bool {
+    !name.is_empty()
+        && name.len() <= 255
+        && name != "."
+        && name != ".."
+        && !name.chars().any(|c| matches!(c, '/' | '\\' | ':') || c.is_control())
+}
+
+/// `name` quoted for a message: escaped (Rust's debug form) and cut to 80 characters.
+fn shown_name(name: &str) -> String {
+    let cut: String = name.chars().take(80).collect();
+    if cut.len() < name.len() {
+        format!("{:?}… ({} bytes)", cut, name.len())
+    } else {
+        format!("{cut:?}")
+    }
 }
 
 impl Generator {

@@ -1,7 +1,6 @@
 //! The frozen instance-set file: values plus everything needed to re-derive and check them.
 
 use std::collections::BTreeMap;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
@@ -152,7 +151,8 @@ fn hex(bytes: &[u8]) -> String {
     bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
-/// Write `text` to `path` atomically: a temporary file in the same directory, flushed to disk, then
+/// Write `text` to `path` atomically: a temporary file in the same directory (the rule of
+/// [`crate::output::write_temp`]: unpredictable name, `O_EXCL|O_NOFOLLOW`), flushed to disk, then
 /// renamed over the target. An interrupted write leaves the old file (or none), never half a file.
 pub fn write_atomic(path: &Path, text: &str) -> std::io::Result<()> {
     let tmp = write_temp(path, text)?;
@@ -161,38 +161,21 @@ pub fn write_atomic(path: &Path, text: &str) -> std::io::Result<()> {
     })
 }
 
-/// Write `text` to the temporary file of `path` (`.NAME.PID.tmp` beside it, synced) and return
+/// Write `text` to a temporary file beside `path` ([`crate::output::write_temp`]) and return
 /// its path; the caller renames it into place. Creates the directory.
 pub fn write_temp(path: &Path, text: &str) -> std::io::Result<PathBuf> {
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
+    let dir = crate::output::parent_dir(path);
     std::fs::create_dir_all(dir)?;
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(text.as_bytes())?;
-        f.sync_all()
-    })();
-    match result {
-        Ok(()) => Ok(tmp),
-        Err(e) => {
-            let _ = std::fs::remove_file(&tmp);
-            Err(e)
-        }
-    }
+    crate::output::write_temp(dir, text.as_bytes())
 }
 
-/// Remove temporary files (`.NAME.json.PID.tmp`) that a killed `freeze` left in `dir`: those of
-/// processes that no longer run (checked in /proc), or, where /proc is absent, older than a day.
-/// Returns the files removed.
+/// Remove the temporary files left in `dir` by a killed `freeze`: carl-spec's own
+/// ([`crate::output::remove_stale_temp_files`], older than [`crate::output::STALE_TEMP_AGE`]) and
+/// those of older versions, which named them `.NAME.json.PID.tmp`, when their process no longer
+/// runs (checked in /proc) or, where /proc is absent, they are older than a day. Only regular
+/// files are removed, never symlinks. Returns the files removed.
 pub fn remove_stale_temp_files(dir: &Path) -> Vec<PathBuf> {
-    let mut removed = Vec::new();
+    let mut removed = crate::output::remove_stale_temp_files(dir, crate::output::STALE_TEMP_AGE);
     let Ok(entries) = std::fs::read_dir(dir) else {
         return removed;
     };
@@ -200,21 +183,23 @@ pub fn remove_stale_temp_files(dir: &Path) -> Vec<PathBuf> {
     for e in entries.flatten() {
         let name = e.file_name().to_string_lossy().into_owned();
         let Some(pid) = temp_file_pid(&name) else { continue };
+        let Ok(meta) = std::fs::symlink_metadata(e.path()) else {
+            continue;
+        };
         let stale = if proc_fs {
             pid != std::process::id() && !Path::new(&format!("/proc/{pid}")).exists()
         } else {
-            e.metadata()
-                .and_then(|m| m.modified())
+            meta.modified()
                 .is_ok_and(|t| t.elapsed().is_ok_and(|age| age.as_secs() > 86_400))
         };
-        if stale && std::fs::remove_file(e.path()).is_ok() {
+        if stale && meta.file_type().is_file() && std::fs::remove_file(e.path()).is_ok() {
             removed.push(e.path());
         }
     }
     removed
 }
 
-/// The process id in a temporary file name `.NAME.json.PID.tmp`.
+/// The process id in an older version's temporary file name `.NAME.json.PID.tmp`.
 fn temp_file_pid(name: &str) -> Option<u32> {
     let rest = name.strip_prefix('.')?.strip_suffix(".tmp")?;
     let (file, pid) = rest.rsplit_once('.')?;

@@ -510,11 +510,18 @@ fn list_frozen(dir: &Path) -> Vec<(String, String)> {
     out
 }
 
-/// Parse a frozen file and check its format tag and content hash.
+/// Parse a frozen file and check its format tag, that it holds instances (no derivation gives
+/// an empty set, and an environment cannot be reset from one) and its content hash.
 pub fn parse_frozen(text: &str) -> Result<FrozenSet, String> {
     let frozen: FrozenSet = serde_json::from_str(text).map_err(|e| format!("not a frozen instance set: {e}"))?;
     if frozen.format != FORMAT {
-        return Err(format!("format \"{}\" is not \"{FORMAT}\"", frozen.format));
+        return Err(format!(
+            "format {} is not \"{FORMAT}\"",
+            crate::text::quote(&frozen.format)
+        ));
+    }
+    if frozen.instances.is_empty() {
+        return Err("it holds no instances (\"instances\": []); a set needs at least one".into());
     }
     let expected = frozen.compute_hash();
     if frozen.content_hash != expected {

@@ -3,7 +3,6 @@
 //! carl-rna folding engine (ViennaRNA 2.x default model). Output as RNAfold prints it:
 //! `>name`, the sequence, then `STRUCTURE (  MFE)` in kcal/mol.
 
-use std::io::Read;
 use std::path::PathBuf;
 
 use clap::{Args, Subcommand};
@@ -101,19 +100,17 @@ fn eval(pair: &[String], io: &FoldIo) -> CmdResult {
     Ok(exit::OK)
 }
 
+/// The most input `fold` reads from --input or stdin (a sequence is at most 4000 nt, so this
+/// is thousands of them): more is an error after this many bytes, not read whole first.
+pub const MAX_FOLD_INPUT: u64 = 64 << 20;
+
 fn read_records(io: &FoldIo, lines_per_record: usize) -> Result<Vec<Record>, Failure> {
+    const HINT: &str = "split it into several runs";
     let text = match &io.input {
-        Some(path) if path.as_os_str() != "-" => {
-            std::fs::read_to_string(path).map_err(|e| Failure::usage(format!("cannot read {}: {e}", path.display())))?
-        }
-        _ => {
-            let mut text = String::new();
-            std::io::stdin()
-                .read_to_string(&mut text)
-                .map_err(|e| Failure::usage(format!("cannot read stdin: {e}")))?;
-            text
-        }
-    };
+        Some(path) if path.as_os_str() != "-" => crate::input::read_file(path, MAX_FOLD_INPUT, HINT),
+        _ => crate::input::read_to_string(std::io::stdin().lock(), MAX_FOLD_INPUT, "stdin", HINT),
+    }
+    .map_err(|e| Failure::usage(format!("--input: {e}")))?;
     let found = records(&text, lines_per_record);
     if found.is_empty() {
         return Err(Failure::usage("no sequence given (arguments, --input FILE or stdin)"));

@@ -60,8 +60,12 @@ pub fn run(cli: &Cli, args: &RolloutArgs) -> CmdResult {
     let mut policy: Box<dyn Policy> = match &args.actions {
         Some(p) if p.as_os_str() == "-" => Box::new(ActionStream::new(BufReader::new(std::io::stdin()), space)),
         Some(p) => {
-            let text =
-                std::fs::read_to_string(p).map_err(|e| Failure::usage(format!("cannot read {}: {e}", p.display())))?;
+            let text = crate::input::read_file(
+                p,
+                crate::episode::jsonl::MAX_ACTIONS_FILE,
+                "stream longer action sequences with --actions - (one per line)",
+            )
+            .map_err(|e| Failure::usage(format!("--actions: {e}")))?;
             Box::new(ActionList::parse(&text, &p.display().to_string(), space).map_err(Failure::usage)?)
         }
         None => policy_for(resolved.registration, args.policy.into(), &space, args.seed).map_err(Failure::usage)?,

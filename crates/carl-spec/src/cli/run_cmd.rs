@@ -44,7 +44,7 @@ pub enum RunCommand {
         /// Write the results (per row and per episode) as JSON.
         #[arg(long, value_name = "FILE")]
         out: Option<PathBuf>,
-        /// Write an SVG bar chart of mean return ± std per body.
+        /// Write an SVG bar chart of mean return ± std per body (FILE must end in .svg).
         #[arg(long, value_name = "FILE")]
         figure: Option<PathBuf>,
         /// Replace existing --out / --figure files.
@@ -79,6 +79,9 @@ pub fn run(cli: &Cli, cmd: &RunCommand) -> CmdResult {
             };
             cfg.check().map_err(Failure::usage)?;
             // Before the evaluation: a bad path must not cost the whole run.
+            if let Some(p) = figure {
+                check_figure_extension(p)?;
+            }
             for p in [out_path, figure].into_iter().flatten() {
                 output::check_file(p, *force).map_err(|e| Failure::usage(e.to_string()))?;
             }
@@ -139,6 +142,19 @@ pub fn run(cli: &Cli, cmd: &RunCommand) -> CmdResult {
             Ok(exit::OK)
         }
     }
+}
+
+/// The figure is SVG: a `--figure` file must say so (`.svg`, any case), so that `x.png` does not
+/// receive SVG text.
+fn check_figure_extension(p: &Path) -> Result<(), Failure> {
+    let ext = p.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    if ext.as_deref() == Some("svg") {
+        return Ok(());
+    }
+    Err(Failure::usage(format!(
+        "--figure {}: the figure is written as SVG; give a file name ending in .svg",
+        crate::text::escape(&p.display().to_string())
+    )))
 }
 
 fn write(p: &Path, bytes: &[u8], force: bool) -> Result<(), Failure> {

@@ -195,7 +195,7 @@ pub struct ObservationNoise {
 impl ObservationNoise {
     /// Check `noise` against the spec and the visible features (canonical names, in observation
     /// order): unknown or invisible features, relative noise on a zero default, negative or
-    /// non-finite stds and features listed twice are refused.
+    /// non-finite stds, stds above [`MAX_NOISE_STD`] and features listed twice are refused.
     pub fn new(spec: &EnvSpec, visible: &[String], noise: &ContextNoise) -> Result<Self, ContextualError> {
         Ok(ObservationNoise {
             stds: noise_stds(spec, visible, noise)?,
@@ -241,6 +241,11 @@ impl ObservationNoise {
     }
 }
 
+/// The largest noise std accepted (in the feature's unit, absolute or from a relative std):
+/// `truth + std · N(0, 1)` is observed as float32, whose largest value is 3.4e38; a normal draw
+/// beyond 40 σ does not happen, so 1e30 keeps every observed value finite.
+pub const MAX_NOISE_STD: f64 = 1e30;
+
 /// Per visible feature, the noise std in the feature's unit (0 where there is no noise).
 fn noise_stds(spec: &EnvSpec, visible: &[String], noise: &ContextNoise) -> Result<Vec<f64>, ContextualError> {
     let mut stds = vec![0.0; visible.len()];
@@ -273,6 +278,11 @@ fn noise_stds(spec: &EnvSpec, visible: &[String], noise: &ContextNoise) -> Resul
         };
         if !sd.is_finite() || sd < 0.0 {
             return Err(err(format!("the std must be finite and >= 0, got {sd}")));
+        }
+        if sd > MAX_NOISE_STD {
+            return Err(err(format!(
+                "the std {sd:e} is more than {MAX_NOISE_STD:e}: the observation is float32 (at most 3.4e38), and noise that large makes it infinite"
+            )));
         }
         if stds[k] != 0.0 {
             return Err(err("listed twice".into()));

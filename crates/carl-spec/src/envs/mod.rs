@@ -12,7 +12,7 @@
 //! * [`vec_env`]: [`VecEnv`](vec_env::VecEnv), N environments with their own contexts stepped as a
 //!   batch (auto-reset, structure-of-arrays CartPole kernel, multi-threaded).
 
-pub use carl_env::{api, context, policy, rng, runtime};
+pub use carl_env::{api, cancel, context, policy, rng, runtime};
 pub use carl_envs_box2d as box2d;
 pub use carl_envs_brax as brax;
 pub use carl_envs_classic_control as classic_control;

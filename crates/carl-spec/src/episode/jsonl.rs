@@ -128,8 +128,16 @@ pub fn parse_action(v: &Value, space: &Space) -> Result<Action, String> {
     }
 }
 
-/// Actions read one JSON value per line from a stream (blank lines skipped); the episode stops
-/// at the end of the stream.
+/// The longest action line [`ActionStream`] reads (an action of the largest space is a few
+/// hundred bytes): a longer line, or a stream without line breaks (`/dev/zero`), is an error
+/// after at most this many bytes, not read whole into memory.
+pub const MAX_ACTION_LINE: u64 = 1 << 20;
+
+/// The largest actions file (`rollout --actions FILE`, a JSON array) read.
+pub const MAX_ACTIONS_FILE: u64 = 64 << 20;
+
+/// Actions read one JSON value per line from a stream (blank lines skipped; each line at most
+/// [`MAX_ACTION_LINE`] bytes); the episode stops at the end of the stream.
 pub struct ActionStream<R> {
     reader: R,
     space: Space,
@@ -149,8 +157,14 @@ impl<R: BufRead + Send> ActionStream<R> {
 impl<R: BufRead + Send> Policy for ActionStream<R> {
     fn act(&mut self, _obs: &[f32]) -> Result<Option<Action>, PolicyError> {
         loop {
-            self.line.clear();
-            match self.reader.read_line(&mut self.line) {
+            let read = crate::input::read_line(
+                &mut self.reader,
+                &mut self.line,
+                MAX_ACTION_LINE,
+                "an action line",
+                "give one JSON action per line",
+            );
+            match read {
                 Ok(0) => return Ok(None),
                 Ok(_) if self.line.trim().is_empty() => continue,
                 Ok(_) => {

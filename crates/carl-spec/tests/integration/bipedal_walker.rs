@@ -596,9 +596,14 @@ fn state_round_trip_and_bad_input() {
         env.observe_into(&mut [0.0; 3]),
         Err(EnvError::ObsBufferLength { .. })
     ));
-    // Out-of-range actions are clipped as in Gymnasium (torque ≤ MOTORS_TORQUE), NaN is "off".
-    let st = env.step(&act([7.0, -7.0, f32::NAN, 0.0])).unwrap();
+    // Out-of-range actions are clipped as in Gymnasium (torque ≤ MOTORS_TORQUE); NaN and ±inf
+    // are refused, naming the component.
+    let st = env.step(&act([7.0, -7.0, 0.5, 0.0])).unwrap();
     assert!(st.obs.iter().all(|x| x.is_finite()));
+    assert!(matches!(
+        env.step(&act([7.0, -7.0, f32::NAN, 0.0])),
+        Err(EnvError::ActionNotFinite { index: 2, .. })
+    ));
 }
 
 #[test]

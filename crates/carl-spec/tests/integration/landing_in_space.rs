@@ -238,8 +238,8 @@ fn run_lis(args: &[&str]) -> std::process::Output {
 #[test]
 fn missing_output_directories_are_refused_like_everywhere() {
     let d = tmpdir("missing");
-    for flag in ["--out", "--figure"] {
-        let p = d.join("missing/dir/r.json");
+    for (flag, name) in [("--out", "r.json"), ("--figure", "r.svg")] {
+        let p = d.join("missing/dir").join(name);
         let o = run_lis(&["--episodes", "1", flag, p.to_str().unwrap()]);
         assert_eq!(o.status.code(), Some(2), "{flag}");
         assert!(String::from_utf8_lossy(&o.stderr).contains("does not exist"), "{flag}");

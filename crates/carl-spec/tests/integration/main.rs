@@ -13,6 +13,7 @@ mod fold_cli;
 mod golden;
 mod grasp;
 mod hostile_input;
+mod hostile_limits;
 mod humanoid;
 mod instances;
 mod isolation;
