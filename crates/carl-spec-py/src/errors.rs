@@ -75,10 +75,12 @@ pub(crate) fn contextual_error(py: Python<'_>, e: &ContextualError) -> PyErr {
     }
 }
 
-/// Stepping before reset or after an episode's end is misuse (`RuntimeError`); a bad action is bad input.
+/// Stepping before reset or after an episode's end is misuse (`RuntimeError`); a step that
+/// Ctrl-C interrupted is a `KeyboardInterrupt`; a bad action is bad input.
 pub(crate) fn env_error(e: &EnvError) -> PyErr {
     match e {
         EnvError::NeedsReset { .. } | EnvError::EpisodeOver { .. } => PyRuntimeError::new_err(e.to_string()),
+        EnvError::Interrupted { .. } => pyo3::exceptions::PyKeyboardInterrupt::new_err(e.to_string()),
         _ => value_error(e),
     }
 }
