@@ -269,5 +269,8 @@ fn mujoco_impedance_follows_its_sigmoid() {
         assert!((target - (-h * k * r)).abs() < 1e-12, "r {r}: target {target}");
     }
     // MuJoCo's refsafe: the time constant is at least two steps.
-    assert_eq!(Impedance::mujoco([0.001, 1.0], [0.9, 0.95, 0.001, 0.5, 2.0], h).tc, 2.0 * h);
+    assert_eq!(
+        Impedance::mujoco([0.001, 1.0], [0.9, 0.95, 0.001, 0.5, 2.0], h).tc,
+        2.0 * h
+    );
 }
