@@ -107,7 +107,7 @@ impl Impedance {
         let y = match self.shape {
             ImpedanceShape::Linear => x,
             ImpedanceShape::Sigmoid { .. } if x >= 1.0 => 1.0,
-            ImpedanceShape::Sigmoid { power, .. } if power == 1.0 => x,
+            ImpedanceShape::Sigmoid { power: 1.0, .. } => x,
             ImpedanceShape::Sigmoid { mid, power } => {
                 if x <= mid {
                     x.powf(power) / mid.powf(power - 1.0)
