@@ -1,26 +1,31 @@
 #!/usr/bin/env python3
-"""Compare carl-spec's Ant, HalfCheetah and Humanoid with Gymnasium's MuJoCo v5 versions.
+"""Compare carl-spec's Ant, HalfCheetah, Humanoid, Hopper and Walker2d with Gymnasium's MuJoCo v5 versions.
 
 Both sides are driven the same way and measured from their observations (the v5 layout is the
 same on both): each metric below runs on Gymnasium 1.4 (`gymnasium.make("Ant-v5")`, MuJoCo) and on
 `carl-spec rollout <robot> --actions -` (JSON Lines), with seeded resets.
 
 Metrics (per robot):
-* rest_height: root height (`qpos[2]`, HalfCheetah 0.7 + `qpos[1]`) after `REST_STEPS` steps
-  of zero action (Humanoid: after the initial drop, before it collapses), mean over seeds;
-* fall_time: seconds of zero action until the episode terminates (Humanoid; Ant and
-  HalfCheetah do not fall, reported as the time limit);
+* rest_height: root height (`qpos[2]`, HalfCheetah 0.7 + `qpos[1]`, Hopper and Walker2d
+  `qpos[1]`) after `REST_STEPS` steps of zero action (Humanoid: after the initial drop, before
+  it collapses; Hopper and Walker2d: 0.2 s, after the foot landed), mean over seeds;
+* fall_time: seconds of zero action until the episode terminates (Humanoid, Hopper, Walker2d;
+  Ant and HalfCheetah do not fall, reported as the time limit);
 * step_response: change of one joint's angle 0.1 s and 0.25 s after a full-scale constant
-  control on its motor, minus the same seed's zero-action run (so passive motion cancels);
+  control on its motor (towards the inside of its range), minus the same seed's zero-action run
+  (so passive motion cancels); Hopper and Walker2d: every actuated joint;
 * gait_velocity: mean forward velocity (`qvel[0]`) under a fixed open-loop sinusoidal gait
   (`GAITS`), until termination or 1000 steps;
 * random_length / random_return: episode length and return under uniform random actions,
-  mean and standard deviation over `--episodes` seeds (default 20).
+  mean and standard deviation over `--episodes` seeds (default 20), and the two-sided p-value
+  of a Mann-Whitney U test (normal approximation) of each carl-spec column against MuJoCo's
+  episodes (the criterion where MuJoCo's spread exceeds its mean).
 
 carl-spec runs twice: with its default context (CARL's Brax parameters: masses, actuator
 strength, joint damping and friction differ from MuJoCo's XML) and with a context set to
-MuJoCo's values where a context feature exists (`MUJOCO_CONTEXT`): the first column shows what a
-user of the benchmark gets, the second how much of the difference is the parameters.
+MuJoCo's values where a context feature exists (`MUJOCO_CONTEXT`; Hopper and Walker2d: their
+spec's frozen instance set `mujoco_v5`, which holds every model value): the first column shows
+what a user of the benchmark gets, the second how much of the difference is the parameters.
 
 Usage (from the repository root, with Gymnasium 1.4 and mujoco installed):
     python3 scripts/robot_mujoco_compare.py --carl-spec target/release/carl-spec \\
@@ -42,17 +47,32 @@ ROBOTS = {
     "ant": dict(gym="Ant-v5", na=8, ctrl=1.0, z=2, skip=2, nq=15, dt=0.05, base_z=0.0),
     "half_cheetah": dict(gym="HalfCheetah-v5", na=6, ctrl=1.0, z=1, skip=1, nq=9, dt=0.05, base_z=0.7),
     "humanoid": dict(gym="Humanoid-v5", na=17, ctrl=0.4, z=2, skip=2, nq=24, dt=0.015, base_z=0.0),
+    "hopper": dict(gym="Hopper-v5", na=3, ctrl=1.0, z=1, skip=1, nq=6, dt=0.008, base_z=0.0),
+    "walker2d": dict(gym="Walker2d-v5", na=6, ctrl=1.0, z=1, skip=1, nq=9, dt=0.008, base_z=0.0),
 }
-REST_STEPS = {"ant": 100, "half_cheetah": 100, "humanoid": 10}
+REST_STEPS = {"ant": 100, "half_cheetah": 100, "humanoid": 10, "hopper": 25, "walker2d": 25}
 SEEDS_SHORT = [0, 1, 2, 3, 4]
-# (actuator index, qpos index of its joint, name) of the joints whose torque-step response is measured.
+# (actuator index, qpos index of its joint, name[, sign of the control]) of the joints whose
+# torque-step response is measured (Hopper's and Walker2d's thighs and legs start at the upper
+# end of their range [-150°, 0°]: their step pushes them down into it).
 STEP_JOINTS = {
     "ant": [(2, 7, "hip_1"), (3, 8, "ankle_1")],
     "half_cheetah": [(0, 3, "bthigh"), (3, 6, "fthigh")],
     "humanoid": [(5, 12, "right_hip_y"), (6, 13, "right_knee")],
+    "hopper": [(0, 3, "thigh", -1), (1, 4, "leg", -1), (2, 5, "foot", 1)],
+    "walker2d": [
+        (0, 3, "thigh", -1),
+        (1, 4, "leg", -1),
+        (2, 5, "foot", 1),
+        (3, 6, "thigh_left", -1),
+        (4, 7, "leg_left", -1),
+        (5, 8, "foot_left", 1),
+    ],
 }
+# Robots whose step responses run with terminate_when_unhealthy=False (both sides).
+NO_TERMINATION_STEP = ("hopper", "walker2d")
 # Env steps after which the step response is read (about 0.1 s and 0.25 s).
-STEP_TIMES = {"ant": [2, 5], "half_cheetah": [2, 5], "humanoid": [7, 17]}
+STEP_TIMES = {"ant": [2, 5], "half_cheetah": [2, 5], "humanoid": [7, 17], "hopper": [12, 31], "walker2d": [12, 31]}
 
 # MuJoCo's XML values expressed as carl-spec context features (where a feature exists).
 MUJOCO_CONTEXT = {
@@ -65,6 +85,16 @@ MUJOCO_CONTEXT = {
     # humanoid.xml: damping 5 (knees, arms 1), friction 1.
     "humanoid": {"joint_angular_damping": 5, "friction": 1.0},
 }
+# Robots whose spec freezes MuJoCo's values as the instance set `mujoco_v5` (read from the spec).
+INSTANCE_SET_ROBOTS = ("hopper", "walker2d")
+
+
+def mujoco_context(robot):
+    if robot in INSTANCE_SET_ROBOTS:
+        with open(f"specs/{robot}.json") as f:
+            sets = json.load(f)["instance_sets"]
+        return dict(sets["mujoco_v5"]["explicit"][0]["context"])
+    return MUJOCO_CONTEXT[robot]
 
 
 def gait(robot, t):
@@ -82,6 +112,14 @@ def gait(robot, t):
     if robot == "half_cheetah":
         # bthigh, bshin, bfoot, fthigh, fshin, ffoot: back and front legs in anti-phase.
         return [math.sin(w * t + p) for p in (0.0, -0.5, -1.0, math.pi, math.pi - 0.5, math.pi - 1.0)]
+    if robot == "hopper":
+        # thigh, leg, foot: a hop, half amplitude, the leg and foot a quarter period behind.
+        return [0.5 * math.sin(w * t + p) for p in (0.0, -math.pi / 2, -math.pi)]
+    if robot == "walker2d":
+        # right thigh, leg, foot, then the left leg in anti-phase, half amplitude.
+        right = [0.5 * math.sin(w * t + p) for p in (0.0, -math.pi / 2, -math.pi)]
+        left = [0.5 * math.sin(w * t + math.pi + p) for p in (0.0, -math.pi / 2, -math.pi)]
+        return right + left
     # humanoid: hips y and knees alternate (right 5, 6 / left 9, 10), rest zero.
     a = [0.0] * 17
     a[5] = 0.4 * math.sin(w * t)
@@ -109,6 +147,10 @@ class CarlSide:
 
     def __init__(self, exe, robot, context, options=()):
         self.exe, self.robot, self.context, self.options = exe, robot, context, list(options)
+
+    def without_termination(self):
+        """The same side with Gymnasium's terminate_when_unhealthy=False."""
+        return CarlSide(self.exe, self.robot, self.context, self.options + ["terminate_when_unhealthy=false"])
 
     def _cmd(self, seed):
         cmd = [self.exe, "rollout", self.robot, "--seed", str(seed), "--allow-out-of-bounds"]
@@ -152,10 +194,14 @@ class CarlSide:
 class GymSide:
     """Runs Gymnasium MuJoCo v5 episodes (1000-step time limit as registered)."""
 
-    def __init__(self, robot):
+    def __init__(self, robot, **kwargs):
         import gymnasium as gym
 
-        self.env = gym.make(ROBOTS[robot]["gym"])
+        self.robot = robot
+        self.env = gym.make(ROBOTS[robot]["gym"], **kwargs)
+
+    def without_termination(self):
+        return GymSide(self.robot, terminate_when_unhealthy=False)
 
     def run(self, seed, actions):
         import numpy as np
@@ -204,15 +250,17 @@ def measure(side, robot, episodes):
     res["fall_time"] = statistics.mean(falls)
 
     horizon = max(STEP_TIMES[robot])
-    base = {s: side.run(s, [zero] * horizon)[0] for s in SEEDS_SHORT[:3]}
-    for act, qi, name in STEP_JOINTS[robot]:
+    # Hopper and Walker2d tip over within the horizon: their step responses run on.
+    step_side = side.without_termination() if robot in NO_TERMINATION_STEP else side
+    base = {s: step_side.run(s, [zero] * horizon)[0] for s in SEEDS_SHORT[:3]}
+    for act, qi, name, *sign in STEP_JOINTS[robot]:
         u = [0.0] * na
-        u[act] = r["ctrl"]
+        u[act] = r["ctrl"] * (sign[0] if sign else 1)
         oi = qi - r["skip"]
         for n in STEP_TIMES[robot]:
             d = []
             for s in SEEDS_SHORT[:3]:
-                obs, _ = side.run(s, [u] * horizon)
+                obs, _ = step_side.run(s, [u] * horizon)
                 d.append(obs[n][oi] - base[s][n][oi])
             res[f"step_{name}_{n * dt:.3g}s"] = statistics.mean(d)
 
@@ -231,7 +279,34 @@ def measure(side, robot, episodes):
     res["random_length_sd"] = statistics.pstdev(lens)
     res["random_return"] = statistics.mean(rets)
     res["random_return_sd"] = statistics.pstdev(rets)
+    res["random_length_samples"] = lens
+    res["random_return_samples"] = rets
     return res
+
+
+def mann_whitney_p(a, b):
+    """Two-sided p-value of the Mann-Whitney U test (normal approximation, tie-corrected)."""
+    n1, n2 = len(a), len(b)
+    pooled = sorted([(x, 0) for x in a] + [(x, 1) for x in b])
+    ranks = [0.0] * len(pooled)
+    i, ties = 0, 0.0
+    while i < len(pooled):
+        j = i
+        while j + 1 < len(pooled) and pooled[j + 1][0] == pooled[i][0]:
+            j += 1
+        for k in range(i, j + 1):
+            ranks[k] = (i + j) / 2 + 1
+        t = j - i + 1
+        ties += t**3 - t
+        i = j + 1
+    r1 = sum(r for r, (_, g) in zip(ranks, pooled) if g == 0)
+    u = r1 - n1 * (n1 + 1) / 2
+    n = n1 + n2
+    var = n1 * n2 / 12 * ((n + 1) - ties / (n * (n - 1)))
+    if var <= 0:
+        return 1.0
+    z = (u - n1 * n2 / 2) / math.sqrt(var)
+    return math.erfc(abs(z) / math.sqrt(2))
 
 
 def ratio(a, b):
@@ -252,7 +327,7 @@ def markdown(table):
     ]
     for robot, rows in table.items():
         for metric, v in rows.items():
-            if metric.endswith("_sd"):
+            if metric.endswith("_sd") or metric.endswith("_samples") or metric.endswith("_p"):
                 continue
             cells = []
             for key in ("mujoco", "carl", "carl_matched"):
@@ -262,7 +337,10 @@ def markdown(table):
             r1 = ratio(v.get("carl"), v.get("mujoco"))
             r2 = ratio(v.get("carl_matched"), v.get("mujoco"))
             f = lambda r: "—" if r is None else f"{r:.2f}"
-            lines.append(f"| {robot} | {metric} | {cells[0]} | {cells[1]} | {f(r1)} | {cells[2]} | {f(r2)} |")
+            p = rows.get(metric + "_p", {})
+            r1s = f(r1) + (f" (p {p['carl']:.2f})" if "carl" in p else "")
+            r2s = f(r2) + (f" (p {p['carl_matched']:.2f})" if "carl_matched" in p else "")
+            lines.append(f"| {robot} | {metric} | {cells[0]} | {cells[1]} | {r1s} | {cells[2]} | {r2s} |")
     return "\n".join(lines) + "\n"
 
 
@@ -299,7 +377,7 @@ def main():
     for robot in robots:
         sides = {
             "carl": CarlSide(args.carl_spec, robot, {}, args.carl_option),
-            "carl_matched": CarlSide(args.carl_spec, robot, MUJOCO_CONTEXT[robot], args.carl_option),
+            "carl_matched": CarlSide(args.carl_spec, robot, mujoco_context(robot), args.carl_option),
         }
         if not args.carl_only:
             sides["mujoco"] = GymSide(robot)
@@ -308,8 +386,14 @@ def main():
             print(f"{robot}: {key} ...", file=sys.stderr, flush=True)
             for metric, value in measure(side, robot, args.episodes).items():
                 rows.setdefault(metric, {})[key] = value
+        for metric in ("random_length", "random_return"):
+            samples = rows.pop(metric + "_samples")
+            if "mujoco" in samples:
+                for key in ("carl", "carl_matched"):
+                    p = mann_whitney_p(samples[key], samples["mujoco"])
+                    rows.setdefault(metric + "_p", {})[key] = p
         table[robot] = rows
-    out = {"meta": meta, "mujoco_context": {r: MUJOCO_CONTEXT[r] for r in robots}, "table": table}
+    out = {"meta": meta, "mujoco_context": {r: mujoco_context(r) for r in robots}, "table": table}
     if args.json:
         with open(args.json, "w") as f:
             json.dump(out, f, indent=1, sort_keys=True)

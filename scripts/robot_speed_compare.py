@@ -3,11 +3,12 @@
 
 For each robot and each of `--runs` rounds (interleaved, so that both sides see the same machine
 load), this times
-* Gymnasium 1.4 `gymnasium.make("<Robot>-v5")` (MuJoCo, frame skip 5, its 1000-step time limit):
+* Gymnasium 1.4 `gymnasium.make("<Robot>-v5")` (MuJoCo, frame skip 5 (Hopper, Walker2d: 4), its 1000-step time limit):
   `--steps` steps with actions from a pre-drawn table of uniform random actions, resetting
   whenever an episode ends (resets are part of the time), and
 * `carl-spec bench <robot> --num-envs 1 --threads 1 --steps N`: its `single_steps_per_sec`
-  (one environment, random actions from a pre-drawn table, auto-reset; same frame skip 5),
+  (one environment, random actions from a pre-drawn table, auto-reset; the same frame skip:
+  5, Hopper and Walker2d 4),
 and prints the median steps per second of each side, their ratio (carl-spec / MuJoCo) and the
 load average before and after (the machine may be shared: compare ratios, not absolute rates).
 
@@ -23,7 +24,13 @@ import subprocess
 import sys
 import time
 
-GYM_IDS = {"ant": "Ant-v5", "half_cheetah": "HalfCheetah-v5", "humanoid": "Humanoid-v5"}
+GYM_IDS = {
+    "ant": "Ant-v5",
+    "half_cheetah": "HalfCheetah-v5",
+    "humanoid": "Humanoid-v5",
+    "hopper": "Hopper-v5",
+    "walker2d": "Walker2d-v5",
+}
 ACTION_TABLE = 4096
 
 

@@ -1,5 +1,5 @@
 //! Articulated robots from URDF on rapier3d (reduced-coordinate multibody joints), and planar
-//! ones (HalfCheetah) on a reduced-coordinate engine of their own ([`planar`]).
+//! ones (HalfCheetah, Hopper, Walker2d) on a reduced-coordinate engine of their own ([`planar`]).
 //!
 //! * [`model`]: the embedded robot descriptions: `robots/<name>.urdf` (links, collision
 //!   shapes, masses, joints; authored for this project from the published geometry) and
@@ -10,7 +10,7 @@
 //! * [`physics`]: a task's physics, either engine.
 //! * [`world`]: one instance's rapier3d physics world, built from model + context; nothing is shared
 //!   between instances.
-//! * [`locomotion`]: Gymnasium v5 tasks (Ant, HalfCheetah, Humanoid).
+//! * [`locomotion`]: Gymnasium v5 tasks (Ant, HalfCheetah, Humanoid, Hopper, Walker2d).
 //! * [`com`]: MuJoCo's centre-of-mass based body quantities (`cinert`, `cvel`, `cfrc_ext`).
 //! * [`fetch`]: Brax's fetch task (a dog runs to random targets).
 //! * [`grasp`]: Brax's claw hand grasping a ball.
@@ -61,6 +61,18 @@ pub fn default_params(id: &str) -> Option<RobotParams> {
         "humanoid" => {
             p.torso_mass = Some(8.907463);
         }
+        // carl-bench 1.1.1's CARLBraxHopper / CARLBraxWalker2d defaults (the other links keep
+        // the model's masses, which equal carl-bench's).
+        "hopper" | "walker2d" => {
+            p.friction = 1.0;
+            p.torso_mass = Some(10.0);
+            let foot = if id == "hopper" { 5.3155746 } else { 3.1667254 };
+            let mut masses = vec![("thigh", 4.0578904), ("leg", 2.7813568), ("foot", foot)];
+            if id == "walker2d" {
+                masses.extend([("thigh_left", 4.0578904), ("leg_left", 2.7813568), ("foot_left", foot)]);
+            }
+            p.link_masses = masses.into_iter().map(|(l, m)| (l.to_string(), m)).collect();
+        }
         "ur5e" => {
             p.gravity = -9.81;
             p.joint_angular_damping = 50.0;
@@ -100,6 +112,8 @@ fn robot_of(id: &str) -> Option<&'static str> {
         "ant" => Some("ant"),
         "half_cheetah" => Some("half_cheetah"),
         "humanoid" => Some("humanoid"),
+        "hopper" => Some("hopper"),
+        "walker2d" => Some("walker2d"),
         "ur5e" => Some("ur5e"),
         "fetch" => Some("fetch"),
         "grasp" => Some("grasp"),
@@ -127,6 +141,23 @@ pub fn make_robot(id: &str, params: RobotParams) -> Option<Locomotion> {
     make_robot_with_model(id, RobotModel::load(robot_of(id)?).ok()?, params)
 }
 
+/// [`make_robot`] with Gymnasium's `terminate_when_unhealthy` set (Hopper, Walker2d: `false`
+/// keeps an unhealthy robot running, without the healthy reward, until the time limit).
+pub fn make_robot_with_termination(
+    id: &str,
+    params: RobotParams,
+    terminate_when_unhealthy: bool,
+) -> Option<Locomotion> {
+    let model = RobotModel::load(robot_of(id)?).ok()?;
+    let (id, mut task) = match id {
+        "hopper" => ("hopper", TaskConfig::HOPPER),
+        "walker2d" => ("walker2d", TaskConfig::WALKER2D),
+        _ => return None,
+    };
+    task.terminate_when_unhealthy = terminate_when_unhealthy;
+    Locomotion::new(id, model, params, task).ok()
+}
+
 /// [`make_robot`] on the rapier3d engine whatever the side file's `engine` (the planar
 /// robots' `--option rapier=true`, for comparison).
 pub fn make_robot_on_rapier(id: &str, params: RobotParams) -> Option<Locomotion> {
@@ -140,6 +171,8 @@ fn make_robot_with_model(id: &str, model: std::sync::Arc<RobotModel>, params: Ro
         "ant" => Locomotion::new("ant", model, params, TaskConfig::ANT).ok(),
         "half_cheetah" => Locomotion::new("half_cheetah", model, params, TaskConfig::HALF_CHEETAH).ok(),
         "humanoid" => Locomotion::new("humanoid", model, params, TaskConfig::HUMANOID).ok(),
+        "hopper" => Locomotion::new("hopper", model, params, TaskConfig::HOPPER).ok(),
+        "walker2d" => Locomotion::new("walker2d", model, params, TaskConfig::WALKER2D).ok(),
         _ => None,
     }
 }

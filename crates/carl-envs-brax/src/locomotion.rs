@@ -69,6 +69,16 @@ pub struct TaskConfig {
     /// Leading position coordinates left out of the observation (the x/y position).
     pub obs_skip_qpos: usize,
     pub include_cfrc_ext: bool,
+    /// Healthy range (open) of the root pitch `qpos[2]` of a planar robot (Hopper-v5,
+    /// Walker2d-v5).
+    pub healthy_angle_range: Option<(f64, f64)>,
+    /// Healthy range (open) of every entry of `qpos[2:] ++ qvel` (Hopper-v5's
+    /// `healthy_state_range`).
+    pub healthy_state_range: Option<(f64, f64)>,
+    /// The observed velocities are clipped to `±` this (Hopper-v5, Walker2d-v5: 10).
+    pub obs_velocity_clip: Option<f64>,
+    /// Report `z_distance_from_origin` (`qpos[1]` minus its reset value) in `info`.
+    pub z_distance_info: bool,
     /// Observe `cinert`, `cvel` and `qfrc_actuator` (Humanoid-v5).
     pub include_com_terms: bool,
     /// `cfrc_ext` as MuJoCo's: torques about the robot's centre of mass (otherwise about each
@@ -120,6 +130,10 @@ impl TaskConfig {
         forward_velocity: ForwardVelocity::Root,
         obs_skip_qpos: 2,
         include_cfrc_ext: true,
+        healthy_angle_range: None,
+        healthy_state_range: None,
+        obs_velocity_clip: None,
+        z_distance_info: false,
         include_com_terms: false,
         com_based_cfrc: true,
     };
@@ -138,6 +152,10 @@ impl TaskConfig {
         forward_velocity: ForwardVelocity::Root,
         obs_skip_qpos: 1,
         include_cfrc_ext: false,
+        healthy_angle_range: None,
+        healthy_state_range: None,
+        obs_velocity_clip: None,
+        z_distance_info: false,
         include_com_terms: false,
         com_based_cfrc: false,
     };
@@ -156,8 +174,41 @@ impl TaskConfig {
         forward_velocity: ForwardVelocity::CenterOfMass,
         obs_skip_qpos: 2,
         include_cfrc_ext: true,
+        healthy_angle_range: None,
+        healthy_state_range: None,
+        obs_velocity_clip: None,
+        z_distance_info: false,
         include_com_terms: true,
         com_based_cfrc: true,
+    };
+    /// Gymnasium `Hopper-v5` defaults.
+    pub const HOPPER: TaskConfig = TaskConfig {
+        forward_reward_weight: 1.0,
+        ctrl_cost_weight: 1e-3,
+        contact_cost_weight: 0.0,
+        healthy_reward: 1.0,
+        healthy_z_range: Some((0.7, f64::INFINITY)),
+        healthy_z_open: true,
+        terminate_when_unhealthy: true,
+        contact: ContactCost::ClipForces(-1.0, 1.0),
+        reset_noise_scale: 5e-3,
+        velocity_noise: VelocityNoise::Uniform,
+        forward_velocity: ForwardVelocity::Root,
+        obs_skip_qpos: 1,
+        include_cfrc_ext: false,
+        healthy_angle_range: Some((-0.2, 0.2)),
+        healthy_state_range: Some((-100.0, 100.0)),
+        obs_velocity_clip: Some(10.0),
+        z_distance_info: true,
+        include_com_terms: false,
+        com_based_cfrc: false,
+    };
+    /// Gymnasium `Walker2d-v5` defaults.
+    pub const WALKER2D: TaskConfig = TaskConfig {
+        healthy_z_range: Some((0.8, 2.0)),
+        healthy_angle_range: Some((-1.0, 1.0)),
+        healthy_state_range: None,
+        ..TaskConfig::HOPPER
     };
 }
 
@@ -191,6 +242,9 @@ pub struct Locomotion {
     rng: EnvRng,
     info: StepInfo,
     init_root: Vec<f64>,
+    /// `qpos` at reset before the noise: the free root's pose, then the side file's
+    /// `initial_joints` (MuJoCo's `qpos0`).
+    init_qpos: Vec<f64>,
     nq: usize,
     nv: usize,
 }
@@ -210,6 +264,7 @@ impl Clone for Locomotion {
             params: self.params.clone(),
             builder: self.builder.clone(),
             init_root: self.init_root.clone(),
+            init_qpos: self.init_qpos.clone(),
             ..*self
         };
         match &self.world {
@@ -238,6 +293,15 @@ impl Locomotion {
             Vec::new()
         };
         let nq = init_root.len() + nj;
+        let mut init_qpos = init_root.clone();
+        init_qpos.extend(model.joint_names.iter().map(|j| {
+            model
+                .side
+                .initial_joints
+                .iter()
+                .find(|i| i.joint == *j)
+                .map_or(0.0, |i| i.value)
+        }));
         let nv = if free { 6 } else { 0 } + nj;
         let cfrc = vec![0.0; 6 * model.link_names.len()];
         let act = vec![0.0; if task.include_com_terms { nj } else { 0 }];
@@ -258,6 +322,7 @@ impl Locomotion {
             rng: EnvRng::from_seed(carl_env::rng::DEFAULT_SEED),
             info: StepInfo::default(),
             init_root,
+            init_qpos,
             nq,
             nv,
         })
@@ -321,7 +386,7 @@ impl Locomotion {
                 s.extend(&c.vel);
             }
             None => {
-                s.extend(&self.init_root);
+                s.extend(&self.init_qpos);
                 s.resize(self.nq + self.nv, 0.0);
             }
         }
@@ -404,8 +469,17 @@ impl Locomotion {
     fn for_each_obs(&self, mut put: impl FnMut(usize, f64)) {
         let s = self.state_vec();
         let mut k = 0;
-        for v in &s[self.task.obs_skip_qpos..self.nq + self.nv] {
+        for v in &s[self.task.obs_skip_qpos..self.nq] {
             put(k, *v);
+            k += 1;
+        }
+        for v in &s[self.nq..self.nq + self.nv] {
+            put(
+                k,
+                self.task
+                    .obs_velocity_clip
+                    .map_or(*v, |c| carl_env::api::np_clip(*v, -c, c)),
+            );
             k += 1;
         }
         if self.task.include_com_terms {
@@ -435,6 +509,17 @@ impl Locomotion {
 
     fn is_healthy(&self, s: &[f64]) -> bool {
         let finite = s.iter().all(|x| x.is_finite());
+        let open = |(lo, hi): (f64, f64), x: f64| lo < x && x < hi;
+        if let Some(r) = self.task.healthy_angle_range
+            && !open(r, s[self.root_z_index() + 1])
+        {
+            return false;
+        }
+        if let Some(r) = self.task.healthy_state_range
+            && !s[2..self.nq + self.nv].iter().all(|x| open(r, *x))
+        {
+            return false;
+        }
         match self.task.healthy_z_range {
             Some((lo, hi)) => {
                 let z = s[self.root_z_index()];
@@ -494,7 +579,7 @@ impl Env for Locomotion {
         }
         let ns = self.task.reset_noise_scale;
         let mut s = vec![0.0; self.state_dim()];
-        s[..self.init_root.len()].copy_from_slice(&self.init_root);
+        s[..self.nq].copy_from_slice(&self.init_qpos);
         for v in &mut s[..self.nq] {
             *v += uniform(&mut self.rng, -ns, ns);
         }
@@ -596,6 +681,10 @@ impl Env for Locomotion {
         m.insert("x_position".into(), i.x_position);
         if !self.init_root.is_empty() {
             m.insert("y_position".into(), i.y_position);
+        }
+        if self.task.z_distance_info {
+            let z = self.root_z_index();
+            m.insert("z_distance_from_origin".into(), self.state_vec()[z] - self.init_qpos[z]);
         }
         m.insert("x_velocity".into(), i.x_velocity);
         m.insert("reward_forward".into(), i.reward_forward);

@@ -54,6 +54,34 @@ pub struct JointArmature {
     pub armature: f64,
 }
 
+/// Viscous damping of one joint (MuJoCo's per-joint `damping`), N·m·s/rad.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointDamping {
+    pub joint: String,
+    pub damping: f64,
+}
+
+/// The reset value of one joint coordinate (MuJoCo's `qpos0`, e.g. a slide's `ref`).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialJoint {
+    pub joint: String,
+    pub value: f64,
+}
+
+/// MuJoCo's soft-constraint parameters of a class of constraint rows (contacts or joint
+/// limits): `solref = [timeconst, dampratio]`, `solimp = [dmin, dmax, width, midpoint, power]`,
+/// and the margin (distance at which the row activates; the penetration is measured from it).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SoftConstraint {
+    pub solref: [f64; 2],
+    pub solimp: [f64; 5],
+    #[serde(default)]
+    pub margin: f64,
+}
+
 /// The side file `robots/<name>.actuators.json`.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -89,6 +117,22 @@ pub struct SideFile {
     /// every link). Massless carrier links of multi-hinge joints are left out.
     #[serde(default)]
     pub bodies: Vec<String>,
+    /// Per-joint viscous damping from the model (MuJoCo's joint `damping`); a joint listed here
+    /// is not damped by the context's `joint_angular_damping` (planar engine).
+    #[serde(default)]
+    pub joint_dampings: Vec<JointDamping>,
+    /// Reset values of joint coordinates (default 0): MuJoCo's `qpos0`, around which the reset
+    /// noise is drawn.
+    #[serde(default)]
+    pub initial_joints: Vec<InitialJoint>,
+    /// MuJoCo's contact parameters (planar engine; default: `solref` 0.02/1 with the linear
+    /// `solimp` ramp 0.9–0.95 over 1 mm, no margin).
+    #[serde(default)]
+    pub contact_model: Option<SoftConstraint>,
+    /// Joint limits as MuJoCo's soft limits with these parameters (planar engine); default: the
+    /// context's `joint_stiffness` spring (`limit_reference_inertia`, `limit_damping_ratio`).
+    #[serde(default)]
+    pub limit_model: Option<SoftConstraint>,
     /// Passive joint springs towards 0 (MuJoCo's joint `stiffness`), N·m/rad.
     #[serde(default)]
     pub joint_springs: Vec<JointSpring>,
@@ -171,6 +215,16 @@ pub const ROBOT_FILES: &[(&str, &str, &str)] = &[
         include_str!("../robots/humanoid.actuators.json"),
     ),
     (
+        "hopper",
+        include_str!("../robots/hopper.urdf"),
+        include_str!("../robots/hopper.actuators.json"),
+    ),
+    (
+        "walker2d",
+        include_str!("../robots/walker2d.urdf"),
+        include_str!("../robots/walker2d.actuators.json"),
+    ),
+    (
         "ur5e",
         include_str!("../robots/ur5e.urdf"),
         include_str!("../robots/ur5e.actuators.json"),
@@ -234,12 +288,16 @@ impl RobotModel {
             }
         }
         let armature_joints = side.joint_armatures.iter().map(|a| &a.joint);
+        let damping_joints = side.joint_dampings.iter().map(|a| &a.joint);
+        let initial_joints = side.initial_joints.iter().map(|a| &a.joint);
         for name in side
             .joint_springs
             .iter()
             .map(|s| &s.joint)
             .chain(&side.root_joints)
             .chain(armature_joints)
+            .chain(damping_joints)
+            .chain(initial_joints)
         {
             if !joint_names.contains(name) {
                 return Err(ModelError::Side {

@@ -15,6 +15,13 @@ const ROBOT: AuditProfile = AuditProfile {
     state_hint: &[],
 };
 
+/// Gymnasium's `terminate_when_unhealthy` of Hopper-v5 and Walker2d-v5.
+const TERMINATE_WHEN_UNHEALTHY: OptionSpec = OptionSpec {
+    name: "terminate_when_unhealthy",
+    help: "end the episode when the robot leaves its healthy range (Gymnasium's default); false: keep running without the healthy reward",
+    kind: OptionKind::Bool { default: true },
+};
+
 /// The environments of this family, in registry order.
 pub const REGISTRATIONS: &[Registration] = &[
     Registration {
@@ -49,6 +56,71 @@ pub const REGISTRATIONS: &[Registration] = &[
         renders: true,
         cost: StepCost::Heavy,
         audit: ROBOT,
+        vector_kernel: None,
+    },
+    Registration {
+        id: "hopper",
+        build: |v, o| {
+            let p = robot_params("hopper", v)?;
+            robots::make_robot_with_termination("hopper", p, o.flag("terminate_when_unhealthy"))
+                .map(AnyEnv::new)
+                .ok_or_else(|| missing_model("hopper"))
+        },
+        runtime_default: |n| robot_default("hopper", n),
+        options: &[TERMINATE_WHEN_UNHEALTHY],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        // Long enough for the foot (4 cm up at reset) to land (~11 steps); root heights down to
+        // 1.05 m put the foot into the floor, where friction and elasticity act; joint angles
+        // beyond the limits. State: rootx rootz rooty thigh leg foot, then rates.
+        audit: AuditProfile {
+            trajectory_seeds: 2,
+            trajectory_steps: 16,
+            random_states: 8,
+            reset_seeds: 4,
+            state_hint: &[
+                (0.0, 0.0),
+                (1.05, 1.3),
+                (-0.3, 0.3),
+                (-2.8, 0.2),
+                (-2.8, 0.2),
+                (-1.0, 1.0),
+            ],
+        },
+        vector_kernel: None,
+    },
+    Registration {
+        id: "walker2d",
+        build: |v, o| {
+            let p = robot_params("walker2d", v)?;
+            robots::make_robot_with_termination("walker2d", p, o.flag("terminate_when_unhealthy"))
+                .map(AnyEnv::new)
+                .ok_or_else(|| missing_model("walker2d"))
+        },
+        runtime_default: |n| robot_default("walker2d", n),
+        options: &[TERMINATE_WHEN_UNHEALTHY],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        // As Hopper's, with the left leg after the right.
+        audit: AuditProfile {
+            trajectory_seeds: 2,
+            trajectory_steps: 16,
+            random_states: 8,
+            reset_seeds: 4,
+            state_hint: &[
+                (0.0, 0.0),
+                (1.05, 1.3),
+                (-0.3, 0.3),
+                (-2.8, 0.2),
+                (-2.8, 0.2),
+                (-1.0, 1.0),
+                (-2.8, 0.2),
+                (-2.8, 0.2),
+                (-1.0, 1.0),
+            ],
+        },
         vector_kernel: None,
     },
     Registration {

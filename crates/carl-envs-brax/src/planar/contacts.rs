@@ -51,7 +51,8 @@ impl Softness {
 
 /// MuJoCo's soft contact for time constant `tc` and damping ratio `zeta` (its `solref`) and
 /// impedance from `d0` at zero penetration to `d_width` at `width` and beyond (its `solimp`,
-/// here a linear ramp): the row's reference acceleration is `−b·v₀ − k·r` with
+/// a linear ramp, or MuJoCo's sigmoid of given midpoint and power, [`ImpedanceShape`]): the
+/// row's reference acceleration is `−b·v₀ − k·r` with
 /// `b = 2 / (d_width·tc)`, `k = d / (d_width²·tc²·ζ²)`, `v₀` the row velocity at the start of
 /// the step and `r` the (negative) penetration; the regularizer is `(1 − d) / d`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -61,6 +62,16 @@ pub struct Impedance {
     pub d0: f64,
     pub d_width: f64,
     pub width: f64,
+    pub shape: ImpedanceShape,
+}
+
+/// How the impedance goes from `d0` to `d_width` over the width.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ImpedanceShape {
+    /// A linear ramp (HalfCheetah's contacts).
+    Linear,
+    /// MuJoCo's `solimp` sigmoid: two power curves of the given `power` meeting at `mid`.
+    Sigmoid { mid: f64, power: f64 },
 }
 
 impl Impedance {
@@ -71,11 +82,41 @@ impl Impedance {
         d0: 0.9,
         d_width: 0.95,
         width: 0.001,
+        shape: ImpedanceShape::Linear,
     };
+
+    /// MuJoCo's soft constraint of `solref` and `solimp` (positive `solref` form) for a time
+    /// step `h`: the time constant is at least `2h` (MuJoCo's `refsafe`).
+    pub fn mujoco(solref: [f64; 2], solimp: [f64; 5], h: f64) -> Impedance {
+        let clamp = |d: f64| d.clamp(1e-4, 0.9999);
+        Impedance {
+            tc: solref[0].max(2.0 * h),
+            zeta: solref[1],
+            d0: clamp(solimp[0]),
+            d_width: clamp(solimp[1]),
+            width: solimp[2].max(1e-10),
+            shape: ImpedanceShape::Sigmoid {
+                mid: solimp[3].clamp(1e-4, 1.0 - 1e-4),
+                power: solimp[4].max(1.0),
+            },
+        }
+    }
 
     fn d(&self, r: f64) -> f64 {
         let x = (r.abs() / self.width).min(1.0);
-        self.d0 + (self.d_width - self.d0) * x
+        let y = match self.shape {
+            ImpedanceShape::Linear => x,
+            ImpedanceShape::Sigmoid { .. } if x >= 1.0 => 1.0,
+            ImpedanceShape::Sigmoid { power: 1.0, .. } => x,
+            ImpedanceShape::Sigmoid { mid, power } => {
+                if x <= mid {
+                    x.powf(power) / mid.powf(power - 1.0)
+                } else {
+                    1.0 - (1.0 - x).powf(power) / (1.0 - mid).powf(power - 1.0)
+                }
+            }
+        };
+        self.d0 + (self.d_width - self.d0) * y
     }
 
     /// (target velocity, regularizer ratio) of a row of a contact with start velocity `v0`

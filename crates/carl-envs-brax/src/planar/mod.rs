@@ -1,5 +1,5 @@
-//! A reduced-coordinate engine for planar robots (HalfCheetah): every link moves in the x-z
-//! plane, so the state is the joint coordinates `q` and rates `v` alone and one physics step
+//! A reduced-coordinate engine for planar robots (HalfCheetah, Hopper, Walker2d): every link
+//! moves in the x-z plane, so the state is the joint coordinates `q` and rates `v` alone and one physics step
 //! is a handful of small dense operations in f64.
 //!
 //! * [`tree`]: the planar kinematic tree read from the same URDF and side file as the rapier
@@ -12,7 +12,8 @@
 //! One step of length `h` (the side file's `timestep`), semi-implicit Euler as MuJoCo's
 //! default integrator, with the joint damping implicit:
 //! `(M + A + hD)(v⁺ − v) = h(τ − b − Dv − Kq) + Jᵀλ`, `q⁺ = q + h v⁺`, where `A` is the
-//! armature, `D` the context's `joint_angular_damping` on every robot hinge, `K` the side
+//! armature, `D` the side file's per-joint damping (`joint_dampings`, MuJoCo's joint
+//! `damping`) or else the context's `joint_angular_damping` on every robot hinge, `K` the side
 //! file's passive springs (explicit, as MuJoCo's), `b` gravity and velocity-product forces,
 //! `τ` the motors and `λ` the constraint impulses. How each context feature enters:
 //! * `gravity` → `b`; `friction` → the Coulomb coefficient of every ground contact;
@@ -22,10 +23,20 @@
 //! * `joint_stiffness` → the joint limits: soft rows of angular frequency
 //!   `√(joint_stiffness / limit_reference_inertia)` and damping ratio `limit_damping_ratio`
 //!   (the rapier world's semantics);
-//! * `torso_mass`, `mass_<link>` → link masses (inertia scaled with them).
+//! * `torso_mass`, `mass_<link>` → link masses (inertia scaled with them);
+//! * `elasticity` → an approaching contact's normal row targets at least `elasticity` times
+//!   the approach speed as separation speed (0: MuJoCo's inelastic soft contact);
+//! * `viscosity` → MuJoCo's medium viscosity (inertia-box model): each link's Stokes drag
+//!   `−3πμd·v` at its centre of mass and `−πμd³·ω`, `d` the mean side of its inertia box,
+//!   implicit like the joint damping (`h·Dᵥ` joins the matrix).
 //!
-//! Ground contact normals are soft as MuJoCo's with its default `solref` and `solimp` (time
-//! constant 0.02 s, damping ratio 1, impedance 0.9–0.95); friction is Coulomb's, stiff.
+//! Ground contact normals are soft as MuJoCo's: by default its default `solref` and `solimp`
+//! (time constant 0.02 s, damping ratio 1, impedance 0.9–0.95 as a linear ramp); with the side
+//! file's `contact_model` its `solref`, `solimp` (MuJoCo's sigmoid) and `margin` as MuJoCo
+//! mixes them for the robot–floor pair. Friction is Coulomb's, stiff. With the side file's
+//! `limit_model` the joint limits are MuJoCo's soft limits (rows active once the limit is
+//! passed, reference acceleration and regularizer from `solreflimit`/`solimplimit`) instead of
+//! the `joint_stiffness` spring.
 
 pub mod contacts;
 pub mod dynamics;
@@ -55,7 +66,16 @@ pub struct PlanarSystem {
     /// Multiplier of the hinge rates after each step.
     angular_decay: f64,
     limit_soft: Softness,
+    /// MuJoCo's soft joint limits and their margin (the side file's `limit_model`), instead of
+    /// `limit_soft`.
+    limit_mujoco: Option<(Impedance, f64)>,
     contact: Impedance,
+    /// Contacts activate this far above the floor (MuJoCo's `margin`).
+    contact_margin: f64,
+    /// Restitution of ground contacts.
+    elasticity: f64,
+    /// Medium viscosity (MuJoCo's inertia-box Stokes drag on every link).
+    viscosity: f64,
     /// (coordinate, torque per unit control) of each actuator.
     motors: Vec<(usize, f64)>,
     ctrl_range: [f64; 2],
@@ -72,7 +92,14 @@ impl PlanarSystem {
         let damping = tree
             .dofs
             .iter()
-            .map(|d| if d.hinge && !d.root { jd } else { 0.0 })
+            .zip(&model.joint_names)
+            .map(
+                |(d, name)| match side.joint_dampings.iter().find(|j| j.joint == *name) {
+                    Some(j) => j.damping.max(0.0),
+                    None if d.hinge && !d.root => jd,
+                    None => 0.0,
+                },
+            )
             .collect();
         let k = finite_or(params.joint_stiffness, 1.0).max(1e-9);
         let limit_omega = (k / side.limit_reference_inertia).sqrt();
@@ -96,7 +123,17 @@ impl PlanarSystem {
             damping,
             angular_decay: (finite_or(params.angular_damping, 0.0) * h).exp(),
             limit_soft: Softness::new(limit_omega, side.limit_damping_ratio, h),
-            contact: Impedance::MUJOCO_DEFAULT,
+            limit_mujoco: side
+                .limit_model
+                .as_ref()
+                .map(|l| (Impedance::mujoco(l.solref, l.solimp, h), l.margin)),
+            contact: side
+                .contact_model
+                .as_ref()
+                .map_or(Impedance::MUJOCO_DEFAULT, |c| Impedance::mujoco(c.solref, c.solimp, h)),
+            contact_margin: side.contact_model.as_ref().map_or(0.0, |c| c.margin.max(0.0)),
+            elasticity: finite_or(params.elasticity, 0.0).max(0.0),
+            viscosity: finite_or(params.viscosity, 0.0).max(0.0),
             motors,
             ctrl_range: side.ctrl_range,
             torso: model.torso,
@@ -121,6 +158,8 @@ pub struct PlanarWorld {
     mass: Vec<f64>,
     bias: Vec<f64>,
     force: Vec<f64>,
+    /// The rates at the start of the step (MuJoCo's limit rows use them).
+    v_start: Vec<f64>,
     rows: Rows,
     /// Contact force and torque about the centre of mass of each link over the last step:
     /// `[f_x, f_z, τ_y]`.
@@ -172,6 +211,7 @@ impl PlanarWorld {
             mass: vec![0.0; n * n],
             bias: vec![0.0; n],
             force: vec![0.0; n],
+            v_start: vec![0.0; n],
             rows: Rows::new(n, capacity),
             wrench: vec![[0.0; 3]; nl],
             row_site: vec![RowSite::Limit; capacity],
@@ -255,6 +295,10 @@ impl PlanarWorld {
         for (&(d, gear), &u) in sys.motors.iter().zip(ctrl) {
             self.force[d] += gear * self.clipped(u);
         }
+        if sys.viscosity > 0.0 {
+            self.add_viscosity();
+        }
+        self.v_start.copy_from_slice(&self.v);
         if !dynamics::cholesky(&mut self.mass, n) {
             self.v.fill(f64::NAN);
             return;
@@ -279,6 +323,36 @@ impl PlanarWorld {
         positions(tree, &self.q, &mut self.links, &mut self.axes);
     }
 
+    /// MuJoCo's viscous drag of the medium on every link (its inertia-box model with density
+    /// 0): force `−3π μ d v` at the centre of mass and torque `−π μ d³ ω`, `d` the link's box
+    /// diameter; linear in the rates, so it enters implicitly: `h·Dᵥ` joins the mass matrix and
+    /// `−Dᵥ v` the forces.
+    fn add_viscosity(&mut self) {
+        let sys = &*self.sys;
+        let n = sys.num_dofs();
+        let h = sys.h;
+        let mu = sys.viscosity;
+        for (l, s) in sys.tree.links.iter().zip(&self.links) {
+            if l.ancestors.is_empty() {
+                continue;
+            }
+            let d = l.box_diameter;
+            let (cl, ca) = (
+                3.0 * std::f64::consts::PI * mu * d,
+                std::f64::consts::PI * mu * d * d * d,
+            );
+            let vc = point_velocity(s, s.com);
+            for &da in &l.ancestors {
+                let (ja, wa) = self.axes[da].point_column(s.com);
+                self.force[da] -= cl * kinematics::dot(ja, vc) + ca * wa * s.omega;
+                for &db in &l.ancestors {
+                    let (jb, wb) = self.axes[db].point_column(s.com);
+                    self.mass[da * n + db] += h * (cl * kinematics::dot(ja, jb) + ca * wa * wb);
+                }
+            }
+        }
+    }
+
     /// Contact rows (end spheres of the capsules near the ground) and joint-limit rows.
     fn build_rows(&mut self) {
         let sys = &*self.sys;
@@ -290,18 +364,23 @@ impl PlanarWorld {
             let ends = if cap.a == cap.b { 1 } else { 2 };
             for &e in [cap.a, cap.b].iter().take(ends) {
                 let centre = kinematics::add(s.pos, tree::rotate(s.cs, e));
-                let gap = centre[1] - cap.radius;
-                // Contacts once penetrating (MuJoCo's zero margin).
+                // Contacts within the margin (MuJoCo's; HalfCheetah's is zero), the
+                // penetration measured from it.
+                let gap = centre[1] - cap.radius - sys.contact_margin;
                 if gap >= 0.0 {
                     continue;
                 }
                 let p = [centre[0], centre[1] - cap.radius];
                 let anc = &tree.links[cap.link].ancestors;
                 let v0 = point_velocity(s, p);
-                // The normal: MuJoCo's soft contact; friction: Coulomb's box, stiff (a resting
-                // contact does not creep).
+                // The normal: MuJoCo's soft contact (and a bounce of `elasticity` times the
+                // approach speed); friction: Coulomb's box, stiff (a resting contact does not
+                // creep).
                 let r = self.rows.count;
-                let (target, ratio) = sys.contact.row(v0[1], gap, h);
+                let (mut target, ratio) = sys.contact.row(v0[1], gap, h);
+                if sys.elasticity > 0.0 && v0[1] < 0.0 {
+                    target = target.max(-sys.elasticity * v0[1]);
+                }
                 let Some(row) = self.rows.push(RowKind::Unilateral, target, ratio) else {
                     return;
                 };
@@ -325,6 +404,21 @@ impl PlanarWorld {
         let first_limit = self.rows.count;
         for (d, dof) in tree.dofs.iter().enumerate() {
             let Some((lo, hi)) = dof.limits else { continue };
+            if let Some((imp, margin)) = sys.limit_mujoco {
+                // MuJoCo's soft limit: active within the margin, penetration from it.
+                for (dist, sign) in [(self.q[d] - lo, 1.0), (hi - self.q[d], -1.0)] {
+                    let r = dist - margin;
+                    if r >= 0.0 {
+                        continue;
+                    }
+                    let (target, ratio) = imp.row(sign * self.v_start[d], r, h);
+                    let Some(row) = self.rows.push(RowKind::Unilateral, target, ratio) else {
+                        return;
+                    };
+                    row[d] = sign;
+                }
+                continue;
+            }
             // Rows for limits within reach of this step's motion (and a margin).
             let reach = 1e-2 + h * self.v[d].abs();
             for (gap, sign) in [(self.q[d] - lo, 1.0), (hi - self.q[d], -1.0)] {

@@ -252,3 +252,25 @@ fn a_robot_that_is_not_planar_is_refused_with_a_reason() {
     assert!(err.contains("\"engine\": \"planar\" needs a planar robot"), "{err}");
     assert!(err.contains("root"), "{err}");
 }
+
+/// MuJoCo's `solimp` sigmoid (midpoint 0.5, power 2) and `solref` reference acceleration, at
+/// points worked by hand: x = |r| / width = 0.25 gives y = 2x² = 0.125, x = 0.75 gives
+/// y = 1 − 2(1 − x)² = 0.875, beyond the width y = 1.
+#[test]
+fn mujoco_impedance_follows_its_sigmoid() {
+    use super::contacts::Impedance;
+    let h = 0.002;
+    let imp = Impedance::mujoco([0.02, 1.0], [0.9, 0.95, 0.001, 0.5, 2.0], h);
+    for (r, y) in [(-0.00025, 0.125), (-0.00075, 0.875), (-0.01, 1.0)] {
+        let d: f64 = 0.9 + 0.05 * y;
+        let (target, ratio) = imp.row(0.0, r, h);
+        assert!((ratio - (1.0 - d) / d).abs() < 1e-12, "r {r}: ratio {ratio}");
+        let k = d / (0.95f64 * 0.95 * 0.02 * 0.02);
+        assert!((target - (-h * k * r)).abs() < 1e-12, "r {r}: target {target}");
+    }
+    // MuJoCo's refsafe: the time constant is at least two steps.
+    assert_eq!(
+        Impedance::mujoco([0.001, 1.0], [0.9, 0.95, 0.001, 0.5, 2.0], h).tc,
+        2.0 * h
+    );
+}

@@ -43,6 +43,8 @@ pub struct PlanarLink {
     pub com: V2,
     /// Moment of inertia about the y axis through the centre of mass (kg·m²).
     pub inertia: f64,
+    /// Mean side of the link's equivalent inertia box (m): MuJoCo's diameter for viscous drag.
+    pub box_diameter: f64,
     /// Generalized coordinates on the path from the root to this link (root first).
     pub ancestors: Vec<usize>,
 }
@@ -144,6 +146,11 @@ impl PlanarTree {
             if ine.ixy.abs() > PLANAR_TOL || ine.iyz.abs() > PLANAR_TOL {
                 return Err(format!("{what}'s inertia couples y with x or z (ixy, iyz ≠ 0)"));
             }
+            // MuJoCo's inertia box: sides √(6 (I_j + I_k − I_i) / m) (diagonal moments).
+            let m = inertial.mass.value;
+            let (ix, iy, iz) = (ine.ixx, ine.iyy, ine.izz);
+            let side = |a: f64, b: f64, c: f64| (6.0 * (a + b - c).max(1e-12) / m).sqrt();
+            let box_diameter = (side(iy, iz, ix) + side(ix, iz, iy) + side(ix, iy, iz)) / 3.0;
             links.push(PlanarLink {
                 parent: None,
                 kind: JointKind::Fixed,
@@ -153,6 +160,7 @@ impl PlanarTree {
                 mass: inertial.mass.value,
                 com: in_plane(&format!("{what}'s centre of mass"), inertial.origin.xyz.0)?,
                 inertia: ine.iyy,
+                box_diameter,
                 ancestors: Vec::new(),
             });
         }

@@ -1,0 +1,271 @@
+#!/usr/bin/env python3
+"""Convert Gymnasium's MuJoCo v5 XML of a planar robot (Hopper, Walker2d) into
+crates/carl-envs-brax/robots/<name>.urdf and <name>.actuators.json.
+
+MuJoCo itself compiles the XML (`mujoco.MjModel.from_xml_path`), so every number is MuJoCo's
+own: body masses and inertias (`inertiafromgeom`, density 1000), centres of mass, joint anchors,
+axes and ranges, per-joint damping and armature, capsule sizes and poses, actuator gears and
+control ranges, the time step and the contact parameters (MuJoCo's mix of the floor's and the
+robot's `solref`, `solimp`, `margin`, `friction`: the per-pair maximum). The planar root (the
+XML's `rootx`, `rootz`, `rooty` joints on the torso) becomes two prismatic joints on massless
+carrier links and a continuous pitch hinge, as HalfCheetah's; each link's frame sits at the
+anchor of the joint that moves it (URDF's convention), MuJoCo's body frame shifted accordingly.
+`rootz` keeps MuJoCo's reference position: its coordinate is the torso's height (qpos0 1.25).
+
+Run from the repository root with Gymnasium 1.4 and mujoco installed (e.g. in a venv outside the
+repository): `python scripts/robot_urdf_mujoco.py` (all robots) or `... hopper`; the output is
+committed, the build embeds it. `--check` compares instead of writing.
+"""
+import argparse
+import json
+import math
+import os
+import sys
+
+ROBOTS_DIR = "crates/carl-envs-brax/robots"
+
+# name -> (Gymnasium XML file, Gymnasium frame_skip, Gymnasium id)
+ROBOTS = {
+    "hopper": ("hopper.xml", 4, "Hopper-v5"),
+    "walker2d": ("walker2d_v5.xml", 4, "Walker2d-v5"),
+}
+ROOT_JOINTS = ["rootx", "rootz", "rooty"]
+
+
+def fmt(x):
+    s = f"{x:.9g}"
+    return "0" if s in ("-0", "0") else s
+
+
+def vec(v):
+    return " ".join(fmt(float(x)) for x in v)
+
+
+def quat_mat(q):
+    w, x, y, z = (float(c) for c in q)
+    return [
+        [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+        [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+        [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+    ]
+
+
+def capsule_rpy(d):
+    """rpy turning the URDF capsule's z axis onto unit direction d."""
+    return (0.0, math.acos(max(-1.0, min(1.0, d[2]))), math.atan2(d[1], d[0]))
+
+
+def convert(name):
+    import gymnasium
+    import mujoco
+
+    xml_file, frame_skip, gym_id = ROBOTS[name]
+    path = os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets", xml_file)
+    m = mujoco.MjModel.from_xml_path(path)
+    floor = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, "floor")
+    assert floor >= 0, "the model needs a geom named floor"
+
+    def jname(j):
+        return mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j)
+
+    def bname(b):
+        return mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b)
+
+    # Each body's joints and the anchor of the joint that moves it (its URDF frame origin).
+    anchor = {0: [0.0, 0.0, 0.0]}
+    joints_of = {}
+    for b in range(1, m.nbody):
+        assert list(m.body_quat[b]) == [1, 0, 0, 0], f"body {bname(b)} is rotated"
+        js = [j for j in range(m.njnt) if m.jnt_bodyid[j] == b]
+        joints_of[b] = js
+        hinges = [j for j in js if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE]
+        assert len(hinges) == 1, f"body {bname(b)} needs one hinge"
+        anchor[b] = [float(x) for x in m.jnt_pos[hinges[0]]]
+
+    links, joints = [], []
+
+    def link_xml(lname, mass, com, inertia, shapes):
+        out = [f'  <link name="{lname}">', "    <inertial>"]
+        out.append(f'      <origin xyz="{vec(com)}" rpy="0 0 0"/>')
+        out.append(f'      <mass value="{fmt(mass)}"/>')
+        I = inertia
+        out.append(
+            f'      <inertia ixx="{fmt(I[0][0])}" ixy="{fmt(I[0][1])}" ixz="{fmt(I[0][2])}" '
+            f'iyy="{fmt(I[1][1])}" iyz="{fmt(I[1][2])}" izz="{fmt(I[2][2])}"/>'
+        )
+        out.append("    </inertial>")
+        for c, rpy, r, length in shapes:
+            out.append("    <collision>")
+            out.append(f'      <origin xyz="{vec(c)}" rpy="{vec(rpy)}"/>')
+            out.append(f'      <geometry><capsule radius="{fmt(r)}" length="{fmt(length)}"/></geometry>')
+            out.append("    </collision>")
+        out.append("  </link>")
+        links.append("\n".join(out))
+
+    def joint_xml(jn, kind, parent, child, xyz, axis, limit=None):
+        lim = ""
+        if limit is not None:
+            lim = f'\n    <limit lower="{fmt(limit[0])}" upper="{fmt(limit[1])}" effort="0" velocity="0"/>'
+        joints.append(
+            f'  <joint name="{jn}" type="{kind}">\n    <parent link="{parent}"/>\n    <child link="{child}"/>\n'
+            f'    <origin xyz="{vec(xyz)}" rpy="0 0 0"/>\n    <axis xyz="{vec(axis)}"/>{lim}\n  </joint>'
+        )
+
+    eye = [[1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0]]
+    link_xml("world", 1.0, [0, 0, 0], eye, [])
+    tiny = [[1e-6, 0, 0], [0, 1e-6, 0], [0, 0, 1e-6]]
+    link_xml("slider_x", 1e-4, [0, 0, 0], tiny, [])
+    link_xml("slider_z", 1e-4, [0, 0, 0], tiny, [])
+
+    for b in range(1, m.nbody):
+        a = anchor[b]
+        R = quat_mat(m.body_iquat[b])
+        d = m.body_inertia[b]
+        inertia = [[sum(R[i][k] * d[k] * R[j][k] for k in range(3)) for j in range(3)] for i in range(3)]
+        com = [float(m.body_ipos[b][i]) - a[i] for i in range(3)]
+        shapes = []
+        for g in range(m.ngeom):
+            if m.geom_bodyid[g] != b:
+                continue
+            assert m.geom_type[g] == mujoco.mjtGeom.mjGEOM_CAPSULE, "capsules only"
+            G = quat_mat(m.geom_quat[g])
+            axis = [G[0][2], G[1][2], G[2][2]]
+            c = [float(m.geom_pos[g][i]) - a[i] for i in range(3)]
+            shapes.append((c, capsule_rpy(axis), float(m.geom_size[g][0]), 2 * float(m.geom_size[g][1])))
+        link_xml(bname(b), float(m.body_mass[b]), com, inertia, shapes)
+
+        parent = int(m.body_parentid[b])
+        for j in joints_of[b]:
+            jn = jname(j)
+            if parent == 0:
+                # The planar root: slides on carrier links, then the pitch hinge at the torso.
+                assert jn in ROOT_JOINTS, f"root joint {jn}"
+                continue
+            pa = anchor[parent]
+            xyz = [float(m.body_pos[b][i]) + a[i] - pa[i] for i in range(3)]
+            lim = [float(x) for x in m.jnt_range[j]] if m.jnt_limited[j] else None
+            joint_xml(jn, "revolute" if lim else "continuous", bname(parent), bname(b), xyz, m.jnt_axis[j], lim)
+        if parent == 0:
+            torso = bname(b)
+            joint_xml("rootx", "prismatic", "world", "slider_x", [0, 0, 0], [1, 0, 0], (-1000, 1000))
+            joint_xml("rootz", "prismatic", "slider_x", "slider_z", [0, 0, 0], [0, 0, 1], (-1000, 1000))
+            joint_xml("rooty", "continuous", "slider_z", torso, [0, 0, 0], [0, 1, 0])
+
+    # Joint order of the URDF: the root's, then the robot's in MuJoCo order (= qpos order).
+    order = {jname(j): j for j in range(m.njnt)}
+    qpos_names = [jname(j) for j in range(m.njnt)]
+    root_block = [s for s in joints if s.split('"')[1] in ROOT_JOINTS]
+    rest = [s for s in joints if s.split('"')[1] not in ROOT_JOINTS]
+    rest.sort(key=lambda s: order[s.split('"')[1]])
+    joints = root_block + rest
+    assert [s.split('"')[1] for s in joints] == qpos_names, qpos_names
+
+    # Contacts: MuJoCo mixes the pair's solref/solimp (equal solmix: the mean), takes the larger
+    # margin and the larger friction.
+    def mix(a, b):
+        return [(float(x) + float(y)) / 2 for x, y in zip(a, b)]
+
+    robot_geoms = [g for g in range(m.ngeom) if g != floor]
+    solrefs = {tuple(mix(m.geom_solref[g], m.geom_solref[floor])) for g in robot_geoms}
+    solimps = {tuple(mix(m.geom_solimp[g], m.geom_solimp[floor])) for g in robot_geoms}
+    margins = {max(float(m.geom_margin[g]), float(m.geom_margin[floor])) for g in robot_geoms}
+    assert len(solrefs) == len(solimps) == len(margins) == 1, "one contact model for all geoms"
+    frictions = {
+        bname(m.geom_bodyid[g]): max(float(m.geom_friction[g][0]), float(m.geom_friction[floor][0]))
+        for g in robot_geoms
+    }
+    lim_j = [j for j in range(m.njnt) if m.jnt_limited[j]]
+    assert len({tuple(m.jnt_solref[j]) for j in lim_j}) == 1 and len({tuple(m.jnt_solimp[j]) for j in lim_j}) == 1
+
+    acts = []
+    for k in range(m.nu):
+        acts.append({"joint": jname(int(m.actuator_trnid[k][0])), "gear": float(m.actuator_gear[k][0])})
+    ranges = {tuple(float(x) for x in r) for r in m.actuator_ctrlrange}
+    assert len(ranges) == 1
+    robot_joints = [jname(j) for j in range(m.njnt) if jname(j) not in ROOT_JOINTS]
+    dof = lambda jn: int(m.jnt_dofadr[order[jn]])
+    rootz = order["rootz"]
+    integrator = {0: "Euler", 1: "RK4", 2: "implicit", 3: "implicitfast"}[int(m.opt.integrator)]
+    side = {
+        "robot": name,
+        "source": (
+            f"Gymnasium {gym_id} ({xml_file}), compiled by MuJoCo {mujoco.__version__} and converted by "
+            f"scripts/robot_urdf_mujoco.py: masses, inertias, joint anchors, axes, ranges, damping and armature, "
+            f"capsules, gears, control range, time step ({float(m.opt.timestep)} s, the XML's {integrator} "
+            f"integrator replaced by the planar engine's semi-implicit Euler), frame_skip {frame_skip} (Gymnasium's), "
+            f"contact solref/solimp/margin as MuJoCo mixes the floor's and the robot's; contact friction per body "
+            f"(MuJoCo's pair maximum) {json.dumps(frictions)} is one context feature here (friction). "
+            f"rootz keeps the XML's ref: its coordinate is the torso height."
+        ),
+        "engine": "planar",
+        "timestep": float(m.opt.timestep),
+        "frame_skip": frame_skip,
+        "solver_iterations": 1,
+        "root": "fixed",
+        "root_joints": ROOT_JOINTS,
+        "torso_link": bname(1),
+        "root_height": float(m.qpos0[m.jnt_qposadr[rootz]]),
+        "initial_joints": [{"joint": "rootz", "value": float(m.qpos0[m.jnt_qposadr[rootz]])}],
+        "ctrl_range": list(ranges.pop()),
+        "strength_reference": 1.0,
+        "actuators": acts,
+        "joint_armatures": [{"joint": jn, "armature": float(m.dof_armature[dof(jn)])} for jn in robot_joints],
+        "joint_dampings": [{"joint": jn, "damping": float(m.dof_damping[dof(jn)])} for jn in robot_joints],
+        "contact_model": {
+            "solref": list(solrefs.pop()),
+            "solimp": list(solimps.pop()),
+            "margin": margins.pop(),
+        },
+        "limit_model": {
+            "solref": [float(x) for x in m.jnt_solref[lim_j[0]]],
+            "solimp": [float(x) for x in m.jnt_solimp[lim_j[0]]],
+            "margin": float(m.jnt_margin[lim_j[0]]),
+        },
+        "limit_reference_inertia": 1.0,
+        "limit_damping_ratio": 1.0,
+        "restitution": 0.0,
+        "self_collisions": False,
+        "max_speed": 1000.0,
+    }
+    doc = (
+        f"carl-spec robot description, generated by scripts/robot_urdf_mujoco.py from Gymnasium {gym_id}'s "
+        f"{xml_file} as compiled by MuJoCo {mujoco.__version__}: links are the XML's bodies (masses and inertias "
+        f"from its geoms at density 1000), each link frame at the anchor of its joint; a planar root of two "
+        f"slides (x, z) and a pitch hinge on massless carrier links."
+    )
+    urdf = (
+        f'<?xml version="1.0"?>\n<!-- {doc} -->\n<robot name="{name}">\n'
+        + "\n".join(links)
+        + "\n"
+        + "\n".join(joints)
+        + "\n</robot>\n"
+    )
+    return urdf, json.dumps(side, indent=2) + "\n"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("robots", nargs="*", default=list(ROBOTS))
+    ap.add_argument("--check", action="store_true", help="compare with the committed files instead of writing")
+    args = ap.parse_args()
+    stale = []
+    for name in args.robots:
+        if name not in ROBOTS:
+            sys.exit(f"unknown robot {name!r}; choose from {', '.join(ROBOTS)}")
+        urdf, side = convert(name)
+        for ext, text in (("urdf", urdf), ("actuators.json", side)):
+            path = os.path.join(ROBOTS_DIR, f"{name}.{ext}")
+            if args.check:
+                old = open(path).read() if os.path.exists(path) else None
+                if old != text:
+                    stale.append(path)
+            else:
+                with open(path, "w") as f:
+                    f.write(text)
+                print(f"wrote {path}")
+    if stale:
+        sys.exit("stale: " + ", ".join(stale))
+
+
+if __name__ == "__main__":
+    main()
