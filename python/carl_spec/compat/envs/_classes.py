@@ -149,6 +149,25 @@ class CARLBraxHumanoid(_Robot):
     bench_only = _robot_only("humanoid")
 
 
+def _goal_only(env: str) -> dict[str, str]:
+    goal = _GOAL.format(env=env, goal=GOAL)
+    return {n: goal for n in ("target_distance", "target_direction", "target_radius")}
+
+
+class CARLBraxHopper(_Robot):
+    env_id = "hopper"
+    bench_names = ("gravity", "friction", "elasticity", "ang_damping", "viscosity", "mass_torso", "mass_thigh",
+                   "mass_leg", "mass_foot")
+    bench_only = _goal_only("hopper")
+
+
+class CARLBraxWalker2d(_Robot):
+    env_id = "walker2d"
+    bench_names = ("gravity", "friction", "elasticity", "ang_damping", "viscosity", "mass_torso", "mass_thigh",
+                   "mass_leg", "mass_foot", "mass_thigh_left", "mass_leg_left", "mass_foot_left")
+    bench_only = _goal_only("walker2d")
+
+
 class CARLMarioEnv(CARLEnv):
     env_id = "mario"
     bench_names = ("level_width", "level_index", "noise_seed", "mario_state", "mario_inertia")
@@ -163,7 +182,8 @@ CLASSES: dict[str, type[CARLEnv]] = {
     c.__name__: c
     for c in (
         CARLCartPole, CARLPendulum, CARLAcrobot, CARLMountainCar, CARLMountainCarContinuous, CARLLunarLander,
-        CARLBipedalWalker, CARLVehicleRacing, CARLBraxAnt, CARLBraxHalfcheetah, CARLBraxHumanoid, CARLMarioEnv,
+        CARLBipedalWalker, CARLVehicleRacing, CARLBraxAnt, CARLBraxHalfcheetah, CARLBraxHumanoid, CARLBraxHopper,
+        CARLBraxWalker2d, CARLMarioEnv,
         CARLRnaDesignEnv,
     )
 }

@@ -1,7 +1,5 @@
-"""carl-bench's `carl.envs.brax.carl_hopper`: pending (see `carl_spec.compat._pending`)."""
+"""carl-bench's `carl.envs.brax.carl_hopper`."""
 
-from ..._pending import pending_class
-
-CARLBraxHopper = pending_class("CARLBraxHopper", __name__)
+from .._classes import CARLBraxHopper
 
 __all__ = ["CARLBraxHopper"]

@@ -1,7 +1,5 @@
-"""carl-bench's `carl.envs.brax.carl_walker2d`: pending (see `carl_spec.compat._pending`)."""
+"""carl-bench's `carl.envs.brax.carl_walker2d`."""
 
-from ..._pending import pending_class
-
-CARLBraxWalker2d = pending_class("CARLBraxWalker2d", __name__)
+from .._classes import CARLBraxWalker2d
 
 __all__ = ["CARLBraxWalker2d"]
