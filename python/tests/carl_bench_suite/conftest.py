@@ -3,7 +3,7 @@
 The vendored test files are carl-bench's with only the import prefix changed; this file is ours.
 Every test passes except those listed here, each with its reason:
 
-* `PENDING`: tests of environments carl-spec does not have yet (the seven Brax classes and the
+* `PENDING`: tests of environments carl-spec does not have yet (the five Brax classes not built yet and the
   dm_control family, `carl_spec.compat._pending`, and the goal option of the Brax walkers). They
   are skipped, the skip naming the missing environment and its issue.
 * `CARL_BENCH_BUGS`: tests that rely on a carl-bench bug compat deliberately does not reproduce
