@@ -3,7 +3,7 @@
 //! Box2D's next state. Prints one line per step (hull velocity error, joint speed errors, contact
 //! flags, ground impulse of both engines) and the mean hull velocity error.
 //!
-//!     /work/venvs/peers/bin/python scripts/bipedal_walker_record_box2d.py --seed 0 --steps 400 > rec.json
+//!     python3 scripts/bipedal_walker_record_box2d.py --seed 0 --steps 400 > rec.json
 //!     cargo run --release -p carl-envs-box2d --example bipedal_walker_replay -- rec.json
 
 use carl_env::api::{Action, Env};
