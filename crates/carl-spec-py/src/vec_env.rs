@@ -14,7 +14,7 @@ use pyo3::{PyTraverseError, PyVisit};
 use carl_spec::envs::contextual::ContextInfo;
 use carl_spec::envs::registry::{MakeOptions, make_env};
 use carl_spec::envs::vec_env::{AutoresetMode, VecActions, VecEnv as RustVecEnv, VecEnvError, VecOptions};
-use carl_spec::envs::{Env as _, Space};
+use carl_spec::envs::{Env as _, Space, cancel};
 
 use crate::actions::{BoxBounds, check_obs};
 use crate::context_args::{ContextArgs, build_contextual, source_of};
@@ -558,18 +558,26 @@ impl VecEnv {
         let (stock, n) = (&this.stock, this.inner.num_envs());
         let nested = [&this.feature_keys, &this.visible_keys];
         let mut restocked = Ok(());
-        this.inner
-            .step_with(acts, |share| {
-                if let Some(t) = oldest {
-                    stock.reclaim(t.into_bound(py).into_any(), &nested, n);
-                }
-                restocked = stock.restock(py, &nested, || share.blocks_left()).and_then(|()| {
-                    py.detach(|| share.claim_all());
-                    stock.restock(py, &nested, || share.workers_busy())
-                });
-            })
-            .map(|_| ())
-            .map_err(|e| env_error(&e))?;
+        let inner = &mut this.inner;
+        // Long steps (rna_design's folds) poll for Ctrl-C, on the worker threads too (the pool
+        // relays this thread's check to them).
+        cancel::with_check(
+            || Python::attach(|py| py.check_signals().is_err()),
+            || {
+                inner
+                    .step_with(acts, |share| {
+                        if let Some(t) = oldest {
+                            stock.reclaim(t.into_bound(py).into_any(), &nested, n);
+                        }
+                        restocked = stock.restock(py, &nested, || share.blocks_left()).and_then(|()| {
+                            py.detach(|| share.claim_all());
+                            stock.restock(py, &nested, || share.workers_busy())
+                        });
+                    })
+                    .map(|_| ())
+            },
+        )
+        .map_err(|e| env_error(&e))?;
         restocked?;
         this.steps += 1;
         let t = this.steps;

@@ -7,6 +7,10 @@
 //! remaining blocks itself. A worker may only join a job while it is open; the caller closes it
 //! when no block is left and waits just for workers that are inside the job. A panic in a job is
 //! re-raised on the calling thread.
+//!
+//! Cancellation ([`carl_env::cancel`]): each worker polls the pool's stop flag; a job's calling
+//! thread relays its own check (the binding's Ctrl-C check) to that flag, also while it waits for
+//! the workers, so a long batch step (rna_design's folds) stops on every thread.
 
 use std::cell::UnsafeCell;
 use std::ops::Range;
@@ -14,10 +18,15 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::thread::{JoinHandle, Thread};
 
+use carl_env::cancel;
+
 type Job = dyn Fn(Range<usize>) + Sync;
 
 /// How long the caller spins (`pause`) waiting for workers before it yields: ~400 µs here.
 const SPIN: u32 = 1 << 14;
+/// While the caller yields waiting for workers, it asks its cancellation check every this many
+/// yields.
+const POLL_WAIT: u32 = 64;
 /// How long an idle worker polls for a job before it parks: ~450 µs here (a poll is ~0.4 ns).
 const POLLS: u32 = 1 << 20;
 
@@ -47,6 +56,9 @@ struct Shared {
     job: UnsafeCell<(*const Job, usize, usize)>,
     shutdown: AtomicBool,
     panicked: AtomicBool,
+    /// Raised when the calling thread's check says stop (lowered when a job opens); the
+    /// workers' loops poll it.
+    stop: Arc<AtomicBool>,
     /// Per worker: parked (or about to park) and must be unparked.
     sleeping: Vec<AtomicBool>,
 }
@@ -93,6 +105,7 @@ impl Pool {
             job: UnsafeCell::new((noop as *const Job, 0, 1)),
             shutdown: AtomicBool::new(false),
             panicked: AtomicBool::new(false),
+            stop: Arc::new(AtomicBool::new(false)),
             sleeping: (0..workers).map(|_| AtomicBool::new(false)).collect(),
         });
         let handles: Vec<JoinHandle<()>> = (0..workers)
@@ -100,7 +113,7 @@ impl Pool {
                 let shared = Arc::clone(&shared);
                 std::thread::Builder::new()
                     .name(format!("vecenv-{}", w + 1))
-                    .spawn(move || worker(&shared, w))
+                    .spawn(move || cancel::with_flag(Arc::clone(&shared.stop), || worker(&shared, w)))
                     .expect("failed to spawn a VecEnv worker thread")
             })
             .collect();
@@ -152,6 +165,7 @@ impl Pool {
         // concurrent `run`s.
         unsafe { *sh.job.get() = (ptr, n, block) };
         sh.next.store(0, Ordering::Relaxed);
+        sh.stop.store(false, Ordering::Relaxed);
         let generation = (sh.state.load(Ordering::Relaxed) & !(GEN_ONE - 1)).wrapping_add(GEN_ONE);
         // SeqCst pairs with the workers' "announce sleeping, re-check state" (no lost wake-up).
         sh.state.store(generation, Ordering::SeqCst);
@@ -160,17 +174,19 @@ impl Pool {
                 t.unpark();
             }
         }
-        let guard = CloseGuard(sh);
-        let mut share = CallerShare {
-            sh,
-            shared: true,
-            job,
-            n,
-            block,
-        };
-        caller(&mut share);
-        share.claim_all();
-        drop(guard);
+        cancel::relay(&sh.stop, || {
+            let guard = CloseGuard(sh);
+            let mut share = CallerShare {
+                sh,
+                shared: true,
+                job,
+                n,
+                block,
+            };
+            caller(&mut share);
+            share.claim_all();
+            drop(guard);
+        });
         if sh.panicked.swap(false, Ordering::AcqRel) {
             panic!("a VecEnv worker thread panicked");
         }
@@ -221,6 +237,11 @@ impl Drop for CloseGuard<'_> {
                 spins += 1;
                 std::hint::spin_loop();
             } else {
+                // A long wait (workers in long steps): relay a stop to them now and then.
+                spins = spins.wrapping_add(1);
+                if spins % POLL_WAIT == 0 && !std::thread::panicking() {
+                    let _ = cancel::poll();
+                }
                 std::thread::yield_now();
             }
         }
@@ -291,5 +312,66 @@ impl Drop for Pool {
         for h in self.handles.drain(..) {
             let _ = h.join();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::Mutex;
+    use std::time::{Duration, Instant};
+
+    /// Each block loops until a poll says stop (or 10 s pass) and records which it was.
+    fn long_job(stopped: &Mutex<Vec<(bool, bool)>>) -> impl Fn(Range<usize>) + Sync + '_ {
+        move |r: Range<usize>| {
+            let t0 = Instant::now();
+            let mut seen = false;
+            while t0.elapsed() < Duration::from_secs(10) {
+                if cancel::poll().is_err() {
+                    seen = true;
+                    break;
+                }
+                std::thread::sleep(Duration::from_micros(50));
+            }
+            let worker = std::thread::current().name().is_some_and(|n| n.starts_with("vecenv-"));
+            stopped.lock().unwrap().extend(r.map(|_| (seen, worker)));
+        }
+    }
+
+    #[test]
+    fn the_callers_check_stops_the_workers_blocks_too() {
+        let mut pool = Pool::new(2);
+        let stopped = Mutex::new(Vec::new());
+        let job = long_job(&stopped);
+        thread_local! {
+            static CALLS: std::cell::Cell<u32> = const { std::cell::Cell::new(0) };
+        }
+        // A check that says stop once, on its 20th call (Python's signal check consumes the signal).
+        fn check() -> bool {
+            CALLS.with(|c| {
+                c.set(c.get() + 1);
+                c.get() == 20
+            })
+        }
+        let t0 = Instant::now();
+        // The caller waits before claiming, so the worker takes a block.
+        let pause = |_: &mut CallerShare<'_>| std::thread::sleep(Duration::from_millis(50));
+        cancel::with_check(check, || pool.run(2, 1, &job, pause));
+        assert!(
+            t0.elapsed() < Duration::from_secs(5),
+            "the run waited for the long blocks"
+        );
+        let mut seen = stopped.lock().unwrap().clone();
+        seen.sort();
+        assert_eq!(
+            seen,
+            [(true, false), (true, true)],
+            "both blocks, the worker's too, saw the stop"
+        );
+        // The next job starts with the flag lowered: without a check nothing stops.
+        let quick_seen = Mutex::new(Vec::new());
+        let quick = |r: Range<usize>| quick_seen.lock().unwrap().extend(r.map(|_| cancel::poll().is_err()));
+        pool.run(4, 1, &quick, |_| {});
+        assert_eq!(*quick_seen.lock().unwrap(), [false; 4]);
     }
 }
