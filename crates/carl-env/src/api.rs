@@ -160,25 +160,22 @@ pub enum EnvError {
     Interrupted { env: &'static str },
 }
 
-/// The first NaN or infinite component of `obs`, or a non-finite `reward`, as
-/// [`EnvError::NonFiniteOutput`] naming the component. The one check every front end (the CLI's
-/// episodes, the Python binding) applies after `reset` (with reward 0) and `step`.
-pub fn check_finite_output(env: &'static str, obs: &[f32], reward: f64) -> Result<(), EnvError> {
+/// The first NaN or infinite component of `obs`, or else a non-finite `reward`: what it is
+/// (`observation component i` or `reward`) and its value. The one check every front end (the
+/// CLI's episodes, the Python binding) applies after `reset` (with reward 0) and `step`.
+pub fn non_finite_output(obs: &[f32], reward: f64) -> Option<(String, f64)> {
     if let Some((i, x)) = obs.iter().enumerate().find(|(_, x)| !x.is_finite()) {
-        return Err(EnvError::NonFiniteOutput {
-            env,
-            what: format!("observation component {i}"),
-            value: f64::from(*x),
-        });
+        return Some((format!("observation component {i}"), f64::from(*x)));
     }
-    if !reward.is_finite() {
-        return Err(EnvError::NonFiniteOutput {
-            env,
-            what: "reward".into(),
-            value: reward,
-        });
+    (!reward.is_finite()).then(|| ("reward".to_string(), reward))
+}
+
+/// [`non_finite_output`] as [`EnvError::NonFiniteOutput`].
+pub fn check_finite_output(env: &'static str, obs: &[f32], reward: f64) -> Result<(), EnvError> {
+    match non_finite_output(obs, reward) {
+        Some((what, value)) => Err(EnvError::NonFiniteOutput { env, what, value }),
+        None => Ok(()),
     }
-    Ok(())
 }
 
 /// The first NaN or infinite component of a continuous action, as [`EnvError::ActionNotFinite`].

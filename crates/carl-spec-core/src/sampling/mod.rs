@@ -19,7 +19,7 @@ pub mod set;
 pub use error::SamplingError;
 pub use feature::{FeatureInfo, FeatureSampler, MAX_RESAMPLE_TRIES, MAX_TRUNCATION_TRIES};
 pub use pcg64::Pcg64;
-pub use set::{feature_rng, sample_contexts, stream_id};
+pub use set::{Fnv1a64, feature_rng, sample_contexts, stream_id};
 
 /// Version of the sampling algorithms; bump whenever any sampler's output bits change.
 pub const SAMPLER_VERSION: &str = "carl-spec-sampling/1";

@@ -5,16 +5,39 @@ use super::feature::{FeatureInfo, FeatureSampler};
 use super::pcg64::Pcg64;
 use crate::spec::raw::{AtBounds, Sampler, Value};
 
-/// Stream of a feature: FNV-1a 64 of its canonical name's UTF-8 bytes (offset basis
-/// 0xcbf29ce484222325, prime 0x100000001b3). Keyed by name, not position, so adding or
-/// reordering features never changes the other features' values.
-pub fn stream_id(feature_name: &str) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for &b in feature_name.as_bytes() {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+/// FNV-1a 64 (offset basis 0xcbf29ce484222325, prime 0x100000001b3), fed bytes in pieces.
+#[derive(Debug, Clone, Copy)]
+pub struct Fnv1a64(u64);
+
+impl Default for Fnv1a64 {
+    fn default() -> Self {
+        Fnv1a64(0xcbf2_9ce4_8422_2325)
     }
-    h
+}
+
+impl Fnv1a64 {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    pub fn update(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 ^= u64::from(b);
+            self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+
+    pub fn finish(self) -> u64 {
+        self.0
+    }
+}
+
+/// Stream of a feature: [`Fnv1a64`] of its canonical name's UTF-8 bytes. Keyed by name, not
+/// position, so adding or reordering features never changes the other features' values.
+pub fn stream_id(feature_name: &str) -> u64 {
+    let mut h = Fnv1a64::new();
+    h.update(feature_name.as_bytes());
+    h.finish()
 }
 
 /// The generator feature `feature_name` draws from in a set with `seed`.

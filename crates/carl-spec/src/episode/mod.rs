@@ -121,23 +121,17 @@ impl EpisodeError {
     }
 }
 
-/// The first non-finite component of `obs` or the reward, as an error at `where_`.
+/// The first non-finite component of `obs` or the reward
+/// ([`non_finite_output`](crate::envs::api::non_finite_output)), as an error at `where_`.
 pub fn check_finite(where_: impl FnOnce() -> String, obs: &[f32], reward: f64) -> Result<(), EpisodeError> {
-    if let Some((i, x)) = obs.iter().enumerate().find(|(_, x)| !x.is_finite()) {
-        return Err(EpisodeError::NonFinite {
+    match crate::envs::api::non_finite_output(obs, reward) {
+        Some((what, value)) => Err(EpisodeError::NonFinite {
             where_: where_(),
-            what: format!("observation component {i}"),
-            value: f64::from(*x),
-        });
+            what,
+            value,
+        }),
+        None => Ok(()),
     }
-    if !reward.is_finite() {
-        return Err(EpisodeError::NonFinite {
-            where_: where_(),
-            what: "reward".into(),
-            value: reward,
-        });
-    }
-    Ok(())
 }
 
 /// Run one episode of `policy` in `env` (see the [module docs](self)).

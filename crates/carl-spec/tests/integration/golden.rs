@@ -13,6 +13,7 @@ use carl_spec::bench::ActionTable;
 use carl_spec::envs::registry::{Context, REGISTRY, make};
 use carl_spec::envs::vec_env::{VecActions, VecEnv, VecOptions};
 use carl_spec::envs::{Action, Env};
+use carl_spec::sampling::Fnv1a64;
 use carl_spec::spec::SpecSet;
 
 /// Steps per trajectory: past the first resets of the short episodes, a few hundred
@@ -27,17 +28,14 @@ fn golden_path() -> PathBuf {
 
 /// FNV-1a over the bits of every observation, reward and flag.
 #[derive(Clone, Copy)]
-struct Hash(u64);
+struct Hash(Fnv1a64);
 
 impl Hash {
     fn new() -> Self {
-        Hash(0xcbf2_9ce4_8422_2325)
+        Hash(Fnv1a64::new())
     }
     fn bytes(&mut self, b: &[u8]) {
-        for &x in b {
-            self.0 ^= u64::from(x);
-            self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
-        }
+        self.0.update(b);
     }
     fn step(&mut self, obs: &[f32], reward: f64, terminated: bool, truncated: bool) {
         for o in obs {
@@ -47,7 +45,7 @@ impl Hash {
         self.bytes(&[u8::from(terminated), u8::from(truncated)]);
     }
     fn hex(self) -> String {
-        format!("{:016x}", self.0)
+        format!("{:016x}", self.0.finish())
     }
 }
 
