@@ -135,6 +135,34 @@ def test_native_steps_return_to_ctrl_c() -> None:
     assert time.monotonic() - t0 < 5.0
 
 
+def test_a_make_vec_step_returns_to_ctrl_c_on_every_thread() -> None:
+    """rna_design's last step of seed 6's episode (25 sites, actions from default_rng(6)) folds
+    for seconds; both envs of a 2-thread batch do it, one on the worker thread: the worker must
+    stop too (it used to finish its folds: 9.7 s instead of 0.3 s)."""
+    if threading.current_thread() is not threading.main_thread():
+        pytest.skip("signals reach the main thread only")
+    rng = np.random.default_rng(6)
+    actions = [int(rng.integers(0, 4)) for _ in range(25)]
+    venv = cs.make_vec("rna_design", 2, threads=2, context={"mutation_threshold": 10})
+    venv.reset(seed=[6, 6])
+    for a in actions[:-1]:
+        _, _, term, trunc, _ = venv.step(np.array([a, a]))
+        assert not (term.any() or trunc.any())
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    t0 = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            venv.step(np.array([actions[-1]] * 2))
+    finally:
+        timer.cancel()
+    assert time.monotonic() - t0 < 2.0
+    with pytest.raises(RuntimeError, match="reset"):
+        venv.step(np.array([0, 0]))
+    venv.reset(seed=0)
+    venv.step(np.array([0, 0]))
+
+
 # -- item 9: make_vec refuses what cs.make refuses ----------------------------------------------
 
 
