@@ -202,8 +202,89 @@ impl Inertia {
     }
 }
 
+/// The unit quaternion of a rotation matrix (Shepperd's method).
+pub fn mat_to_quat(m: &M3) -> Quat {
+    let tr = m[0][0] + m[1][1] + m[2][2];
+    let q = if tr > 0.0 {
+        let s = (tr + 1.0).sqrt() * 2.0;
+        [0.25 * s, (m[2][1] - m[1][2]) / s, (m[0][2] - m[2][0]) / s, (m[1][0] - m[0][1]) / s]
+    } else if m[0][0] > m[1][1] && m[0][0] > m[2][2] {
+        let s = (1.0 + m[0][0] - m[1][1] - m[2][2]).sqrt() * 2.0;
+        [(m[2][1] - m[1][2]) / s, 0.25 * s, (m[0][1] + m[1][0]) / s, (m[0][2] + m[2][0]) / s]
+    } else if m[1][1] > m[2][2] {
+        let s = (1.0 + m[1][1] - m[0][0] - m[2][2]).sqrt() * 2.0;
+        [(m[0][2] - m[2][0]) / s, (m[0][1] + m[1][0]) / s, 0.25 * s, (m[1][2] + m[2][1]) / s]
+    } else {
+        let s = (1.0 + m[2][2] - m[0][0] - m[1][1]).sqrt() * 2.0;
+        [(m[1][0] - m[0][1]) / s, (m[0][2] + m[2][0]) / s, (m[1][2] + m[2][1]) / s, 0.25 * s]
+    };
+    quat_normalize(q)
+}
+
+/// Principal moments and axes of a symmetric inertia tensor (cyclic Jacobi rotations):
+/// `(moments, q)` with `i = R(q) · diag(moments) · R(q)ᵀ`, `R(q)` a proper rotation.
+pub fn principal_axes(i: &M3) -> (V3, Quat) {
+    let mut a = *i;
+    let mut v = IDENTITY;
+    for _ in 0..50 {
+        let off = a[0][1].abs() + a[0][2].abs() + a[1][2].abs();
+        if off < 1e-18 * (a[0][0].abs() + a[1][1].abs() + a[2][2].abs()).max(1e-300) {
+            break;
+        }
+        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
+            if a[p][q].abs() < 1e-300 {
+                continue;
+            }
+            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+            let t = if theta == 0.0 { 1.0 } else { t };
+            let c = 1.0 / (t * t + 1.0).sqrt();
+            let s = t * c;
+            // a ← Jᵀ a J, v ← v J with the rotation J in the (p, q) plane.
+            for k in 0..3 {
+                let (akp, akq) = (a[k][p], a[k][q]);
+                a[k][p] = c * akp - s * akq;
+                a[k][q] = s * akp + c * akq;
+            }
+            for k in 0..3 {
+                let (apk, aqk) = (a[p][k], a[q][k]);
+                a[p][k] = c * apk - s * aqk;
+                a[q][k] = s * apk + c * aqk;
+            }
+            for row in v.iter_mut() {
+                let (vp, vq) = (row[p], row[q]);
+                row[p] = c * vp - s * vq;
+                row[q] = s * vp + c * vq;
+            }
+        }
+    }
+    // A proper rotation: flip the last axis if needed.
+    let det = dot(col(&v, 0), cross(col(&v, 1), col(&v, 2)));
+    if det < 0.0 {
+        for row in v.iter_mut() {
+            row[2] = -row[2];
+        }
+    }
+    ([a[0][0], a[1][1], a[2][2]], mat_to_quat(&v))
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn principal_axes_reconstruct_the_tensor() {
+        let i = [[0.02, -0.006, 0.001], [-0.006, 0.03, 0.002], [0.001, 0.002, 0.015]];
+        let (d, q) = principal_axes(&i);
+        let r = rotate_diag(&quat_to_mat(q), d);
+        for a in 0..3 {
+            for b in 0..3 {
+                assert!((r[a][b] - i[a][b]).abs() < 1e-14, "{r:?} vs {i:?}");
+            }
+        }
+        let (d, q) = principal_axes(&[[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.0]]);
+        assert_eq!(d, [1.0, 2.0, 3.0]);
+        assert!((q[0] - 1.0).abs() < 1e-15);
+    }
+
     use super::*;
 
     #[test]

@@ -16,6 +16,7 @@
 //! * [`grasp`]: Brax's claw hand grasping a ball.
 //! * [`render`]: software rendering of a world to a [`Frame`](carl_pixels::Frame).
 
+pub mod articulated;
 pub mod com;
 pub mod fetch;
 pub mod grasp;

@@ -269,6 +269,7 @@ impl Clone for Locomotion {
         };
         match &self.world {
             Some(Physics::Planar(w)) => c.world = Some(Physics::Planar(w.clone())),
+            Some(Physics::Articulated(w)) => c.world = Some(Physics::Articulated(w.clone())),
             Some(Physics::Rapier(_)) => c.load(&self.state_vec()),
             None => {}
         }
@@ -417,8 +418,10 @@ impl Locomotion {
     fn body_cfrc(&self) -> Vec<f64> {
         let bodies = &self.model.bodies;
         let mut out = vec![0.0; 6 * bodies.len()];
-        match (self.world(), self.task.com_based_cfrc) {
-            (Some(w), true) => w.com_wrenches(bodies, w.center_of_mass(), &self.cfrc, &mut out),
+        let articulated = self.world.as_ref().and_then(Physics::articulated);
+        match (self.world(), articulated, self.task.com_based_cfrc) {
+            (Some(w), _, true) => w.com_wrenches(bodies, w.center_of_mass(), &self.cfrc, &mut out),
+            (_, Some(w), true) => w.com_wrenches(bodies, w.center_of_mass(), &self.cfrc, &mut out),
             _ => {
                 for (k, &i) in bodies.iter().enumerate() {
                     out[6 * k..6 * k + 6].copy_from_slice(&self.cfrc[6 * i..6 * i + 6]);

@@ -28,6 +28,20 @@ pub enum Engine {
     /// The planar reduced-coordinate engine ([`super::planar`]); only for robots whose links
     /// all move in the x-z plane (checked when a task is built: `PhysicsBuilder::for_model`).
     Planar,
+    /// The 3-D articulated-body engine with MuJoCo's semantics ([`super::articulated`],
+    /// crate `carl-articulated`).
+    Articulated,
+}
+
+/// Time integration of the articulated engine (MuJoCo's `integrator`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum IntegratorName {
+    /// Semi-implicit Euler with implicit joint damping (MuJoCo's default).
+    #[default]
+    Euler,
+    /// Fourth-order Runge–Kutta (every stage with contacts, as MuJoCo's `RK4`).
+    Rk4,
 }
 
 /// One motor: a URDF joint and its gear (torque per unit control, before the strength factor).
@@ -94,6 +108,9 @@ pub struct SideFile {
     pub engine: Engine,
     /// Physics time step (s).
     pub timestep: f64,
+    /// The articulated engine's integrator (default Euler).
+    #[serde(default)]
+    pub integrator: IntegratorName,
     /// Physics steps per environment step.
     pub frame_skip: usize,
     /// rapier solver iterations (substeps) per physics step.

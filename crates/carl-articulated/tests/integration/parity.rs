@@ -155,8 +155,7 @@ fn dropped_box_and_capsule_match_mujoco() {
     // Free flight until the first touchdown is contact-free: tight.
     let (dq, dv) = trajectory(&fx, 100);
     assert!(dq < 1e-8 && dv < 1e-7, "flight: qpos off by {dq}, qvel by {dv}");
-    // Through impact and settling (1.2 s): contacts, pyramidal friction, soft normal; the
-    // box rests on a face (four corner contacts), the capsule on its side.
+    // Through impact and settling (1.2 s): contacts, pyramidal friction, soft normal.
     // Observed: qpos 8.5e-8, qvel 3.6e-6 (the solvers' tolerances).
     let (dq, dv) = trajectory(&fx, 600);
     assert!(dq < 1e-6 && dv < 5e-5, "landing: qpos off by {dq}, qvel by {dv}");
