@@ -88,19 +88,23 @@ impl ArticulatedSystem {
         if roots.len() != 1 {
             return Err("the URDF must form one tree".into());
         }
-        // Links in parent-first order.
-        let mut order = vec![roots[0]];
-        let mut k = 0;
-        while k < order.len() {
-            let p = &urdf.links[order[k]].name;
-            for (c, pj) in parent_joint.iter().enumerate() {
-                if let Some(j) = pj
-                    && urdf.joints[*j].parent.link == *p
-                {
-                    order.push(c);
-                }
+        // Links depth-first, children in URDF joint order (MuJoCo's body order for a converted
+        // XML, so coordinates line up with MuJoCo's `qpos`).
+        let mut order = Vec::with_capacity(nl);
+        let mut stack = vec![roots[0]];
+        while let Some(li) = stack.pop() {
+            order.push(li);
+            let name = &urdf.links[li].name;
+            let children: Vec<usize> = urdf
+                .joints
+                .iter()
+                .filter(|j| j.parent.link == *name)
+                .filter_map(|j| link_index(&j.child.link))
+                .collect();
+            if order.len() + stack.len() + children.len() > nl {
+                return Err("the URDF's joints form a loop".into());
             }
-            k += 1;
+            stack.extend(children.into_iter().rev());
         }
         if order.len() != nl {
             return Err("the URDF's joints form a loop".into());
@@ -440,6 +444,62 @@ impl ArticulatedWorld {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::RobotModel;
+
+    /// The context that reproduces Gymnasium's ant.xml (the spec's `mujoco_v5` instance set).
+    fn mujoco_ant_params(model: &RobotModel) -> RobotParams {
+        let mut p = RobotParams::for_model("ant", model);
+        for (name, v) in [
+            ("gravity", -9.81),
+            ("friction", 1.0),
+            ("angular_damping", 0.0),
+            ("joint_angular_damping", 1.0),
+            ("joint_stiffness", 2500.0),
+            ("actuator_strength", 150.0),
+            ("torso_mass", 0.327249235),
+        ] {
+            p.set(name, v).unwrap();
+        }
+        p
+    }
+
+    /// robots/ant (converted from ant.xml) at MuJoCo's values is MuJoCo's Ant: its compiled
+    /// constants and every 5-step interval of carl-articulated's MuJoCo fixture agree.
+    #[test]
+    fn ant_at_mujoco_values_matches_the_mujoco_fixture() {
+        let robot = RobotModel::load("ant").unwrap();
+        let sys = ArticulatedSystem::new(&robot, &mujoco_ant_params(&robot)).unwrap();
+        let m = &*sys.model;
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../carl-articulated/tests/fixtures/mujoco_ant.json");
+        let fx: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let nums = |v: &serde_json::Value| -> Vec<f64> {
+            v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()
+        };
+        let dw = nums(&fx["model"]["dof_invweight0"]);
+        for (a, b) in m.dof_invweight0.iter().zip(&dw) {
+            assert!((a - b).abs() < 1e-6 * b, "dof_invweight0 {:?} vs {dw:?}", m.dof_invweight0);
+        }
+        assert_eq!(m.nq, 15);
+        let recs = fx["trajectory"].as_array().unwrap();
+        let mut d = Data::new(Arc::clone(&sys.model));
+        let (mut dq, mut dv) = (0.0f64, 0.0f64);
+        for w in recs.windows(2) {
+            d.qpos.copy_from_slice(&nums(&w[0]["qpos"]));
+            d.qvel.copy_from_slice(&nums(&w[0]["qvel"]));
+            d.time = w[0]["time"].as_f64().unwrap();
+            for _ in 0..5 {
+                for (a, u) in d.ctrl.iter_mut().enumerate() {
+                    let t = d.time;
+                    *u = (2.0 * std::f64::consts::PI * 1.3 * t + 0.7 * a as f64).sin() * (0.6 + 0.1 * a as f64);
+                }
+                d.step();
+            }
+            let (q1, v1) = (nums(&w[1]["qpos"]), nums(&w[1]["qvel"]));
+            dq = dq.max(d.qpos.iter().zip(&q1).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max));
+            dv = dv.max(d.qvel.iter().zip(&v1).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max));
+        }
+        assert!(dq < 1e-5 && dv < 2e-4, "ant from the URDF: qpos off by {dq}, qvel by {dv}");
+    }
 
     #[test]
     fn rpy_matrix_is_urdf_order() {
