@@ -24,7 +24,7 @@
 
 use crate::collision::{Placed, collide};
 use crate::data::Data;
-use crate::dynamics::cholesky_solve;
+use crate::dynamics::cholesky_solve_from;
 use crate::math::{V3, add, cross, dot, dot6, join, scale, sub};
 use crate::model::{SolImp, SolRef};
 
@@ -195,50 +195,65 @@ impl Data {
     }
 
     /// Projected Gauss–Seidel on the dual, warm-started; `qacc` holds the unconstrained
-    /// acceleration on entry (with `chol` the factor of `M`) and the constrained one on return.
+    /// acceleration on entry (with `qld` the factor of `M`) and the constrained one on return.
+    /// The sweeps run on the Delassus matrix `A = J M⁻¹ Jᵀ` (rows × rows), each row update
+    /// `fᵢ ← max(0, fᵢ − (bᵢ + (A f)ᵢ + Rᵢ fᵢ) / (Aᵢᵢ + Rᵢ))` with `b = J a₀ − aref`.
     pub(crate) fn solve_constraints(&mut self) {
         let m = &*self.model;
         let nv = m.nv;
         let n = self.nefc;
         self.qfrc_constraint.fill(0.0);
         if n == 0 {
+            self.solver_sweeps = 0;
             self.warm_count = 0;
             return;
         }
         for r in 0..n {
+            // A pyramid's fourth edge J_n − μJ_t₂ is the sum of the first two minus the third.
+            if let RowKind::Contact { edge: 3, .. } = self.efc_kind[r] {
+                let (head, tail) = self.efc_w.split_at_mut(r * nv);
+                let w = &mut tail[..nv];
+                for k in 0..nv {
+                    w[k] = head[(r - 3) * nv + k] + head[(r - 2) * nv + k] - head[(r - 1) * nv + k];
+                }
+                continue;
+            }
             let (j, w) = (&self.efc_j[r * nv..(r + 1) * nv], &mut self.efc_w[r * nv..(r + 1) * nv]);
             w.copy_from_slice(j);
-            cholesky_solve(&self.qld, nv, w);
-            let a: f64 = w.iter().zip(j).map(|(x, y)| x * y).sum();
-            self.efc_inv[r] = 1.0 / (a + self.efc_r[r]);
+            let first = j.iter().position(|x| *x != 0.0).unwrap_or(nv);
+            cholesky_solve_from(&self.qld, nv, w, first);
+        }
+        for r in 0..n {
+            let j = &self.efc_j[r * nv..(r + 1) * nv];
+            for c in 0..=r {
+                let w = &self.efc_w[c * nv..(c + 1) * nv];
+                let a: f64 = j.iter().zip(w).map(|(x, y)| x * y).sum();
+                self.efc_a[r * n + c] = a;
+                self.efc_a[c * n + r] = a;
+            }
+            let a0: f64 = j.iter().zip(&self.qacc).map(|(x, y)| x * y).sum();
+            self.efc_b[r] = a0 - self.efc_aref[r];
+            self.efc_inv[r] = 1.0 / (self.efc_a[r * n + r] + self.efc_r[r]);
             // Warm start from the previous solve's force of the same row.
             let key = self.row_key(r);
-            let f0 = self.warm[..self.warm_count].iter().find(|(k, _)| *k == key).map_or(0.0, |(_, f)| *f);
-            self.efc_force[r] = f0;
-            if f0 != 0.0 {
-                for (q, wi) in self.qacc.iter_mut().zip(&self.efc_w[r * nv..(r + 1) * nv]) {
-                    *q += wi * f0;
-                }
-            }
+            self.efc_force[r] = self.warm[..self.warm_count].iter().find(|(k, _)| *k == key).map_or(0.0, |(_, f)| *f);
         }
+        self.solver_sweeps = 0;
         for _ in 0..m.opt.iterations {
+            self.solver_sweeps += 1;
             let mut change = 0.0f64;
             let mut scale_f = 0.0f64;
             for r in 0..n {
-                let j = &self.efc_j[r * nv..(r + 1) * nv];
-                let acc: f64 = j.iter().zip(&self.qacc).map(|(a, b)| a * b).sum();
+                let row = &self.efc_a[r * n..(r + 1) * n];
+                let af: f64 = row.iter().zip(&self.efc_force[..n]).map(|(a, f)| a * f).sum();
                 let old = self.efc_force[r];
-                let grad = acc + self.efc_r[r] * old - self.efc_aref[r];
+                let grad = self.efc_b[r] + af + self.efc_r[r] * old;
                 let new = (old - grad * self.efc_inv[r]).max(0.0);
-                let d = new - old;
-                if d != 0.0 {
+                if new != old {
                     self.efc_force[r] = new;
-                    for (q, wi) in self.qacc.iter_mut().zip(&self.efc_w[r * nv..(r + 1) * nv]) {
-                        *q += wi * d;
-                    }
-                    change = change.max(d.abs());
+                    change = change.max((new - old).abs());
                 }
-                scale_f = scale_f.max(new.abs());
+                scale_f = scale_f.max(new);
             }
             if change <= m.opt.tolerance * scale_f.max(1.0) {
                 break;
@@ -246,8 +261,13 @@ impl Data {
         }
         for r in 0..n {
             let f = self.efc_force[r];
-            for (q, j) in self.qfrc_constraint.iter_mut().zip(&self.efc_j[r * nv..(r + 1) * nv]) {
-                *q += j * f;
+            if f == 0.0 {
+                continue;
+            }
+            let (j, w) = (&self.efc_j[r * nv..(r + 1) * nv], &self.efc_w[r * nv..(r + 1) * nv]);
+            for k in 0..nv {
+                self.qfrc_constraint[k] += j[k] * f;
+                self.qacc[k] += w[k] * f;
             }
         }
         self.warm_count = 0;

@@ -251,9 +251,15 @@ pub fn cholesky(a: &mut [f64], n: usize) -> bool {
 
 /// Solve `L Lᵀ x = b` in place with the factor of [`cholesky`].
 pub fn cholesky_solve(l: &[f64], n: usize, x: &mut [f64]) {
-    for i in 0..n {
+    cholesky_solve_from(l, n, x, 0);
+}
+
+/// [`cholesky_solve`] for a right-hand side whose entries before `first` are zero (the forward
+/// substitution starts there).
+pub fn cholesky_solve_from(l: &[f64], n: usize, x: &mut [f64], first: usize) {
+    for i in first..n {
         let mut s = x[i];
-        for k in 0..i {
+        for k in first..i {
             s -= l[i * n + k] * x[k];
         }
         x[i] = s / l[i * n + i];

@@ -246,7 +246,7 @@ impl Default for Options {
             impratio: 1.0,
             viscosity: 0.0,
             iterations: 200,
-            tolerance: 1e-10,
+            tolerance: 1e-8,
         }
     }
 }

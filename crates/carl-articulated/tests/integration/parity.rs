@@ -181,3 +181,27 @@ fn ant_local_steps_match_mujoco() {
     // Observed: qpos 5.5e-7, qvel 1.8e-5 at worst (at contact onsets).
     assert!(dq < 1e-5 && dv < 2e-4, "ant local: qpos off by {dq}, qvel by {dv}");
 }
+
+/// Speed probe (not a check): `cargo test --release -p carl-articulated --test integration
+/// ant_speed -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn ant_speed() {
+    let fx = load("ant");
+    let mut d = start(&fx);
+    let nu = d.ctrl.len();
+    let mut u = vec![0.0; nu];
+    let t0 = std::time::Instant::now();
+    let mut rows = 0usize;
+    let mut sweeps = 0usize;
+    let n = 5000;
+    for _ in 0..n {
+        control(d.time, nu, &mut u);
+        d.ctrl.copy_from_slice(&u);
+        d.step();
+        rows += d.ncon;
+        sweeps += d.solver_sweeps;
+    }
+    let el = t0.elapsed().as_secs_f64();
+    eprintln!("{n} RK4 steps in {el:.3} s: {:.0} physics steps/s, {:.0} env steps/s (frame skip 5); mean contacts {:.2}, sweeps {:.1}", n as f64 / el, n as f64 / el / 5.0, rows as f64 / n as f64, sweeps as f64 / n as f64);
+}
