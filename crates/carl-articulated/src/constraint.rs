@@ -238,20 +238,30 @@ impl Data {
             let key = self.row_key(r);
             self.efc_force[r] = self.warm[..self.warm_count].iter().find(|(k, _)| *k == key).map_or(0.0, |(_, f)| *f);
         }
+        // g = b + A f, kept current as forces change (a row whose force does not move costs
+        // nothing).
+        for r in 0..n {
+            let row = &self.efc_a[r * n..(r + 1) * n];
+            let af: f64 = row.iter().zip(&self.efc_force[..n]).map(|(a, f)| a * f).sum();
+            self.efc_g[r] = self.efc_b[r] + af;
+        }
         self.solver_sweeps = 0;
         for _ in 0..m.opt.iterations {
             self.solver_sweeps += 1;
             let mut change = 0.0f64;
             let mut scale_f = 0.0f64;
             for r in 0..n {
-                let row = &self.efc_a[r * n..(r + 1) * n];
-                let af: f64 = row.iter().zip(&self.efc_force[..n]).map(|(a, f)| a * f).sum();
                 let old = self.efc_force[r];
-                let grad = self.efc_b[r] + af + self.efc_r[r] * old;
+                let grad = self.efc_g[r] + self.efc_r[r] * old;
                 let new = (old - grad * self.efc_inv[r]).max(0.0);
-                if new != old {
+                let d = new - old;
+                if d != 0.0 {
                     self.efc_force[r] = new;
-                    change = change.max((new - old).abs());
+                    let col = &self.efc_a[r * n..(r + 1) * n];
+                    for (g, a) in self.efc_g[..n].iter_mut().zip(col) {
+                        *g += a * d;
+                    }
+                    change = change.max(d.abs());
                 }
                 scale_f = scale_f.max(new);
             }

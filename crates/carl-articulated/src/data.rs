@@ -62,6 +62,8 @@ pub struct Data {
     /// Delassus matrix `J M⁻¹ Jᵀ` (rows × rows, row-major with stride `nefc`) and `J a₀ − aref`.
     pub(crate) efc_a: Vec<f64>,
     pub(crate) efc_b: Vec<f64>,
+    /// `b + A f` during the solve.
+    pub(crate) efc_g: Vec<f64>,
     pub(crate) efc_r: Vec<f64>,
     pub(crate) efc_aref: Vec<f64>,
     pub(crate) efc_force: Vec<f64>,
@@ -117,6 +119,7 @@ impl Data {
             efc_inv: vec![0.0; rows],
             efc_a: vec![0.0; rows * rows],
             efc_b: vec![0.0; rows],
+            efc_g: vec![0.0; rows],
             efc_r: vec![0.0; rows],
             efc_aref: vec![0.0; rows],
             efc_force: vec![0.0; rows],

@@ -26,6 +26,7 @@ impl Data {
             let p = body.parent;
             let mut pos = add(self.xpos[p], mat_vec(&self.xmat[p], body.pos));
             let mut quat = quat_mul(self.xquat[p], body.quat);
+            let mut r = quat_to_mat(quat);
             for j in m.body_joints[b].clone() {
                 let jt = &m.joints[j];
                 let qa = m.jnt_qposadr[j];
@@ -34,7 +35,7 @@ impl Data {
                     JointKind::Free => {
                         pos = [self.qpos[qa], self.qpos[qa + 1], self.qpos[qa + 2]];
                         quat = quat_normalize([self.qpos[qa + 3], self.qpos[qa + 4], self.qpos[qa + 5], self.qpos[qa + 6]]);
-                        let r = quat_to_mat(quat);
+                        r = quat_to_mat(quat);
                         let anchor = add(pos, mat_vec(&r, jt.pos));
                         for k in 0..3 {
                             let mut e = ZERO3;
@@ -45,16 +46,14 @@ impl Data {
                         }
                     }
                     JointKind::Hinge => {
-                        let r = quat_to_mat(quat);
                         let anchor = add(pos, mat_vec(&r, jt.pos));
                         let axis = mat_vec(&r, jt.axis);
                         self.cdof[da] = join(axis, cross(anchor, axis));
                         quat = quat_normalize(quat_mul(quat, quat_axis_angle(jt.axis, self.qpos[qa] - jt.qpos0)));
-                        let rn = quat_to_mat(quat);
-                        pos = crate::math::sub(anchor, mat_vec(&rn, jt.pos));
+                        r = quat_to_mat(quat);
+                        pos = crate::math::sub(anchor, mat_vec(&r, jt.pos));
                     }
                     JointKind::Slide => {
-                        let r = quat_to_mat(quat);
                         let axis = mat_vec(&r, jt.axis);
                         self.cdof[da] = join(ZERO3, axis);
                         pos = add(pos, scale(axis, self.qpos[qa] - jt.qpos0));
@@ -63,16 +62,15 @@ impl Data {
             }
             self.xpos[b] = pos;
             self.xquat[b] = quat;
-            self.xmat[b] = quat_to_mat(quat);
-            let r = &self.xmat[b];
-            self.xipos[b] = add(pos, mat_vec(r, body.ipos));
-            let ri = mat_mul(r, &quat_to_mat(body.iquat));
+            self.xmat[b] = r;
+            self.xipos[b] = add(pos, mat_vec(&r, body.ipos));
+            let ri = mat_mul(&r, &m.body_imat[b]);
             self.cinert[b] = Inertia::new(body.mass, self.xipos[b], &rotate_diag(&ri, body.inertia));
         }
         for (g, geom) in m.geoms.iter().enumerate() {
             let b = geom.body;
             self.geom_xpos[g] = add(self.xpos[b], mat_vec(&self.xmat[b], geom.pos));
-            self.geom_xmat[g] = mat_mul(&self.xmat[b], &quat_to_mat(geom.quat));
+            self.geom_xmat[g] = mat_mul(&self.xmat[b], &m.geom_mat[g]);
         }
     }
 

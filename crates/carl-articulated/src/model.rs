@@ -315,6 +315,9 @@ pub struct Model {
     pub qpos0: Vec<f64>,
     pub max_contacts: usize,
     pub max_rows: usize,
+    /// Rotation matrices of each body's `iquat` and each geom's `quat`.
+    pub body_imat: Vec<crate::math::M3>,
+    pub geom_mat: Vec<crate::math::M3>,
 }
 
 fn finite3(v: V3) -> bool {
@@ -531,6 +534,8 @@ impl Model {
             .map(|p| p.max_contacts * if p.condim == 1 { 1 } else { 4 })
             .sum();
         let limit_rows = 2 * joints.iter().filter(|j| j.range.is_some()).count();
+        let bodies_imat = bodies.iter().map(|b| crate::math::quat_to_mat(b.iquat)).collect();
+        let geom_mat = geoms.iter().map(|g| crate::math::quat_to_mat(g.quat)).collect();
         let mut model = Model {
             opt,
             bodies,
@@ -553,6 +558,8 @@ impl Model {
             qpos0,
             max_contacts,
             max_rows: contact_rows + limit_rows,
+            body_imat: bodies_imat,
+            geom_mat,
         };
         crate::dynamics::set_invweight0(&mut model);
         Ok(model)
