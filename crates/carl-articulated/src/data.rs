@@ -227,8 +227,8 @@ impl Data {
             self.rk_position(&w, h, &mut q);
             self.qpos = q;
             let acc_prev = &self.rk_acc[i - 1];
-            for d in 0..m.nv {
-                self.qvel[d] = self.rk_v0[d] + h * A[i - 1] * acc_prev[d];
+            for ((v, v0), a) in self.qvel.iter_mut().zip(&self.rk_v0).zip(acc_prev) {
+                *v = v0 + h * A[i - 1] * a;
             }
             self.time = t0 + h * A[i - 1];
             if !self.forward() {

@@ -314,12 +314,12 @@ pub(crate) fn set_invweight0(model: &mut Model) {
         let (mut tr, mut rot) = (0.0, 0.0);
         for r in 0..6 {
             let mut s = 0.0;
-            for i in 0..nv {
-                if jac[i][r] == 0.0 {
+            for (i, ji) in jac.iter().enumerate() {
+                if ji[r] == 0.0 {
                     continue;
                 }
-                for j in 0..nv {
-                    s += jac[i][r] * minv[i * nv + j] * jac[j][r];
+                for (j, jj) in jac.iter().enumerate() {
+                    s += ji[r] * minv[i * nv + j] * jj[r];
                 }
             }
             if r < 3 { tr += s } else { rot += s }

@@ -241,15 +241,15 @@ pub fn principal_axes(i: &M3) -> (V3, Quat) {
             let c = 1.0 / (t * t + 1.0).sqrt();
             let s = t * c;
             // a ← Jᵀ a J, v ← v J with the rotation J in the (p, q) plane.
-            for k in 0..3 {
-                let (akp, akq) = (a[k][p], a[k][q]);
-                a[k][p] = c * akp - s * akq;
-                a[k][q] = s * akp + c * akq;
+            for row in a.iter_mut() {
+                let (akp, akq) = (row[p], row[q]);
+                row[p] = c * akp - s * akq;
+                row[q] = s * akp + c * akq;
             }
+            let (rp, rq) = (a[p], a[q]);
             for k in 0..3 {
-                let (apk, aqk) = (a[p][k], a[q][k]);
-                a[p][k] = c * apk - s * aqk;
-                a[q][k] = s * apk + c * aqk;
+                a[p][k] = c * rp[k] - s * rq[k];
+                a[q][k] = s * rp[k] + c * rq[k];
             }
             for row in v.iter_mut() {
                 let (vp, vq) = (row[p], row[q]);
@@ -292,9 +292,9 @@ mod tests {
         let q = quat_normalize([0.3, -0.2, 0.5, 0.7]);
         let r = quat_to_mat(q);
         let rt_r = mat_mul(&[col(&r, 0), col(&r, 1), col(&r, 2)], &r);
-        for i in 0..3 {
-            for j in 0..3 {
-                assert!((rt_r[i][j] - if i == j { 1.0 } else { 0.0 }).abs() < 1e-12);
+        for (i, row) in rt_r.iter().enumerate() {
+            for (j, x) in row.iter().enumerate() {
+                assert!((x - if i == j { 1.0 } else { 0.0 }).abs() < 1e-12);
             }
         }
         // Integrating ω = (0, 0, π/2) for 1 s from identity turns x into y.

@@ -34,7 +34,7 @@ fn check_constants(fx: &Value) {
         .as_array()
         .unwrap()
         .iter()
-        .flat_map(|x| fs(x))
+        .flat_map(fs)
         .collect();
     let ours: Vec<f64> = m.body_invweight0.iter().flat_map(|x| x.to_vec()).collect();
     for (a, b) in ours.iter().zip(&bw) {
@@ -44,7 +44,7 @@ fn check_constants(fx: &Value) {
     for (a, b) in m.dof_invweight0.iter().zip(&dw) {
         assert!((a - b).abs() <= 1e-6 * b.abs().max(1.0), "dof_invweight0 {:?} vs MuJoCo {dw:?}", m.dof_invweight0);
     }
-    assert_eq!(max_abs_diff(&m.qpos0, &fs(&fx["model"]["qpos0"])) < 1e-9, true);
+    assert!(max_abs_diff(&m.qpos0, &fs(&fx["model"]["qpos0"])) < 1e-9, "qpos0");
 }
 
 /// Mass matrix, bias and smooth acceleration of the first forward pass (exact up to rounding)
@@ -57,7 +57,7 @@ fn check_first(fx: &Value, acc_tol: f64) {
     d.ctrl.copy_from_slice(&u);
     assert!(d.forward());
     let first = &fx["first"];
-    let qm: Vec<f64> = first["qM"].as_array().unwrap().iter().flat_map(|x| fs(x)).collect();
+    let qm: Vec<f64> = first["qM"].as_array().unwrap().iter().flat_map(fs).collect();
     assert!(max_abs_diff(&d.qm, &qm) < 1e-9, "mass matrix {:?} vs MuJoCo {qm:?}", d.qm);
     let bias = fs(&first["qfrc_bias"]);
     assert!(max_abs_diff(&d.qfrc_bias, &bias) < 1e-8, "bias {:?} vs MuJoCo {bias:?}", d.qfrc_bias);
