@@ -143,11 +143,13 @@ pub struct SideFile {
     #[serde(default)]
     pub initial_joints: Vec<InitialJoint>,
     /// MuJoCo's contact parameters (planar engine; default: `solref` 0.02/1 with the linear
-    /// `solimp` ramp 0.9–0.95 over 1 mm, no margin).
+    /// `solimp` ramp 0.9–0.95 over 1 mm, no margin; articulated engine: every robot geom's,
+    /// the margin being the robot–floor pair's, default MuJoCo's).
     #[serde(default)]
     pub contact_model: Option<SoftConstraint>,
-    /// Joint limits as MuJoCo's soft limits with these parameters (planar engine); default: the
-    /// context's `joint_stiffness` spring (`limit_reference_inertia`, `limit_damping_ratio`).
+    /// Joint limits as MuJoCo's soft limits with these parameters (planar and articulated
+    /// engines); default: the context's `joint_stiffness` spring (`limit_reference_inertia`,
+    /// `limit_damping_ratio`; on the articulated engine a MuJoCo limit of that stiffness).
     #[serde(default)]
     pub limit_model: Option<SoftConstraint>,
     /// Passive joint springs towards 0 (MuJoCo's joint `stiffness`), N·m/rad.
