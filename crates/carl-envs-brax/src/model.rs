@@ -115,9 +115,9 @@ pub struct SideFile {
     pub frame_skip: usize,
     /// rapier solver iterations (substeps) per physics step.
     pub solver_iterations: usize,
-    /// rapier's warm-start coefficient (default: rapier's 1). Ant uses 0: with warm starting,
-    /// stale contact and limit impulses occasionally blew its light legs up within one
-    /// substep (5 of 20 random-policy episodes reached 30-140 m/s or rad/s; none without).
+    /// rapier's warm-start coefficient (default: rapier's 1; 0 switches warm starting off, which
+    /// a robot with light legs may need: stale contact and limit impulses can blow them up
+    /// within one substep).
     #[serde(default)]
     pub warmstart_coefficient: Option<f64>,
     pub root: RootKind,
