@@ -588,7 +588,9 @@ fn mix<const N: usize>(a: [f64; N], b: [f64; N], w: f64) -> [f64; N] {
 /// The geom pairs that may collide, with MuJoCo's filters: different weld bodies, not a
 /// parent–child pair of weld bodies (unless the parent is the world), not both static, and
 /// `contype & conaffinity` compatible in either direction. Parameters: condim and friction the
-/// larger, margin and gap the sum, solref/solimp mixed by `solmix`.
+/// larger, margin and gap the sum (as MuJoCo 4.0.0 reports them), solref/solimp mixed by
+/// `solmix`. Pairs without a collision routine (a box against anything but the plane) are left
+/// out: they never make contacts.
 fn collision_pairs(bodies: &[Body], weld: &[usize], geoms: &[Geom]) -> Vec<GeomPair> {
     let mut pairs = Vec::new();
     for i in 0..geoms.len() {
