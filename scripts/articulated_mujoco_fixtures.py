@@ -10,8 +10,9 @@ sequence. The Rust tests build the same model from these fields, so the comparis
 dynamics alone.
 
 Models: a damped double pendulum with armature and joint limits (Euler and RK4), a free box
-and a free capsule dropped on the floor (Euler), and Gymnasium's ant.xml (RK4, its own option)
-under a fixed open-loop control.
+and a free capsule dropped on the floor (Euler), a pile of two capsules and a sphere falling on
+each other and the floor (capsule–capsule, sphere–capsule contacts), and Gymnasium's ant.xml
+(RK4, its own option) under a fixed open-loop control.
 
 Needs mujoco 4.0.0 and gymnasium 1.4.0 (for ant.xml), e.g. in a venv outside the repository:
     python3 -m venv /tmp/mj-venv && /tmp/mj-venv/bin/pip install mujoco==4.0.0 gymnasium==1.4.0
@@ -60,6 +61,28 @@ DROP = """
     <body name="capsule" pos="1 0 0.4" euler="0 80 0">
       <freejoint/>
       <geom type="capsule" size="0.05 0.2" density="600" margin="0.005"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+PILE = """
+<mujoco model="pile">
+  <option timestep="0.002"/>
+  <worldbody>
+    <geom name="floor" type="plane" size="5 5 0.1"/>
+    <body name="bar" pos="0 0 0.3" euler="0 90 0">
+      <freejoint/>
+      <geom type="capsule" size="0.05 0.3" density="500"/>
+    </body>
+    <body name="cross" pos="0.05 0.02 0.5" euler="90 0 10">
+      <freejoint/>
+      <geom type="capsule" size="0.04 0.2" density="700"/>
+    </body>
+    <body name="ball" pos="-0.1 0.03 0.8">
+      <freejoint/>
+      <geom type="sphere" size="0.07" density="300"/>
     </body>
   </worldbody>
 </mujoco>
@@ -152,6 +175,8 @@ def fixtures():
     m = mujoco.MjModel.from_xml_string(DROP)
     out["drop"] = dict(model=model_json(mujoco, m),
                        **run(mujoco, m, 600, 10, qvel0=[0.5, 0, 0, 1.0, -2.0, 0.5, 0, 0.3, 0, 0, 0, 0]))
+    m = mujoco.MjModel.from_xml_string(PILE)
+    out["pile"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 500, 10))
     m = mujoco.MjModel.from_xml_path(gym_ant_xml())
     out["ant"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 300, 5))
     return out
