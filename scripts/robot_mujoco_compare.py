@@ -15,7 +15,8 @@ Metrics (per robot):
   control on its motor (towards the inside of its range), minus the same seed's zero-action run
   (so passive motion cancels); Hopper and Walker2d: every actuated joint;
 * gait_velocity: mean forward velocity (`qvel[0]`) under a fixed open-loop sinusoidal gait
-  (`GAITS`), until termination or 1000 steps;
+  (`GAITS`), until termination or 1000 steps, mean over `--gait-seeds` seeds (default 3), with
+  its standard deviation and, with more than 3 seeds, the Mann-Whitney p-value as below;
 * random_length / random_return: episode length and return under uniform random actions,
   mean and standard deviation over `--episodes` seeds (default 20), and the two-sided p-value
   of a Mann-Whitney U test (normal approximation) of each carl-spec column against MuJoCo's
@@ -23,8 +24,8 @@ Metrics (per robot):
 
 carl-spec runs twice: with its default context (CARL's Brax parameters: masses, actuator
 strength, joint damping and friction differ from MuJoCo's XML) and with a context set to
-MuJoCo's values where a context feature exists (`MUJOCO_CONTEXT`; Hopper and Walker2d: their
-spec's frozen instance set `mujoco_v5`, which holds every model value): the first column shows
+MuJoCo's values where a context feature exists (`MUJOCO_CONTEXT`; Ant, Hopper and Walker2d:
+their spec's frozen instance set `mujoco_v5`, which holds every model value): the first column shows
 what a user of the benchmark gets, the second how much of the difference is the parameters.
 
 Usage (from the repository root, with Gymnasium 1.4 and mujoco installed):
@@ -76,9 +77,6 @@ STEP_TIMES = {"ant": [2, 5], "half_cheetah": [2, 5], "humanoid": [7, 17], "hoppe
 
 # MuJoCo's XML values expressed as carl-spec context features (where a feature exists).
 MUJOCO_CONTEXT = {
-    # ant.xml: density 5 -> torso sphere + 4 hip connectors 0.484 kg (the legs' 0.039/0.068 kg have
-    # no feature), gear 150, joint damping 1, friction 1.
-    "ant": {"torso_mass": 0.4840, "actuator_strength": 150, "joint_angular_damping": 1, "friction": 1.0},
     # half_cheetah.xml: torso 6.2502 kg (settotalmass 14), damping 6/4.5/3/4.5/3/1.5 (mean 3.75),
     # friction 0.4.
     "half_cheetah": {"torso_mass": 6.2502, "joint_angular_damping": 3.75, "friction": 0.4},
@@ -86,7 +84,7 @@ MUJOCO_CONTEXT = {
     "humanoid": {"joint_angular_damping": 5, "friction": 1.0},
 }
 # Robots whose spec freezes MuJoCo's values as the instance set `mujoco_v5` (read from the spec).
-INSTANCE_SET_ROBOTS = ("hopper", "walker2d")
+INSTANCE_SET_ROBOTS = ("ant", "hopper", "walker2d")
 
 
 def mujoco_context(robot):
@@ -231,7 +229,7 @@ class GymSide:
 # ---------------------------------------------------------------- metrics
 
 
-def measure(side, robot, episodes):
+def measure(side, robot, episodes, gait_seeds=3):
     r = ROBOTS[robot]
     na, dt = r["na"], r["dt"]
     zero = [0.0] * na
@@ -265,10 +263,13 @@ def measure(side, robot, episodes):
             res[f"step_{name}_{n * dt:.3g}s"] = statistics.mean(d)
 
     vel = []
-    for s in SEEDS_SHORT[:3]:
+    for s in range(gait_seeds):
         obs, _ = side.run(s, [gait(robot, k * dt) for k in range(1000)])
         vel.append(statistics.mean(forward_velocity(robot, o) for o in obs[1:]))
     res["gait_velocity"] = statistics.mean(vel)
+    if gait_seeds > 3:
+        res["gait_velocity_sd"] = statistics.pstdev(vel)
+        res["gait_velocity_samples"] = vel
 
     lens, rets = [], []
     for s in range(episodes):
@@ -349,6 +350,7 @@ def main():
     ap.add_argument("--carl-spec", default="target/release/carl-spec")
     ap.add_argument("--robots", default="ant,half_cheetah,humanoid")
     ap.add_argument("--episodes", type=int, default=20)
+    ap.add_argument("--gait-seeds", type=int, default=3, help="seeds of the open-loop gait (0, 1, ...)")
     ap.add_argument("--json")
     ap.add_argument("--markdown")
     ap.add_argument("--carl-only", action="store_true", help="skip Gymnasium (carl-spec's side only)")
@@ -366,7 +368,12 @@ def main():
     for robot in robots:
         if robot not in ROBOTS:
             sys.exit(f"unknown robot {robot!r}; choose from {', '.join(ROBOTS)}")
-    meta = {"generator": "scripts/robot_mujoco_compare.py", "episodes": args.episodes, "carl_options": args.carl_option}
+    meta = {
+        "generator": "scripts/robot_mujoco_compare.py",
+        "episodes": args.episodes,
+        "gait_seeds": args.gait_seeds,
+        "carl_options": args.carl_option,
+    }
     if not args.carl_only:
         import gymnasium
         import mujoco
@@ -384,9 +391,11 @@ def main():
         rows = {}
         for key, side in sides.items():
             print(f"{robot}: {key} ...", file=sys.stderr, flush=True)
-            for metric, value in measure(side, robot, args.episodes).items():
+            for metric, value in measure(side, robot, args.episodes, args.gait_seeds).items():
                 rows.setdefault(metric, {})[key] = value
-        for metric in ("random_length", "random_return"):
+        for metric in ("random_length", "random_return", "gait_velocity"):
+            if metric + "_samples" not in rows:
+                continue
             samples = rows.pop(metric + "_samples")
             if "mujoco" in samples:
                 for key in ("carl", "carl_matched"):

@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """Write crates/carl-envs-brax/robots/<name>.urdf from the published geometry of each robot (see the docstrings).
 
+Ant is no longer written here: scripts/robot_urdf_mujoco.py converts Gymnasium's ant.xml.
+
 The URDF files are authored for carl-spec: link lengths, radii, joint axes and ranges are read
-from the published models (Gymnasium's MuJoCo v5 XML for Ant and HalfCheetah), masses from
+from the published models (Gymnasium's MuJoCo v5 XML for HalfCheetah), masses from
 Brax (2021) where CARL's context refers to Brax, and inertia tensors are computed here from
 the collision shapes (solid capsules/spheres of the link's mass). Run from the repository root:
 `python3 scripts/robot_urdf.py`; the output is committed, the build embeds it.
@@ -129,35 +131,6 @@ def joint_xml(name, parent, child, xyz, axis, lo, hi, kind="revolute"):
     )
 
 
-def ant():
-    """Gymnasium Ant-v5 (ant.xml): torso sphere r=0.25 at the origin, four legs along the
-    diagonals, all capsules r=0.08: hip connector (0,0,0)->(±0.2,±0.2,0) rigid with the torso,
-    thigh (hip joint, z axis, ±30°) 0.2·√2 long, shin (ankle joint, axis ⟂ to the leg in the
-    ground plane, range 30..70° or -70..-30°) 0.4·√2 long. Masses from Brax's ant (torso 10 kg,
-    every leg segment 1 kg); the hip connectors belong to the torso as in Brax."""
-    r = 0.08
-    legs = [  # (index, direction signs, ankle axis, ankle range in degrees)
-        (1, (1, 1), (-1, 1, 0), (30, 70)),
-        (2, (-1, 1), (1, 1, 0), (-70, -30)),
-        (3, (-1, -1), (-1, 1, 0), (-70, -30)),
-        (4, (1, -1), (1, 1, 0), (30, 70)),
-    ]
-    torso_shapes = [("sphere", [0, 0, 0], 0.25)]
-    torso_parts = [sphere_part(10.0, [0, 0, 0], 0.25)]
-    for _, (sx, sy), _, _ in legs:
-        torso_shapes.append(("capsule", [0, 0, 0], [0.2 * sx, 0.2 * sy, 0], r))
-    links = [link_xml("torso", torso_shapes, torso_parts)]
-    joints = []
-    for i, (sx, sy), ankle_axis, (lo, hi) in legs:
-        d1 = [0.2 * sx, 0.2 * sy, 0.0]
-        d2 = [0.4 * sx, 0.4 * sy, 0.0]
-        links.append(link_xml(f"thigh_{i}", [("capsule", [0, 0, 0], d1, r)], [capsule_part(1.0, [0, 0, 0], d1, r)]))
-        links.append(link_xml(f"shin_{i}", [("capsule", [0, 0, 0], d2, r)], [capsule_part(1.0, [0, 0, 0], d2, r)]))
-        joints.append(joint_xml(f"hip_{i}", "torso", f"thigh_{i}", d1, [0, 0, 1], -30 * PI / 180, 30 * PI / 180))
-        joints.append(joint_xml(f"ankle_{i}", f"thigh_{i}", f"shin_{i}", d1, ankle_axis, lo * PI / 180, hi * PI / 180))
-    return "ant", links, joints
-
-
 def tiny_link(name):
     return (
         f'  <link name="{name}">\n    <inertial>\n      <origin xyz="0 0 0" rpy="0 0 0"/>\n'
@@ -228,6 +201,6 @@ def write(name, links, joints, doc):
 
 
 if __name__ == "__main__":
-    for make in (ant, half_cheetah):
+    for make in (half_cheetah,):
         name, links, joints = make()
         write(name, links, joints, " ".join(make.__doc__.split()))

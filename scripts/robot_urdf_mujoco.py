@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Convert Gymnasium's MuJoCo v5 XML of a planar robot (Hopper, Walker2d) into
+"""Convert Gymnasium's MuJoCo v5 XML of a robot (Hopper, Walker2d, Ant) into
 crates/carl-envs-brax/robots/<name>.urdf and <name>.actuators.json.
 
 MuJoCo itself compiles the XML (`mujoco.MjModel.from_xml_path`), so every number is MuJoCo's
@@ -11,6 +11,14 @@ XML's `rootx`, `rootz`, `rooty` joints on the torso) becomes two prismatic joint
 carrier links and a continuous pitch hinge, as HalfCheetah's; each link's frame sits at the
 anchor of the joint that moves it (URDF's convention), MuJoCo's body frame shifted accordingly.
 `rootz` keeps MuJoCo's reference position: its coordinate is the torso's height (qpos0 1.25).
+
+A robot with a free root (Ant) keeps MuJoCo's bodies one for one: the free body is the URDF's
+root link (the side file's `"root": "free"`), bodies without joints are links on fixed joints
+(the articulated engine welds them, as MuJoCo does), unnamed bodies are named after their
+joint. It runs on the articulated engine (`"engine": "articulated"`) with the XML's integrator;
+its contact margin is the pair's (MuJoCo adds the two geoms' margins). The features the robot's
+spec keeps (damping, joint-limit stiffness, gear, friction, gravity, torso mass) are left to the
+context: the side file does not fix them (the spec's `mujoco_v5` instance set has the XML's).
 
 Run from the repository root with Gymnasium 1.4 and mujoco installed (e.g. in a venv outside the
 repository): `python scripts/robot_urdf_mujoco.py` (all robots) or `... hopper`; the output is
@@ -28,6 +36,7 @@ ROBOTS_DIR = "crates/carl-envs-brax/robots"
 ROBOTS = {
     "hopper": ("hopper.xml", 4, "Hopper-v5"),
     "walker2d": ("walker2d_v5.xml", 4, "Walker2d-v5"),
+    "ant": ("ant.xml", 5, "Ant-v5"),
 }
 ROOT_JOINTS = ["rootx", "rootz", "rooty"]
 
@@ -69,7 +78,16 @@ def convert(name):
         return mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j)
 
     def bname(b):
-        return mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b)
+        n = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b)
+        if n:
+            return n
+        js = [j for j in range(m.njnt) if m.jnt_bodyid[j] == b]
+        assert len(js) == 1, f"unnamed body {b} needs one joint to be named after"
+        return f"{jname(js[0])}_link"
+
+    free = [j for j in range(m.njnt) if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE]
+    if free:
+        return convert_free(name, m, mujoco, floor, jname, bname, free[0])
 
     # Each body's joints and the anchor of the joint that moves it (its URDF frame origin).
     anchor = {0: [0.0, 0.0, 0.0]}
@@ -240,6 +258,128 @@ def convert(name):
         + "\n".join(joints)
         + "\n</robot>\n"
     )
+    return urdf, json.dumps(side, indent=2) + "\n"
+
+
+def convert_free(name, m, mujoco, floor, jname, bname, root):
+    """A robot with a free root on the articulated engine (see the module docs)."""
+    xml_file, frame_skip, gym_id = ROBOTS[name]
+    assert m.jnt_bodyid[root] == 1 and m.body_parentid[1] == 0, "the free joint must be the first body's"
+    anchor = {}
+    for b in range(1, m.nbody):
+        assert list(m.body_quat[b]) == [1, 0, 0, 0], f"body {bname(b)} is rotated"
+        js = [j for j in range(m.njnt) if m.jnt_bodyid[j] == b]
+        hinges = [j for j in js if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE]
+        assert len(js) == len(hinges) <= 1 or b == 1, f"body {bname(b)}: one hinge at most"
+        anchor[b] = [float(x) for x in m.jnt_pos[hinges[0]]] if hinges else [0.0, 0.0, 0.0]
+    links, joints = [], []
+    for b in range(1, m.nbody):
+        a = anchor[b]
+        R = quat_mat(m.body_iquat[b])
+        d = m.body_inertia[b]
+        inertia = [[sum(R[i][k] * d[k] * R[j][k] for k in range(3)) for j in range(3)] for i in range(3)]
+        com = [float(m.body_ipos[b][i]) - a[i] for i in range(3)]
+        out = [f'  <link name="{bname(b)}">', "    <inertial>",
+               f'      <origin xyz="{vec(com)}" rpy="0 0 0"/>', f'      <mass value="{fmt(float(m.body_mass[b]))}"/>',
+               f'      <inertia ixx="{fmt(inertia[0][0])}" ixy="{fmt(inertia[0][1])}" ixz="{fmt(inertia[0][2])}" '
+               f'iyy="{fmt(inertia[1][1])}" iyz="{fmt(inertia[1][2])}" izz="{fmt(inertia[2][2])}"/>', "    </inertial>"]
+        for g in range(m.ngeom):
+            if m.geom_bodyid[g] != b:
+                continue
+            c = [float(m.geom_pos[g][i]) - a[i] for i in range(3)]
+            if m.geom_type[g] == mujoco.mjtGeom.mjGEOM_SPHERE:
+                geom, rpy = f'<sphere radius="{fmt(float(m.geom_size[g][0]))}"/>', (0.0, 0.0, 0.0)
+            else:
+                assert m.geom_type[g] == mujoco.mjtGeom.mjGEOM_CAPSULE, "spheres and capsules only"
+                G = quat_mat(m.geom_quat[g])
+                rpy = capsule_rpy([G[0][2], G[1][2], G[2][2]])
+                geom = f'<capsule radius="{fmt(float(m.geom_size[g][0]))}" length="{fmt(2 * float(m.geom_size[g][1]))}"/>'
+            out += ["    <collision>", f'      <origin xyz="{vec(c)}" rpy="{vec(rpy)}"/>',
+                    f"      <geometry>{geom}</geometry>", "    </collision>"]
+        out.append("  </link>")
+        links.append("\n".join(out))
+        parent = int(m.body_parentid[b])
+        if parent == 0:
+            continue
+        pa = anchor[parent]
+        xyz = [float(m.body_pos[b][i]) + a[i] - pa[i] for i in range(3)]
+        js = [j for j in range(m.njnt) if m.jnt_bodyid[j] == b]
+        if not js:
+            joints.append(f'  <joint name="{bname(b)}_weld" type="fixed">\n    <parent link="{bname(parent)}"/>\n'
+                          f'    <child link="{bname(b)}"/>\n    <origin xyz="{vec(xyz)}" rpy="0 0 0"/>\n  </joint>')
+            continue
+        j = js[0]
+        lim = ""
+        kind = "continuous"
+        if m.jnt_limited[j]:
+            kind = "revolute"
+            lim = (f'\n    <limit lower="{fmt(float(m.jnt_range[j][0]))}" upper="{fmt(float(m.jnt_range[j][1]))}" '
+                   f'effort="0" velocity="0"/>')
+        joints.append(f'  <joint name="{jname(j)}" type="{kind}">\n    <parent link="{bname(parent)}"/>\n'
+                      f'    <child link="{bname(b)}"/>\n    <origin xyz="{vec(xyz)}" rpy="0 0 0"/>\n'
+                      f'    <axis xyz="{vec(m.jnt_axis[j])}"/>{lim}\n  </joint>')
+    movable = [s.split('"')[1] for s in joints if 'type="fixed"' not in s]
+    assert movable == [jname(j) for j in range(m.njnt) if j != root], "URDF joint order must be MuJoCo's qpos order"
+    robot_geoms = [g for g in range(m.ngeom) if g != floor]
+
+    def mix(a, b):
+        return [(float(x) + float(y)) / 2 for x, y in zip(a, b)]
+
+    solrefs = {tuple(mix(m.geom_solref[g], m.geom_solref[floor])) for g in robot_geoms}
+    solimps = {tuple(mix(m.geom_solimp[g], m.geom_solimp[floor])) for g in robot_geoms}
+    margins = {float(m.geom_margin[g]) + float(m.geom_margin[floor]) for g in robot_geoms}
+    assert len(solrefs) == len(solimps) == len(margins) == 1, "one contact model for all geoms"
+    frictions = {max(float(m.geom_friction[g][0]), float(m.geom_friction[floor][0])) for g in robot_geoms}
+    gears = {float(m.actuator_gear[k][0]) for k in range(m.nu)}
+    lim_j = [j for j in range(m.njnt) if m.jnt_limited[j]]
+    solreflimit = {tuple(float(x) for x in m.jnt_solref[j]) for j in lim_j}
+    dampings = {float(m.dof_damping[m.jnt_dofadr[j]]) for j in range(m.njnt) if j != root}
+    ranges = {tuple(float(x) for x in r) for r in m.actuator_ctrlrange}
+    assert len(ranges) == 1 and len(gears) == 1 and len(frictions) == 1 and len(dampings) == 1
+    assert solreflimit == {(0.02, 1.0)}, "joint_stiffness 2500 on inertia 1 stands for solreflimit (0.02, 1)"
+    assert all(tuple(m.jnt_solimp[j]) == (0.9, 0.95, 0.001, 0.5, 2.0) and m.jnt_margin[j] == 0 for j in lim_j)
+    integrator = {0: "euler", 1: "rk4"}[int(m.opt.integrator)]
+    side = {
+        "robot": name,
+        "source": (
+            f"Gymnasium {gym_id} ({xml_file}), compiled by MuJoCo {mujoco.__version__} and converted by "
+            f"scripts/robot_urdf_mujoco.py: bodies one for one (masses and inertias from the geoms at the XML's "
+            f"density), joint anchors, axes and ranges, armature, spheres and capsules, control range, time step "
+            f"({float(m.opt.timestep)} s) and integrator ({integrator}), frame_skip {frame_skip} (Gymnasium's), "
+            f"contact solref/solimp and the pair's margin. Left to the context (the spec's mujoco_v5 instance set "
+            f"has the XML's values): gear {gears.pop()} (actuator_strength; torque = control x gear x "
+            f"actuator_strength / strength_reference), joint damping {dampings.pop()} (joint_angular_damping), "
+            f"friction {frictions.pop()}, gravity, torso mass {float(m.body_mass[1]):.6g} kg, and the joint limits' "
+            f"solreflimit (0.02, 1) (joint_stiffness 2500 on limit_reference_inertia 1)."
+        ),
+        "engine": "articulated",
+        "integrator": integrator,
+        "timestep": float(m.opt.timestep),
+        "frame_skip": frame_skip,
+        "solver_iterations": 1,
+        "root": "free",
+        "torso_link": bname(1),
+        "root_height": float(m.body_pos[1][2]),
+        "ctrl_range": list(ranges.pop()),
+        "strength_reference": 1.0,
+        "actuators": [{"joint": jname(int(m.actuator_trnid[k][0])), "gear": 1.0} for k in range(m.nu)],
+        "joint_armatures": [
+            {"joint": jname(j), "armature": float(m.dof_armature[m.jnt_dofadr[j]])} for j in range(m.njnt) if j != root
+        ],
+        "contact_model": {"solref": list(solrefs.pop()), "solimp": list(solimps.pop()), "margin": margins.pop()},
+        "limit_reference_inertia": 1.0,
+        "limit_damping_ratio": 1.0,
+        "restitution": 0.0,
+        "self_collisions": False,
+        "max_speed": 1000.0,
+    }
+    doc = (
+        f"carl-spec robot description, generated by scripts/robot_urdf_mujoco.py from Gymnasium {gym_id}'s "
+        f"{xml_file} as compiled by MuJoCo {mujoco.__version__}: links are the XML's bodies (free root: the first "
+        f"link; bodies without joints on fixed joints), each link frame at the anchor of its joint."
+    )
+    urdf = (f'<?xml version="1.0"?>\n<!-- {doc} -->\n<robot name="{name}">\n' + "\n".join(links) + "\n"
+            + "\n".join(joints) + "\n</robot>\n")
     return urdf, json.dumps(side, indent=2) + "\n"
 
 

@@ -1,13 +1,18 @@
-//! Articulated robots from URDF on rapier3d (reduced-coordinate multibody joints), and planar
-//! ones (HalfCheetah, Hopper, Walker2d) on a reduced-coordinate engine of their own ([`planar`]).
+//! Articulated robots from URDF: Ant on the articulated-body engine with MuJoCo's semantics
+//! (crate `carl-articulated`, [`articulated`]), Humanoid and the manipulation tasks on rapier3d
+//! (reduced-coordinate multibody joints), and planar ones (HalfCheetah, Hopper, Walker2d) on a
+//! reduced-coordinate engine of their own ([`planar`]).
 //!
 //! * [`model`]: the embedded robot descriptions: `robots/<name>.urdf` (links, collision
-//!   shapes, masses, joints; authored for this project from the published geometry) and
+//!   shapes, masses, joints; authored for this project from the published geometry or converted
+//!   from Gymnasium's MuJoCo XML) and
 //!   `robots/<name>.actuators.json` (motors, control range, time step, contact and solver
 //!   settings that URDF cannot express).
 //! * [`params`]: the context (Brax's physics parameters as CARL sets them, per-link masses).
+//! * [`articulated`]: the loader from URDF + side file + context to a `carl_articulated::Model`,
+//!   and one instance's world on that engine (Ant's).
 //! * [`planar`]: a reduced-coordinate engine for planar robots (HalfCheetah's default).
-//! * [`physics`]: a task's physics, either engine.
+//! * [`physics`]: a task's physics, any of the three engines.
 //! * [`world`]: one instance's rapier3d physics world, built from model + context; nothing is shared
 //!   between instances.
 //! * [`locomotion`]: Gymnasium v5 tasks (Ant, HalfCheetah, Humanoid, Hopper, Walker2d).
@@ -16,6 +21,7 @@
 //! * [`grasp`]: Brax's claw hand grasping a ball.
 //! * [`render`]: software rendering of a world to a [`Frame`](carl_pixels::Frame).
 
+pub mod articulated;
 pub mod com;
 pub mod fetch;
 pub mod grasp;

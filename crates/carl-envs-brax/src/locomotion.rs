@@ -6,21 +6,23 @@
 //! reset noise (uniform ±scale on positions, scale·N(0,1) on velocities), frame skip 5 at a
 //! 0.01 s physics step, and the observation layout `qpos[skip..] ++ qvel (++ clip(cfrc_ext))`.
 //!
-//! Where it differs (documented deviations and known gaps):
-//! * the bodies are the URDF's links: Ant has 9 (torso with its four hip connectors, as in
-//!   Brax, then thigh and shin per leg), so its contact block has 9·6 values instead of 13·6;
-//! * `cfrc_ext` is computed from rapier's normal contact impulses (no friction part); like
-//!   MuJoCo's it is com-based (torque about the robot's centre of mass, world axes); on the
-//!   planar engine (HalfCheetah's default, which does not observe it) it includes friction;
-//! * the root's generalized velocity is rapier's: world-frame linear and angular velocity;
+//! Where it differs (documented deviations and known gaps) depends on the engine:
+//! * Ant runs on the articulated-body engine ([`super::articulated`]) with the bodies of
+//!   Gymnasium's ant.xml (13, so the contact block has 13·6 values as in v5), MuJoCo's root
+//!   velocity convention (angular velocity in the torso frame) and `cfrc_ext` with normal and
+//!   friction parts; what differs from MuJoCo there is the context (CARL's Brax parameters by
+//!   default; the spec's `mujoco_v5` instance set has ant.xml's);
+//! * on rapier3d (Humanoid), `cfrc_ext` comes from rapier's normal contact impulses (no friction
+//!   part) and the root's generalized velocity is rapier's world-frame linear and angular
+//!   velocity; on the planar engine (HalfCheetah, Hopper, Walker2d, which do not observe it)
+//!   `cfrc_ext` includes friction; `cfrc_ext` is com-based (torque about the robot's centre of
+//!   mass, world axes) where the task asks for it (Ant, Humanoid);
 //! * masses, damping, gravity and actuator torques come from CARL's (Brax) context, not from
-//!   MuJoCo's geom densities and gears;
-//! * rapier's soft contacts leave a few millimetres of vertical jitter at rest, and an Ant left
-//!   alone for many seconds slowly turns about its vertical axis (its hips drift by about
-//!   0.03 rad/s with zero controls): contact solver noise that MuJoCo's does not show.
+//!   MuJoCo's geom densities and gears.
 //!
-//! The physics is the side file's engine ([`Physics`]): rapier3d, or the planar engine for a
-//! planar robot whose task observes no com-based body terms (HalfCheetah).
+//! The physics is the side file's engine ([`Physics`]): rapier3d, the planar engine for a
+//! planar robot whose task observes no com-based body terms (HalfCheetah, Hopper, Walker2d), or
+//! the articulated engine (Ant).
 //!
 //! A simulation that diverges (non-finite or faster than the side file's `max_speed`) is rolled
 //! back to the state before the step and the step terminates with `info["diverged"] = 1`.
@@ -252,7 +254,7 @@ pub struct Locomotion {
 impl Clone for Locomotion {
     /// A rapier clone gets a world rebuilt from the full [`Env::state`]: positions, velocities
     /// and contact wrenches are equal, rapier's solver caches (warm-start impulses) start
-    /// empty. A planar world is copied exactly.
+    /// empty. A planar or articulated world is copied exactly.
     fn clone(&self) -> Self {
         let mut c = Locomotion {
             world: None,
@@ -269,6 +271,7 @@ impl Clone for Locomotion {
         };
         match &self.world {
             Some(Physics::Planar(w)) => c.world = Some(Physics::Planar(w.clone())),
+            Some(Physics::Articulated(w)) => c.world = Some(Physics::Articulated(w.clone())),
             Some(Physics::Rapier(_)) => c.load(&self.state_vec()),
             None => {}
         }
@@ -337,7 +340,7 @@ impl Locomotion {
     pub fn task(&self) -> &TaskConfig {
         &self.task
     }
-    /// The rapier world (`None` before the first reset and on the planar engine).
+    /// The rapier world (`None` before the first reset and on the other engines).
     pub fn world(&self) -> Option<&RobotWorld> {
         self.world.as_ref().and_then(Physics::rapier)
     }
@@ -417,8 +420,10 @@ impl Locomotion {
     fn body_cfrc(&self) -> Vec<f64> {
         let bodies = &self.model.bodies;
         let mut out = vec![0.0; 6 * bodies.len()];
-        match (self.world(), self.task.com_based_cfrc) {
-            (Some(w), true) => w.com_wrenches(bodies, w.center_of_mass(), &self.cfrc, &mut out),
+        let articulated = self.world.as_ref().and_then(Physics::articulated);
+        match (self.world(), articulated, self.task.com_based_cfrc) {
+            (Some(w), _, true) => w.com_wrenches(bodies, w.center_of_mass(), &self.cfrc, &mut out),
+            (_, Some(w), true) => w.com_wrenches(bodies, w.center_of_mass(), &self.cfrc, &mut out),
             _ => {
                 for (k, &i) in bodies.iter().enumerate() {
                     out[6 * k..6 * k + 6].copy_from_slice(&self.cfrc[6 * i..6 * i + 6]);

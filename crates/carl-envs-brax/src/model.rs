@@ -28,6 +28,20 @@ pub enum Engine {
     /// The planar reduced-coordinate engine ([`super::planar`]); only for robots whose links
     /// all move in the x-z plane (checked when a task is built: `PhysicsBuilder::for_model`).
     Planar,
+    /// The 3-D articulated-body engine with MuJoCo's semantics ([`super::articulated`],
+    /// crate `carl-articulated`).
+    Articulated,
+}
+
+/// Time integration of the articulated engine (MuJoCo's `integrator`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum IntegratorName {
+    /// Semi-implicit Euler with implicit joint damping (MuJoCo's default).
+    #[default]
+    Euler,
+    /// Fourth-order Runge–Kutta (every stage with contacts, as MuJoCo's `RK4`).
+    Rk4,
 }
 
 /// One motor: a URDF joint and its gear (torque per unit control, before the strength factor).
@@ -94,13 +108,16 @@ pub struct SideFile {
     pub engine: Engine,
     /// Physics time step (s).
     pub timestep: f64,
+    /// The articulated engine's integrator (default Euler).
+    #[serde(default)]
+    pub integrator: IntegratorName,
     /// Physics steps per environment step.
     pub frame_skip: usize,
     /// rapier solver iterations (substeps) per physics step.
     pub solver_iterations: usize,
-    /// rapier's warm-start coefficient (default: rapier's 1). Ant uses 0: with warm starting,
-    /// stale contact and limit impulses occasionally blew its light legs up within one
-    /// substep (5 of 20 random-policy episodes reached 30-140 m/s or rad/s; none without).
+    /// rapier's warm-start coefficient (default: rapier's 1; 0 switches warm starting off, which
+    /// a robot with light legs may need: stale contact and limit impulses can blow them up
+    /// within one substep).
     #[serde(default)]
     pub warmstart_coefficient: Option<f64>,
     pub root: RootKind,
@@ -126,11 +143,13 @@ pub struct SideFile {
     #[serde(default)]
     pub initial_joints: Vec<InitialJoint>,
     /// MuJoCo's contact parameters (planar engine; default: `solref` 0.02/1 with the linear
-    /// `solimp` ramp 0.9–0.95 over 1 mm, no margin).
+    /// `solimp` ramp 0.9–0.95 over 1 mm, no margin; articulated engine: every robot geom's,
+    /// the margin being the robot–floor pair's, default MuJoCo's).
     #[serde(default)]
     pub contact_model: Option<SoftConstraint>,
-    /// Joint limits as MuJoCo's soft limits with these parameters (planar engine); default: the
-    /// context's `joint_stiffness` spring (`limit_reference_inertia`, `limit_damping_ratio`).
+    /// Joint limits as MuJoCo's soft limits with these parameters (planar and articulated
+    /// engines); default: the context's `joint_stiffness` spring (`limit_reference_inertia`,
+    /// `limit_damping_ratio`; on the articulated engine a MuJoCo limit of that stiffness).
     #[serde(default)]
     pub limit_model: Option<SoftConstraint>,
     /// Passive joint springs towards 0 (MuJoCo's joint `stiffness`), N·m/rad.

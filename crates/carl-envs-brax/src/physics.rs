@@ -1,9 +1,10 @@
-//! The physics behind a locomotion task: a rapier3d world or the planar engine, chosen by the
-//! side file's `engine` (and the `rapier` option of planar robots). The task calls the same
-//! operations on either.
+//! The physics behind a locomotion task: a rapier3d world, the planar engine or the
+//! articulated-body engine, chosen by the side file's `engine` (and the `rapier` option of
+//! planar robots). The task calls the same operations on each.
 
 use std::sync::Arc;
 
+use super::articulated::{ArticulatedSystem, ArticulatedWorld};
 use super::model::{Engine, ModelError, RobotModel};
 use super::params::RobotParams;
 use super::planar::{PlanarSystem, PlanarWorld};
@@ -14,6 +15,7 @@ use super::world::{Configuration, RobotWorld};
 pub enum Physics {
     Rapier(Box<RobotWorld>),
     Planar(Box<PlanarWorld>),
+    Articulated(Box<ArticulatedWorld>),
 }
 
 /// What a task builds its worlds from: the rapier world is rebuilt from model and context,
@@ -22,6 +24,7 @@ pub enum Physics {
 pub enum PhysicsBuilder {
     Rapier,
     Planar(Arc<PlanarSystem>),
+    Articulated(Arc<ArticulatedSystem>),
 }
 
 impl PhysicsBuilder {
@@ -31,6 +34,13 @@ impl PhysicsBuilder {
     pub fn for_model(model: &RobotModel, params: &RobotParams, planar_task: bool) -> Result<Self, ModelError> {
         match model.side.engine {
             Engine::Rapier => Ok(PhysicsBuilder::Rapier),
+            Engine::Articulated => {
+                let sys = ArticulatedSystem::new(model, params).map_err(|e| ModelError::Side {
+                    robot: model.name,
+                    message: format!("\"engine\": \"articulated\": {e}"),
+                })?;
+                Ok(PhysicsBuilder::Articulated(Arc::new(sys)))
+            }
             Engine::Planar => {
                 let sys = PlanarSystem::new(model, params).map_err(|e| ModelError::Side {
                     robot: model.name,
@@ -49,6 +59,7 @@ impl PhysicsBuilder {
         match self {
             PhysicsBuilder::Rapier => Physics::Rapier(Box::new(RobotWorld::build(model, params, q))),
             PhysicsBuilder::Planar(sys) => Physics::Planar(Box::new(PlanarWorld::new(sys.clone(), q))),
+            PhysicsBuilder::Articulated(sys) => Physics::Articulated(Box::new(ArticulatedWorld::new(sys.clone(), q))),
         }
     }
 }
@@ -58,6 +69,7 @@ impl Physics {
         match self {
             Physics::Rapier(w) => w.configuration(),
             Physics::Planar(w) => w.configuration(),
+            Physics::Articulated(w) => w.configuration(),
         }
     }
 
@@ -65,6 +77,7 @@ impl Physics {
         match self {
             Physics::Rapier(w) => w.step(ctrl),
             Physics::Planar(w) => w.step(ctrl),
+            Physics::Articulated(w) => w.step(ctrl),
         }
     }
 
@@ -72,6 +85,7 @@ impl Physics {
         match self {
             Physics::Rapier(w) => w.is_sane(max_speed),
             Physics::Planar(w) => w.is_sane(max_speed),
+            Physics::Articulated(w) => w.is_sane(max_speed),
         }
     }
 
@@ -79,6 +93,7 @@ impl Physics {
         match self {
             Physics::Rapier(w) => w.contact_wrenches(out),
             Physics::Planar(w) => w.contact_wrenches(out),
+            Physics::Articulated(w) => w.contact_wrenches(out),
         }
     }
 
@@ -86,6 +101,7 @@ impl Physics {
         match self {
             Physics::Rapier(w) => w.actuator_forces(ctrl, out),
             Physics::Planar(w) => w.actuator_forces(ctrl, out),
+            Physics::Articulated(w) => w.actuator_forces(ctrl, out),
         }
     }
 
@@ -93,6 +109,7 @@ impl Physics {
         match self {
             Physics::Rapier(w) => w.center_of_mass(),
             Physics::Planar(w) => w.center_of_mass(),
+            Physics::Articulated(w) => w.center_of_mass(),
         }
     }
 
@@ -100,14 +117,21 @@ impl Physics {
     pub fn rapier(&self) -> Option<&RobotWorld> {
         match self {
             Physics::Rapier(w) => Some(w),
-            Physics::Planar(_) => None,
+            Physics::Planar(_) | Physics::Articulated(_) => None,
+        }
+    }
+
+    pub fn articulated(&self) -> Option<&ArticulatedWorld> {
+        match self {
+            Physics::Articulated(w) => Some(w),
+            _ => None,
         }
     }
 
     pub fn planar(&self) -> Option<&PlanarWorld> {
         match self {
-            Physics::Rapier(_) => None,
             Physics::Planar(w) => Some(w),
+            _ => None,
         }
     }
 
@@ -115,6 +139,7 @@ impl Physics {
         match self {
             Physics::Rapier(w) => super::render::render_world(w),
             Physics::Planar(w) => super::render::render_planar(w),
+            Physics::Articulated(w) => super::render::render_articulated(w),
         }
     }
 }

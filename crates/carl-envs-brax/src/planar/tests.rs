@@ -243,7 +243,8 @@ fn a_robot_that_is_not_planar_is_refused_with_a_reason() {
         .find(|f| f.0 == "ant")
         .copied()
         .unwrap();
-    let side = side.replacen('{', "{\n  \"engine\": \"planar\",", 1);
+    let side = side.replacen("\"engine\": \"articulated\"", "\"engine\": \"planar\"", 1);
+    assert!(side.contains("\"engine\": \"planar\""));
     let model = RobotModel::parse("ant", urdf, &side).unwrap();
     let params = blank_params("ant").unwrap();
     let err = crate::physics::PhysicsBuilder::for_model(&model, &params, true)

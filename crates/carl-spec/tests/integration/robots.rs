@@ -1,4 +1,5 @@
-//! Articulated robots on rapier3d: physics checks (free fall, rest, joint torque direction,
+//! Articulated robots (Ant on the articulated-body engine, Humanoid on rapier3d, HalfCheetah on
+//! the planar engine): physics checks (free fall, rest, joint torque direction,
 //! friction), every context feature acting on the physics, robustness at the spec bounds,
 //! independence of instances, the Gymnasium v5 task rules, and rendering.
 
@@ -45,16 +46,28 @@ fn ant_in_air(z: f64) -> Configuration {
 #[test]
 fn robots_load_from_urdf() {
     let ant = RobotModel::load("ant").unwrap();
-    assert_eq!(ant.link_names.len(), 9);
+    // ant.xml's 13 bodies: torso, then per leg its hip connector, thigh and shin.
+    assert_eq!(ant.link_names.len(), 13);
     assert_eq!(ant.joint_names.len(), 8);
     assert_eq!(ant.num_actuators(), 8);
-    assert_eq!(ant.link_mass("thigh_1"), Some(1.0));
+    // MuJoCo's masses from the geoms at density 5 (a 0.08 m capsule 0.28 m long: 0.0392 kg).
+    assert!((ant.link_mass("aux_1").unwrap() - 0.0391578).abs() < 1e-6);
     // Context masses reach the physics engine, per link.
     let mut p = default_params("ant").unwrap();
     p.torso_mass = Some(4.0);
-    p.set("mass_shin_3", 2.5).unwrap();
+    p.set("mass_ankle_3_link", 2.5).unwrap();
     assert!(p.set("mass_nose", 1.0).is_err());
+    let sys = carl_spec::envs::brax::articulated::ArticulatedSystem::new(&ant, &p).unwrap();
+    let mass = |link: &str| {
+        let li = ant.link_names.iter().position(|n| n == link).unwrap();
+        sys.model.bodies[sys.link_body[li]].mass
+    };
+    assert!((mass("torso") - 4.0).abs() < 1e-12);
+    assert!((mass("ankle_3_link") - 2.5).abs() < 1e-12);
+    assert!((mass("aux_1") - 0.0391578).abs() < 1e-6);
+    // rapier3d still builds the same URDF (Humanoid's engine).
     let w = RobotWorld::build(&ant, &p, &ant_in_air(2.0));
+    assert!((w.link_mass(0) - 4.0).abs() < 1e-5);
     let cheetah = RobotModel::load("half_cheetah").unwrap();
     // world, two slide carriers, torso, three segments per leg.
     assert_eq!(cheetah.link_names.len(), 10);
@@ -63,10 +76,6 @@ fn robots_load_from_urdf() {
     // MuJoCo's settotalmass=14 split by capsule volume (torso 6.25 kg, back thigh 1.54 kg).
     assert!((cheetah.link_mass("torso").unwrap() - 6.2502).abs() < 1e-3);
     assert!((cheetah.link_mass("bthigh").unwrap() - 1.5435).abs() < 1e-3);
-    assert!((w.link_mass(0) - 4.0).abs() < 1e-5);
-    let shin3 = ant.link_names.iter().position(|n| n == "shin_3").unwrap();
-    assert!((w.link_mass(shin3) - 2.5).abs() < 1e-5);
-    assert!((w.link_mass(1) - 1.0).abs() < 1e-5);
 }
 
 #[test]
@@ -217,11 +226,16 @@ fn positive_hip_torque_rotates_the_leg_in_the_joints_positive_direction() {
     e.set_state(&s).unwrap();
     let shin_angle = |e: &SpecEnv| {
         let r = e.inner().downcast_ref::<carl_spec::envs::brax::Locomotion>().unwrap();
-        let w = r.world().unwrap();
-        let torso = w.link_pose(0);
-        let shin = w.link_pose(2).translation; // shin_1 origin = ankle point
-        let p = torso.inverse_transform_point(shin);
-        f64::from(p.y - 0.2).atan2(f64::from(p.x - 0.2))
+        let w = r.physics().and_then(|p| p.articulated()).unwrap();
+        let model = r.model();
+        let body = |link: &str| w.system().link_body[model.link_names.iter().position(|n| n == link).unwrap()];
+        let d = w.data();
+        let (torso, shin) = (body("torso"), body("ankle_1_link")); // shin_1 origin = ankle point
+        let rel = [0, 1, 2].map(|k| d.xpos[shin][k] - d.xpos[torso][k]);
+        let m = &d.xmat[torso];
+        // The shin's origin in the torso frame (Rᵀ · rel); the hip sits at (0.2, 0.2).
+        let p = [0, 1].map(|c| m[0][c] * rel[0] + m[1][c] * rel[1] + m[2][c] * rel[2]);
+        (p[1] - 0.2).atan2(p[0] - 0.2)
     };
     let a0 = shin_angle(&e);
     let mut act = vec![0.0f32; 8];
@@ -323,8 +337,8 @@ fn seeds_reproduce_and_differ() {
     let (c, _) = e.reset(Some(43));
     assert_eq!(a, b);
     assert_ne!(a, c);
-    // Gymnasium v5 layout: qpos[2:] (13) + qvel (14) + clipped cfrc_ext (9 links × 6).
-    assert_eq!(a.len(), 13 + 14 + 54);
+    // Gymnasium v5 layout: qpos[2:] (13) + qvel (14) + clipped cfrc_ext (13 bodies × 6).
+    assert_eq!(a.len(), 13 + 14 + 78);
     // Reset noise: ±0.1 around the initial pose, height 0.75.
     assert!((f64::from(a[0]) - 0.75).abs() <= 0.1);
 }

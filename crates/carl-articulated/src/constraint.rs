@@ -1,0 +1,327 @@
+//! Soft constraints as MuJoCo defines them, solved on the dual by projected Gauss–Seidel.
+//!
+//! Every constraint row `i` has a Jacobian `Jᵢ`, a violation `rᵢ = posᵢ − marginᵢ`, an
+//! impedance `dᵢ = d(|rᵢ|)` from `solimp` (MuJoCo's sigmoid from `dmin` at 0 to `dmax` at
+//! `width`), a reference acceleration `arefᵢ = −B (Jᵢ v) − K dᵢ rᵢ` from `solref` (with
+//! `timeconst ≥ 2h`: `B = 2 / (dmax·timeconst)`, `K = 1 / (dmax²·timeconst²·dampratio²)`; or
+//! `K = −solref₀ / dmax²`, `B = −solref₁ / dmax` for negative `solref`) and a regularizer
+//! `Rᵢ = (1 − dᵢ)/dᵢ · Âᵢ`, `Âᵢ` MuJoCo's diagonal approximation of `A = J M⁻¹ Jᵀ` from
+//! `body_invweight0`/`dof_invweight0`. The forces `f` minimize
+//! `½ fᵀ (A + R) f + fᵀ (J a₀ − aref)` over the cone, `a₀` the unconstrained acceleration, and
+//! the acceleration is `a₀ + M⁻¹ Jᵀ f`.
+//!
+//! Friction cone: **pyramidal**, MuJoCo's default (`cone="pyramidal"`): a contact of condim 3
+//! has four rows `J_n ± μ J_tₖ`, each with `f ≥ 0`, so every row has the same simple bound and
+//! Gauss–Seidel projects each force independently (the elliptic cone would need a coupled
+//! projection per contact). Pyramid rows get MuJoCo's regularizer
+//! `R = 2μ²/impratio · (1 − d)/d · (1 + μ²) Â_n` (observed in MuJoCo 4.0.0's `efc_R`).
+//! MuJoCo's default solver is Newton on the primal; both converge to the minimizer of the same
+//! strictly convex problem, so the results agree up to the solvers' tolerances.
+//!
+//! Joint limits: one row per violated side (`q − lo` or `hi − q` below the joint's margin),
+//! `Â = dof_invweight0`. Forces are warm-started from the previous solve (matched by contact
+//! pair, contact and row, or by joint and side).
+
+use crate::collision::{Placed, collide};
+use crate::data::Data;
+use crate::dynamics::cholesky_solve_from;
+use crate::math::{V3, add, cross, dot, dot6, join, scale, sub};
+use crate::model::{SolImp, SolRef};
+
+/// What a row constrains (for warm starts and contact forces).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RowKind {
+    /// Edge `edge` (0–3) of contact `contact`'s pyramid, or its normal (frictionless, `edge` 0).
+    Contact { contact: usize, edge: u8, frictionless: bool },
+    /// A joint limit of `joint` (`upper`: the upper one).
+    Limit { joint: usize, upper: bool },
+    #[default]
+    None,
+}
+
+/// MuJoCo's impedance `d(x)` of `solimp` at violation `x ≥ 0`.
+pub fn impedance(solimp: &SolImp, x: f64) -> f64 {
+    const MIN: f64 = 0.0001;
+    const MAX: f64 = 0.9999;
+    let dmin = solimp[0].clamp(MIN, MAX);
+    let dmax = solimp[1].clamp(MIN, MAX);
+    let width = solimp[2].max(0.0);
+    let mid = solimp[3].clamp(MIN, MAX);
+    let power = solimp[4].max(1.0);
+    if dmin == dmax || width <= 1e-10 {
+        return dmax;
+    }
+    let x = (x / width).clamp(0.0, 1.0);
+    if x >= 1.0 {
+        return dmax;
+    }
+    if x <= 0.0 {
+        return dmin;
+    }
+    let y = if power == 1.0 {
+        x
+    } else if x <= mid {
+        x.powf(power) / mid.powf(power - 1.0)
+    } else {
+        1.0 - (1.0 - x).powf(power) / (1.0 - mid).powf(power - 1.0)
+    };
+    dmin + y * (dmax - dmin)
+}
+
+/// `(K, B)` of `solref` with impedance limits `solimp` for time step `h`.
+pub fn stiffness_damping(solref: &SolRef, solimp: &SolImp, h: f64) -> (f64, f64) {
+    let dmax = solimp[1].clamp(0.0001, 0.9999);
+    if solref[0] > 0.0 {
+        let tc = solref[0].max(2.0 * h);
+        let dr = solref[1];
+        (1.0 / (dmax * dmax * tc * tc * dr * dr), 2.0 / (dmax * tc))
+    } else {
+        (-solref[0] / (dmax * dmax), -solref[1] / dmax)
+    }
+}
+
+impl Data {
+    /// Contacts of every candidate pair at the current poses.
+    pub(crate) fn collide(&mut self) {
+        let m = &*self.model;
+        self.ncon = 0;
+        for (pi, pair) in m.pairs.iter().enumerate() {
+            let (g1, g2) = (pair.g1, pair.g2);
+            let (s1, s2) = (m.geoms[g1].shape, m.geoms[g2].shape);
+            // Bounding spheres first.
+            let reach = s1.bounding_radius() + s2.bounding_radius() + pair.margin;
+            if reach.is_finite() && crate::math::norm(sub(self.geom_xpos[g1], self.geom_xpos[g2])) > reach {
+                continue;
+            }
+            let a = Placed { shape: s1, pos: self.geom_xpos[g1], mat: self.geom_xmat[g1] };
+            let b = Placed { shape: s2, pos: self.geom_xpos[g2], mat: self.geom_xmat[g2] };
+            let start = self.ncon;
+            let room = (self.contacts.len() - start).min(pair.max_contacts);
+            let k = collide(&a, &b, pair.margin - pair.gap, &mut self.contacts[start..start + room]);
+            for c in &mut self.contacts[start..start + k] {
+                c.pair = pi;
+            }
+            self.ncon += k;
+        }
+    }
+
+    /// `Jᵀ`-row of direction `u` at world point `p` of body `b` (added with sign `s`).
+    fn add_point_row(&mut self, r: usize, b: usize, p: V3, u: V3, s: f64) {
+        let m = &*self.model;
+        let nv = m.nv;
+        let f = join(cross(p, u), u);
+        let mut k = m.body_last_dof[b];
+        while k != usize::MAX {
+            self.efc_j[r * nv + k] += s * dot6(&self.cdof[k], &f);
+            k = m.dof_parent[k];
+        }
+    }
+
+    /// Build the constraint rows of the current contacts and joint limits.
+    pub(crate) fn make_constraints(&mut self) {
+        let model = std::sync::Arc::clone(&self.model);
+        let m = &*model;
+        let nv = m.nv;
+        let h = m.opt.timestep;
+        self.nefc = 0;
+        for ci in 0..self.ncon {
+            let c = self.contacts[ci];
+            let pair = &m.pairs[c.pair];
+            let (b1, b2) = (m.geoms[pair.g1].body, m.geoms[pair.g2].body);
+            let tran = m.body_invweight0[b1][0] + m.body_invweight0[b2][0];
+            let imargin = pair.margin - pair.gap;
+            let r_viol = c.dist - imargin;
+            let imp = impedance(&pair.solimp, r_viol.abs());
+            let (kk, bb) = stiffness_damping(&pair.solref, &pair.solimp, h);
+            let rows: &[(f64, usize)] = if pair.condim == 1 {
+                &[(0.0, 0)]
+            } else {
+                &[(1.0, 1), (-1.0, 1), (1.0, 2), (-1.0, 2)]
+            };
+            let mu = pair.friction;
+            for (e, &(sign, t)) in rows.iter().enumerate() {
+                let r = self.nefc;
+                if r >= self.efc_kind.len() {
+                    return;
+                }
+                self.nefc += 1;
+                self.efc_j[r * nv..(r + 1) * nv].fill(0.0);
+                let mut u = c.frame[0];
+                if t > 0 {
+                    u = add(u, scale(c.frame[t], sign * mu));
+                }
+                self.add_point_row(r, b2, c.pos, u, 1.0);
+                self.add_point_row(r, b1, c.pos, u, -1.0);
+                let diag = if pair.condim == 1 {
+                    tran
+                } else {
+                    2.0 * mu * mu / m.opt.impratio * (1.0 + mu * mu) * tran
+                };
+                self.efc_kind[r] = RowKind::Contact { contact: ci, edge: e as u8, frictionless: pair.condim == 1 };
+                self.set_row(r, r_viol, imp, kk, bb, diag);
+            }
+        }
+        for (j, jt) in m.joints.iter().enumerate() {
+            let Some([lo, hi]) = jt.range else { continue };
+            let qa = m.jnt_qposadr[j];
+            let d = m.jnt_dofadr[j];
+            let q = self.qpos[qa];
+            for (dist, sign, upper) in [(q - lo, 1.0, false), (hi - q, -1.0, true)] {
+                if dist >= jt.margin {
+                    continue;
+                }
+                let r = self.nefc;
+                if r >= self.efc_kind.len() {
+                    return;
+                }
+                self.nefc += 1;
+                self.efc_j[r * nv..(r + 1) * nv].fill(0.0);
+                self.efc_j[r * nv + d] = sign;
+                let viol = dist - jt.margin;
+                let imp = impedance(&jt.solimp_limit, viol.abs());
+                let (kk, bb) = stiffness_damping(&jt.solref_limit, &jt.solimp_limit, h);
+                self.efc_kind[r] = RowKind::Limit { joint: j, upper };
+                self.set_row(r, viol, imp, kk, bb, m.dof_invweight0[d]);
+            }
+        }
+    }
+
+    /// Reference acceleration and regularizer of row `r`.
+    fn set_row(&mut self, r: usize, viol: f64, imp: f64, k: f64, b: f64, diag: f64) {
+        let nv = self.model.nv;
+        let vel: f64 = self.efc_j[r * nv..(r + 1) * nv].iter().zip(&self.qvel).map(|(a, v)| a * v).sum();
+        self.efc_aref[r] = -b * vel - k * imp * viol;
+        self.efc_r[r] = ((1.0 - imp) / imp * diag).max(1e-15);
+    }
+
+    /// Projected Gauss–Seidel on the dual, warm-started; `qacc` holds the unconstrained
+    /// acceleration on entry (with `qld` the factor of `M`) and the constrained one on return.
+    /// The sweeps run on the Delassus matrix `A = J M⁻¹ Jᵀ` (rows × rows), each row update
+    /// `fᵢ ← max(0, fᵢ − (bᵢ + (A f)ᵢ + Rᵢ fᵢ) / (Aᵢᵢ + Rᵢ))` with `b = J a₀ − aref`.
+    pub(crate) fn solve_constraints(&mut self) {
+        let m = &*self.model;
+        let nv = m.nv;
+        let n = self.nefc;
+        self.qfrc_constraint.fill(0.0);
+        if n == 0 {
+            self.solver_sweeps = 0;
+            self.warm_count = 0;
+            return;
+        }
+        for r in 0..n {
+            // A pyramid's fourth edge J_n − μJ_t₂ is the sum of the first two minus the third.
+            if let RowKind::Contact { edge: 3, .. } = self.efc_kind[r] {
+                let (head, tail) = self.efc_w.split_at_mut(r * nv);
+                let w = &mut tail[..nv];
+                for k in 0..nv {
+                    w[k] = head[(r - 3) * nv + k] + head[(r - 2) * nv + k] - head[(r - 1) * nv + k];
+                }
+                continue;
+            }
+            let (j, w) = (&self.efc_j[r * nv..(r + 1) * nv], &mut self.efc_w[r * nv..(r + 1) * nv]);
+            w.copy_from_slice(j);
+            let first = j.iter().position(|x| *x != 0.0).unwrap_or(nv);
+            cholesky_solve_from(&self.qld, nv, w, first);
+        }
+        for r in 0..n {
+            let j = &self.efc_j[r * nv..(r + 1) * nv];
+            for c in 0..=r {
+                let w = &self.efc_w[c * nv..(c + 1) * nv];
+                let a: f64 = j.iter().zip(w).map(|(x, y)| x * y).sum();
+                self.efc_a[r * n + c] = a;
+                self.efc_a[c * n + r] = a;
+            }
+            let a0: f64 = j.iter().zip(&self.qacc).map(|(x, y)| x * y).sum();
+            self.efc_b[r] = a0 - self.efc_aref[r];
+            self.efc_inv[r] = 1.0 / (self.efc_a[r * n + r] + self.efc_r[r]);
+            // Warm start from the previous solve's force of the same row.
+            let key = self.row_key(r);
+            self.efc_force[r] = self.warm[..self.warm_count].iter().find(|(k, _)| *k == key).map_or(0.0, |(_, f)| *f);
+        }
+        // g = b + A f, kept current as forces change (a row whose force does not move costs
+        // nothing).
+        for r in 0..n {
+            let row = &self.efc_a[r * n..(r + 1) * n];
+            let af: f64 = row.iter().zip(&self.efc_force[..n]).map(|(a, f)| a * f).sum();
+            self.efc_g[r] = self.efc_b[r] + af;
+        }
+        self.solver_sweeps = 0;
+        for _ in 0..m.opt.iterations {
+            self.solver_sweeps += 1;
+            let mut change = 0.0f64;
+            let mut scale_f = 0.0f64;
+            for r in 0..n {
+                let old = self.efc_force[r];
+                let grad = self.efc_g[r] + self.efc_r[r] * old;
+                let new = (old - grad * self.efc_inv[r]).max(0.0);
+                let d = new - old;
+                if d != 0.0 {
+                    self.efc_force[r] = new;
+                    let col = &self.efc_a[r * n..(r + 1) * n];
+                    for (g, a) in self.efc_g[..n].iter_mut().zip(col) {
+                        *g += a * d;
+                    }
+                    change = change.max(d.abs());
+                }
+                scale_f = scale_f.max(new);
+            }
+            if change <= m.opt.tolerance * scale_f.max(1.0) {
+                break;
+            }
+        }
+        for r in 0..n {
+            let f = self.efc_force[r];
+            if f == 0.0 {
+                continue;
+            }
+            let (j, w) = (&self.efc_j[r * nv..(r + 1) * nv], &self.efc_w[r * nv..(r + 1) * nv]);
+            for k in 0..nv {
+                self.qfrc_constraint[k] += j[k] * f;
+                self.qacc[k] += w[k] * f;
+            }
+        }
+        self.warm_count = 0;
+        for r in 0..n.min(self.warm.len()) {
+            self.warm[r] = (self.row_key(r), self.efc_force[r]);
+            self.warm_count += 1;
+        }
+    }
+
+    fn row_key(&self, r: usize) -> u64 {
+        match self.efc_kind[r] {
+            RowKind::Contact { contact, edge, .. } => {
+                let c = &self.contacts[contact];
+                ((c.pair as u64) << 8) | ((c.sub as u64) << 3) | edge as u64
+            }
+            RowKind::Limit { joint, upper } => (1u64 << 63) | ((joint as u64) << 1) | upper as u64,
+            RowKind::None => u64::MAX,
+        }
+    }
+
+    /// World force on body 2 of each contact of the last solve (normal plus friction).
+    pub(crate) fn contact_force(&self, ci: usize) -> V3 {
+        let m = &*self.model;
+        let c = &self.contacts[ci];
+        let mu = m.pairs[c.pair].friction;
+        let mut f = [0.0; 3];
+        for r in 0..self.nefc {
+            if let RowKind::Contact { contact, edge, frictionless } = self.efc_kind[r]
+                && contact == ci
+            {
+                let fr = self.efc_force[r];
+                f = add(f, scale(c.frame[0], fr));
+                if !frictionless {
+                    let (t, s) = match edge {
+                        0 => (1, 1.0),
+                        1 => (1, -1.0),
+                        2 => (2, 1.0),
+                        _ => (2, -1.0),
+                    };
+                    f = add(f, scale(c.frame[t], s * mu * fr));
+                }
+            }
+        }
+        let _ = dot;
+        f
+    }
+}

@@ -1,0 +1,344 @@
+//! Smooth dynamics on world-frame spatial vectors (about the world origin, so no frame
+//! transforms between bodies): forward kinematics with MuJoCo's joint semantics, the motion
+//! subspace of every degree of freedom (`cdof`) and its time derivative (`cdof_dot`, built
+//! incrementally along each body's joints as MuJoCo's `mj_comVel`), the composite-rigid-body
+//! mass matrix (only ancestor pairs are visited), recursive Newton–Euler bias forces
+//! (Coriolis, centrifugal, gravity), passive forces (springs, damping, medium viscosity) and
+//! the dense Cholesky factorization of the small joint-space systems.
+
+use crate::data::Data;
+use crate::math::{
+    IDENTITY, Inertia, QUAT_IDENTITY, ZERO3, add, add6, col, cross, cross_force, cross_motion, dot6,
+    join, mat_mul, mat_vec, quat_axis_angle, quat_mul, quat_normalize, quat_to_mat, rotate_diag, scale,
+};
+use crate::model::{JointKind, Model};
+
+impl Data {
+    /// Body and geom poses, centres of mass, spatial inertias and each dof's motion subspace
+    /// from `qpos`.
+    pub(crate) fn kinematics(&mut self) {
+        let m = &*self.model;
+        self.xpos[0] = ZERO3;
+        self.xquat[0] = QUAT_IDENTITY;
+        self.xmat[0] = IDENTITY;
+        for b in 1..m.bodies.len() {
+            let body = &m.bodies[b];
+            let p = body.parent;
+            let mut pos = add(self.xpos[p], mat_vec(&self.xmat[p], body.pos));
+            let mut quat = quat_mul(self.xquat[p], body.quat);
+            let mut r = quat_to_mat(quat);
+            for j in m.body_joints[b].clone() {
+                let jt = &m.joints[j];
+                let qa = m.jnt_qposadr[j];
+                let da = m.jnt_dofadr[j];
+                match jt.kind {
+                    JointKind::Free => {
+                        pos = [self.qpos[qa], self.qpos[qa + 1], self.qpos[qa + 2]];
+                        quat = quat_normalize([self.qpos[qa + 3], self.qpos[qa + 4], self.qpos[qa + 5], self.qpos[qa + 6]]);
+                        r = quat_to_mat(quat);
+                        let anchor = add(pos, mat_vec(&r, jt.pos));
+                        for k in 0..3 {
+                            let mut e = ZERO3;
+                            e[k] = 1.0;
+                            self.cdof[da + k] = join(ZERO3, e);
+                            let axis = col(&r, k);
+                            self.cdof[da + 3 + k] = join(axis, cross(anchor, axis));
+                        }
+                    }
+                    JointKind::Hinge => {
+                        let anchor = add(pos, mat_vec(&r, jt.pos));
+                        let axis = mat_vec(&r, jt.axis);
+                        self.cdof[da] = join(axis, cross(anchor, axis));
+                        quat = quat_normalize(quat_mul(quat, quat_axis_angle(jt.axis, self.qpos[qa] - jt.qpos0)));
+                        r = quat_to_mat(quat);
+                        pos = crate::math::sub(anchor, mat_vec(&r, jt.pos));
+                    }
+                    JointKind::Slide => {
+                        let axis = mat_vec(&r, jt.axis);
+                        self.cdof[da] = join(ZERO3, axis);
+                        pos = add(pos, scale(axis, self.qpos[qa] - jt.qpos0));
+                    }
+                }
+            }
+            self.xpos[b] = pos;
+            self.xquat[b] = quat;
+            self.xmat[b] = r;
+            self.xipos[b] = add(pos, mat_vec(&r, body.ipos));
+            let ri = mat_mul(&r, &m.body_imat[b]);
+            self.cinert[b] = Inertia::new(body.mass, self.xipos[b], &rotate_diag(&ri, body.inertia));
+        }
+        for (g, geom) in m.geoms.iter().enumerate() {
+            let b = geom.body;
+            self.geom_xpos[g] = add(self.xpos[b], mat_vec(&self.xmat[b], geom.pos));
+            self.geom_xmat[g] = mat_mul(&self.xmat[b], &m.geom_mat[g]);
+        }
+    }
+
+    /// Body velocities and each dof's `cdof_dot` from `qvel` (as MuJoCo's `mj_comVel`: a
+    /// joint's `cdof_dot` is the body velocity accumulated before it crossed with its `cdof`;
+    /// a free joint's translations have none).
+    pub(crate) fn velocities(&mut self) {
+        let m = &*self.model;
+        self.cvel[0] = [0.0; 6];
+        for b in 1..m.bodies.len() {
+            let mut cv = self.cvel[m.bodies[b].parent];
+            for j in m.body_joints[b].clone() {
+                let da = m.jnt_dofadr[j];
+                match m.joints[j].kind {
+                    JointKind::Free => {
+                        for k in 0..3 {
+                            self.cdof_dot[da + k] = [0.0; 6];
+                            add6(&mut cv, &self.cdof[da + k], self.qvel[da + k]);
+                        }
+                        for k in 3..6 {
+                            self.cdof_dot[da + k] = cross_motion(&cv, &self.cdof[da + k]);
+                        }
+                        for k in 3..6 {
+                            add6(&mut cv, &self.cdof[da + k], self.qvel[da + k]);
+                        }
+                    }
+                    _ => {
+                        self.cdof_dot[da] = cross_motion(&cv, &self.cdof[da]);
+                        add6(&mut cv, &self.cdof[da], self.qvel[da]);
+                    }
+                }
+            }
+            self.cvel[b] = cv;
+        }
+    }
+
+    /// The mass matrix (armature on the diagonal) by composite rigid bodies, row-major `nv × nv`.
+    pub(crate) fn mass_matrix(&mut self) {
+        let m = &*self.model;
+        let nv = m.nv;
+        for b in 0..m.bodies.len() {
+            self.crb[b] = self.cinert[b];
+        }
+        for b in (1..m.bodies.len()).rev() {
+            let p = m.bodies[b].parent;
+            let c = self.crb[b];
+            self.crb[p].add(&c);
+        }
+        self.qm.fill(0.0);
+        for i in 0..nv {
+            let f = self.crb[m.dof_body[i]].mul(&self.cdof[i]);
+            let mut j = i;
+            while j != usize::MAX {
+                let v = dot6(&self.cdof[j], &f);
+                self.qm[i * nv + j] = v;
+                self.qm[j * nv + i] = v;
+                j = m.dof_parent[j];
+            }
+            self.qm[i * nv + i] += m.joints[m.dof_joint[i]].armature;
+        }
+    }
+
+    /// Bias forces `C(q, v) v − gravity` by recursive Newton–Euler with zero joint
+    /// accelerations (gravity as an upward acceleration of the world).
+    pub(crate) fn bias_forces(&mut self) {
+        let m = &*self.model;
+        let g = m.opt.gravity;
+        self.cacc[0] = join(ZERO3, scale(g, -1.0));
+        for b in 1..m.bodies.len() {
+            let mut a = self.cacc[m.bodies[b].parent];
+            for j in m.body_joints[b].clone() {
+                let da = m.jnt_dofadr[j];
+                for d in da..da + m.joints[j].kind.nv() {
+                    add6(&mut a, &self.cdof_dot[d], self.qvel[d]);
+                }
+            }
+            self.cacc[b] = a;
+            let i = &self.cinert[b];
+            let mut f = i.mul(&a);
+            let h = i.mul(&self.cvel[b]);
+            add6(&mut f, &cross_force(&self.cvel[b], &h), 1.0);
+            self.cfrc[b] = f;
+        }
+        for b in (1..m.bodies.len()).rev() {
+            let p = m.bodies[b].parent;
+            if p != 0 {
+                let f = self.cfrc[b];
+                add6(&mut self.cfrc[p], &f, 1.0);
+            }
+        }
+        for d in 0..m.nv {
+            self.qfrc_bias[d] = dot6(&self.cdof[d], &self.cfrc[m.dof_body[d]]);
+        }
+    }
+
+    /// Passive forces: joint springs and damping, and the medium's viscous drag.
+    pub(crate) fn passive_forces(&mut self) {
+        let m = &*self.model;
+        self.qfrc_passive.fill(0.0);
+        for (j, jt) in m.joints.iter().enumerate() {
+            let da = m.jnt_dofadr[j];
+            for d in da..da + jt.kind.nv() {
+                self.qfrc_passive[d] -= jt.damping * self.qvel[d];
+            }
+            if jt.kind != JointKind::Free && jt.stiffness != 0.0 {
+                let qa = m.jnt_qposadr[j];
+                self.qfrc_passive[da] -= jt.stiffness * (self.qpos[qa] - jt.springref);
+            }
+        }
+        let mu = m.opt.viscosity;
+        if mu > 0.0 {
+            for b in 1..m.bodies.len() {
+                let body = &m.bodies[b];
+                if body.mass <= 0.0 || m.body_last_dof[b] == usize::MAX {
+                    continue;
+                }
+                // MuJoCo's inertia box: sides √(6 (I_j + I_k − I_i) / m), diameter their mean.
+                let i = body.inertia;
+                let side = |a: f64, b2: f64, c: f64| (6.0 * (a + b2 - c).max(0.0) / body.mass).sqrt();
+                let d = (side(i[1], i[2], i[0]) + side(i[0], i[2], i[1]) + side(i[0], i[1], i[2])) / 3.0;
+                let c = self.xipos[b];
+                let (w, v0) = crate::math::split(&self.cvel[b]);
+                let vc = add(v0, cross(w, c));
+                let f = scale(vc, -3.0 * std::f64::consts::PI * mu * d);
+                let t = scale(w, -std::f64::consts::PI * mu * d * d * d);
+                let wrench = join(add(t, cross(c, f)), f);
+                let mut k = m.body_last_dof[b];
+                while k != usize::MAX {
+                    self.qfrc_passive[k] += dot6(&self.cdof[k], &wrench);
+                    k = m.dof_parent[k];
+                }
+            }
+        }
+    }
+
+    /// Actuator forces from `ctrl` (clipped to each actuator's `ctrlrange`; NaN acts as 0).
+    pub(crate) fn actuation(&mut self) {
+        let m = &*self.model;
+        self.qfrc_actuator.fill(0.0);
+        for (a, act) in m.actuators.iter().enumerate() {
+            let mut u = self.ctrl[a];
+            if u.is_nan() {
+                u = 0.0;
+            }
+            if let Some([lo, hi]) = act.ctrlrange {
+                u = u.clamp(lo, hi);
+            }
+            self.qfrc_actuator[m.jnt_dofadr[act.joint]] += act.gear * u;
+        }
+    }
+}
+
+/// In-place Cholesky `A = L Lᵀ` of the row-major `n × n` matrix (lower triangle). `false` if
+/// `a` is not positive definite.
+pub fn cholesky(a: &mut [f64], n: usize) -> bool {
+    for j in 0..n {
+        let mut d = a[j * n + j];
+        for k in 0..j {
+            d -= a[j * n + k] * a[j * n + k];
+        }
+        if d.is_nan() || d <= 0.0 {
+            return false;
+        }
+        let d = d.sqrt();
+        a[j * n + j] = d;
+        for i in j + 1..n {
+            let mut s = a[i * n + j];
+            for k in 0..j {
+                s -= a[i * n + k] * a[j * n + k];
+            }
+            a[i * n + j] = s / d;
+        }
+    }
+    true
+}
+
+/// Solve `L Lᵀ x = b` in place with the factor of [`cholesky`].
+pub fn cholesky_solve(l: &[f64], n: usize, x: &mut [f64]) {
+    cholesky_solve_from(l, n, x, 0);
+}
+
+/// [`cholesky_solve`] for a right-hand side whose entries before `first` are zero (the forward
+/// substitution starts there).
+pub fn cholesky_solve_from(l: &[f64], n: usize, x: &mut [f64], first: usize) {
+    for i in first..n {
+        let mut s = x[i];
+        for k in first..i {
+            s -= l[i * n + k] * x[k];
+        }
+        x[i] = s / l[i * n + i];
+    }
+    for i in (0..n).rev() {
+        let mut s = x[i];
+        for k in i + 1..n {
+            s -= l[k * n + i] * x[k];
+        }
+        x[i] = s / l[i * n + i];
+    }
+}
+
+/// MuJoCo's `body_invweight0` and `dof_invweight0` at `qpos0`: the mean diagonal of the
+/// translational and rotational blocks of `J M⁻¹ Jᵀ` at each body's centre of mass, and the
+/// diagonal of `M⁻¹` (averaged over a free joint's translations and rotations).
+pub(crate) fn set_invweight0(model: &mut Model) {
+    let nv = model.nv;
+    if nv == 0 {
+        return;
+    }
+    let mut d = Data::new(std::sync::Arc::new(model.clone()));
+    d.kinematics();
+    d.mass_matrix();
+    let mut l = d.qm.clone();
+    if !cholesky(&mut l, nv) {
+        return;
+    }
+    let mut minv = vec![0.0; nv * nv];
+    let mut e = vec![0.0; nv];
+    for i in 0..nv {
+        e.fill(0.0);
+        e[i] = 1.0;
+        cholesky_solve(&l, nv, &mut e);
+        for k in 0..nv {
+            minv[k * nv + i] = e[k];
+        }
+    }
+    const MINVAL: f64 = 1e-15;
+    let mut jac = vec![[0.0; 6]; nv];
+    for b in 1..model.bodies.len() {
+        if model.body_last_dof[b] == usize::MAX {
+            continue;
+        }
+        let c = d.xipos[b];
+        jac.iter_mut().for_each(|x| *x = [0.0; 6]);
+        let mut k = model.body_last_dof[b];
+        while k != usize::MAX {
+            let (w, v) = crate::math::split(&d.cdof[k]);
+            let lin = add(v, cross(w, c));
+            jac[k] = join(lin, w);
+            k = model.dof_parent[k];
+        }
+        let (mut tr, mut rot) = (0.0, 0.0);
+        for r in 0..6 {
+            let mut s = 0.0;
+            for (i, ji) in jac.iter().enumerate() {
+                if ji[r] == 0.0 {
+                    continue;
+                }
+                for (j, jj) in jac.iter().enumerate() {
+                    s += ji[r] * minv[i * nv + j] * jj[r];
+                }
+            }
+            if r < 3 { tr += s } else { rot += s }
+        }
+        model.body_invweight0[b] = [(tr / 3.0).max(MINVAL), (rot / 3.0).max(MINVAL)];
+    }
+    for (j, jt) in model.joints.iter().enumerate() {
+        let da = model.jnt_dofadr[j];
+        match jt.kind {
+            JointKind::Free => {
+                for (lo, hi) in [(da, da + 3), (da + 3, da + 6)] {
+                    let mean = (lo..hi).map(|k| minv[k * nv + k]).sum::<f64>() / 3.0;
+                    for k in lo..hi {
+                        model.dof_invweight0[k] = mean.max(MINVAL);
+                    }
+                }
+            }
+            _ => model.dof_invweight0[da] = minv[da * nv + da].max(MINVAL),
+        }
+    }
+}
+

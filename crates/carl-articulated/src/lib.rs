@@ -1,0 +1,26 @@
+//! A reduced-coordinate 3-D articulated-body engine with MuJoCo's semantics, in f64.
+//!
+//! A [`Model`] is a tree of bodies with free, hinge and slide joints, collision geoms (plane,
+//! sphere, capsule, box) and motors, read by loaders kept apart from the engine; a [`Data`]
+//! is one instance's state and preallocated buffers (`Clone + Send`, no global state, no
+//! allocation per step). One step is MuJoCo's pipeline:
+//!
+//! * [`dynamics`]: forward kinematics (quaternions for free joints), composite-rigid-body mass
+//!   matrix with armature, recursive Newton–Euler bias forces, passive forces;
+//! * [`collision`]: contacts with MuJoCo's pair filters, margins and contact frames;
+//! * [`constraint`]: soft contacts and joint limits from `solref`/`solimp`, pyramidal friction,
+//!   projected Gauss–Seidel on the dual with a warm start;
+//! * [`data`]: semi-implicit Euler with implicit joint damping, or RK4.
+//!
+//! [`math`] holds the small vector, quaternion and spatial-algebra helpers.
+
+pub mod collision;
+pub mod constraint;
+pub mod data;
+pub mod dynamics;
+pub mod math;
+pub mod model;
+
+pub use collision::Contact;
+pub use data::Data;
+pub use model::{Actuator, Body, Geom, Integrator, Joint, JointKind, Model, ModelError, Options, Shape};

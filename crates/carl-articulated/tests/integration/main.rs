@@ -1,0 +1,7 @@
+//! carl-articulated's integration tests: analytic checks of the dynamics ([`analytic`]) and
+//! parity with the real MuJoCo on fixtures written by `scripts/articulated_mujoco_fixtures.py`
+//! ([`parity`], models built by [`fixture`]).
+
+mod analytic;
+mod fixture;
+mod parity;

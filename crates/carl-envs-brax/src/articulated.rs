@@ -1,0 +1,512 @@
+//! Robots on the articulated-body engine ([`carl_articulated`], MuJoCo's semantics): the
+//! loader from a [`RobotModel`] (URDF + side file) and a context to a
+//! [`carl_articulated::Model`], kept apart from the engine, and [`ArticulatedWorld`], one
+//! instance with the operations the tasks call.
+//!
+//! The URDF's root link is body 1 (a free joint when the side file's root is `free`, welded to
+//! the world otherwise); every other link is a body placed at its joint's origin, hinge or
+//! slide along the URDF axis (fixed joints weld). Inertials: the URDF tensor's principal axes.
+//! Colliders: spheres, capsules and boxes; the floor is a plane. How the context enters:
+//! * `gravity` → the gravity vector's z; `friction` → every geom's sliding friction (MuJoCo
+//!   takes the pair's larger, so every contact has it);
+//! * `joint_angular_damping` → MuJoCo's joint damping of every robot joint the side file's
+//!   `joint_dampings` does not list (implicit under Euler, explicit under RK4, as MuJoCo);
+//! * `joint_stiffness` → the joint limits unless the side file gives a `limit_model`: MuJoCo
+//!   soft limits with `solref = [−k/I, −2ζ√(k/I)]` (stiffness and damping form), `k` the
+//!   feature, `I` the side file's `limit_reference_inertia`, `ζ` its `limit_damping_ratio`
+//!   (`k = 2500`, `I = 1`, `ζ = 1` are MuJoCo's default `solreflimit` (0.02, 1));
+//! * `actuator_strength` → the motors' gear (`gear · strength / strength_reference`);
+//! * `torso_mass`, `mass_<link>` → link masses (the inertia scales with the mass);
+//! * `angular_damping` → after each step every hinge rate and the free root's angular velocity
+//!   are scaled by `exp(angular_damping · h)` (Brax's global angular damping; 0 in MuJoCo);
+//! * `viscosity` → MuJoCo's medium viscosity.
+//!
+//! Contacts use the side file's `contact_model` (`solref`, `solimp`, and the robot geoms'
+//! `margin`, the floor's being 0) or MuJoCo's defaults; robot geoms collide with the floor, with
+//! each other only under `self_collisions` (MuJoCo's parent–child filter applies), and only the
+//! side file's `ground_links` touch the floor when it names any.
+//!
+//! Velocities are MuJoCo's: a free root's linear velocity in the world frame, its angular
+//! velocity in the root body's frame.
+
+use std::sync::Arc;
+
+use carl_articulated::math::{self, M3, V3};
+use carl_articulated::model::{Actuator, Body, Geom, Integrator, Joint, JointKind, Model, Options, Shape};
+use carl_articulated::{Data, model::SOLIMP_DEFAULT};
+use rapier3d_urdf::urdf_rs;
+
+use super::model::{RobotModel, RootKind};
+use super::params::{RobotParams, finite_or};
+use super::world::Configuration;
+
+/// URDF `rpy` as a rotation matrix `Rz(yaw)·Ry(pitch)·Rx(roll)`.
+fn rpy_mat(rpy: [f64; 3]) -> M3 {
+    let (sr, cr) = rpy[0].sin_cos();
+    let (sp, cp) = rpy[1].sin_cos();
+    let (sy, cy) = rpy[2].sin_cos();
+    [
+        [cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
+        [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
+        [-sp, cp * sr, cp * cr],
+    ]
+}
+
+/// The context-dependent parts of an articulated robot, shared by its instances.
+#[derive(Debug)]
+pub struct ArticulatedSystem {
+    pub model: Arc<Model>,
+    /// Body of each URDF link.
+    pub link_body: Vec<usize>,
+    /// (qpos address, dof address) of each movable URDF joint, URDF order.
+    joint_addr: Vec<(usize, usize)>,
+    free_root: bool,
+    /// Multiplier of hinge rates and the free root's angular velocity after each step.
+    angular_decay: f64,
+    torso: usize,
+}
+
+impl ArticulatedSystem {
+    /// The engine model of `robot` under `params`, or why it cannot be built.
+    pub fn new(robot: &RobotModel, params: &RobotParams) -> Result<ArticulatedSystem, String> {
+        let side = &robot.side;
+        let urdf = &robot.urdf;
+        let nl = urdf.links.len();
+        let link_index = |name: &str| urdf.links.iter().position(|l| l.name == name);
+        // Parent joint of each link.
+        let mut parent_joint: Vec<Option<usize>> = vec![None; nl];
+        for (j, jt) in urdf.joints.iter().enumerate() {
+            let (Some(_), Some(c)) = (link_index(&jt.parent.link), link_index(&jt.child.link)) else {
+                return Err(format!("joint {} names a link that does not exist", jt.name));
+            };
+            if parent_joint[c].is_some() {
+                return Err(format!("link {} has two parent joints", jt.child.link));
+            }
+            parent_joint[c] = Some(j);
+        }
+        let roots: Vec<usize> = (0..nl).filter(|&i| parent_joint[i].is_none()).collect();
+        if roots.len() != 1 {
+            return Err("the URDF must form one tree".into());
+        }
+        // Links depth-first, children in URDF joint order (MuJoCo's body order for a converted
+        // XML, so coordinates line up with MuJoCo's `qpos`).
+        let mut order = Vec::with_capacity(nl);
+        let mut stack = vec![roots[0]];
+        while let Some(li) = stack.pop() {
+            order.push(li);
+            let name = &urdf.links[li].name;
+            let children: Vec<usize> = urdf
+                .joints
+                .iter()
+                .filter(|j| j.parent.link == *name)
+                .filter_map(|j| link_index(&j.child.link))
+                .collect();
+            if order.len() + stack.len() + children.len() > nl {
+                return Err("the URDF's joints form a loop".into());
+            }
+            stack.extend(children.into_iter().rev());
+        }
+        if order.len() != nl {
+            return Err("the URDF's joints form a loop".into());
+        }
+        let h = side.timestep;
+        let strength = match params.actuator_strength {
+            Some(s) => finite_or(s, side.strength_reference) / side.strength_reference,
+            None => 1.0,
+        };
+        let jd = finite_or(params.joint_angular_damping, 0.0).max(0.0);
+        let k_lim = finite_or(params.joint_stiffness, 1.0).max(1e-9) / side.limit_reference_inertia;
+        let limit_solref = [-k_lim, -2.0 * side.limit_damping_ratio * k_lim.sqrt()];
+        let friction = finite_or(params.friction, 0.0).max(0.0);
+        let (solref, solimp, margin) = match &side.contact_model {
+            Some(c) => (c.solref, c.solimp, c.margin.max(0.0)),
+            None => (carl_articulated::model::SOLREF_DEFAULT, SOLIMP_DEFAULT, 0.0),
+        };
+        let mut bodies = vec![Body::new("world", 0, [0.0; 3], 0.0, [0.0; 3], [0.0; 3])];
+        let mut joints = Vec::new();
+        let mut geoms = Vec::new();
+        let mut link_body = vec![0; nl];
+        let mut urdf_joint_model: Vec<Option<usize>> = vec![None; urdf.joints.len()];
+        for &li in &order {
+            let l = &urdf.links[li];
+            let b = bodies.len();
+            link_body[li] = b;
+            let (parent, pos, quat) = match parent_joint[li] {
+                None => (0, [0.0, 0.0, side.root_height], math::QUAT_IDENTITY),
+                Some(j) => {
+                    let jt = &urdf.joints[j];
+                    let p = link_body[link_index(&jt.parent.link).expect("checked")];
+                    (p, jt.origin.xyz.0, math::mat_to_quat(&rpy_mat(jt.origin.rpy.0)))
+                }
+            };
+            // Mass with the context's overrides; the inertia scales with it.
+            let base = l.inertial.mass.value;
+            let mut m = base;
+            if li == robot.torso
+                && let Some(t) = params.torso_mass
+            {
+                m = t;
+            }
+            if let Some((_, v)) = params.link_masses.iter().find(|(n, _)| *n == l.name) {
+                m = *v;
+            }
+            let m = finite_or(m, base).max(1e-6);
+            let ine = &l.inertial.inertia;
+            let tensor = [[ine.ixx, ine.ixy, ine.ixz], [ine.ixy, ine.iyy, ine.iyz], [ine.ixz, ine.iyz, ine.izz]];
+            let (moments, axes) = math::principal_axes(&tensor);
+            let frame = math::mat_to_quat(&rpy_mat(l.inertial.origin.rpy.0));
+            let mut body = Body::new(&l.name, parent, pos, m, l.inertial.origin.xyz.0, math::scale(moments, m / base));
+            body.quat = quat;
+            body.iquat = math::quat_mul(frame, axes);
+            bodies.push(body);
+            match parent_joint[li] {
+                None if side.root == RootKind::Free => {
+                    joints.push(Joint::new("root", b, JointKind::Free, [0.0, 0.0, 1.0]));
+                }
+                None => {}
+                Some(j) => {
+                    let jt = &urdf.joints[j];
+                    let kind = match jt.joint_type {
+                        urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous => JointKind::Hinge,
+                        urdf_rs::JointType::Prismatic => JointKind::Slide,
+                        urdf_rs::JointType::Fixed => continue,
+                        ref other => return Err(format!("joint {} is a {other:?} joint", jt.name)),
+                    };
+                    let name = &jt.name;
+                    let root = side.root_joints.contains(name);
+                    let mut joint = Joint::new(name, b, kind, jt.axis.xyz.0);
+                    joint.armature = if root {
+                        0.0
+                    } else {
+                        side.joint_armatures
+                            .iter()
+                            .find(|a| a.joint == *name)
+                            .map_or(side.joint_armature, |a| a.armature)
+                    };
+                    joint.damping = match side.joint_dampings.iter().find(|d| d.joint == *name) {
+                        Some(d) => d.damping.max(0.0),
+                        None if !root => jd,
+                        None => 0.0,
+                    };
+                    joint.stiffness = side.joint_springs.iter().find(|s| s.joint == *name).map_or(0.0, |s| s.stiffness);
+                    if !matches!(jt.joint_type, urdf_rs::JointType::Continuous) && jt.limit.lower < jt.limit.upper {
+                        joint.range = Some([jt.limit.lower, jt.limit.upper]);
+                    }
+                    match &side.limit_model {
+                        Some(lm) => {
+                            joint.solref_limit = lm.solref;
+                            joint.solimp_limit = lm.solimp;
+                            joint.margin = lm.margin;
+                        }
+                        None => joint.solref_limit = limit_solref,
+                    }
+                    urdf_joint_model[j] = Some(joints.len());
+                    joints.push(joint);
+                }
+            }
+            let ground = side.ground_contacts && (side.ground_links.is_empty() || side.ground_links.contains(&l.name));
+            for c in &l.collision {
+                let shape = match c.geometry {
+                    urdf_rs::Geometry::Sphere { radius } => Shape::Sphere { radius },
+                    urdf_rs::Geometry::Capsule { radius, length } => Shape::Capsule {
+                        radius,
+                        half_length: length / 2.0,
+                    },
+                    urdf_rs::Geometry::Box { size } => Shape::Box {
+                        half: math::scale(size.0, 0.5),
+                    },
+                    ref g => return Err(format!("a collider of link {} is a {g:?}", l.name)),
+                };
+                let mut g = Geom::new(&l.name, b, shape, c.origin.xyz.0);
+                g.quat = math::mat_to_quat(&rpy_mat(c.origin.rpy.0));
+                g.friction[0] = friction;
+                g.solref = solref;
+                g.solimp = solimp;
+                g.margin = margin;
+                // Bit 1: the floor (contype = conaffinity = 1); bit 2: other robot geoms.
+                let selfc = if side.self_collisions { 2 } else { 0 };
+                g.contype = u32::from(ground) | selfc;
+                g.conaffinity = selfc;
+                geoms.push(g);
+            }
+        }
+        if side.ground_contacts {
+            let mut floor = Geom::new("floor", 0, Shape::Plane, [0.0; 3]);
+            floor.friction[0] = friction;
+            floor.solref = solref;
+            floor.solimp = solimp;
+            floor.contype = 1;
+            floor.conaffinity = 1;
+            geoms.push(floor);
+        }
+        // Joints must be listed in body order (they are: bodies were made parent-first).
+        let mut actuators = Vec::new();
+        for a in &side.actuators {
+            let j = urdf.joints.iter().position(|j| j.name == a.joint);
+            let Some(mj) = j.and_then(|j| urdf_joint_model[j]) else {
+                return Err(format!("actuator joint {} is not a movable joint", a.joint));
+            };
+            actuators.push(Actuator {
+                name: a.joint.clone(),
+                joint: mj,
+                gear: a.gear * strength,
+                ctrlrange: Some(side.ctrl_range),
+            });
+        }
+        let opt = Options {
+            timestep: h,
+            gravity: [0.0, 0.0, finite_or(params.gravity, 0.0)],
+            integrator: match side.integrator {
+                super::model::IntegratorName::Euler => Integrator::Euler,
+                super::model::IntegratorName::Rk4 => Integrator::Rk4,
+            },
+            viscosity: finite_or(params.viscosity, 0.0).max(0.0),
+            ..Options::default()
+        };
+        let model = Model::new(opt, bodies, joints, geoms, actuators).map_err(|e| e.to_string())?;
+        let joint_addr = robot
+            .joint_names
+            .iter()
+            .map(|n| {
+                let j = model.joint_index(n).expect("every movable URDF joint is a model joint");
+                (model.jnt_qposadr[j], model.jnt_dofadr[j])
+            })
+            .collect();
+        Ok(ArticulatedSystem {
+            free_root: side.root == RootKind::Free,
+            angular_decay: (finite_or(params.angular_damping, 0.0) * h).exp(),
+            torso: link_body[robot.torso],
+            link_body,
+            joint_addr,
+            model: Arc::new(model),
+        })
+    }
+}
+
+/// One robot instance on the articulated engine. `Clone` copies the state exactly.
+#[derive(Debug, Clone)]
+pub struct ArticulatedWorld {
+    sys: Arc<ArticulatedSystem>,
+    data: Data,
+    /// Contact wrench of each body over the last step.
+    wrench: Vec<[f64; 6]>,
+}
+
+fn coord(x: f64) -> f64 {
+    finite_or(x, 0.0).clamp(-1e6, 1e6)
+}
+
+impl ArticulatedWorld {
+    /// The world of `sys` in configuration `c` (root pose, joints in URDF order, rates).
+    pub fn new(sys: Arc<ArticulatedSystem>, c: &Configuration) -> ArticulatedWorld {
+        let mut data = Data::new(Arc::clone(&sys.model));
+        if sys.free_root {
+            for (k, x) in c.root.iter().take(7).enumerate() {
+                data.qpos[k] = coord(*x);
+            }
+            let q = math::quat_normalize([data.qpos[3], data.qpos[4], data.qpos[5], data.qpos[6]]);
+            data.qpos[3..7].copy_from_slice(&q);
+            for (k, v) in c.vel.iter().take(6).enumerate() {
+                data.qvel[k] = coord(*v);
+            }
+        }
+        let off = if sys.free_root { 6 } else { 0 };
+        for (i, &(qa, da)) in sys.joint_addr.iter().enumerate() {
+            if let Some(x) = c.joints.get(i) {
+                data.qpos[qa] = coord(*x);
+            }
+            if let Some(v) = c.vel.get(off + i) {
+                data.qvel[da] = coord(*v);
+            }
+        }
+        data.update_kinematics();
+        let nb = sys.model.bodies.len();
+        ArticulatedWorld {
+            data,
+            wrench: vec![[0.0; 6]; nb],
+            sys,
+        }
+    }
+
+    pub fn data(&self) -> &Data {
+        &self.data
+    }
+
+    pub fn system(&self) -> &ArticulatedSystem {
+        &self.sys
+    }
+
+    /// Root pose (free root), joints in URDF order and rates (root first).
+    pub fn configuration(&self) -> Configuration {
+        let d = &self.data;
+        let off = if self.sys.free_root { 6 } else { 0 };
+        let mut vel = d.qvel[..off].to_vec();
+        vel.extend(self.sys.joint_addr.iter().map(|&(_, da)| d.qvel[da]));
+        Configuration {
+            root: if self.sys.free_root { d.qpos[..7].to_vec() } else { Vec::new() },
+            joints: self.sys.joint_addr.iter().map(|&(qa, _)| d.qpos[qa]).collect(),
+            vel,
+        }
+    }
+
+    /// One physics step with motor controls `ctrl` (clipped to the control range).
+    pub fn step(&mut self, ctrl: &[f32]) {
+        for (c, u) in self.data.ctrl.iter_mut().zip(ctrl) {
+            *c = f64::from(*u);
+        }
+        self.data.step();
+        self.data.contact_wrenches(&mut self.wrench);
+        let decay = self.sys.angular_decay;
+        if decay != 1.0 {
+            let m = &*self.sys.model;
+            for (j, jt) in m.joints.iter().enumerate() {
+                let da = m.jnt_dofadr[j];
+                match jt.kind {
+                    JointKind::Hinge => self.data.qvel[da] *= decay,
+                    JointKind::Free => self.data.qvel[da + 3..da + 6].iter_mut().for_each(|v| *v *= decay),
+                    JointKind::Slide => {}
+                }
+            }
+        }
+        self.data.update_kinematics();
+    }
+
+    /// Whether every coordinate and rate is finite and no rate exceeds `max_speed`.
+    pub fn is_sane(&self, max_speed: f64) -> bool {
+        self.data.is_sane(max_speed)
+    }
+
+    /// Contact wrench on each URDF link over the last step, `[torque, force]` (world frame,
+    /// torque about the link's centre of mass), 6 per link.
+    pub fn contact_wrenches(&self, out: &mut [f64]) {
+        for (li, &b) in self.sys.link_body.iter().enumerate() {
+            if let Some(o) = out.get_mut(6 * li..6 * li + 6) {
+                o.copy_from_slice(&self.wrench[b]);
+            }
+        }
+    }
+
+    /// Link wrenches (as [`ArticulatedWorld::contact_wrenches`]) of `bodies` with the torque
+    /// moved to `c` (MuJoCo's com-based `cfrc_ext`).
+    pub fn com_wrenches(&self, bodies: &[usize], c: [f64; 3], link_wrenches: &[f64], out: &mut [f64]) {
+        for (k, &i) in bodies.iter().enumerate() {
+            let p = self.data.xipos[self.sys.link_body[i]];
+            let w = &link_wrenches[6 * i..6 * i + 6];
+            let f = [w[3], w[4], w[5]];
+            let t = math::cross(math::sub(p, c), f);
+            let o = &mut out[6 * k..6 * k + 6];
+            for j in 0..3 {
+                o[j] = w[j] + t[j];
+                o[3 + j] = f[j];
+            }
+        }
+    }
+
+    /// Generalized actuator forces under controls `ctrl`, one per movable URDF joint.
+    pub fn actuator_forces(&self, ctrl: &[f32], out: &mut [f64]) {
+        out.fill(0.0);
+        let m = &*self.sys.model;
+        for (a, &u) in m.actuators.iter().zip(ctrl) {
+            let mut u = if u.is_nan() { 0.0 } else { f64::from(u) };
+            if let Some([lo, hi]) = a.ctrlrange {
+                u = u.clamp(lo, hi);
+            }
+            let da = m.jnt_dofadr[a.joint];
+            if let Some(i) = self.sys.joint_addr.iter().position(|&(_, d)| d == da)
+                && let Some(o) = out.get_mut(i)
+            {
+                *o += a.gear * u;
+            }
+        }
+    }
+
+    /// Mass-weighted centre of mass of the robot.
+    pub fn center_of_mass(&self) -> [f64; 3] {
+        self.data.center_of_mass()
+    }
+
+    /// World position of the torso link's frame.
+    pub fn torso_position(&self) -> V3 {
+        self.data.xpos[self.sys.torso]
+    }
+
+    /// Every geom of the robot in the world: (link-colour index, shape, position, rotation).
+    pub fn geoms(&self) -> impl Iterator<Item = (usize, Shape, V3, M3)> + '_ {
+        let m = &*self.sys.model;
+        m.geoms
+            .iter()
+            .enumerate()
+            .filter(|(_, g)| g.body != 0)
+            .map(|(i, g)| (g.body, g.shape, self.data.geom_xpos[i], self.data.geom_xmat[i]))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::RobotModel;
+
+    /// The context that reproduces Gymnasium's ant.xml (the spec's `mujoco_v5` instance set).
+    fn mujoco_ant_params(model: &RobotModel) -> RobotParams {
+        let mut p = RobotParams::for_model("ant", model);
+        for (name, v) in [
+            ("gravity", -9.81),
+            ("friction", 1.0),
+            ("angular_damping", 0.0),
+            ("joint_angular_damping", 1.0),
+            ("joint_stiffness", 2500.0),
+            ("actuator_strength", 150.0),
+            ("torso_mass", 0.327249235),
+        ] {
+            p.set(name, v).unwrap();
+        }
+        p
+    }
+
+    /// robots/ant (converted from ant.xml) at MuJoCo's values is MuJoCo's Ant: its compiled
+    /// constants and every 5-step interval of carl-articulated's MuJoCo fixture agree.
+    #[test]
+    fn ant_at_mujoco_values_matches_the_mujoco_fixture() {
+        let robot = RobotModel::load("ant").unwrap();
+        let sys = ArticulatedSystem::new(&robot, &mujoco_ant_params(&robot)).unwrap();
+        let m = &*sys.model;
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../carl-articulated/tests/fixtures/mujoco_ant.json");
+        let fx: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let nums = |v: &serde_json::Value| -> Vec<f64> {
+            v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()
+        };
+        let dw = nums(&fx["model"]["dof_invweight0"]);
+        for (a, b) in m.dof_invweight0.iter().zip(&dw) {
+            assert!((a - b).abs() < 1e-6 * b, "dof_invweight0 {:?} vs {dw:?}", m.dof_invweight0);
+        }
+        assert_eq!(m.nq, 15);
+        let recs = fx["trajectory"].as_array().unwrap();
+        let mut d = Data::new(Arc::clone(&sys.model));
+        let (mut dq, mut dv) = (0.0f64, 0.0f64);
+        for w in recs.windows(2) {
+            d.qpos.copy_from_slice(&nums(&w[0]["qpos"]));
+            d.qvel.copy_from_slice(&nums(&w[0]["qvel"]));
+            d.time = w[0]["time"].as_f64().unwrap();
+            for _ in 0..5 {
+                for (a, u) in d.ctrl.iter_mut().enumerate() {
+                    let t = d.time;
+                    *u = (2.0 * std::f64::consts::PI * 1.3 * t + 0.7 * a as f64).sin() * (0.6 + 0.1 * a as f64);
+                }
+                d.step();
+            }
+            let (q1, v1) = (nums(&w[1]["qpos"]), nums(&w[1]["qvel"]));
+            dq = dq.max(d.qpos.iter().zip(&q1).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max));
+            dv = dv.max(d.qvel.iter().zip(&v1).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max));
+        }
+        assert!(dq < 1e-5 && dv < 2e-4, "ant from the URDF: qpos off by {dq}, qvel by {dv}");
+    }
+
+    #[test]
+    fn rpy_matrix_is_urdf_order() {
+        // yaw 90° turns x into y; roll 90° turns y into z.
+        let m = rpy_mat([0.0, 0.0, std::f64::consts::FRAC_PI_2]);
+        assert!((m[1][0] - 1.0).abs() < 1e-12);
+        let m = rpy_mat([std::f64::consts::FRAC_PI_2, 0.0, 0.0]);
+        assert!((m[2][1] - 1.0).abs() < 1e-12);
+    }
+}

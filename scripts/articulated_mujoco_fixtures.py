@@ -1,0 +1,210 @@
+#!/usr/bin/env python3
+"""Parity fixtures of carl-articulated against the real MuJoCo.
+
+Runs small MJCF models in MuJoCo and writes, per model, one JSON file under
+crates/carl-articulated/tests/fixtures/: the compiled model as MuJoCo holds it (`mjModel`'s
+body, joint, geom and actuator fields, options, `body_invweight0`, `dof_invweight0`), the
+quantities of the first forward pass (mass matrix, bias forces, unconstrained and constrained
+acceleration) and a trajectory (`qpos`, `qvel` every `every` steps) under a fixed control
+sequence. The Rust tests build the same model from these fields, so the comparison is of the
+dynamics alone.
+
+Models: a damped double pendulum with armature and joint limits (Euler and RK4), a free box
+and a free capsule dropped on the floor (Euler), a pile of two capsules and a sphere falling on
+each other and the floor (capsule–capsule, sphere–capsule contacts), and Gymnasium's ant.xml
+(RK4, its own option) under a fixed open-loop control.
+
+Needs mujoco 4.0.0 and gymnasium 1.4.0 (for ant.xml), e.g. in a venv outside the repository:
+    python3 -m venv /tmp/mj-venv && /tmp/mj-venv/bin/pip install mujoco==4.0.0 gymnasium==1.4.0
+Run from the repository root: `/tmp/mj-venv/bin/python scripts/articulated_mujoco_fixtures.py`
+(`--check` compares with the committed fixtures instead of writing).
+"""
+import argparse
+import json
+import math
+import os
+import sys
+
+OUT = "crates/carl-articulated/tests/fixtures"
+
+DOUBLE_PENDULUM = """
+<mujoco model="double_pendulum">
+  <option timestep="0.002" integrator="{integrator}" gravity="0 0 -9.81"/>
+  <worldbody>
+    <body name="upper" pos="0 0 1">
+      <joint name="shoulder" type="hinge" axis="0 1 0" damping="{damping}" armature="0.01" limited="true" range="-100 100"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 -0.3" size="0.04" density="1000" contype="0" conaffinity="0"/>
+      <body name="lower" pos="0.3 0 -0.3">
+        <joint name="elbow" type="hinge" axis="0.2 1 0.1" damping="{damping}" armature="0.02" limited="true" range="-40 40"
+               stiffness="{stiffness}" springref="10"/>
+        <geom type="capsule" fromto="0 0 0 0 0.1 -0.35" size="0.03" density="1000" contype="0" conaffinity="0"/>
+        <geom type="sphere" pos="0 0.1 -0.35" size="0.06" density="500" contype="0" conaffinity="0"/>
+      </body>
+    </body>
+  </worldbody>
+  <actuator>
+    <motor joint="shoulder" gear="2" ctrllimited="true" ctrlrange="-1 1"/>
+    <motor joint="elbow" gear="1" ctrllimited="true" ctrlrange="-1 1"/>
+  </actuator>
+</mujoco>
+"""
+
+DROP = """
+<mujoco model="drop">
+  <option timestep="0.002"/>
+  <worldbody>
+    <geom name="floor" type="plane" size="5 5 0.1" friction="0.8 0.005 0.0001"/>
+    <body name="box" pos="0 0 0.5" euler="20 10 5">
+      <freejoint/>
+      <geom type="box" size="0.1 0.15 0.05" density="800"/>
+    </body>
+    <body name="capsule" pos="1 0 0.4" euler="0 80 0">
+      <freejoint/>
+      <geom type="capsule" size="0.05 0.2" density="600" margin="0.005"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+PILE = """
+<mujoco model="pile">
+  <option timestep="0.002"/>
+  <worldbody>
+    <geom name="floor" type="plane" size="5 5 0.1"/>
+    <body name="bar" pos="0 0 0.3" euler="0 90 0">
+      <freejoint/>
+      <geom type="capsule" size="0.05 0.3" density="500"/>
+    </body>
+    <body name="cross" pos="0.05 0.02 0.5" euler="90 0 10">
+      <freejoint/>
+      <geom type="capsule" size="0.04 0.2" density="700"/>
+    </body>
+    <body name="ball" pos="-0.1 0.03 0.8">
+      <freejoint/>
+      <geom type="sphere" size="0.07" density="300"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def gym_ant_xml():
+    import gymnasium
+    return os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets", "ant.xml")
+
+
+def r(x):
+    """Round to 12 significant digits (fixtures stay small and diffable)."""
+    if hasattr(x, "tolist"):
+        x = x.tolist()
+    if isinstance(x, (list, tuple)):
+        return [r(v) for v in x]
+    x = float(x)
+    return 0.0 if x == 0 else float(f"{x:.12g}")
+
+
+def model_json(mujoco, m):
+    shape = {int(mujoco.mjtGeom.mjGEOM_PLANE): "plane", int(mujoco.mjtGeom.mjGEOM_SPHERE): "sphere",
+             int(mujoco.mjtGeom.mjGEOM_CAPSULE): "capsule", int(mujoco.mjtGeom.mjGEOM_BOX): "box"}
+    kind = {int(mujoco.mjtJoint.mjJNT_FREE): "free", int(mujoco.mjtJoint.mjJNT_HINGE): "hinge",
+            int(mujoco.mjtJoint.mjJNT_SLIDE): "slide"}
+    integ = {int(mujoco.mjtIntegrator.mjINT_EULER): "euler", int(mujoco.mjtIntegrator.mjINT_RK4): "rk4"}
+    assert m.opt.cone == mujoco.mjtCone.mjCONE_PYRAMIDAL
+    bodies = [dict(parent=int(m.body_parentid[i]), pos=r(m.body_pos[i]), quat=r(m.body_quat[i]),
+                   mass=r(m.body_mass[i]), ipos=r(m.body_ipos[i]), iquat=r(m.body_iquat[i]),
+                   inertia=r(m.body_inertia[i])) for i in range(m.nbody)]
+    joints = []
+    for j in range(m.njnt):
+        d = m.jnt_dofadr[j]
+        joints.append(dict(kind=kind[int(m.jnt_type[j])], body=int(m.jnt_bodyid[j]), pos=r(m.jnt_pos[j]),
+                           axis=r(m.jnt_axis[j]), armature=r(m.dof_armature[d]), damping=r(m.dof_damping[d]),
+                           stiffness=r(m.jnt_stiffness[j]),
+                           springref=r(m.qpos_spring[m.jnt_qposadr[j]]) if m.jnt_type[j] > 1 else 0.0,
+                           qpos0=r(m.qpos0[m.jnt_qposadr[j]]) if m.jnt_type[j] > 1 else 0.0,
+                           range=r(m.jnt_range[j]) if m.jnt_limited[j] else None, margin=r(m.jnt_margin[j]),
+                           solref=r(m.jnt_solref[j]), solimp=r(m.jnt_solimp[j])))
+    geoms = [dict(body=int(m.geom_bodyid[g]), shape=shape[int(m.geom_type[g])], size=r(m.geom_size[g]),
+                  pos=r(m.geom_pos[g]), quat=r(m.geom_quat[g]), contype=int(m.geom_contype[g]),
+                  conaffinity=int(m.geom_conaffinity[g]), condim=int(m.geom_condim[g]),
+                  friction=r(m.geom_friction[g]), solmix=r(m.geom_solmix[g]), solref=r(m.geom_solref[g]),
+                  solimp=r(m.geom_solimp[g]), margin=r(m.geom_margin[g]), gap=r(m.geom_gap[g]))
+             for g in range(m.ngeom)]
+    actuators = [dict(joint=int(m.actuator_trnid[a][0]), gear=r(m.actuator_gear[a][0]),
+                      ctrlrange=r(m.actuator_ctrlrange[a]) if m.actuator_ctrllimited[a] else None)
+                 for a in range(m.nu)]
+    opt = dict(timestep=r(m.opt.timestep), gravity=r(m.opt.gravity), integrator=integ[int(m.opt.integrator)],
+               impratio=r(m.opt.impratio), viscosity=r(m.opt.viscosity))
+    return dict(opt=opt, bodies=bodies, joints=joints, geoms=geoms, actuators=actuators,
+                body_invweight0=r(m.body_invweight0), dof_invweight0=r(m.dof_invweight0), qpos0=r(m.qpos0))
+
+
+def control(t, nu):
+    """The fixed open-loop control: phase-shifted sines, clipped by the model's ctrlrange."""
+    return [math.sin(2.0 * math.pi * 1.3 * t + 0.7 * a) * (0.6 + 0.1 * a) for a in range(nu)]
+
+
+def run(mujoco, m, steps, every, qvel0=None):
+    d = mujoco.MjData(m)
+    if qvel0 is not None:
+        d.qvel[:] = qvel0
+    d.ctrl[:] = control(0.0, m.nu)
+    mujoco.mj_forward(m, d)
+    import numpy as np
+    mm = np.zeros((m.nv, m.nv))
+    mujoco.mj_fullM(m, d, mm)
+    first = dict(qM=r(mm.tolist()), qfrc_bias=r(d.qfrc_bias), qfrc_passive=r(d.qfrc_passive),
+                 qacc_smooth=r(d.qacc_smooth), qacc=r(d.qacc), ncon=int(d.ncon), nefc=int(d.nefc))
+    traj = [dict(step=0, time=r(d.time), qpos=r(d.qpos), qvel=r(d.qvel))]
+    for s in range(1, steps + 1):
+        d.ctrl[:] = control(d.time, m.nu)
+        mujoco.mj_step(m, d)
+        if s % every == 0:
+            traj.append(dict(step=s, time=r(d.time), qpos=r(d.qpos), qvel=r(d.qvel)))
+    return dict(qvel0=r(list(qvel0)) if qvel0 is not None else None, first=first, trajectory=traj)
+
+
+def fixtures():
+    import mujoco
+    out = {}
+    for name, integ, damping, stiffness in [("double_pendulum_euler", "Euler", 0.05, 0.3),
+                                            ("double_pendulum_rk4", "RK4", 0.0, 0.0)]:
+        m = mujoco.MjModel.from_xml_string(DOUBLE_PENDULUM.format(integrator=integ, damping=damping,
+                                                                  stiffness=stiffness))
+        out[name] = dict(model=model_json(mujoco, m), **run(mujoco, m, 1000, 20, qvel0=[3.0, -2.0]))
+    m = mujoco.MjModel.from_xml_string(DROP)
+    out["drop"] = dict(model=model_json(mujoco, m),
+                       **run(mujoco, m, 600, 10, qvel0=[0.5, 0, 0, 1.0, -2.0, 0.5, 0, 0.3, 0, 0, 0, 0]))
+    m = mujoco.MjModel.from_xml_string(PILE)
+    out["pile"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 500, 10))
+    m = mujoco.MjModel.from_xml_path(gym_ant_xml())
+    out["ant"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 300, 5))
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--check", action="store_true", help="compare with the committed fixtures")
+    args = ap.parse_args()
+    import mujoco
+    if mujoco.__version__ != "4.0.0":
+        sys.exit(f"needs mujoco 4.0.0, found {mujoco.__version__}")
+    bad = 0
+    for name, data in fixtures().items():
+        path = os.path.join(OUT, f"mujoco_{name}.json")
+        text = json.dumps(dict(source="MuJoCo 4.0.0 via scripts/articulated_mujoco_fixtures.py", **data),
+                          separators=(",", ":")) + "\n"
+        if args.check:
+            with open(path) as f:
+                if f.read() != text:
+                    print(f"{path}: differs")
+                    bad += 1
+        else:
+            with open(path, "w") as f:
+                f.write(text)
+            print(f"wrote {path} ({len(text)} bytes)")
+    sys.exit(1 if bad else 0)
+
+
+if __name__ == "__main__":
+    main()
