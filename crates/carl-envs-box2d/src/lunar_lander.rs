@@ -188,6 +188,18 @@ pub enum Outcome {
     OutOfView,
 }
 
+impl Outcome {
+    /// The outcome's name as [`Env::outcome`] reports it (`None` while running).
+    pub fn name(self) -> Option<&'static str> {
+        match self {
+            Outcome::Running => None,
+            Outcome::Landed => Some("landed"),
+            Outcome::Crashed => Some("crashed"),
+            Outcome::OutOfView => Some("out_of_view"),
+        }
+    }
+}
+
 /// Kinematic state of one body: origin position, (unwrapped) angle, COM velocity, ω.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 struct BodyState {
@@ -938,6 +950,11 @@ impl Env for LunarLander {
     /// game over; rest time; has-previous-shaping; previous shaping.
     fn state(&self) -> Vec<f64> {
         self.state_array().to_vec()
+    }
+
+    /// `landed`, `crashed` or `out_of_view` after the step that ended the episode ([`Outcome`]).
+    fn outcome(&self) -> Option<&'static str> {
+        self.outcome.name()
     }
 
     fn render(&self) -> Option<carl_pixels::Frame> {

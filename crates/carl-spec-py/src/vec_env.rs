@@ -336,6 +336,24 @@ impl VecEnv {
         d.set_item(pyo3::intern!(py, "_final_info"), mask(&self.stock, py, n, ended))
     }
 
+    /// `outcome` (the environment's word for how each finished episode ended, `Env::outcome`:
+    /// `landed`, `solved`, `timed_out`, ...; None where it defines none) with its mask `_outcome`,
+    /// for the environments `ended`.
+    fn set_outcomes(&self, d: &Bound<'_, PyDict>, ended: &[usize]) -> PyResult<()> {
+        let py = d.py();
+        let n = self.inner.num_envs();
+        let mut words: Vec<Py<PyAny>> = (0..n).map(|_| py.None()).collect();
+        let mut has = Vec::with_capacity(ended.len());
+        for &i in ended {
+            if let Some(word) = self.inner.outcome(i) {
+                words[i] = pyo3::types::PyString::intern(py, word).into_any().unbind();
+                has.push(i);
+            }
+        }
+        d.set_item(pyo3::intern!(py, "outcome"), PyArray1::from_vec(py, words))?;
+        d.set_item(pyo3::intern!(py, "_outcome"), mask(&self.stock, py, n, &has))
+    }
+
     fn final_obs_objects<'py>(&self, py: Python<'py>, ended: &[usize]) -> PyResult<Bound<'py, PyAny>> {
         let n = self.inner.num_envs();
         let d = self.inner.obs_dim();
@@ -458,7 +476,9 @@ impl VecEnv {
         };
         let fixed_info = proto.context_info().clone();
         Ok(VecEnv {
-            obs_space: inner.observation_space(),
+            // The contextual space (the same for every source), also for a plain batch, whose
+            // runtimes report their own (`cs.make`'s space, whatever the batch's kernel).
+            obs_space: proto.observation_space(),
             discrete_actions: vec![0; if discrete { num_envs } else { 0 }],
             continuous_actions: vec![0.0; if discrete { 0 } else { num_envs * action_dim }],
             same_step: mode == AutoresetMode::SameStep,
@@ -522,6 +542,33 @@ impl VecEnv {
         py.detach(|| {
             inner.reset_masked(seed, mask_slice);
         });
+        this.context_cache = None;
+        this.last_any_done = false;
+        this.check_outputs(|| "reset".to_string())?;
+        this.batch_obs(py)
+    }
+
+    /// Reset the envs where `mask` is true (all for None) in one call, env `i` with its own seed
+    /// `seeds[i]` (None: it continues its streams; no `+ i`) and, where `instances[i]` is not
+    /// None, playing that instance of its set. A bad length or instance raises ValueError and
+    /// resets nothing.
+    #[pyo3(signature = (seeds, instances=None, mask=None))]
+    fn reset_each<'py>(
+        slf: &Bound<'py, Self>,
+        seeds: Vec<Option<u64>>,
+        instances: Option<Vec<Option<usize>>>,
+        mask: Option<PyReadonlyArray1<'py, bool>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mut guard = slf.try_borrow_mut().map_err(|_| busy())?;
+        let this = &mut *guard;
+        let py = slf.py();
+        let mask_slice = match &mask {
+            Some(m) => Some(m.as_slice().map_err(value_error)?),
+            None => None,
+        };
+        let inner = &mut this.inner;
+        py.detach(|| inner.reset_each(&seeds, instances.as_deref(), mask_slice).map(drop))
+            .map_err(|e| env_error(&e))?;
         this.context_cache = None;
         this.last_any_done = false;
         this.check_outputs(|| "reset".to_string())?;
@@ -592,6 +639,14 @@ impl VecEnv {
         let infos = this.cached_context_infos(py)?;
         if !ended.is_empty() {
             this.final_infos(&infos, &ended)?;
+            // How the finished episodes ended, beside their other final infos.
+            if let Some(fin) = infos.get_item(pyo3::intern!(py, "final_info"))? {
+                this.set_outcomes(fin.cast::<PyDict>()?, &ended)?;
+            }
+        } else if any_done {
+            // Next-step and disabled modes: this step's infos are the finished episodes' last.
+            let done: Vec<usize> = (0..n).filter(|&i| term[i] | trunc[i]).collect();
+            this.set_outcomes(&infos, &done)?;
         }
         if this.noisy {
             let all: Vec<usize> = (0..n).collect();

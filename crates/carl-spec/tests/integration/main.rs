@@ -5,6 +5,7 @@ mod audit;
 mod bench_cli;
 mod bipedal_walker;
 mod cli;
+mod evaluate;
 mod common;
 mod context_noise;
 mod contextual;
