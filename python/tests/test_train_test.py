@@ -181,32 +181,34 @@ def _script() -> str:
     return str(path)
 
 
-def _cli_stdin(args: list[str], act: Any) -> dict[str, Any]:
-    """`carl-spec evaluate ... --policy stdin --json`, each action computed by `act(obs)`."""
-    p = subprocess.Popen(
-        [_script(), "evaluate", *args, "--policy", "stdin", "--json"],
+def _cli_stdin(args: list[str], act: Any, out: Path) -> dict[str, Any]:
+    """`carl-spec evaluate ... --policy stdin --out FILE`, each action computed by `act(obs)`
+    (the results go to a file: on stderr a large result would fill the pipe while this reads
+    stdout)."""
+    with subprocess.Popen(
+        [_script(), "evaluate", *args, "--policy", "stdin", "--out", str(out)],
         stdin=subprocess.PIPE,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
-    )
-    assert p.stdin is not None and p.stdout is not None
-    for line in p.stdout:
-        v = json.loads(line)
-        if "episode" in v:
-            continue
-        if "reset" in v:
-            obs = v["reset"]["obs"]
-        elif v["terminated"] or v["truncated"]:
-            continue
-        else:
-            obs = v["obs"]
-        p.stdin.write(json.dumps(act(np.array(obs, dtype=np.float32))) + "\n")
-        p.stdin.flush()
-    p.stdin.close()
-    err = p.stderr.read() if p.stderr is not None else ""
-    assert p.wait(timeout=300) == 0, err
-    doc: dict[str, Any] = json.loads(err)
+    ) as p:
+        assert p.stdin is not None and p.stdout is not None and p.stderr is not None
+        for line in p.stdout:
+            v = json.loads(line)
+            if "episode" in v:
+                continue
+            if "reset" in v:
+                obs = v["reset"]["obs"]
+            elif v["terminated"] or v["truncated"]:
+                continue
+            else:
+                obs = v["obs"]
+            p.stdin.write(json.dumps(act(np.array(obs, dtype=np.float32))) + "\n")
+            p.stdin.flush()
+        p.stdin.close()
+        err = p.stderr.read()
+        assert p.wait(timeout=300) == 0, err
+    doc: dict[str, Any] = json.loads(out.read_text())
     return doc
 
 
@@ -234,10 +236,10 @@ def _pendulum(obs: np.ndarray) -> list[float]:
     ],
     ids=["cartpole-context", "lunar-planets", "pendulum-set"],
 )
-def test_cli_and_python_evaluations_agree(target: str, kw: dict[str, Any], act: Any) -> None:
+def test_cli_and_python_evaluations_agree(target: str, kw: dict[str, Any], act: Any, tmp_path: Path) -> None:
     seed = 3
     cli_args = [target, "--seed", str(seed), "--episodes", str(kw["episodes"])]
-    doc = _cli_stdin(cli_args, act)
+    doc = _cli_stdin(cli_args, act, tmp_path / "cli.json")
 
     def batch(obs: np.ndarray) -> np.ndarray:
         return np.array([act(o) for o in obs])

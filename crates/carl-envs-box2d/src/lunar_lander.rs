@@ -189,14 +189,21 @@ pub enum Outcome {
 }
 
 impl Outcome {
+    /// Every ending with its name as [`Env::outcome`] reports it.
+    const NAMED: [(Outcome, &'static str); 3] = [
+        (Outcome::Landed, "landed"),
+        (Outcome::Crashed, "crashed"),
+        (Outcome::OutOfView, "out_of_view"),
+    ];
+
     /// The outcome's name as [`Env::outcome`] reports it (`None` while running).
     pub fn name(self) -> Option<&'static str> {
-        match self {
-            Outcome::Running => None,
-            Outcome::Landed => Some("landed"),
-            Outcome::Crashed => Some("crashed"),
-            Outcome::OutOfView => Some("out_of_view"),
-        }
+        Self::NAMED.iter().find(|(o, _)| *o == self).map(|(_, n)| *n)
+    }
+
+    /// The ending [`Outcome::name`] names (`None` for other words, e.g. `timed_out`).
+    pub fn from_name(name: &str) -> Option<Outcome> {
+        Self::NAMED.iter().find(|(_, n)| *n == name).map(|(o, _)| *o)
     }
 }
 

@@ -645,6 +645,7 @@ impl VecEnv {
             }
         } else if any_done {
             // Next-step and disabled modes: this step's infos are the finished episodes' last.
+            let (term, trunc) = (this.inner.terminated(), this.inner.truncated());
             let done: Vec<usize> = (0..n).filter(|&i| term[i] | trunc[i]).collect();
             this.set_outcomes(&infos, &done)?;
         }

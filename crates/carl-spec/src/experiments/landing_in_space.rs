@@ -26,7 +26,7 @@ use serde::Serialize;
 use serde_json::{Map, Value, json};
 
 use crate::envs::api::{Action, Env, Space};
-use crate::envs::box2d::{PHYSICS_ENGINE, heuristic};
+use crate::envs::box2d::{Outcome, PHYSICS_ENGINE, heuristic};
 use crate::envs::contextual::ContextualEnv;
 use crate::envs::policy::{Policy, PolicyError};
 use crate::envs::registry::{EnvOptions, MakeOptions, make_with, resolve_context};
@@ -373,9 +373,9 @@ fn run_one(
             EvalError::Failed(format!("{row} episode {k}: {m}"))
         }
     })?;
-    let end = match (result.terminated, result.outcome.as_deref()) {
-        (true, Some("landed")) => EpisodeEnd::Landed,
-        (true, Some("out_of_view")) => EpisodeEnd::OutOfView,
+    let end = match (result.terminated, result.outcome.as_deref().and_then(Outcome::from_name)) {
+        (true, Some(Outcome::Landed)) => EpisodeEnd::Landed,
+        (true, Some(Outcome::OutOfView)) => EpisodeEnd::OutOfView,
         (true, _) => EpisodeEnd::Crashed,
         (false, _) => EpisodeEnd::Timeout,
     };
