@@ -151,7 +151,12 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
             if isinstance(seed, (list, tuple)):
                 if len(seed) != self.num_envs:
                     raise ValueError(f"seed list must have num_envs={self.num_envs} entries, got {len(seed)}")
-                seeds = [check_seed(s, f"seed[{i}]") for i, s in enumerate(seed)]
+                seeds = list(seed)
+                # The common case checked in one pass (ints and Nones in range); anything else
+                # entry by entry, for the error naming the first bad one.
+                ints = [s for s in seeds if s is not None]
+                if not all(type(s) is int for s in ints) or (ints and not (0 <= min(ints) and max(ints) < 2**64)):
+                    seeds = [check_seed(s, f"seed[{i}]") for i, s in enumerate(seeds)]
             else:
                 s0 = check_seed(seed)
                 if s0 is not None and s0 + self.num_envs - 1 >= 2**64:
