@@ -78,6 +78,14 @@ class VecEnv:
         specs_dir: str | None = None,
     ) -> VecEnv: ...
     def reset(self, seed: int | None = None, mask: npt.NDArray[np.bool_] | None = None) -> Any: ...
+    def play(
+        self,
+        act: Any,
+        check: Any,
+        seeds: list[int],
+        instances: list[int] | None = None,
+        record_contexts: bool = False,
+    ) -> tuple[list[float], list[int], list[bool], list[bool], list[str | None], list[Any]]: ...
     def reset_each(
         self,
         seeds: list[int | None],

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import operator
 import os
 from typing import Any, Mapping
 
@@ -225,7 +226,12 @@ def evaluate(
     draws_seen: dict[int, tuple[dict[str, Any], int]] = {}
     try:
         with batch_policy(policy, venv.single_action_space, venv.single_observation_space, deterministic) as act:
-            _play(venv, act, jobs, seeds, records, draws_seen, env_id, distribution is not None)
+            core = getattr(venv, "_core", None)
+            if hasattr(core, "play"):
+                # The loop in Rust: Python runs only the policy, once per batch step.
+                _play_native(core, venv, act, jobs, seeds, records, draws_seen, env_id, n_mod is not None, distribution is not None)
+            else:
+                _play(venv, act, jobs, seeds, records, draws_seen, env_id, distribution is not None)
     finally:
         venv.close()
 
@@ -251,14 +257,46 @@ def evaluate(
         "threads": threads,
     }
     # Episodes in (instance, episode) order, whatever order the batch finished them in.
-    ordered = sorted((r for r in records if r is not None), key=lambda r: (r.instance, r.episode))
+    ordered = sorted((r for r in records if r is not None), key=_by_instance)
     return EvaluationResult(provenance=provenance, instances=inst, episodes=ordered)
+
+
+#: An episode's (instance, episode): the results' order.
+_by_instance = operator.itemgetter(0, 1)
 
 
 def _count(what: str, n: Any) -> int:
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
         raise ValueError(f"evaluate: {what} must be a positive integer, got {n!r}")
     return int(n)
+
+
+def _play_native(
+    core: Any,
+    venv: Any,
+    act: Any,
+    jobs: list[tuple[int, int]],
+    seeds: list[int],
+    records: list[Episode | None],
+    draws_seen: dict[int, tuple[dict[str, Any], int]],
+    env_id: str,
+    is_set: bool,
+    drawing: bool,
+) -> None:
+    """`_play` in the binding (`VecEnv.play`): the same jobs, seeds and records; a set's jobs
+    name their instance, which the seed's round robin would pick too."""
+    n = venv.num_envs
+
+    def check(actions: Any) -> Any:
+        return check_actions(actions, venv.single_action_space, n, env_id)
+
+    instances = [k for k, _ in jobs] if is_set else None
+    rets, lens, terms, truncs, words, contexts = core.play(act, check, seeds, instances, drawing)
+    ks = [k for k, _ in jobs]
+    records[:] = map(Episode, ks, [e for _, e in jobs], seeds, rets, lens, terms, truncs, words)
+    if drawing:
+        for k, (ctx, context_seed) in zip(ks, contexts):
+            draws_seen[k] = (ctx, int(context_seed))
 
 
 def _play(
