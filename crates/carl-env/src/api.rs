@@ -6,6 +6,8 @@
 //! * Bad input (an out-of-range discrete action, a wrong-length action or state vector,
 //!   stepping before reset) is reported as an [`EnvError`], never a panic.
 //! * Episode limits live in [`TimeLimit`], like Gymnasium's wrapper of the same name.
+//! * How an episode ended is the environment's own word, [`Env::outcome`] (each family names its
+//!   endings; [`TIMED_OUT`] is the time limit's).
 
 use std::collections::BTreeMap;
 

@@ -575,7 +575,9 @@ impl VecEnv {
             return Err(value_error("play needs a batch with autoreset_mode='disabled'"));
         }
         if total < n {
-            return Err(value_error(format!("play needs at least num_envs={n} jobs, got {total}")));
+            return Err(value_error(format!(
+                "play needs at least num_envs={n} jobs, got {total}"
+            )));
         }
         if let Some(inst) = &instances
             && inst.len() != total

@@ -563,9 +563,17 @@ impl Evaluation {
         let mut head = vec!["id".to_string(), "name".into(), "split".into()];
         head.extend(feats.iter().cloned());
         head.extend(
-            ["episodes", "mean return", "std", "min", "max", "mean length", "outcomes"]
-                .iter()
-                .map(|x| x.to_string()),
+            [
+                "episodes",
+                "mean return",
+                "std",
+                "min",
+                "max",
+                "mean length",
+                "outcomes",
+            ]
+            .iter()
+            .map(|x| x.to_string()),
         );
         let mut rows = vec![head];
         for r in self.summary() {
@@ -574,7 +582,11 @@ impl Evaluation {
                 r.name.clone().unwrap_or_default(),
                 r.split.clone().unwrap_or_default(),
             ];
-            row.extend(feats.iter().map(|f| r.context.get(f).map(num_value).unwrap_or_default()));
+            row.extend(
+                feats
+                    .iter()
+                    .map(|f| r.context.get(f).map(num_value).unwrap_or_default()),
+            );
             row.extend([
                 r.episodes.to_string(),
                 num(r.mean),
@@ -605,9 +617,9 @@ impl Evaluation {
                 e.seed.to_string(),
                 num(e.ret),
                 e.length.to_string(),
-                e.outcome.clone().unwrap_or_else(|| {
-                    if e.terminated { "terminated" } else { "truncated" }.to_string()
-                }),
+                e.outcome
+                    .clone()
+                    .unwrap_or_else(|| if e.terminated { "terminated" } else { "truncated" }.to_string()),
             ]);
         }
         s.push_str(&markdown(&rows));

@@ -258,8 +258,12 @@ impl EpisodeListener<ContextualEnv> for Counted {
 impl Observer for Counted {
     fn begin(&mut self, job: &Job, _env: &ContextualEnv, instance: &InstanceInfo) -> Result<(), String> {
         self.0.inc(1);
-        self.0
-            .message(instance.name.clone().unwrap_or_else(|| format!("instance {}", job.instance)));
+        self.0.message(
+            instance
+                .name
+                .clone()
+                .unwrap_or_else(|| format!("instance {}", job.instance)),
+        );
         Ok(())
     }
 }

@@ -594,10 +594,13 @@ impl ContextualEnv {
             self.noise.seed(s);
         }
         let plan = self.schedule.next(seed);
-        if let (Some(i), ScheduleKind::Set {
-            selection: Selection::RoundRobin,
-            ..
-        }) = (forced, self.schedule.kind())
+        if let (
+            Some(i),
+            ScheduleKind::Set {
+                selection: Selection::RoundRobin,
+                ..
+            },
+        ) = (forced, self.schedule.kind())
         {
             self.schedule.continue_after(i);
         }

@@ -24,6 +24,10 @@
 //!   [`ContextualEnv`]s: every (auto)reset of environment `i` re-selects its context (next
 //!   instance of a set, fresh draw of a distribution) from that environment's own streams, and
 //!   [`VecEnv::instance_ids`] reports each environment's current instance.
+//! * **Outcomes.** At the step that ends an episode, [`VecEnv::outcome`] says how it ended: the
+//!   environment's [`Env::outcome`] (taken before a same-step reset), or [`TIMED_OUT`].
+//! * **Resets with a seed (and an instance) per environment**: [`VecEnv::reset_each`], one call
+//!   for a batch of episode starts (what `carl_spec.evaluate` does between steps).
 //! * **Time limit.** Every environment counts its steps since its last reset and reports
 //!   `truncated` once the spec's `max_episode_steps` is reached, like [`TimeLimit`](super::TimeLimit).
 //! * **Bad input** (wrong number of actions, an out-of-range discrete action, a discrete action

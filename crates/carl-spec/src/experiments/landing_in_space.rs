@@ -373,7 +373,10 @@ fn run_one(
             EvalError::Failed(format!("{row} episode {k}: {m}"))
         }
     })?;
-    let end = match (result.terminated, result.outcome.as_deref().and_then(Outcome::from_name)) {
+    let end = match (
+        result.terminated,
+        result.outcome.as_deref().and_then(Outcome::from_name),
+    ) {
         (true, Some(Outcome::Landed)) => EpisodeEnd::Landed,
         (true, Some(Outcome::OutOfView)) => EpisodeEnd::OutOfView,
         (true, _) => EpisodeEnd::Crashed,

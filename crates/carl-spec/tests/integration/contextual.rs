@@ -291,7 +291,12 @@ fn one_observation_space_whatever_the_source() {
     // max_speed sets the Pendulum's velocity bound: for no source is it the default's ±8.
     let specs = specs();
     let pend = spec(&specs, "pendulum");
-    let visible = || opts(Selection::RoundRobin, Visibility::Visible(Features::Only(vec!["max_speed".into()])));
+    let visible = || {
+        opts(
+            Selection::RoundRobin,
+            Visibility::Visible(Features::Only(vec!["max_speed".into()])),
+        )
+    };
     let sources = [
         ContextSource::Set(load(&specs, "pendulum/q1_max_speed_sigma_0_5")),
         ContextSource::Set(load(&specs, SET)),
@@ -315,8 +320,18 @@ fn one_observation_space_whatever_the_source() {
     // Landing in Space: train on the train set, test on the planets; GRAVITY_Y visible has the
     // spec's declared bounds [-20, -0.01] in both (the planets' Jupiter lies below them).
     let ll = spec(&specs, "lunar_lander");
-    let g = || opts(Selection::RoundRobin, Visibility::Visible(Features::Only(vec!["GRAVITY_Y".into()])));
-    let train = ContextualEnv::new(ll, ContextSource::Set(load(&specs, "lunar_lander/landing_in_space_train")), g()).unwrap();
+    let g = || {
+        opts(
+            Selection::RoundRobin,
+            Visibility::Visible(Features::Only(vec!["GRAVITY_Y".into()])),
+        )
+    };
+    let train = ContextualEnv::new(
+        ll,
+        ContextSource::Set(load(&specs, "lunar_lander/landing_in_space_train")),
+        g(),
+    )
+    .unwrap();
     let mut planets = ContextualEnv::new(
         ll,
         ContextSource::Set(load(&specs, "lunar_lander/landing_in_space_test_planets")),
@@ -365,7 +380,8 @@ fn reset_to_an_instance() {
     assert!(matches!(err, EnvError::Context { .. }), "{err}");
     assert!(err.to_string().contains(&format!("has {n} instance(s)")), "{err}");
     assert_eq!(env.instance_index(), 3);
-    let mut fixed = ContextualEnv::new(pend, ContextSource::Fixed(Context::new()), ContextualOptions::default()).unwrap();
+    let mut fixed =
+        ContextualEnv::new(pend, ContextSource::Fixed(Context::new()), ContextualOptions::default()).unwrap();
     let err = fixed.reset_instance_into(Some(0), 0, &mut obs).unwrap_err();
     assert!(err.to_string().contains("not an instance set"), "{err}");
 }

@@ -59,7 +59,9 @@ fn episode_seeds_follow_the_documented_rule() {
 fn outcomes_come_from_the_environment() {
     let specs = SpecSet::bundled().unwrap();
     let spec = specs.get("lunar_lander").unwrap();
-    let set = Store::new(&specs).load("lunar_lander/landing_in_space_test_planets").unwrap();
+    let set = Store::new(&specs)
+        .load("lunar_lander/landing_in_space_test_planets")
+        .unwrap();
     let mut env = ContextualEnv::new(spec, ContextSource::Set(set.clone()), ContextualOptions::default()).unwrap();
     let mut policy = FnPolicy(lander_heuristic);
     let mut seen = std::collections::BTreeMap::new();
@@ -99,7 +101,13 @@ fn outcomes_come_from_the_environment() {
     let d = venv.obs_dim();
     while done.iter().any(|x| !x) {
         let actions: Vec<i64> = (0..n)
-            .map(|i| if done[i] { 0 } else { heuristic(&venv.obs()[i * d..(i + 1) * d]) })
+            .map(|i| {
+                if done[i] {
+                    0
+                } else {
+                    heuristic(&venv.obs()[i * d..(i + 1) * d])
+                }
+            })
             .collect();
         if done.iter().any(|&x| x) {
             // Finished envs restart so the batch can step; their words are already kept.
@@ -136,12 +144,19 @@ fn classic_outcomes() {
         let space = env.action_space();
         let mut p = carl_spec::envs::policy::RandomPolicy::new(space, 3);
         let s = run_episode(&mut env, &mut p, &EpisodeConfig::default(), &mut Quiet).unwrap();
-        let word = env.outcome().unwrap_or_else(|| panic!("{id}: no outcome after {:?}", s.end));
+        let word = env
+            .outcome()
+            .unwrap_or_else(|| panic!("{id}: no outcome after {:?}", s.end));
         assert!(words.contains(&word), "{id}: {word}");
         assert_eq!(word == "timed_out", s.end == EpisodeEnd::Truncated, "{id}");
     }
     // A random CartPole episode fails long before the limit.
-    let mut env = make_with(specs.get("cartpole").unwrap(), &Default::default(), MakeOptions::default()).unwrap();
+    let mut env = make_with(
+        specs.get("cartpole").unwrap(),
+        &Default::default(),
+        MakeOptions::default(),
+    )
+    .unwrap();
     let mut p = carl_spec::envs::policy::RandomPolicy::new(env.action_space(), 0);
     run_episode(&mut env, &mut p, &EpisodeConfig::default(), &mut Quiet).unwrap();
     assert_eq!(env.outcome(), Some("failed"));
@@ -172,7 +187,11 @@ fn landing_in_space_numbers_are_unchanged() {
                 allow_out_of_bounds: set.provenance.definition.allow_out_of_bounds,
             };
             let mut env = make_with(spec, &ctx, opts).unwrap();
-            env.inner_mut().downcast_mut::<LunarLander>().unwrap().options_mut().crash_penalty = 10000.0;
+            env.inner_mut()
+                .downcast_mut::<LunarLander>()
+                .unwrap()
+                .options_mut()
+                .crash_penalty = 10000.0;
             let seed = reset_seed(5, &row.body, k);
             let config = EpisodeConfig {
                 seed,
@@ -200,7 +219,9 @@ fn landing_in_space_numbers_are_unchanged() {
 fn engine_plays_every_instance_with_the_documented_seeds() {
     let specs = SpecSet::bundled().unwrap();
     let spec = specs.get("lunar_lander").unwrap();
-    let set = Store::new(&specs).load("lunar_lander/landing_in_space_test_planets").unwrap();
+    let set = Store::new(&specs)
+        .load("lunar_lander/landing_in_space_test_planets")
+        .unwrap();
     let n = set.instances.len();
     let cfg = Config {
         source: Source::Set { set, episodes: 2 },
@@ -220,8 +241,16 @@ fn engine_plays_every_instance_with_the_documented_seeds() {
     }
     let doc = a.to_json();
     assert_eq!(doc["format"], evaluation::FORMAT);
-    assert_eq!(doc["provenance"]["source"]["name"], "lunar_lander/landing_in_space_test_planets");
-    assert!(doc["provenance"]["source"]["content_hash"].as_str().unwrap().starts_with("sha256:"));
+    assert_eq!(
+        doc["provenance"]["source"]["name"],
+        "lunar_lander/landing_in_space_test_planets"
+    );
+    assert!(
+        doc["provenance"]["source"]["content_hash"]
+            .as_str()
+            .unwrap()
+            .starts_with("sha256:")
+    );
     assert_eq!(doc["summary"].as_array().unwrap().len(), n);
     assert_eq!(doc["instances"][0]["name"], "Jupiter");
 }
@@ -232,10 +261,19 @@ fn evaluate_cli(args: &[&str]) -> std::process::Output {
 
 #[test]
 fn cli_evaluate_prints_tables_and_json() {
-    let o = evaluate_cli(&["lunar_lander/landing_in_space_test_planets", "--episodes", "2", "--seed", "1"]);
+    let o = evaluate_cli(&[
+        "lunar_lander/landing_in_space_test_planets",
+        "--episodes",
+        "2",
+        "--seed",
+        "1",
+    ]);
     assert_eq!(o.status.code(), Some(0), "{}", String::from_utf8_lossy(&o.stderr));
     let text = String::from_utf8(o.stdout).unwrap();
-    assert!(text.contains("lunar_lander/landing_in_space_test_planets (sha256:"), "{text}");
+    assert!(
+        text.contains("lunar_lander/landing_in_space_test_planets (sha256:"),
+        "{text}"
+    );
     assert!(text.contains("| Jupiter |"), "{text}");
     assert!(text.contains("crashed"), "{text}");
 
@@ -254,7 +292,9 @@ fn cli_evaluate_prints_tables_and_json() {
     assert_eq!(doc["episodes"].as_array().unwrap().len(), 12);
     // The JSON is the engine's, episode for episode.
     let specs = SpecSet::bundled().unwrap();
-    let set = Store::new(&specs).load("lunar_lander/landing_in_space_test_planets").unwrap();
+    let set = Store::new(&specs)
+        .load("lunar_lander/landing_in_space_test_planets")
+        .unwrap();
     let cfg = Config {
         source: Source::Set { set, episodes: 2 },
         seed: 1,
@@ -290,7 +330,13 @@ fn cli_evaluate_prints_tables_and_json() {
     assert_eq!(doc["instances"].as_array().unwrap().len(), 3);
     assert!(doc["instances"][0]["context"]["g"].is_number());
     assert!(doc["episodes"][0]["context_seed"].is_u64());
-    assert!(doc["episodes"].as_array().unwrap().iter().all(|e| e["outcome"] == "timed_out"));
+    assert!(
+        doc["episodes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|e| e["outcome"] == "timed_out")
+    );
 }
 
 #[test]
@@ -303,7 +349,10 @@ fn cli_evaluate_refuses_bad_input() {
             "belongs to pendulum, not to lunar_lander",
         ),
         (&["pendulum", "--distribution", "nope"], "nope"),
-        (&["pendulum/q1_g_sigma_0_5", "--policy", "heuristic"], "no built-in controller"),
+        (
+            &["pendulum/q1_g_sigma_0_5", "--policy", "heuristic"],
+            "no built-in controller",
+        ),
         (&["cartpole", "--option", "continuous=true"], "continuous"),
         (&["cartpole", "--context", "gravity=-5"], "outside its bounds"),
     ];
@@ -374,7 +423,10 @@ fn cli_evaluate_passes_options() {
     let jupiter = &doc["episodes"][0];
     assert_eq!(jupiter["outcome"], "crashed");
     assert!(jupiter["return"].as_f64().unwrap() < -9000.0);
-    assert_eq!(doc["provenance"]["options"]["crash_penalty"], Value::Number(10000.0).as_json());
+    assert_eq!(
+        doc["provenance"]["options"]["crash_penalty"],
+        Value::Number(10000.0).as_json()
+    );
 }
 
 trait AsJson {
