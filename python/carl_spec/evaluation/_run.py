@@ -114,7 +114,9 @@ def evaluate(
     or `threads` the same per-episode results (provided the policy's action for an observation does
     not depend on the rest of the batch). `options`, `obs_context`, `context_noise` and
     `allow_out_of_bounds` are `make_vec`'s. `run` labels the result (e.g. the training seed) for
-    `carl_spec.report`.
+    `carl_spec.report`. The loop runs in the binding (`VecEnv.play`): per batch step Python only
+    calls the policy. `carl-spec evaluate` plays the same episodes (same seed rule) from the
+    command line.
     """
     from .. import make_vec
     from ..specs import InstanceSet
