@@ -60,6 +60,37 @@ def box_action(env_id: str, space: gymnasium.spaces.Space[Any], action: Any) -> 
     return np.ascontiguousarray(a, dtype=np.float64).reshape(-1)
 
 
+#: The keys `reset(options=...)` takes.
+RESET_OPTIONS = ("instance",)
+
+
+def reset_instance(options: Any, valid: tuple[str, ...] = RESET_OPTIONS) -> int | None:
+    """`options["instance"]` of a `reset` (None without it), checked: a dict whose keys are
+    `valid`, the instance a non-negative int (Python or NumPy; not a bool). Whether the set has
+    that instance is checked by the environment (a ValueError naming the set's size)."""
+    if options is None:
+        return None
+    if not isinstance(options, dict):
+        raise TypeError(f"reset options must be a dict or None, got {type(options).__name__}")
+    unknown = sorted(str(k) for k in options if k not in valid)
+    if unknown:
+        raise ValueError(
+            f"reset options {', '.join(repr(k) for k in unknown)} are not known; valid keys: {', '.join(valid)}"
+        )
+    if "instance" not in options or options["instance"] is None:
+        return None
+    return instance_index(options["instance"], "options['instance']")
+
+
+def instance_index(i: Any, what: str) -> int:
+    """An instance index: a non-negative int (a TypeError for anything else that is not an int)."""
+    if isinstance(i, (bool, np.bool_)) or not isinstance(i, (int, np.integer)):
+        raise TypeError(f"{what} must be an instance index (a non-negative int), got {type(i).__name__} {i!r}")
+    if i < 0 or i >= 2**63:
+        raise ValueError(f"{what}={int(i)} is not an instance index (0, 1, ..., the set's size - 1)")
+    return int(i)
+
+
 def _short(x: Any) -> str:
     text = repr(x)
     return text if len(text) <= 80 else text[:80] + "…"
@@ -103,7 +134,20 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
 
     Seeding: `reset(seed=s)` determines everything that follows (instance choice, draws, initial
     states); the classic five start from the state Gymnasium's env starts from with seed `s`.
-    An env never seeded draws its first seed from the OS.
+    An env never seeded draws its first seed from the OS. `reset(options={"instance": i})` plays
+    instance `i` of the set (round-robin selection goes on from `i + 1`); an index outside the
+    set, a source that is no set, a non-integer index or another option key raise an error.
+
+    The observation space depends on the environment, its version, `options`, `obs_context` and
+    `context_noise` only, never on the context source: train on one set or distribution, test on
+    another (Stable-Baselines3's `model.set_env(test_env)`, `DQN.load(path, env=test_env)`). A
+    visible feature's bounds are the spec's declared bounds, so a set that deliberately goes out
+    of bounds (Landing in Space's Jupiter) shows a value outside them.
+
+    Outcome: at the step that ends an episode, `info["outcome"]` says how it ended where the
+    environment defines it (LunarLander `landed` / `crashed` / `out_of_view`, CartPole `failed`,
+    MountainCar and Acrobot `solved`, BipedalWalker `fell` / `solved`), and `timed_out` at the
+    time limit.
 
     Actions: a Discrete action is an int, a NumPy integer scalar or a 0-d integer array; bools,
     floats and arrays of other shapes raise `carl_spec.InvalidActionError` (a ValueError and a
@@ -174,12 +218,13 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[np.ndarray, dict[str, Any]]:
         check_seed(seed)
+        instance = reset_instance(options)
         super().reset(seed=seed)
         if seed is None and not self._seeded:
             seed = os_entropy_seed()
         if seed is not None:
             self._seeded = True
-        obs, info = self._core.reset(seed)
+        obs, info = self._core.reset(seed, instance)
         self._info = _with_numpy_seed(info)
         return obs, _fresh(info)
 
@@ -195,6 +240,10 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
         if self._noise_per_step:
             self._info["observed_context"] = self._core.observed_context()
         info = _fresh(self._info)
+        if terminated or truncated:
+            outcome = self._core.outcome()
+            if outcome is not None:
+                info["outcome"] = outcome
         if terminated:
             end = self._core.episode_end_info()
             if end is not None:

@@ -15,7 +15,7 @@ from gymnasium.vector.utils import batch_space
 from . import _core
 from ._args import NoiseStd, check_int, check_name, check_seed, context_args, quote
 from ._spaces import space_from_json
-from .env import os_entropy_seed
+from .env import instance_index, os_entropy_seed
 
 _MODES = {
     "next_step": AutoresetMode.NEXT_STEP,
@@ -38,7 +38,12 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
     `infos["instance_id"]` holds every environment's instance. `autoreset_mode` is Gymnasium's:
     "next_step" (default), "same_step" (`final_obs` / `final_info` in the infos) or "disabled"
     (reset with `options={"reset_mask": mask}`). `reset(seed=s)` seeds environment `i` with
-    `s + i`, as Gymnasium's vector envs do. `context_noise`, `context_noise_redraw`, `options` and
+    `s + i`, as Gymnasium's vector envs do; `reset(seed=[s0, s1, ...])` each with its own, in
+    one native call. `options={"instance": [i0, i1, ...]}` plays instance `i_k` of the set in
+    environment `k` (None or -1: its own selection). The observation space is the same for every
+    context source (see `CarlEnv`). At the step that ends an episode, `infos["outcome"]` (with
+    `_outcome`; in same-step mode inside `final_info`) says how it ended where the environment
+    defines it (`landed`, `solved`, `timed_out`, ...). `context_noise`, `context_noise_redraw`, `options` and
     `allow_out_of_bounds` are `carl_spec.make`'s (see `CarlEnv`); with noise,
     `infos["observed_context"]` holds what each environment observes (`{feature: (num_envs,)}`
     plus Gymnasium's `_feature` / `_observed_context` masks). In same-step mode
@@ -125,31 +130,45 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
         self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
         mask = None
+        instances = None
+        if options is not None:
+            if not isinstance(options, dict):
+                raise TypeError(f"reset options must be a dict or None, got {type(options).__name__}")
+            unknown = sorted(str(k) for k in options if k not in ("reset_mask", "instance"))
+            if unknown:
+                raise ValueError(
+                    f"reset options {', '.join(repr(k) for k in unknown)} are not known; valid keys: reset_mask, instance"
+                )
         if options is not None and "reset_mask" in options:
             if self._mode != AutoresetMode.DISABLED:
                 raise ValueError("options['reset_mask'] is for autoreset_mode='disabled'")
             mask = np.asarray(options["reset_mask"])
             if mask.dtype != np.bool_ or mask.shape != (self.num_envs,) or not mask.any():
                 raise ValueError(f"options['reset_mask'] must be a bool array of shape ({self.num_envs},) with a True value")
-        if isinstance(seed, (list, tuple)):
-            if len(seed) != self.num_envs:
-                raise ValueError(f"seed list must have num_envs={self.num_envs} entries, got {len(seed)}")
-            seeds = [check_seed(s, f"seed[{i}]") for i, s in enumerate(seed)]
-            base = np.zeros(self.num_envs, dtype=np.bool_) if mask is None else ~mask
-            obs = None
-            for i, s in enumerate(seeds):
-                if not base[i]:
-                    one = np.zeros(self.num_envs, dtype=np.bool_)
-                    one[i] = True
-                    # The batch seeds env i with seed + i; pass s - i (mod 2^64).
-                    s_i = None if s is None else (s - i) % 2**64
-                    if s is None and not self._seeded:
-                        s_i = (os_entropy_seed() - i) % 2**64
-                    obs = self._core.reset(s_i, one)
+        if options is not None and options.get("instance") is not None:
+            instances = self._instances(options["instance"])
+        if isinstance(seed, (list, tuple)) or instances is not None:
+            if isinstance(seed, (list, tuple)):
+                if len(seed) != self.num_envs:
+                    raise ValueError(f"seed list must have num_envs={self.num_envs} entries, got {len(seed)}")
+                seeds = list(seed)
+                # The common case checked in one pass (ints and Nones in range); anything else
+                # entry by entry, for the error naming the first bad one.
+                ints = [s for s in seeds if s is not None]
+                if not all(type(s) is int for s in ints) or (ints and not (0 <= min(ints) and max(ints) < 2**64)):
+                    seeds = [check_seed(s, f"seed[{i}]") for i, s in enumerate(seeds)]
+            else:
+                s0 = check_seed(seed)
+                if s0 is not None and s0 + self.num_envs - 1 >= 2**64:
+                    raise ValueError(f"seed={s0}: environment i is seeded with seed + i, which must stay below 2**64")
+                seeds = [None if s0 is None else s0 + i for i in range(self.num_envs)]
+            if not self._seeded:
+                entropy = os_entropy_seed()
+                seeds = [(entropy + i) % 2**64 if s is None else s for i, s in enumerate(seeds)]
             self._seeded = True
-            if obs is None:
-                obs = self._core.reset(None, np.zeros(self.num_envs, dtype=np.bool_))
-            return obs, self._core.infos(~base)
+            # One native call resets every chosen env with its own seed (and instance).
+            obs = self._core.reset_each(seeds, instances, mask)
+            return obs, self._core.infos(mask)
         if isinstance(seed, int) and not isinstance(seed, bool):
             # Env i gets seed + i, as Gymnasium's vector envs seed it: each must be a seed.
             check_seed(seed)
@@ -166,6 +185,25 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
             self._seeded = True
         obs = self._core.reset(seed, mask)
         return obs, self._core.infos(mask)
+
+    def _instances(self, value: Any) -> list[int | None]:
+        """`options["instance"]`: one instance index per env (None or -1: the selection's pick)."""
+        if isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)):
+            raise TypeError(
+                f"options['instance'] of a vector env is one instance per environment: a sequence of "
+                f"{self.num_envs} ints (None or -1: the env's own selection), got {value!r}"
+            )
+        try:
+            items = list(value)
+        except TypeError:
+            raise TypeError(f"options['instance'] must be a sequence of {self.num_envs} ints, got {type(value).__name__}") from None
+        if len(items) != self.num_envs:
+            raise ValueError(f"options['instance'] must have num_envs={self.num_envs} entries, got {len(items)}")
+        return [
+            None if (k is None or (not isinstance(k, (bool, np.bool_)) and isinstance(k, (int, np.integer)) and k == -1))
+            else instance_index(k, f"options['instance'][{i}]")
+            for i, k in enumerate(items)
+        ]
 
     def step(self, actions: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
         # One call: actions in, the GIL released around the native batch step, the arrays and

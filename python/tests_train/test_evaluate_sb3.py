@@ -51,3 +51,18 @@ def test_torch_module() -> None:
     box = torch.nn.Linear(3, 1)
     c = cs.evaluate(lambda o: np.clip(box(torch.as_tensor(o, dtype=torch.float32)).detach().numpy(), -2, 2), "pendulum", episodes=2)
     assert len(c.episodes) == 2
+
+
+def test_train_here_test_there(tmp_path: Any) -> None:
+    """Train on the train set with GRAVITY_Y visible, then `set_env` / `DQN.load(path, env=...)`
+    on the test planets: SB3 compares the observation spaces, which no longer depend on the set."""
+    kw: dict[str, Any] = dict(obs_context=["GRAVITY_Y"])
+    train_env = cs.make("lunar_lander", instances="lunar_lander/landing_in_space_train", **kw)
+    test_env = cs.make("lunar_lander", instances=PLANETS, **kw)
+    model = DQN("MlpPolicy", train_env, seed=0, device="cpu", learning_starts=100).learn(300)
+    model.set_env(test_env)
+    model.save(tmp_path / "dqn")
+    loaded = DQN.load(tmp_path / "dqn", env=test_env, device="cpu")
+    assert loaded.observation_space == test_env.observation_space
+    r = cs.evaluate(loaded, instances=PLANETS, episodes=1, seed=0, **kw)
+    assert len(r.episodes) == 6 and all(e.outcome is not None for e in r.episodes)

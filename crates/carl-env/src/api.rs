@@ -6,8 +6,15 @@
 //! * Bad input (an out-of-range discrete action, a wrong-length action or state vector,
 //!   stepping before reset) is reported as an [`EnvError`], never a panic.
 //! * Episode limits live in [`TimeLimit`], like Gymnasium's wrapper of the same name.
+//! * How an episode ended is the environment's own word, [`Env::outcome`] (each family names its
+//!   endings; [`TIMED_OUT`] is the time limit's).
 
 use std::collections::BTreeMap;
+
+/// The outcome of an episode cut short by its time limit ([`TimeLimit`], the batch's step
+/// count): the one outcome every environment shares. The others are each family's own
+/// ([`Env::outcome`]).
+pub const TIMED_OUT: &str = "timed_out";
 
 /// Extra per-step information (Gymnasium's `info` dict). The classic-control environments
 /// return it empty; an empty `BTreeMap` does not allocate.
@@ -267,6 +274,16 @@ pub trait Env {
         Info::new()
     }
 
+    /// How the episode ended, once `step` has returned `terminated` (or, through [`TimeLimit`],
+    /// `truncated`): a short snake_case word the environment's family defines, e.g.
+    /// LunarLander's `landed` / `crashed` / `out_of_view`, `solved` where reaching a goal ends
+    /// the episode, `failed` where failing does; [`TIMED_OUT`] for the time limit. `None` while
+    /// the episode runs, and for environments that define no outcome (their episodes end only
+    /// by the time limit, or the way they end has no name).
+    fn outcome(&self) -> Option<&'static str> {
+        None
+    }
+
     /// A picture of the current state for humans (Gymnasium's `render_mode="rgb_array"`), or
     /// `None` for environments without a renderer. Never changes the simulation.
     fn render(&self) -> Option<carl_pixels::Frame> {
@@ -317,6 +334,9 @@ impl<E: Env + ?Sized> Env for Box<E> {
     }
     fn info(&self) -> Info {
         (**self).info()
+    }
+    fn outcome(&self) -> Option<&'static str> {
+        (**self).outcome()
     }
     fn render(&self) -> Option<carl_pixels::Frame> {
         (**self).render()
@@ -404,6 +424,15 @@ impl<E: Env> Env for TimeLimit<E> {
     }
     fn info(&self) -> Info {
         self.env.info()
+    }
+    /// The environment's own outcome when it has one, else [`TIMED_OUT`] once the limit is
+    /// reached (an episode that terminates at its last allowed step ended by itself).
+    fn outcome(&self) -> Option<&'static str> {
+        self.env.outcome().or_else(|| {
+            self.max_episode_steps
+                .filter(|&max| self.elapsed >= max)
+                .map(|_| TIMED_OUT)
+        })
     }
     fn render(&self) -> Option<carl_pixels::Frame> {
         self.env.render()

@@ -17,6 +17,6 @@ pub mod registration;
 pub mod rng;
 pub mod runtime;
 
-pub use api::{Action, DType, Env, EnvError, Info, Space, Step, StepOutcome, TimeLimit, UnknownFeature};
+pub use api::{Action, DType, Env, EnvError, Info, Space, Step, StepOutcome, TIMED_OUT, TimeLimit, UnknownFeature};
 pub use registration::{AuditProfile, Registration, StepCost, VectorKernel};
 pub use runtime::{AnyEnv, Runtime};

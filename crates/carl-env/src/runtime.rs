@@ -116,6 +116,9 @@ impl Env for AnyEnv {
     fn info(&self) -> Info {
         self.0.info()
     }
+    fn outcome(&self) -> Option<&'static str> {
+        self.0.outcome()
+    }
     fn render(&self) -> Option<carl_pixels::Frame> {
         self.0.render()
     }

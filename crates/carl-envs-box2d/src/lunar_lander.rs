@@ -188,6 +188,25 @@ pub enum Outcome {
     OutOfView,
 }
 
+impl Outcome {
+    /// Every ending with its name as [`Env::outcome`] reports it.
+    const NAMED: [(Outcome, &'static str); 3] = [
+        (Outcome::Landed, "landed"),
+        (Outcome::Crashed, "crashed"),
+        (Outcome::OutOfView, "out_of_view"),
+    ];
+
+    /// The outcome's name as [`Env::outcome`] reports it (`None` while running).
+    pub fn name(self) -> Option<&'static str> {
+        Self::NAMED.iter().find(|(o, _)| *o == self).map(|(_, n)| *n)
+    }
+
+    /// The ending [`Outcome::name`] names (`None` for other words, e.g. `timed_out`).
+    pub fn from_name(name: &str) -> Option<Outcome> {
+        Self::NAMED.iter().find(|(_, n)| *n == name).map(|(o, _)| *o)
+    }
+}
+
 /// Kinematic state of one body: origin position, (unwrapped) angle, COM velocity, ω.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 struct BodyState {
@@ -938,6 +957,11 @@ impl Env for LunarLander {
     /// game over; rest time; has-previous-shaping; previous shaping.
     fn state(&self) -> Vec<f64> {
         self.state_array().to_vec()
+    }
+
+    /// `landed`, `crashed` or `out_of_view` after the step that ended the episode ([`Outcome`]).
+    fn outcome(&self) -> Option<&'static str> {
+        self.outcome.name()
     }
 
     fn render(&self) -> Option<carl_pixels::Frame> {

@@ -13,6 +13,9 @@ use carl_env::api::{
 use carl_env::rng::{EnvRng, uniform};
 
 const ID: &str = "acrobot";
+/// The outcome of an episode that terminated: the free end swung above the line
+/// ([`Env::outcome`]).
+pub const SOLVED: &str = "solved";
 const AVAIL_TORQUE: [f64; 3] = [-1.0, 0.0, 1.0];
 const G: f64 = 9.8;
 
@@ -285,6 +288,11 @@ impl Env for Acrobot {
         check_obs_len(ID, obs, 6)?;
         self.write_obs(obs);
         Ok(())
+    }
+    /// [`SOLVED`] once the free end is above the line (the step's termination test).
+    fn outcome(&self) -> Option<&'static str> {
+        let s = &self.state;
+        (self.ready && -s[0].cos() - (s[1] + s[0]).cos() > 1.0).then_some(SOLVED)
     }
     fn state(&self) -> Vec<f64> {
         self.state.to_vec()

@@ -6,6 +6,9 @@ use carl_env::api::{
 use carl_env::rng::{EnvRng, uniform};
 
 const ID: &str = "cartpole";
+/// The outcome of an episode that terminated: the pole fell past its angle or the cart left
+/// the track ([`Env::outcome`]).
+pub const FAILED: &str = "failed";
 
 /// CartPole context. `Default` is Gymnasium's `CartPoleEnv`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -249,6 +252,10 @@ impl Env for CartPole {
         check_obs_len(ID, obs, 4)?;
         self.write_obs(obs);
         Ok(())
+    }
+    /// [`FAILED`] once the state is terminal (the pole fell or the cart left the track).
+    fn outcome(&self) -> Option<&'static str> {
+        (self.ready && is_terminal(self.state)).then_some(FAILED)
     }
     fn state(&self) -> Vec<f64> {
         self.state.to_vec()

@@ -7,6 +7,8 @@ use carl_env::api::{
 use carl_env::rng::{EnvRng, normal, uniform};
 
 const ID: &str = "mountain_car";
+/// The outcome of an episode that terminated: the car reached the goal ([`Env::outcome`]).
+pub const SOLVED: &str = "solved";
 
 /// How `reset` draws the initial state from `start_*` / `start_*_std`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -193,6 +195,12 @@ impl Env for MountainCar {
         check_obs_len(ID, obs, 2)?;
         self.write_obs(obs);
         Ok(())
+    }
+    /// [`SOLVED`] once the car is at the goal (the step's termination test on the state it keeps).
+    fn outcome(&self) -> Option<&'static str> {
+        let p = &self.params;
+        let [position, velocity] = self.state;
+        (self.ready && position >= p.goal_position && velocity >= p.goal_velocity).then_some(SOLVED)
     }
     fn state(&self) -> Vec<f64> {
         self.state.to_vec()

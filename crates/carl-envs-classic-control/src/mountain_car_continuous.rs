@@ -11,6 +11,8 @@ use carl_env::api::{
 use carl_env::rng::{EnvRng, uniform};
 
 const ID: &str = "mountain_car_continuous";
+/// The outcome of an episode that terminated: the car reached the goal ([`Env::outcome`]).
+pub const SOLVED: &str = "solved";
 const MIN_ACTION: f64 = -1.0;
 const MAX_ACTION: f64 = 1.0;
 
@@ -151,6 +153,8 @@ pub struct MountainCarContinuous {
     state: [f64; 2],
     /// Whether Gymnasium would hold the state as float32 (true after any step).
     state_is_f32: bool,
+    /// The last step terminated (the goal was reached): its outcome.
+    solved: bool,
     ready: bool,
     rng: EnvRng,
 }
@@ -161,6 +165,7 @@ impl MountainCarContinuous {
             params,
             state: [0.0; 2],
             state_is_f32: false,
+            solved: false,
             ready: false,
             rng: EnvRng::default(),
         }
@@ -229,6 +234,7 @@ impl Env for MountainCarContinuous {
         };
         self.state = [pos, vel];
         self.state_is_f32 = false;
+        self.solved = false;
         self.ready = true;
         self.write_obs(obs);
         Ok(())
@@ -284,6 +290,7 @@ impl Env for MountainCarContinuous {
 
         self.state = [position.to_f32() as f64, velocity.to_f32() as f64];
         self.state_is_f32 = true;
+        self.solved = terminated;
         self.write_obs(obs);
         Ok(StepOutcome {
             reward,
@@ -297,6 +304,10 @@ impl Env for MountainCarContinuous {
         self.write_obs(obs);
         Ok(())
     }
+    /// [`SOLVED`] after the step that reached the goal.
+    fn outcome(&self) -> Option<&'static str> {
+        self.solved.then_some(SOLVED)
+    }
     fn state(&self) -> Vec<f64> {
         self.state.to_vec()
     }
@@ -304,6 +315,7 @@ impl Env for MountainCarContinuous {
     fn set_state(&mut self, state: &[f64]) -> Result<(), EnvError> {
         self.state = check_state::<2>(ID, state)?;
         self.state_is_f32 = false;
+        self.solved = false;
         self.ready = true;
         Ok(())
     }

@@ -83,10 +83,20 @@ impl Env {
         })
     }
 
-    /// `(observation, info)`; `seed=None` continues the current streams.
-    #[pyo3(signature = (seed=None))]
-    fn reset<'py>(&mut self, py: Python<'py>, seed: Option<u64>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
-        self.inner.reset_into(seed, &mut self.obs).map_err(|e| env_error(&e))?;
+    /// `(observation, info)`; `seed=None` continues the current streams; `instance`: play that
+    /// instance of the set (a ValueError for an index outside it or a source that is no set).
+    #[pyo3(signature = (seed=None, instance=None))]
+    fn reset<'py>(
+        &mut self,
+        py: Python<'py>,
+        seed: Option<u64>,
+        instance: Option<usize>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
+        match instance {
+            Some(i) => self.inner.reset_instance_into(seed, i, &mut self.obs),
+            None => self.inner.reset_into(seed, &mut self.obs),
+        }
+        .map_err(|e| env_error(&e))?;
         self.t = 0;
         let obs = self.observation(py)?;
         check_obs(|| format!("{} reset", self.inner.id()), &self.obs, &self.obs64, 0.0)?;
@@ -141,6 +151,12 @@ impl Env {
             out.reward,
         )?;
         Ok((obs, out.reward, out.terminated, out.truncated))
+    }
+
+    /// How the episode ended after the step that ended it (`Env::outcome`: `landed`, `solved`,
+    /// `timed_out`, ...), else None.
+    fn outcome(&self) -> Option<&'static str> {
+        self.inner.outcome()
     }
 
     /// The current episode's context info (as `reset` returns it).

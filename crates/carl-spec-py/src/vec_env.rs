@@ -336,6 +336,24 @@ impl VecEnv {
         d.set_item(pyo3::intern!(py, "_final_info"), mask(&self.stock, py, n, ended))
     }
 
+    /// `outcome` (the environment's word for how each finished episode ended, `Env::outcome`:
+    /// `landed`, `solved`, `timed_out`, ...; None where it defines none) with its mask `_outcome`,
+    /// for the environments `ended`.
+    fn set_outcomes(&self, d: &Bound<'_, PyDict>, ended: &[usize]) -> PyResult<()> {
+        let py = d.py();
+        let n = self.inner.num_envs();
+        let mut words: Vec<Py<PyAny>> = (0..n).map(|_| py.None()).collect();
+        let mut has = Vec::with_capacity(ended.len());
+        for &i in ended {
+            if let Some(word) = self.inner.outcome(i) {
+                words[i] = pyo3::types::PyString::intern(py, word).into_any().unbind();
+                has.push(i);
+            }
+        }
+        d.set_item(pyo3::intern!(py, "outcome"), PyArray1::from_vec(py, words))?;
+        d.set_item(pyo3::intern!(py, "_outcome"), mask(&self.stock, py, n, &has))
+    }
+
     fn final_obs_objects<'py>(&self, py: Python<'py>, ended: &[usize]) -> PyResult<Bound<'py, PyAny>> {
         let n = self.inner.num_envs();
         let d = self.inner.obs_dim();
@@ -458,7 +476,9 @@ impl VecEnv {
         };
         let fixed_info = proto.context_info().clone();
         Ok(VecEnv {
-            obs_space: inner.observation_space(),
+            // The contextual space (the same for every source), also for a plain batch, whose
+            // runtimes report their own (`cs.make`'s space, whatever the batch's kernel).
+            obs_space: proto.observation_space(),
             discrete_actions: vec![0; if discrete { num_envs } else { 0 }],
             continuous_actions: vec![0.0; if discrete { 0 } else { num_envs * action_dim }],
             same_step: mode == AutoresetMode::SameStep,
@@ -522,6 +542,195 @@ impl VecEnv {
         py.detach(|| {
             inner.reset_masked(seed, mask_slice);
         });
+        this.context_cache = None;
+        this.last_any_done = false;
+        this.check_outputs(|| "reset".to_string())?;
+        this.batch_obs(py)
+    }
+
+    /// `carl_spec.evaluate`'s loop, run here: play one episode per job (`seeds[j]`, and for a
+    /// set `instances[j]`), environment `i` starting job `i` and each finished environment the
+    /// next job, until every job has ended. Per batch step Python only runs `act(obs)` (and, on
+    /// the first, `check(actions)`, which returns the actions to take); returns, lengths,
+    /// termination flags and outcomes are kept here, and finished environments are reset in one
+    /// native call per step. Once the jobs run out, finished environments replay their last seed
+    /// so the batch can go on stepping (not recorded). Returns `(returns, lengths, terminated,
+    /// truncated, outcomes, contexts)` per job, `contexts[j]` = `(context, context_seed)` of its
+    /// episode when `record_contexts` (distributions), else None. Needs autoreset "disabled".
+    #[pyo3(signature = (act, check, seeds, instances=None, record_contexts=false))]
+    fn play<'py>(
+        slf: &Bound<'py, Self>,
+        act: &Bound<'py, PyAny>,
+        check: &Bound<'py, PyAny>,
+        seeds: Vec<u64>,
+        instances: Option<Vec<usize>>,
+        record_contexts: bool,
+    ) -> PyResult<Bound<'py, PyTuple>> {
+        let mut guard = slf.try_borrow_mut().map_err(|_| busy())?;
+        let this = &mut *guard;
+        let py = slf.py();
+        let n = this.inner.num_envs();
+        let total = seeds.len();
+        if this.inner.autoreset_mode() != AutoresetMode::Disabled {
+            return Err(value_error("play needs a batch with autoreset_mode='disabled'"));
+        }
+        if total < n {
+            return Err(value_error(format!(
+                "play needs at least num_envs={n} jobs, got {total}"
+            )));
+        }
+        if let Some(inst) = &instances
+            && inst.len() != total
+        {
+            return Err(value_error(format!("{} instances for {total} seeds", inst.len())));
+        }
+        let instance_of = |j: usize| instances.as_ref().map(|v| v[j]);
+        let mut job_of: Vec<Option<usize>> = (0..n).map(Some).collect();
+        let mut last_seed: Vec<u64> = seeds[..n].to_vec();
+        let mut next = n;
+        let mut ret = vec![0.0f64; n];
+        let mut len = vec![0u64; n];
+        let mut out_ret = vec![0.0f64; total];
+        let mut out_len = vec![0u64; total];
+        let mut out_term = vec![false; total];
+        let mut out_trunc = vec![false; total];
+        let mut out_word: Vec<Option<&'static str>> = vec![None; total];
+        let mut out_ctx: Vec<Option<(Vec<(String, f64)>, Option<u64>)>> = vec![None; total];
+        let mut reset_seeds: Vec<Option<u64>> = seeds[..n].iter().copied().map(Some).collect();
+        let mut reset_inst: Vec<Option<usize>> = (0..n).map(instance_of).collect();
+        let reset = |this: &mut Self, seeds: &[Option<u64>], inst: &[Option<usize>], mask: Option<&[bool]>| {
+            let inner = &mut this.inner;
+            let with_inst = inst.iter().any(Option::is_some).then_some(inst);
+            py.detach(|| inner.reset_each(seeds, with_inst, mask).map(drop))
+                .map_err(|e| env_error(&e))?;
+            this.context_cache = None;
+            this.last_any_done = false;
+            this.check_outputs(|| "reset".to_string())
+        };
+        reset(this, &reset_seeds, &reset_inst, None)?;
+        if record_contexts {
+            for i in 0..n {
+                let ci = this.current_info(i);
+                out_ctx[i] = Some((ci.context.clone(), ci.context_seed));
+            }
+        }
+        let mut remaining = total;
+        let mut first = true;
+        let mut mask = vec![false; n];
+        while remaining > 0 {
+            py.check_signals()?;
+            let obs = this.batch_obs(py)?;
+            let mut actions = act.call1((obs,))?;
+            if first {
+                actions = check.call1((actions,))?;
+                first = false;
+            }
+            this.take_actions(&actions)?;
+            let (inner, discrete, continuous) = (&mut this.inner, &this.discrete_actions, &this.continuous_actions);
+            let acts = if this.discrete {
+                VecActions::Discrete(discrete)
+            } else {
+                VecActions::Continuous(continuous)
+            };
+            py.detach(|| inner.step(acts).map(drop)).map_err(|e| env_error(&e))?;
+            this.steps += 1;
+            let t = this.steps;
+            this.check_outputs(|| format!("step {t}"))?;
+            let (rewards, term, trunc) = (this.inner.rewards(), this.inner.terminated(), this.inner.truncated());
+            let mut any = false;
+            for i in 0..n {
+                ret[i] += rewards[i];
+                len[i] += 1;
+                let done = term[i] | trunc[i];
+                mask[i] = done;
+                any |= done;
+            }
+            if !any {
+                continue;
+            }
+            let mut started = Vec::new();
+            for i in (0..n).filter(|&i| mask[i]) {
+                if let Some(j) = job_of[i] {
+                    (out_ret[j], out_len[j], out_term[j], out_trunc[j]) = (ret[i], len[i], term[i], trunc[i]);
+                    out_word[j] = this.inner.outcome(i);
+                    remaining -= 1;
+                }
+                if next < total {
+                    job_of[i] = Some(next);
+                    last_seed[i] = seeds[next];
+                    reset_inst[i] = instance_of(next);
+                    started.push(i);
+                    next += 1;
+                } else {
+                    job_of[i] = None;
+                    reset_inst[i] = None;
+                }
+                reset_seeds[i] = Some(last_seed[i]);
+                (ret[i], len[i]) = (0.0, 0);
+            }
+            if remaining == 0 {
+                break;
+            }
+            for i in (0..n).filter(|&i| !mask[i]) {
+                reset_inst[i] = None;
+            }
+            reset(this, &reset_seeds, &reset_inst, Some(&mask))?;
+            if record_contexts {
+                for &i in &started {
+                    let ci = this.current_info(i);
+                    if let Some(j) = job_of[i] {
+                        out_ctx[j] = Some((ci.context.clone(), ci.context_seed));
+                    }
+                }
+            }
+        }
+        let contexts: Vec<Py<PyAny>> = out_ctx
+            .into_iter()
+            .map(|c| match c {
+                None => Ok(py.None()),
+                Some((ctx, seed)) => {
+                    let d = PyDict::new(py);
+                    for (k, v) in ctx {
+                        d.set_item(k, v)?;
+                    }
+                    Ok((d, seed).into_pyobject(py)?.into_any().unbind())
+                }
+            })
+            .collect::<PyResult<_>>()?;
+        PyTuple::new(
+            py,
+            [
+                out_ret.into_pyobject(py)?.into_any(),
+                out_len.into_pyobject(py)?.into_any(),
+                out_term.into_pyobject(py)?.into_any(),
+                out_trunc.into_pyobject(py)?.into_any(),
+                out_word.into_pyobject(py)?.into_any(),
+                contexts.into_pyobject(py)?.into_any(),
+            ],
+        )
+    }
+
+    /// Reset the envs where `mask` is true (all for None) in one call, env `i` with its own seed
+    /// `seeds[i]` (None: it continues its streams; no `+ i`) and, where `instances[i]` is not
+    /// None, playing that instance of its set. A bad length or instance raises ValueError and
+    /// resets nothing.
+    #[pyo3(signature = (seeds, instances=None, mask=None))]
+    fn reset_each<'py>(
+        slf: &Bound<'py, Self>,
+        seeds: Vec<Option<u64>>,
+        instances: Option<Vec<Option<usize>>>,
+        mask: Option<PyReadonlyArray1<'py, bool>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let mut guard = slf.try_borrow_mut().map_err(|_| busy())?;
+        let this = &mut *guard;
+        let py = slf.py();
+        let mask_slice = match &mask {
+            Some(m) => Some(m.as_slice().map_err(value_error)?),
+            None => None,
+        };
+        let inner = &mut this.inner;
+        py.detach(|| inner.reset_each(&seeds, instances.as_deref(), mask_slice).map(drop))
+            .map_err(|e| env_error(&e))?;
         this.context_cache = None;
         this.last_any_done = false;
         this.check_outputs(|| "reset".to_string())?;
@@ -600,6 +809,15 @@ impl VecEnv {
         let infos = this.cached_context_infos(py)?;
         if !ended.is_empty() {
             this.final_infos(&infos, &ended)?;
+            // How the finished episodes ended, beside their other final infos.
+            if let Some(fin) = infos.get_item(pyo3::intern!(py, "final_info"))? {
+                this.set_outcomes(fin.cast::<PyDict>()?, &ended)?;
+            }
+        } else if any_done {
+            // Next-step and disabled modes: this step's infos are the finished episodes' last.
+            let (term, trunc) = (this.inner.terminated(), this.inner.truncated());
+            let done: Vec<usize> = (0..n).filter(|&i| term[i] | trunc[i]).collect();
+            this.set_outcomes(&infos, &done)?;
         }
         if this.noisy {
             let all: Vec<usize> = (0..n).collect();

@@ -11,7 +11,8 @@
 //! Without the default `envs` feature, only the spec tooling is built (no physics).
 //!
 //! Here: [`envs`] (the registry of every family, CARL's contextual wrapper, `VecEnv`),
-//! [`episode`] (one episode loop, the JSON Lines protocol), [`bench`] (speed measurements),
+//! [`episode`] (one episode loop, the JSON Lines protocol), [`evaluation`] (a policy on every
+//! instance of a set, the engine of `carl-spec evaluate`), [`bench`] (speed measurements),
 //! [`audit`] (checks each feature's `affects` claim against the runtime), [`plot`] (figures of
 //! instance sets), [`render`] (environment pictures to files), [`experiments`] (the paper's
 //! experiments end to end), [`cli`] (argument parsing and printing, one module per subcommand).
@@ -34,6 +35,8 @@ pub mod bench;
 pub mod envs;
 #[cfg(feature = "envs")]
 pub mod episode;
+#[cfg(feature = "envs")]
+pub mod evaluation;
 #[cfg(feature = "envs")]
 pub mod experiments;
 #[cfg(feature = "envs")]

@@ -29,9 +29,10 @@ class Instance:
 class Episode(NamedTuple):
     """One episode: its instance, its index among that instance's episodes, the seed it was reset
     with, its return (`return_`; `"return"` in JSON), length and how it ended. `outcome` is the
-    environment's own verdict (landed, crashed, ...) where its info defines one, else None; a
-    distribution's draw also records `context_seed`. (An immutable named tuple: one is made per
-    episode while the batch runs, five times faster than a frozen dataclass.)"""
+    environment's own verdict (`info["outcome"]` at the episode's last step: landed, crashed,
+    solved, timed_out, ...), None where the environment defines none; a distribution's draw also
+    records `context_seed`. (An immutable named tuple: one is made per episode, five times faster
+    than a frozen dataclass.)"""
 
     instance: int
     episode: int

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import operator
 import os
 from typing import Any, Mapping
 
@@ -113,7 +114,9 @@ def evaluate(
     or `threads` the same per-episode results (provided the policy's action for an observation does
     not depend on the rest of the batch). `options`, `obs_context`, `context_noise` and
     `allow_out_of_bounds` are `make_vec`'s. `run` labels the result (e.g. the training seed) for
-    `carl_spec.report`.
+    `carl_spec.report`. The loop runs in the binding (`VecEnv.play`): per batch step Python only
+    calls the policy. `carl-spec evaluate` plays the same episodes (same seed rule) from the
+    command line.
     """
     from .. import make_vec
     from ..specs import InstanceSet
@@ -225,7 +228,12 @@ def evaluate(
     draws_seen: dict[int, tuple[dict[str, Any], int]] = {}
     try:
         with batch_policy(policy, venv.single_action_space, venv.single_observation_space, deterministic) as act:
-            _play(venv, act, jobs, seeds, records, draws_seen, env_id, distribution is not None)
+            core = getattr(venv, "_core", None)
+            if hasattr(core, "play"):
+                # The loop in Rust: Python runs only the policy, once per batch step.
+                _play_native(core, venv, act, jobs, seeds, records, draws_seen, env_id, n_mod is not None, distribution is not None)
+            else:
+                _play(venv, act, jobs, seeds, records, draws_seen, env_id, distribution is not None)
     finally:
         venv.close()
 
@@ -251,14 +259,46 @@ def evaluate(
         "threads": threads,
     }
     # Episodes in (instance, episode) order, whatever order the batch finished them in.
-    ordered = sorted((r for r in records if r is not None), key=lambda r: (r.instance, r.episode))
+    ordered = sorted((r for r in records if r is not None), key=_by_instance)
     return EvaluationResult(provenance=provenance, instances=inst, episodes=ordered)
+
+
+#: An episode's (instance, episode): the results' order.
+_by_instance = operator.itemgetter(0, 1)
 
 
 def _count(what: str, n: Any) -> int:
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
         raise ValueError(f"evaluate: {what} must be a positive integer, got {n!r}")
     return int(n)
+
+
+def _play_native(
+    core: Any,
+    venv: Any,
+    act: Any,
+    jobs: list[tuple[int, int]],
+    seeds: list[int],
+    records: list[Episode | None],
+    draws_seen: dict[int, tuple[dict[str, Any], int]],
+    env_id: str,
+    is_set: bool,
+    drawing: bool,
+) -> None:
+    """`_play` in the binding (`VecEnv.play`): the same jobs, seeds and records; a set's jobs
+    name their instance, which the seed's round robin would pick too."""
+    n = venv.num_envs
+
+    def check(actions: Any) -> Any:
+        return check_actions(actions, venv.single_action_space, n, env_id)
+
+    instances = [k for k, _ in jobs] if is_set else None
+    rets, lens, terms, truncs, words, contexts = core.play(act, check, seeds, instances, drawing)
+    ks = [k for k, _ in jobs]
+    records[:] = map(Episode, ks, [e for _, e in jobs], seeds, rets, lens, terms, truncs, words)
+    if drawing:
+        for k, (ctx, context_seed) in zip(ks, contexts):
+            draws_seen[k] = (ctx, int(context_seed))
 
 
 def _play(
@@ -304,23 +344,22 @@ def _play(
         started = []
         outcome = infos.get("outcome")
         has_outcome = infos.get("_outcome")
-        for i in done.tolist():
+        # Per finished episode, Python lists rather than NumPy scalars (indexing an array is
+        # several times slower than a list, and here every batch step ends episodes).
+        done_l = done.tolist()
+        rets = ret[done].tolist()
+        starts = start[done].tolist()
+        terms = terminated[done].tolist()
+        truncs = truncated[done].tolist()
+        words: list[str | None] = [None] * len(done_l)
+        if outcome is not None:
+            has = has_outcome[done].tolist() if has_outcome is not None else [True] * len(done_l)
+            words = [str(w) if h else None for w, h in zip(outcome[done].tolist(), has)]
+        for i, r_i, s_i, te, tr, out in zip(done_l, rets, starts, terms, truncs, words):
             j = job_of[i]
             if j >= 0:
                 k, e = jobs[j]
-                out = None
-                if outcome is not None and (has_outcome is None or has_outcome[i]):
-                    out = str(outcome[i])
-                records[j] = Episode(
-                    instance=k,
-                    episode=e,
-                    seed=seeds[j],
-                    return_=float(ret[i]),
-                    length=int(t - start[i]),
-                    terminated=bool(terminated[i]),
-                    truncated=bool(truncated[i]),
-                    outcome=out,
-                )
+                records[j] = Episode(k, e, seeds[j], r_i, t - s_i, te, tr, out)
                 remaining -= 1
                 if next_job < total:
                     job_of[i] = next_job
@@ -332,8 +371,8 @@ def _play(
                     reset_seeds[i] = seeds[j]
             else:
                 reset_seeds[i] = seeds[0]
-            ret[i] = 0.0
-            start[i] = t
+        ret[done] = 0.0
+        start[done] = t
         if not remaining:
             break
         mask = np.zeros(n, dtype=np.bool_)

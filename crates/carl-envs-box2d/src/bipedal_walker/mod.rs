@@ -779,6 +779,20 @@ impl Env for BipedalWalker {
         Ok(())
     }
 
+    /// After the step that ended the episode: `fell` (the hull touched the ground, or the walker
+    /// left the course backwards; reward -100) or `solved` (it reached the course's end).
+    fn outcome(&self) -> Option<&'static str> {
+        self.world.as_ref()?;
+        let x = world_x(self.world.as_deref());
+        if self.game_over || x < 0.0 {
+            Some("fell")
+        } else if x > self.params.finish_x() {
+            Some("solved")
+        } else {
+            None
+        }
+    }
+
     fn render(&self) -> Option<carl_pixels::Frame> {
         render::render(self)
     }

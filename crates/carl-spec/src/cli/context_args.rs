@@ -134,14 +134,14 @@ impl Resolved {
 }
 
 /// `NAME=VALUE` split, or a usage error naming the flag.
-fn split_kv<'a>(flag: &str, kv: &'a str) -> Result<(&'a str, &'a str), Failure> {
+pub(super) fn split_kv<'a>(flag: &str, kv: &'a str) -> Result<(&'a str, &'a str), Failure> {
     kv.split_once('=')
         .map(|(k, v)| (k.trim(), v.trim()))
         .ok_or_else(|| Failure::usage(format!("{flag} expects NAME=VALUE, got \"{}\"", quote_input(kv))))
 }
 
 /// A value as typed: a number, `true`/`false`, or text (a categorical choice's label).
-fn parse_value(v: &str) -> Value {
+pub(super) fn parse_value(v: &str) -> Value {
     match v {
         "true" => Value::Bool(true),
         "false" => Value::Bool(false),

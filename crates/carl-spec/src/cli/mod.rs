@@ -8,6 +8,8 @@ mod bench_cmd;
 #[cfg(feature = "envs")]
 mod context_args;
 #[cfg(feature = "envs")]
+mod evaluate_cmd;
+#[cfg(feature = "envs")]
 mod fold_cmd;
 mod instances_cmd;
 mod plot_cmd;
@@ -113,6 +115,12 @@ pub enum Command {
         #[arg(long, value_enum, default_value_t = Format::Text)]
         format: Format,
     },
+    #[cfg(feature = "envs")]
+    /// Evaluate a policy on every instance of a frozen set (or a distribution's draws, or one
+    /// context): per-episode and per-instance return, length and outcome, with provenance.
+    /// Exit 0 done, 1 a failed run, 2 bad input (unknown set, a set of another environment,
+    /// an action outside the action space).
+    Evaluate(evaluate_cmd::EvaluateArgs),
     #[cfg(feature = "envs")]
     /// Run one of the paper's experiments end to end, e.g. `run landing_in_space`.
     #[command(subcommand)]
@@ -236,6 +244,8 @@ where
         Command::Stats { format } => specs_cmd::stats(&cli, *format),
         #[cfg(feature = "envs")]
         Command::Rollout(args) => rollout_cmd::run(&cli, args),
+        #[cfg(feature = "envs")]
+        Command::Evaluate(args) => evaluate_cmd::run(&cli, args),
         #[cfg(feature = "envs")]
         Command::Run(cmd) => run_cmd::run(&cli, cmd),
         Command::Instances(cmd) => instances_cmd::instances(&cli, cmd),

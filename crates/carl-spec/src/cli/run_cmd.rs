@@ -17,7 +17,7 @@ use clap::{Subcommand, ValueEnum};
 use serde_json::{Map, Value, json};
 
 use super::{Cli, CmdResult, Failure, exit, load_specs, out};
-use crate::envs::registry::SpecEnv;
+use crate::envs::contextual::ContextualEnv;
 use crate::episode::jsonl::{ActionStream, JsonLinesWriter};
 use crate::episode::{EpisodeError, EpisodeListener, Flow, StepRecord};
 use crate::experiments::landing_in_space::{self as lis, Config, EpisodeInfo, EvalError, Observer};
@@ -164,11 +164,11 @@ fn write(p: &Path, bytes: &[u8], force: bool) -> Result<(), Failure> {
 /// `--policy stdin`: every episode on stdout as JSON lines, `{"episode": …}` before its reset line.
 struct Streamed<W: Write>(JsonLinesWriter<W>);
 
-impl<W: Write> EpisodeListener<SpecEnv> for Streamed<W> {
-    fn on_reset(&mut self, env: &SpecEnv, obs: &[f32]) -> Result<Flow, EpisodeError> {
+impl<W: Write> EpisodeListener<ContextualEnv> for Streamed<W> {
+    fn on_reset(&mut self, env: &ContextualEnv, obs: &[f32]) -> Result<Flow, EpisodeError> {
         self.0.on_reset(env, obs)
     }
-    fn on_step(&mut self, env: &SpecEnv, step: &StepRecord<'_>) -> Result<Flow, EpisodeError> {
+    fn on_step(&mut self, env: &ContextualEnv, step: &StepRecord<'_>) -> Result<Flow, EpisodeError> {
         self.0.on_step(env, step)
     }
 }
@@ -187,8 +187,8 @@ impl<W: Write> Observer for Streamed<W> {
 /// The heuristic's evaluation: episodes counted on the progress line.
 struct Counted(super::progress::Progress);
 
-impl EpisodeListener<SpecEnv> for Counted {
-    fn on_step(&mut self, _env: &SpecEnv, _step: &StepRecord<'_>) -> Result<Flow, EpisodeError> {
+impl EpisodeListener<ContextualEnv> for Counted {
+    fn on_step(&mut self, _env: &ContextualEnv, _step: &StepRecord<'_>) -> Result<Flow, EpisodeError> {
         Ok(Flow::Continue)
     }
 }

@@ -65,19 +65,25 @@
 //!
 //! With [`Visibility::Visible`] the chosen features' values (canonical names, as `f32`) follow the
 //! runtime's observation, in spec order for [`Features::All`] or in the given order for
-//! [`Features::Only`]. The observation space is a `Box` of length `base + k` (flattened), with:
+//! [`Features::Only`].
 //!
-//! * base components: the elementwise hull (min of lows, max of highs) of the runtime's space over
-//!   every instance of the source (a set's instances, the fixed context). For a distribution, the
-//!   space at the default context, with every component whose bounds change when a varied feature
-//!   changes (probed by rebuilding with that feature moved off its default) made unbounded
-//!   (`±inf`), because future draws are not known.
-//! * context components: the feature's spec bounds as `f32`; an open side (`null` in the spec) is
-//!   `-inf` / `+inf`, which is what Gymnasium's `Box(low=-np.inf, high=np.inf, dtype=float32)`
-//!   stores (Gymnasium keeps infinities for float dtypes; it does not substitute `f32::MAX`).
-//!   Bool features without bounds get `[0, 1]`. For sets and fixed contexts the bounds are widened
-//!   to include every value actually used, so a set that deliberately goes out of bounds still
-//!   produces observations inside the declared space.
+//! The observation space depends on the environment, its version and options, the visible
+//! features and the context noise only, never on the context source: a set, another set, a
+//! distribution and a fixed context give one space, so an agent trained on one source is
+//! evaluated on another as it is (Stable-Baselines3's `set_env` / `load(path, env=...)` compare
+//! spaces). It is a `Box` of length `base + k` (flattened), with:
+//!
+//! * base components: the runtime's space at the spec's default context, with every component
+//!   whose bounds change when some feature changes (probed by rebuilding with each feature moved
+//!   off its default, [`ContextualEnv::new`]) made unbounded (`±inf`): other contexts may move
+//!   them anywhere.
+//! * context components: the feature's declared spec bounds as `f32`; an open side (`null` in the
+//!   spec) is `-inf` / `+inf`, which is what Gymnasium's `Box(low=-np.inf, high=np.inf,
+//!   dtype=float32)` stores (Gymnasium keeps infinities for float dtypes; it does not substitute
+//!   `f32::MAX`). Bool features without bounds get `[0, 1]`; a feature observed with noise is
+//!   unbounded. A set that deliberately goes out of bounds (`allow_out_of_bounds`, e.g. Landing
+//!   in Space's Jupiter) shows its true value, outside the declared space: that is what out of
+//!   bounds means.
 //!
 //! The action space is the current runtime's (contexts do not change it for the classic
 //! environments).
@@ -218,18 +224,44 @@ fn visible_names(spec: &EnvSpec, visibility: &Visibility, first: &Slot) -> Resul
     }
 }
 
-/// Elementwise hull of two Box spaces of equal length (anything else: `a` unchanged).
-fn hull(a: &mut Space, b: &Space) {
-    if let (Space::Box { low, high, .. }, Space::Box { low: l2, high: h2, .. }) = (a, b)
-        && low.len() == l2.len()
-    {
-        for (x, y) in low.iter_mut().zip(l2) {
-            *x = x.min(*y);
-        }
-        for (x, y) in high.iter_mut().zip(h2) {
-            *x = x.max(*y);
+/// The base (runtime) part of the observation space, the same for every context source: the
+/// space at the default context, each component whose bounds move when some feature moves off
+/// its default made unbounded.
+fn base_space(spec: &EnvSpec, env_options: &EnvOptions) -> Result<Space, ContextualError> {
+    let defaults = spec.default_context();
+    let who = format!("{} default context", spec.id);
+    let mut base = make_env(spec, &defaults, MakeOptions::default(), env_options)
+        .map_err(make_err(&who))?
+        .observation_space();
+    let allow = MakeOptions {
+        allow_out_of_bounds: true,
+    };
+    for f in &spec.features {
+        let Some(ctx) = probe_context(spec, &f.name) else {
+            continue;
+        };
+        // A runtime that refuses the probe (e.g. an index past its data) keeps that feature's
+        // bounds; the instances it does accept are checked against the space by the tests.
+        let Ok(probe) = make_env(spec, &ctx, allow, env_options) else {
+            continue;
+        };
+        if let (Space::Box { low, high, .. }, Space::Box { low: pl, high: ph, .. }) =
+            (&mut base, probe.observation_space())
+            && low.len() == pl.len()
+        {
+            for (x, y) in low.iter_mut().zip(&pl) {
+                if x.to_bits() != y.to_bits() {
+                    *x = f32::NEG_INFINITY;
+                }
+            }
+            for (x, y) in high.iter_mut().zip(&ph) {
+                if x.to_bits() != y.to_bits() {
+                    *x = f32::INFINITY;
+                }
+            }
         }
     }
+    Ok(base)
 }
 
 /// A context that moves `feature` off its default (for probing which bounds depend on it).
@@ -341,40 +373,13 @@ impl ContextualEnv {
         }
         let noise = ObservationNoise::new(spec, &visible, &options.noise)?;
 
-        // Base observation space: hull over the slots, widened for distributions.
-        let mut base = slots[0].env.observation_space();
-        for s in &slots[1..] {
-            hull(&mut base, &s.env.observation_space());
-        }
-        if let Mode::Distribution { dist, .. } = &mode {
-            let allow = MakeOptions {
-                allow_out_of_bounds: true,
-            };
-            for fname in dist.features.keys() {
-                let Some(ctx) = probe_context(spec, fname) else {
-                    continue;
-                };
-                let Ok(probe) = make_env(spec, &ctx, allow, &options.env_options) else {
-                    continue;
-                };
-                if let (Space::Box { low, high, .. }, Space::Box { low: pl, high: ph, .. }) =
-                    (&mut base, probe.observation_space())
-                    && low.len() == pl.len()
-                {
-                    for (x, y) in low.iter_mut().zip(&pl) {
-                        if x.to_bits() != y.to_bits() {
-                            *x = f32::NEG_INFINITY;
-                        }
-                    }
-                    for (x, y) in high.iter_mut().zip(&ph) {
-                        if x.to_bits() != y.to_bits() {
-                            *x = f32::INFINITY;
-                        }
-                    }
-                }
-            }
-        }
+        // The space of every source alike (module docs). Where the context sets the observation's
+        // length itself (rna_design's state_radius) there is no common space: the first slot's.
         let base_dim = slots[0].env.obs_dim();
+        let mut base = base_space(spec, &options.env_options)?;
+        if base.flat_dim() != base_dim {
+            base = slots[0].env.observation_space();
+        }
         let obs_space = if visible.is_empty() {
             base
         } else {
@@ -396,12 +401,6 @@ impl ContextualEnv {
                         hi.map_or(f32::INFINITY, |x| x as f32),
                     ),
                 };
-                if !matches!(mode, Mode::Distribution { .. }) {
-                    for s in &slots {
-                        lo = lo.min(s.ctx_obs[k]);
-                        hi = hi.max(s.ctx_obs[k]);
-                    }
-                }
                 if noise.stds()[k] > 0.0 {
                     // A Gaussian measurement can land anywhere.
                     (lo, hi) = (f32::NEG_INFINITY, f32::INFINITY);
@@ -556,6 +555,80 @@ impl ContextualEnv {
         }
         info
     }
+
+    /// `reset_into`, playing instance `index` of the set instead of the one the selection picks
+    /// (Gymnasium's `reset(options={"instance": i})`). Everything else is as in `reset_into`:
+    /// the streams advance as they would (the runtime resets with the same seed), and round-robin
+    /// selection continues with `index + 1` (random selection draws on, static stays put). An index outside the set, or a source that is not a
+    /// set, is an [`EnvError::Context`] naming the problem; nothing is reset then.
+    pub fn reset_instance_into(&mut self, seed: Option<u64>, index: usize, obs: &mut [f32]) -> Result<(), EnvError> {
+        self.check_instance(index)?;
+        self.reset_impl(seed, Some(index), obs)
+    }
+
+    /// Whether [`ContextualEnv::reset_instance_into`] can play instance `index` (the error it
+    /// would return otherwise).
+    pub fn check_instance(&self, index: usize) -> Result<(), EnvError> {
+        let n = self.slots.len();
+        let message = match self.mode {
+            Mode::Set if index < n => return Ok(()),
+            Mode::Set => format!(
+                "instance {index} is outside the set: it has {n} instance(s), 0..={}",
+                n - 1
+            ),
+            Mode::Fixed => format!(
+                "an instance ({index}) was asked for, but this environment plays one fixed context, not an instance set"
+            ),
+            Mode::Distribution { ref name, .. } => format!(
+                "an instance ({index}) was asked for, but this environment draws its contexts from the distribution {name}, not an instance set"
+            ),
+        };
+        Err(EnvError::Context { env: self.id, message })
+    }
+
+    /// A reset (see [`Env::reset_into`]); `forced`: the instance to play instead of the
+    /// selection's pick (checked by [`ContextualEnv::reset_instance_into`]).
+    fn reset_impl(&mut self, seed: Option<u64>, forced: Option<usize>, obs: &mut [f32]) -> Result<(), EnvError> {
+        check_obs_len(self.id, obs, self.obs_dim())?;
+        if let Some(s) = seed {
+            self.noise.seed(s);
+        }
+        let plan = self.schedule.next(seed);
+        if let (
+            Some(i),
+            ScheduleKind::Set {
+                selection: Selection::RoundRobin,
+                ..
+            },
+        ) = (forced, self.schedule.kind())
+        {
+            self.schedule.continue_after(i);
+        }
+        let episode = self.resets;
+        let finished = (self.current, self.slots[self.current].info.episode);
+        let index = match (plan.pick, &self.mode) {
+            (Pick::Instance(i), _) => forced.unwrap_or(i),
+            (Pick::Draw { context_seed }, Mode::Distribution { name, dist }) => {
+                let slot = draw_slot(&self.spec, name, dist, &self.visible, &self.env_options, context_seed)
+                    .map_err(|message| EnvError::Context { env: self.id, message })?;
+                self.retired = Some(std::mem::replace(&mut self.slots[0], slot).info);
+                0
+            }
+            _ => 0,
+        };
+        if episode > 0 {
+            self.previous = Some(finished);
+        }
+        let runtime_seed = plan.runtime_seed;
+        self.resets += 1;
+        self.current = index;
+        let slot = &mut self.slots[index];
+        slot.info.episode = episode;
+        slot.env.reset_into(runtime_seed, &mut obs[..self.base_dim])?;
+        self.noise.observe(&self.slots[index].ctx_obs, &mut self.observed);
+        self.write_context(obs);
+        Ok(())
+    }
 }
 
 /// A fresh slot for one draw of a distribution (reset time only; allocates).
@@ -595,35 +668,7 @@ impl Env for ContextualEnv {
     }
 
     fn reset_into(&mut self, seed: Option<u64>, obs: &mut [f32]) -> Result<(), EnvError> {
-        check_obs_len(self.id, obs, self.obs_dim())?;
-        if let Some(s) = seed {
-            self.noise.seed(s);
-        }
-        let plan = self.schedule.next(seed);
-        let episode = self.resets;
-        let finished = (self.current, self.slots[self.current].info.episode);
-        let index = match (plan.pick, &self.mode) {
-            (Pick::Instance(i), _) => i,
-            (Pick::Draw { context_seed }, Mode::Distribution { name, dist }) => {
-                let slot = draw_slot(&self.spec, name, dist, &self.visible, &self.env_options, context_seed)
-                    .map_err(|message| EnvError::Context { env: self.id, message })?;
-                self.retired = Some(std::mem::replace(&mut self.slots[0], slot).info);
-                0
-            }
-            _ => 0,
-        };
-        if episode > 0 {
-            self.previous = Some(finished);
-        }
-        let runtime_seed = plan.runtime_seed;
-        self.resets += 1;
-        self.current = index;
-        let slot = &mut self.slots[index];
-        slot.info.episode = episode;
-        slot.env.reset_into(runtime_seed, &mut obs[..self.base_dim])?;
-        self.noise.observe(&self.slots[index].ctx_obs, &mut self.observed);
-        self.write_context(obs);
-        Ok(())
+        self.reset_impl(seed, None, obs)
     }
 
     #[inline]
@@ -671,6 +716,10 @@ impl Env for ContextualEnv {
     /// `reset`'s observation zeroed; use [`ContextualEnv::reset_with_info`] to see the error.
     fn info(&self) -> Info {
         self.info_map()
+    }
+
+    fn outcome(&self) -> Option<&'static str> {
+        self.slots[self.current].env.outcome()
     }
 
     fn render(&self) -> Option<crate::pixels::Frame> {

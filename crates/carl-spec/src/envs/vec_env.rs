@@ -24,6 +24,10 @@
 //!   [`ContextualEnv`]s: every (auto)reset of environment `i` re-selects its context (next
 //!   instance of a set, fresh draw of a distribution) from that environment's own streams, and
 //!   [`VecEnv::instance_ids`] reports each environment's current instance.
+//! * **Outcomes.** At the step that ends an episode, [`VecEnv::outcome`] says how it ended: the
+//!   environment's [`Env::outcome`] (taken before a same-step reset), or [`TIMED_OUT`].
+//! * **Resets with a seed (and an instance) per environment**: [`VecEnv::reset_each`], one call
+//!   for a batch of episode starts (what `carl_spec.evaluate` does between steps).
 //! * **Time limit.** Every environment counts its steps since its last reset and reports
 //!   `truncated` once the spec's `max_episode_steps` is reached, like [`TimeLimit`](super::TimeLimit).
 //! * **Bad input** (wrong number of actions, an out-of-range discrete action, a discrete action
@@ -48,7 +52,7 @@
 use std::ops::Range;
 use std::sync::Mutex;
 
-use super::api::{Action, DType, Env, EnvError, Space};
+use super::api::{Action, DType, Env, EnvError, Space, TIMED_OUT};
 use super::classic_control::cartpole::{self, CartPoleConstants};
 use super::classic_control::{CartPole, CartPoleParams};
 use super::contextual::{ContextInfo, ContextualEnv};
@@ -204,6 +208,9 @@ pub struct VecEnv {
     /// Per environment: finished and not yet reset (next-step and disabled modes).
     pending: Vec<bool>,
     instance_ids: Vec<i64>,
+    /// Per environment: how its episode ended, for the environments that ended in the latest
+    /// step ([`Env::outcome`]; [`TIMED_OUT`] for the batch's time limit).
+    outcomes: Vec<Option<&'static str>>,
     mode: AutoresetMode,
     ready: bool,
     pool: Pool,
@@ -226,6 +233,7 @@ struct Raw {
     elapsed: *mut u64,
     pending: *mut bool,
     instance_ids: *mut i64,
+    outcomes: *mut Option<&'static str>,
 }
 unsafe impl Sync for Raw {}
 
@@ -404,6 +412,7 @@ impl VecEnv {
             truncated: vec![false; n],
             pending: vec![false; n],
             instance_ids: vec![-1; n],
+            outcomes: vec![None; n],
             mode,
             ready: false,
             pool: Pool::new(opts.threads.clamp(1, n)),
@@ -476,6 +485,14 @@ impl VecEnv {
 
     /// Per environment: finished and waiting for a reset (next-step: at the next step; disabled:
     /// by [`VecEnv::reset_masked`]).
+    /// How environment `i`'s episode ended, if it ended in the latest step (`terminated` or
+    /// `truncated`): its [`Env::outcome`] (e.g. `landed`, `solved`), or [`TIMED_OUT`] for the
+    /// time limit; `None` otherwise, and for terminations the environment gives no name.
+    pub fn outcome(&self, i: usize) -> Option<&'static str> {
+        let ended = self.terminated.get(i).copied().unwrap_or(false) || self.truncated.get(i).copied().unwrap_or(false);
+        if ended { self.outcomes[i] } else { None }
+    }
+
     pub fn pending_resets(&self) -> &[bool] {
         &self.pending
     }
@@ -566,9 +583,77 @@ impl VecEnv {
     /// seeded with `seed.wrapping_add(i)`, or continues its own stream for `seed = None`. The
     /// others keep their state, observation and flags. Returns the observations.
     pub fn reset_masked(&mut self, seed: Option<u64>, mask: Option<&[bool]>) -> &[f32] {
-        let d = self.obs_dim;
-        let chosen = |i: usize| mask.is_none_or(|m| m.get(i).copied().unwrap_or(false));
         let seed_of = |i: usize| seed.map(|s| s.wrapping_add(i as u64));
+        let chosen = |i: usize| mask.is_none_or(|m| m.get(i).copied().unwrap_or(false));
+        self.reset_rows(&seed_of, &|_| None, &chosen);
+        &self.obs
+    }
+
+    /// Reset the environments where `mask` is true (all for `None`), environment `i` with its own
+    /// seed `seeds[i]` (`None`: it continues its streams; unlike [`VecEnv::reset_masked`], no
+    /// `+ i`) and, where `instances[i]` is given, playing that instance of its set
+    /// ([`ContextualEnv::reset_instance_into`]). One call for a whole batch of episode starts.
+    /// Wrong lengths, or an instance for a batch without a set or outside it, are errors and
+    /// reset nothing.
+    pub fn reset_each(
+        &mut self,
+        seeds: &[Option<u64>],
+        instances: Option<&[Option<usize>]>,
+        mask: Option<&[bool]>,
+    ) -> Result<&[f32], EnvError> {
+        let env = self.id;
+        let n = self.n;
+        let length = |got: usize| EnvError::BatchLength { env, expected: n, got };
+        if seeds.len() != n {
+            return Err(length(seeds.len()));
+        }
+        if let Some(m) = mask
+            && m.len() != n
+        {
+            return Err(length(m.len()));
+        }
+        let chosen = |i: usize| mask.is_none_or(|m| m[i]);
+        if let Some(inst) = instances {
+            if inst.len() != n {
+                return Err(length(inst.len()));
+            }
+            for (i, k) in inst.iter().enumerate() {
+                let Some(k) = *k else { continue };
+                if !chosen(i) {
+                    continue;
+                }
+                match &self.envs {
+                    Envs::Contextual(envs, _) => envs[i].check_instance(k).map_err(|e| match e {
+                        EnvError::Context { env, message } => EnvError::Context {
+                            env,
+                            message: format!("environment {i} of the batch: {message}"),
+                        },
+                        other => other,
+                    })?,
+                    _ => {
+                        return Err(EnvError::Context {
+                            env,
+                            message: format!(
+                                "environment {i} of the batch was asked for instance {k}, but the batch plays one fixed context, not an instance set"
+                            ),
+                        });
+                    }
+                }
+            }
+        }
+        let instance_of = |i: usize| instances.and_then(|v| v[i]);
+        self.reset_rows(&|i| seeds[i], &instance_of, &chosen);
+        Ok(&self.obs)
+    }
+
+    /// The resets of [`VecEnv::reset_masked`] and [`VecEnv::reset_each`] (instances already checked).
+    fn reset_rows(
+        &mut self,
+        seed_of: &dyn Fn(usize) -> Option<u64>,
+        instance_of: &dyn Fn(usize) -> Option<usize>,
+        chosen: &dyn Fn(usize) -> bool,
+    ) {
+        let d = self.obs_dim;
         match &mut self.envs {
             Envs::CartPole(s) => {
                 for i in (0..self.n).filter(|&i| chosen(i)) {
@@ -594,8 +679,12 @@ impl VecEnv {
             Envs::Contextual(envs, _) => {
                 for (i, (e, o)) in envs.iter_mut().zip(self.obs.chunks_exact_mut(d)).enumerate() {
                     if chosen(i) {
-                        // A failed distribution draw leaves zeros (see `ContextualEnv::info`).
-                        let _ = e.reset_into(seed_of(i), o);
+                        // A failed distribution draw leaves zeros (see `ContextualEnv::info`);
+                        // instances were checked by the caller.
+                        let _ = match instance_of(i) {
+                            Some(k) => e.reset_instance_into(seed_of(i), k, o),
+                            None => e.reset_into(seed_of(i), o),
+                        };
                         if !self.obs64.is_empty() {
                             let _ = e.observe_f64_into(&mut self.obs64[i * d..(i + 1) * d]);
                         }
@@ -612,7 +701,6 @@ impl VecEnv {
             self.pending[i] = false;
         }
         self.ready = true;
-        &self.obs
     }
 
     /// Step every environment with its action (auto-resetting finished ones; see the module docs).
@@ -646,6 +734,7 @@ impl VecEnv {
             elapsed: self.elapsed.as_mut_ptr(),
             pending: self.pending.as_mut_ptr(),
             instance_ids: self.instance_ids.as_mut_ptr(),
+            outcomes: self.outcomes.as_mut_ptr(),
         };
         let mode = self.mode;
         let block = block_size(n, self.pool.threads(), self.min_block);
@@ -805,6 +894,7 @@ fn cartpole_reset(k: &CartPoleK, rng: &mut EnvRng) -> (f64, f64, f64, f64) {
 #[inline(never)]
 unsafe fn cartpole_chunk(s: &SoaRaw, o: &Raw, actions: &[i64], r: Range<usize>, max_steps: u64, mode: AutoresetMode) {
     let pending = unsafe { &mut rows(o.pending, &r, 1)[..actions.len()] };
+    let outs = unsafe { &mut rows(o.outcomes, &r, 1)[..actions.len()] };
     let (xs, xds, ths, thds, ks, rngs, obs, fin, rew, term, trunc, el) = unsafe {
         (
             rows(s.x, &r, 1),
@@ -862,6 +952,9 @@ unsafe fn cartpole_chunk(s: &SoaRaw, o: &Raw, actions: &[i64], r: Range<usize>, 
         rew[j] = 1.0;
         term[j] = terminated;
         trunc[j] = truncated;
+        if terminated || truncated {
+            outs[j] = Some(if terminated { cartpole::FAILED } else { TIMED_OUT });
+        }
         if (terminated || truncated) && mode != AutoresetMode::SameStep {
             (xs[j], xds[j], ths[j], thds[j]) = (x, x_dot, theta, theta_dot);
             el[j] = e;
@@ -934,6 +1027,7 @@ unsafe fn array_chunk<E: BatchEnv>(
     let (o, d, actions, max_steps) = (c.raw, c.d, c.actions, c.max_steps);
     let d64 = o.d64;
     let (obs64, fin64) = unsafe { (rows(o.obs64, &r, d64), rows(o.final_obs64, &r, d64)) };
+    let outs = unsafe { rows(o.outcomes, &r, 1) };
     let (obs, fin, rew, term, trunc, el, pending, ids) = unsafe {
         (
             rows(o.obs, &r, d),
@@ -980,6 +1074,12 @@ unsafe fn array_chunk<E: BatchEnv>(
         trunc[j] = truncated;
         el[j] = e;
         if out.terminated || truncated {
+            // Before a same-step reset forgets how the episode ended.
+            outs[j] = if out.terminated {
+                envs[j].outcome()
+            } else {
+                Some(TIMED_OUT)
+            };
             match c.mode {
                 AutoresetMode::SameStep => {
                     fin[row.clone()].copy_from_slice(&obs[row.clone()]);

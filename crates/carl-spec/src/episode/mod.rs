@@ -1,6 +1,7 @@
 //! Episodes: one loop that runs a policy in an environment, and what listens to it.
 //!
-//! * [`run_episode`]: reset (optionally to a given internal state), then act and step until the
+//! * [`run_episode`] ([`run_episode_with`] for a reset of the caller's): reset (optionally to a
+//!   given internal state), then act and step until the
 //!   episode ends, the policy has no more actions, a step limit is reached or the listener says
 //!   stop. Every observation and reward is checked: a non-finite value is an error naming the
 //!   step and the component, never a silent `NaN` downstream.
@@ -141,9 +142,24 @@ pub fn run_episode<E: Env + ?Sized>(
     config: &EpisodeConfig,
     listener: &mut dyn EpisodeListener<E>,
 ) -> Result<EpisodeSummary, EpisodeError> {
+    let seed = config.seed;
+    run_episode_with(env, policy, config, listener, &mut |env: &mut E, obs: &mut [f32]| {
+        env.reset_into(Some(seed), obs)
+    })
+}
+
+/// [`run_episode`] with the reset done by `reset` (e.g. a contextual environment reset to a
+/// chosen instance, [`crate::envs::contextual::ContextualEnv::reset_instance_into`]) instead of
+/// `reset_into(Some(config.seed))`.
+pub fn run_episode_with<E: Env + ?Sized>(
+    env: &mut E,
+    policy: &mut dyn Policy,
+    config: &EpisodeConfig,
+    listener: &mut dyn EpisodeListener<E>,
+    reset: &mut dyn FnMut(&mut E, &mut [f32]) -> Result<(), EnvError>,
+) -> Result<EpisodeSummary, EpisodeError> {
     let mut obs = vec![0.0f32; env.obs_dim()];
-    env.reset_into(Some(config.seed), &mut obs)
-        .map_err(EpisodeError::Reset)?;
+    reset(env, &mut obs).map_err(EpisodeError::Reset)?;
     if let Some(state) = &config.initial_state {
         env.set_state(state).map_err(EpisodeError::InitialState)?;
         env.observe_into(&mut obs).map_err(EpisodeError::InitialState)?;

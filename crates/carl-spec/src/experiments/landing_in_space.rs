@@ -1,6 +1,8 @@
 //! "Landing in Space" (CARL paper, LunarLander with varied gravity) end to end: evaluate a policy
 //! on each named test body of `lunar_lander/landing_in_space_test_planets` and on a sample of
-//! `lunar_lander/landing_in_space_train`, and summarise returns and outcomes per row.
+//! `lunar_lander/landing_in_space_train`, and summarise returns and outcomes per row. Every
+//! episode is a job of the generic evaluation engine ([`crate::evaluation::run_job`], what
+//! `carl-spec evaluate` runs), with this experiment's rows and seeds.
 //!
 //! * **Rows.** One per test body (in the frozen set's order, labelled with its `split`), then one
 //!   `train` row whose `episodes` are spread round-robin over the train set's instances (episode
@@ -9,9 +11,9 @@
 //!   [`reset_seed`]`(S, r, k)`: the first output of `Pcg64::new(S, fnv1a64("landing_in_space/{r}/{k}"))`.
 //!   So every (seed, row, episode) has its own independent start, and adding rows or episodes never
 //!   changes the others.
-//! * **Outcomes.** `landed`: terminated with the +100 rest bonus; `crashed`: the lander body
-//!   touched the ground; `out_of_view`: `|x| >= 1`; `timeout`: truncated by the spec's episode limit
-//!   (1000 steps). `crash_rate` counts crashes and out-of-view together (both end with
+//! * **Outcomes.** LunarLander's own ([`Env::outcome`]): `landed`: came to rest (+100);
+//!   `crashed`: the lander body touched the ground; `out_of_view`: `|x| >= 1`; `timeout`: truncated
+//!   by the spec's episode limit (1000 steps). `crash_rate` counts crashes and out-of-view together (both end with
 //!   `-crash_penalty`).
 //! * **Statistics.** Mean return and population standard deviation (ddof 0, NumPy's default).
 //!
@@ -24,12 +26,12 @@ use serde::Serialize;
 use serde_json::{Map, Value, json};
 
 use crate::envs::api::{Action, Env, Space};
-use crate::envs::box2d::{LunarLander, Outcome, PHYSICS_ENGINE, heuristic};
+use crate::envs::box2d::{Outcome, PHYSICS_ENGINE, heuristic};
+use crate::envs::contextual::ContextualEnv;
 use crate::envs::policy::{Policy, PolicyError};
-use crate::envs::registry::{MakeOptions, SpecEnv, make_with, resolve_context};
-use crate::episode::{
-    EpisodeConfig, EpisodeEnd as Ended, EpisodeError, EpisodeListener, Flow, StepRecord, run_episode,
-};
+use crate::envs::registry::{EnvOptions, MakeOptions, make_with, resolve_context};
+use crate::episode::{EpisodeError, EpisodeListener, Flow, StepRecord};
+use crate::evaluation::{self, Job};
 use crate::instances::{FrozenSet, Store};
 use crate::sampling::{Pcg64, stream_id};
 use crate::spec::SpecSet;
@@ -113,7 +115,7 @@ pub struct EpisodeInfo {
 /// a listener of the shared episode loop ([`crate::episode::run_episode`]) for its reset and
 /// steps. The CLI's `--policy stdin` streams them as JSON lines; a [`Flow::Stop`] from the
 /// listener (its reader went away) ends the whole evaluation ([`EvalError::Stopped`]).
-pub trait Observer: EpisodeListener<SpecEnv> {
+pub trait Observer: EpisodeListener<ContextualEnv> {
     /// Episode `info` is about to start under the full context `context`.
     fn begin(&mut self, _info: &EpisodeInfo, _context: &Map<String, Value>) -> Result<(), String> {
         Ok(())
@@ -267,6 +269,18 @@ pub fn evaluate(
     if train.instances.is_empty() {
         return Err(format!("{TRAIN_SET} has no instances").into());
     }
+    let spec = specs.require("lunar_lander")?;
+    let options: EnvOptions = [(
+        "crash_penalty".to_string(),
+        crate::spec::model::Value::Number(cfg.crash_penalty),
+    )]
+    .into();
+    let source = |set: &FrozenSet| evaluation::Source::Set {
+        set: set.clone(),
+        episodes: cfg.episodes,
+    };
+    let mut test_env = evaluation::environment(spec, &source(&test), &options)?;
+    let mut train_env = evaluation::environment(spec, &source(&train), &options)?;
     let mut rows = Vec::new();
     for (i, inst) in test.instances.iter().enumerate() {
         let body = inst.label();
@@ -276,7 +290,7 @@ pub fn evaluate(
             None => "unlabelled",
         };
         let runs = (0..cfg.episodes)
-            .map(|k| run_one(specs, &test, i, &body, k, cfg, policy, observer))
+            .map(|k| run_one(specs, &test, &mut test_env, i, &body, k, cfg, policy, observer))
             .collect::<Result<Vec<_>, _>>()?;
         rows.push(Row::from_runs(&body, split, runs));
     }
@@ -285,6 +299,7 @@ pub fn evaluate(
             run_one(
                 specs,
                 &train,
+                &mut train_env,
                 k % train.instances.len(),
                 TRAIN_ROW,
                 k,
@@ -316,6 +331,7 @@ pub fn evaluate(
 fn run_one(
     specs: &SpecSet,
     set: &FrozenSet,
+    env: &mut ContextualEnv,
     i: usize,
     row: &str,
     k: usize,
@@ -330,18 +346,12 @@ fn run_one(
     let opts = MakeOptions {
         allow_out_of_bounds: set.provenance.definition.allow_out_of_bounds,
     };
-    let mut env = make_with(spec, &ctx, opts).map_err(|e| e.to_string())?;
     let full: Map<String, Value> = resolve_context(spec, &ctx, opts)
         .map_err(|e| e.to_string())?
         .into_iter()
         .map(|(k, v)| (k, json!(v)))
         .collect();
     let gravity = full.get("GRAVITY_Y").and_then(|v| v.as_f64()).unwrap_or(f64::NAN);
-    env.inner_mut()
-        .downcast_mut::<LunarLander>()
-        .ok_or_else(|| format!("{} is not LunarLander", set.env))?
-        .options_mut()
-        .crash_penalty = cfg.crash_penalty;
     let seed = reset_seed(cfg.seed, row, k);
     let info = EpisodeInfo {
         body: row.to_string(),
@@ -352,32 +362,32 @@ fn run_one(
         action_space: env.action_space(),
     };
     observer.begin(&info, &full)?;
-    let config = EpisodeConfig {
+    let job = Job {
+        instance: i,
+        episode: k,
         seed,
-        ..Default::default()
     };
-    let summary = run_episode(&mut env, policy, &config, observer)
-        .map_err(|e| EvalError::Failed(format!("{row} episode {k}: {e}")))?;
-    let outcome = env.inner().downcast_ref::<LunarLander>().map(|l| l.outcome());
-    let end = match (summary.end, outcome) {
-        (Ended::Terminated, Some(Outcome::Landed)) => EpisodeEnd::Landed,
-        (Ended::Terminated, Some(Outcome::OutOfView)) => EpisodeEnd::OutOfView,
-        (Ended::Terminated, _) => EpisodeEnd::Crashed,
-        (Ended::Truncated | Ended::StepLimit, _) => EpisodeEnd::Timeout,
-        (Ended::ListenerStopped, _) => return Err(EvalError::Stopped),
-        (Ended::PolicyDone, _) => {
-            return Err(EvalError::Failed(format!(
-                "{row} episode {k}: the policy's actions ended before step {}",
-                summary.steps + 1
-            )));
+    let (result, _) = evaluation::run_job(env, true, &job, policy, observer).map_err(|e| match e {
+        evaluation::EvalError::Stopped => EvalError::Stopped,
+        evaluation::EvalError::BadInput(m) | evaluation::EvalError::Failed(m) => {
+            EvalError::Failed(format!("{row} episode {k}: {m}"))
         }
+    })?;
+    let end = match (
+        result.terminated,
+        result.outcome.as_deref().and_then(Outcome::from_name),
+    ) {
+        (true, Some(Outcome::Landed)) => EpisodeEnd::Landed,
+        (true, Some(Outcome::OutOfView)) => EpisodeEnd::OutOfView,
+        (true, _) => EpisodeEnd::Crashed,
+        (false, _) => EpisodeEnd::Timeout,
     };
     Ok(EpisodeResult {
         instance: i,
         gravity,
         seed,
-        ret: summary.total_reward,
-        length: summary.steps,
+        ret: result.ret,
+        length: result.length,
         end,
     })
 }

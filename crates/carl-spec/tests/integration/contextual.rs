@@ -236,9 +236,9 @@ fn visible_context_appends_the_instance_values_and_extends_the_space() {
     let (low, high, shape) = box_bounds(&env.observation_space());
     assert_eq!(shape, vec![8]);
     let inf = f32::INFINITY;
-    // Base Pendulum bounds (max_speed is not varied by this set), then the spec bounds.
-    assert_eq!(low, vec![-1.0, -1.0, -8.0, 0.0, 0.0, 1e-6, 1e-6, -inf]);
-    assert_eq!(high, vec![1.0, 1.0, 8.0, inf, inf, inf, inf, inf]);
+    // Base Pendulum bounds (the velocity's follows max_speed: unbounded), then the spec bounds.
+    assert_eq!(low, vec![-1.0, -1.0, -inf, 0.0, 0.0, 1e-6, 1e-6, -inf]);
+    assert_eq!(high, vec![1.0, 1.0, inf, inf, inf, inf, inf, inf]);
 
     for k in 0..4 {
         let (obs, info) = env.reset_with_info(Some(k)).unwrap();
@@ -277,51 +277,113 @@ fn visible_context_appends_the_instance_values_and_extends_the_space() {
     assert_eq!(&low[3..], &[1e-6, 0.0]);
     assert_eq!(&high[3..], &[inf, inf]);
 
-    // Hidden: the runtime's own space, unchanged.
+    // Hidden: the runtime's own space, with the velocity bound that max_speed moves unbounded.
     let hidden = pendulum_set(Selection::RoundRobin, Visibility::Hidden);
     assert_eq!(hidden.obs_dim(), 3);
-    assert_eq!(
-        hidden.observation_space(),
-        make(pend, &Context::new()).unwrap().observation_space()
-    );
+    let (low, high, _) = box_bounds(&hidden.observation_space());
+    let (rlow, rhigh, _) = box_bounds(&make(pend, &Context::new()).unwrap().observation_space());
+    assert_eq!((&low[..2], &high[..2]), (&rlow[..2], &rhigh[..2]));
+    assert_eq!((low[2], high[2]), (-inf, inf));
 }
 
 #[test]
-fn base_space_is_the_hull_over_the_instances() {
-    // max_speed sets the Pendulum's velocity bound: the wrapper's space must cover every instance.
+fn one_observation_space_whatever_the_source() {
+    // max_speed sets the Pendulum's velocity bound: for no source is it the default's ±8.
     let specs = specs();
-    let set = load(&specs, "pendulum/q1_max_speed_sigma_0_5");
-    let speeds: Vec<f64> = set.instances.iter().map(|i| num(&i.context["max_speed"])).collect();
-    let max = speeds.iter().copied().fold(f64::MIN, f64::max) as f32;
-    let min = speeds.iter().copied().fold(f64::MAX, f64::min) as f32;
-    let env = ContextualEnv::new(
-        spec(&specs, "pendulum"),
-        ContextSource::Set(set),
+    let pend = spec(&specs, "pendulum");
+    let visible = || {
         opts(
             Selection::RoundRobin,
             Visibility::Visible(Features::Only(vec!["max_speed".into()])),
-        ),
-    )
-    .unwrap();
-    let (low, high, _) = box_bounds(&env.observation_space());
-    assert_eq!(low[2], -max);
-    assert_eq!(high[2], max);
-    // The spec leaves max_speed unbounded: the context component is open on both sides.
-    assert_eq!((low[3], high[3]), (f32::NEG_INFINITY, f32::INFINITY));
-    assert!(min < max);
-
-    // A distribution varying max_speed: future draws are unknown, so that component is unbounded.
-    let env = ContextualEnv::new(
-        spec(&specs, "pendulum"),
+        )
+    };
+    let sources = [
+        ContextSource::Set(load(&specs, "pendulum/q1_max_speed_sigma_0_5")),
+        ContextSource::Set(load(&specs, SET)),
         ContextSource::Distribution {
             name: "q1_max_speed_sigma_0_5".into(),
         },
-        ContextualOptions::default(),
+        ContextSource::Fixed(Context::new()),
+        ContextSource::Fixed([("max_speed".to_string(), Value::Number(20.0))].into()),
+    ];
+    let spaces: Vec<Space> = sources
+        .into_iter()
+        .map(|src| ContextualEnv::new(pend, src, visible()).unwrap().observation_space())
+        .collect();
+    for s in &spaces[1..] {
+        assert_eq!(s, &spaces[0]);
+    }
+    let (low, high, _) = box_bounds(&spaces[0]);
+    assert_eq!(low, vec![-1.0, -1.0, f32::NEG_INFINITY, f32::NEG_INFINITY]);
+    assert_eq!(high, vec![1.0, 1.0, f32::INFINITY, f32::INFINITY]);
+
+    // Landing in Space: train on the train set, test on the planets; GRAVITY_Y visible has the
+    // spec's declared bounds [-20, -0.01] in both (the planets' Jupiter lies below them).
+    let ll = spec(&specs, "lunar_lander");
+    let g = || {
+        opts(
+            Selection::RoundRobin,
+            Visibility::Visible(Features::Only(vec!["GRAVITY_Y".into()])),
+        )
+    };
+    let train = ContextualEnv::new(
+        ll,
+        ContextSource::Set(load(&specs, "lunar_lander/landing_in_space_train")),
+        g(),
     )
     .unwrap();
-    let (low, high, _) = box_bounds(&env.observation_space());
-    assert_eq!(low, vec![-1.0, -1.0, f32::NEG_INFINITY]);
-    assert_eq!(high, vec![1.0, 1.0, f32::INFINITY]);
+    let mut planets = ContextualEnv::new(
+        ll,
+        ContextSource::Set(load(&specs, "lunar_lander/landing_in_space_test_planets")),
+        g(),
+    )
+    .unwrap();
+    let dist = ContextualEnv::new(
+        ll,
+        ContextSource::Distribution {
+            name: "landing_in_space".into(),
+        },
+        g(),
+    )
+    .unwrap();
+    assert_eq!(train.observation_space(), planets.observation_space());
+    assert_eq!(dist.observation_space(), planets.observation_space());
+    let (low, high, _) = box_bounds(&planets.observation_space());
+    assert_eq!((low[8], high[8]), (-20.0, -0.01));
+    let mut obs = vec![0.0; 9];
+    planets.reset_instance_into(Some(0), 0, &mut obs).unwrap();
+    assert_eq!(planets.context_info().instance_name.as_deref(), Some("Jupiter"));
+    assert!(obs[8] < -20.0, "Jupiter shows its true gravity {}", obs[8]);
+}
+
+#[test]
+fn reset_to_an_instance() {
+    let specs = specs();
+    let pend = spec(&specs, "pendulum");
+    let set = load(&specs, SET);
+    let n = set.instances.len();
+    let mut env = ContextualEnv::new(pend, ContextSource::Set(set), ContextualOptions::default()).unwrap();
+    let mut plain = env.clone();
+    let mut obs = vec![0.0; 3];
+    let mut obs2 = vec![0.0; 3];
+    // Seed 7 alone would play instance 7 mod n; the option plays 2, from the same initial state.
+    env.reset_instance_into(Some(7), 2, &mut obs).unwrap();
+    assert_eq!(env.instance_index(), 2);
+    plain.reset_into(Some(7), &mut obs2).unwrap();
+    assert_eq!(plain.instance_index(), 7 % n);
+    assert_eq!(obs, obs2, "the runtime resets with the same seed");
+    // Round robin goes on from the chosen instance.
+    env.reset_into(None, &mut obs).unwrap();
+    assert_eq!(env.instance_index(), 3);
+    // Out of range, and sources without instances: errors naming the problem, nothing reset.
+    let err = env.reset_instance_into(Some(0), n, &mut obs).unwrap_err();
+    assert!(matches!(err, EnvError::Context { .. }), "{err}");
+    assert!(err.to_string().contains(&format!("has {n} instance(s)")), "{err}");
+    assert_eq!(env.instance_index(), 3);
+    let mut fixed =
+        ContextualEnv::new(pend, ContextSource::Fixed(Context::new()), ContextualOptions::default()).unwrap();
+    let err = fixed.reset_instance_into(Some(0), 0, &mut obs).unwrap_err();
+    assert!(err.to_string().contains("not an instance set"), "{err}");
 }
 
 fn cartpole_fixed(ctx: &[(&str, f64)]) -> ContextualEnv {
@@ -542,9 +604,10 @@ fn out_of_bounds_instances_run_only_when_the_set_allows_them() {
     let (obs, info) = env.reset_with_info(Some(0)).unwrap();
     assert_eq!(g_of(&info), -5.0);
     assert_eq!(obs[3], -5.0);
-    // The declared space widens to include the value actually used.
+    // The space is the declared one whatever the set: the out-of-bounds value lies outside it.
     let (low, _, _) = box_bounds(&env.observation_space());
-    assert_eq!(low[3], -5.0);
+    assert_eq!(low[3], 0.0);
+    assert!(obs[3] < low[3]);
     env.step(&torque(1.0)).unwrap();
 
     // Fixed contexts never go out of bounds.

@@ -8,6 +8,7 @@ mod cli;
 mod common;
 mod context_noise;
 mod contextual;
+mod evaluate;
 mod fetch;
 mod fold_cli;
 mod golden;
