@@ -30,6 +30,17 @@
 //!   `−3πμd·v` at its centre of mass and `−πμd³·ω`, `d` the mean side of its inertia box,
 //!   implicit like the joint damping (`h·Dᵥ` joins the matrix).
 //!
+//! Robots welded to the world without ground contacts (the inverted pendulums' cart on its
+//! rail, Reacher's arm on its table) use three side-file properties:
+//! * `rail_joints`: a slide carrying the weight of everything it moves has dry friction
+//!   `friction · |gravity| · carried mass` (a bounded row on its rate, MuJoCo's `frictionloss`);
+//! * `bouncing_limits`: these joints' limit rows restitute with `elasticity` (an approaching
+//!   limit row targets at least `elasticity` times the approach speed as separation speed);
+//! * `gravity_normal_to_plane`: the plane of motion is horizontal (Reacher): gravity exerts no
+//!   force in it; each moving link's weight presses it onto the table, where it slides with
+//!   Coulomb friction `friction · m · |gravity|` at its centre of mass (two bounded rows, along
+//!   the plane's axes, on the centre of mass's velocity).
+//!
 //! Ground contact normals are soft as MuJoCo's: by default its default `solref` and `solimp`
 //! (time constant 0.02 s, damping ratio 1, impedance 0.9–0.95 as a linear ramp); with the side
 //! file's `contact_model` its `solref`, `solimp` (MuJoCo's sigmoid) and `margin` as MuJoCo
@@ -59,8 +70,16 @@ pub use tree::PlanarTree;
 pub struct PlanarSystem {
     pub tree: PlanarTree,
     pub h: f64,
+    /// Gravity in the plane of motion (0 when it is normal to the plane).
     pub gravity: f64,
     pub friction: f64,
+    /// Dry-friction bound (N) of each coordinate's rate: the rail joints' (0 elsewhere).
+    rail_friction: Vec<f64>,
+    /// Coulomb friction bound (N) of each link's centre of mass sliding on its table
+    /// (`gravity_normal_to_plane`; empty otherwise).
+    table_friction: Vec<f64>,
+    /// Per coordinate: its limits restitute with `elasticity`.
+    bouncing: Vec<bool>,
     /// Implicit damping per coordinate.
     damping: Vec<f64>,
     /// Multiplier of the hinge rates after each step.
@@ -116,10 +135,46 @@ impl PlanarSystem {
                 .ok_or_else(|| format!("actuator joint {} is not movable", a.joint))?;
             motors.push((j, a.gear * strength));
         }
+        let g = finite_or(params.gravity, 0.0);
+        let friction = finite_or(params.friction, 0.0).max(0.0);
+        let dof_of = |name: &String| model.joint_names.iter().position(|n| n == name);
+        let mut rail_friction = vec![0.0; tree.dofs.len()];
+        for name in &side.rail_joints {
+            let d = dof_of(name).ok_or_else(|| format!("rail joint {name} is not movable"))?;
+            if tree.dofs[d].hinge {
+                return Err(format!("rail joint {name} is a hinge, not a slide"));
+            }
+            let carried: f64 = tree
+                .links
+                .iter()
+                .filter(|l| l.ancestors.contains(&d))
+                .map(|l| l.mass)
+                .sum();
+            rail_friction[d] = friction * g.abs() * carried;
+        }
+        let table_friction = if side.gravity_normal_to_plane {
+            tree.links
+                .iter()
+                .map(|l| if l.ancestors.is_empty() { 0.0 } else { friction * g.abs() * l.mass })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let mut bouncing = vec![false; tree.dofs.len()];
+        for name in &side.bouncing_limits {
+            let d = dof_of(name).ok_or_else(|| format!("bouncing limit {name} is not a movable joint"))?;
+            if side.limit_model.is_none() {
+                return Err(format!("bouncing limit {name} needs the side file's limit_model"));
+            }
+            bouncing[d] = true;
+        }
         Ok(PlanarSystem {
             h,
-            gravity: finite_or(params.gravity, 0.0),
-            friction: finite_or(params.friction, 0.0).max(0.0),
+            gravity: if side.gravity_normal_to_plane { 0.0 } else { g },
+            friction,
+            rail_friction,
+            table_friction,
+            bouncing,
             damping,
             angular_decay: (finite_or(params.angular_damping, 0.0) * h).exp(),
             limit_soft: Softness::new(limit_omega, side.limit_damping_ratio, h),
@@ -182,6 +237,8 @@ enum RowSite {
         p: [f64; 2],
     },
     Limit,
+    /// Dry friction of a rail or a table.
+    Friction0,
 }
 
 /// Clamp a state coordinate to a finite value (as the rapier world does).
@@ -202,7 +259,7 @@ impl PlanarWorld {
         for (d, x) in v.iter_mut().zip(&c.vel) {
             *d = coord(*x);
         }
-        let capacity = 2 * 2 * sys.tree.capsules.len() + 2 * n;
+        let capacity = 2 * 2 * sys.tree.capsules.len() + 3 * n + 2 * nl;
         let mut w = PlanarWorld {
             q,
             v,
@@ -411,7 +468,11 @@ impl PlanarWorld {
                     if r >= 0.0 {
                         continue;
                     }
-                    let (target, ratio) = imp.row(sign * self.v_start[d], r, h);
+                    let approach = sign * self.v_start[d];
+                    let (mut target, ratio) = imp.row(approach, r, h);
+                    if sys.bouncing[d] && sys.elasticity > 0.0 && approach < 0.0 {
+                        target = target.max(-sys.elasticity * approach);
+                    }
                     let Some(row) = self.rows.push(RowKind::Unilateral, target, ratio) else {
                         return;
                     };
@@ -434,6 +495,52 @@ impl PlanarWorld {
         for site in &mut self.row_site[first_limit..self.rows.count] {
             *site = RowSite::Limit;
         }
+        let first_friction = self.rows.count;
+        for (d, &f) in sys.rail_friction.iter().enumerate() {
+            if f > 0.0 {
+                let Some(row) = self.rows.push(RowKind::Bounded { limit: f * h }, 0.0, 0.0) else {
+                    return;
+                };
+                row[d] = 1.0;
+            }
+        }
+        for (l, &f) in sys.table_friction.iter().enumerate() {
+            if f <= 0.0 {
+                continue;
+            }
+            let com = self.links[l].com;
+            for axis in 0..2 {
+                let Some(row) = self.rows.push(RowKind::Bounded { limit: f * h }, 0.0, 0.0) else {
+                    return;
+                };
+                for &d in &tree.links[l].ancestors {
+                    row[d] = self.axes[d].point_column(com).0[axis];
+                }
+            }
+        }
+        for site in &mut self.row_site[first_friction..self.rows.count] {
+            *site = RowSite::Friction0;
+        }
+    }
+
+    /// Generalized constraint forces of the last step (MuJoCo's `qfrc_constraint`): every
+    /// row's impulse over the step, one per coordinate.
+    pub fn constraint_forces(&self, out: &mut [f64]) {
+        let n = self.sys.num_dofs();
+        out.fill(0.0);
+        for r in 0..self.rows.count {
+            let f = self.rows.lambda[r] / self.sys.h;
+            for (o, j) in out.iter_mut().zip(&self.rows.jac[r * n..(r + 1) * n]) {
+                *o += j * f;
+            }
+        }
+    }
+
+    /// World position `[x, 0, z]` of the point `local` (`[x, y, z]`, y ignored) of link `i`.
+    pub fn link_point(&self, i: usize, local: [f64; 3]) -> [f64; 3] {
+        let s = &self.links[i];
+        let p = kinematics::add(s.pos, tree::rotate(s.cs, [local[0], local[2]]));
+        [p[0], 0.0, p[1]]
     }
 
     /// Per-link contact force and torque of the last step from the contact impulses.
@@ -445,7 +552,7 @@ impl PlanarWorld {
             let (link, p, force) = match self.row_site[r] {
                 RowSite::Normal { link, p } => (link, p, [0.0, f]),
                 RowSite::Friction { link, p } => (link, p, [f, 0.0]),
-                RowSite::Limit => continue,
+                RowSite::Limit | RowSite::Friction0 => continue,
             };
             let c = self.links[link].com;
             let rr = kinematics::sub(p, c);
