@@ -19,6 +19,7 @@ mod instances;
 mod isolation;
 mod landing_in_space;
 mod lunar_lander;
+mod control_tasks_vs_mujoco;
 mod planar_walkers_vs_mujoco;
 mod plot;
 mod render;
