@@ -206,6 +206,38 @@ fn reacher_side_of_the_mujoco_table() {
     check(&REACHER, PIN_REACHER);
 }
 
-const PIN_IP: &[Pin] = &[];
-const PIN_IDP: &[Pin] = &[];
-const PIN_REACHER: &[Pin] = &[];
+// InvertedPendulum's cart step at 0.12 s is 1.16x MuJoCo's: semi-implicit Euler advances a
+// position by h*v after the velocity update, RK4 by its average (6 steps of 0.02 s: 21 vs 18
+// a*h^2); not within 15 %. Reacher's random episodes all last 50 steps (no termination).
+const PIN_IP: &[Pin] = &[
+    ("fall_time_0.02", 0.6400, 0.041, 0.6400, true),
+    ("fall_time_0.05", 0.4400, 0.041, 0.4400, true),
+    ("step_0_3", 0.0138, 0.002, 0.0119, false),
+    ("step_0_6", 0.0514, 0.002, 0.0476, true),
+    ("step_1_3", -0.0308, 0.002, -0.0270, true),
+    ("step_1_6", -0.1175, 0.003524, -0.1104, true),
+    ("random_length", 6.1900, 1.238, 6.6300, true),
+    ("random_return", 5.1900, 1.038, 5.6300, true),
+];
+
+const PIN_IDP: &[Pin] = &[
+    ("fall_time_0.02", 0.6500, 0.041, 0.6500, true),
+    ("fall_time_0.05", 0.5500, 0.041, 0.5500, true),
+    ("step_0_2", 0.0235, 0.002, 0.0214, true),
+    ("step_0_5", 0.1448, 0.004343, 0.1390, true),
+    ("step_1_2", -0.0496, 0.002, -0.0450, true),
+    ("step_1_5", -0.3489, 0.01047, -0.3336, true),
+    ("step_2_2", 0.0644, 0.002, 0.0584, true),
+    ("step_2_5", 0.4973, 0.01492, 0.4745, true),
+    ("random_length", 6.3500, 1.27, 6.6000, true),
+    ("random_return", 47.8165, 9.563, 50.0978, true),
+];
+
+const PIN_REACHER: &[Pin] = &[
+    ("step_0_5", 1.0562, 0.03169, 0.9664, true),
+    ("step_0_12", 5.5074, 0.1652, 5.3199, true),
+    ("step_1_5", 1.0572, 0.03172, 0.9673, true),
+    ("step_1_12", 3.0394, 0.09118, 3.0943, true),
+    ("random_length", 50.0000, 0.5, 50.0000, true),
+    ("random_return", -43.0788, 8.616, -42.8759, true),
+];
