@@ -429,8 +429,8 @@ def convert_fixed(name):
         "source": (
             f"Gymnasium {gym_id} ({xml_file}), compiled by MuJoCo {mujoco.__version__} and converted by "
             f"scripts/robot_urdf_mujoco.py: masses, inertias, joint anchors, axes, ranges, damping and armature, "
-            f"capsules, sites, gears, control range, time step ({float(m.opt.timestep)} s, the XML's {integrator} "
-            f"integrator replaced by the planar engine's semi-implicit Euler), frame_skip {frame_skip} (Gymnasium's), "
+            f"capsules, sites, gears, control range, time step ({float(m.opt.timestep)} s) and integrator (the XML's {integrator}), "
+            f"frame_skip {frame_skip} (Gymnasium's), "
             f"joint-limit solref/solimp/margin; gravity {g} (the context's gravity feature). "
             + (
                 "The XML's arm moves in the horizontal x-y plane: this URDF is it turned by +90 deg about x "
@@ -469,6 +469,7 @@ def convert_fixed(name):
         "rail_joints": opt["rail"],
         "bouncing_limits": opt["bounce"],
         "sites": sites,
+        "integrator": "rk4" if integrator == "RK4" else "euler",
         "max_speed": 1000.0,
     }
     doc = (

@@ -30,6 +30,18 @@ pub enum Engine {
     Planar,
 }
 
+/// The integrator of the planar engine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Integrator {
+    /// Semi-implicit Euler with implicit joint damping (MuJoCo's default `Euler`).
+    #[default]
+    Euler,
+    /// Classic fourth-order Runge–Kutta (MuJoCo's `RK4`): every stage's acceleration with its
+    /// constraint impulses, damping explicit.
+    Rk4,
+}
+
 /// One motor: a URDF joint and its gear (torque per unit control, before the strength factor).
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -191,6 +203,9 @@ pub struct SideFile {
     /// Named points on links (MuJoCo's sites).
     #[serde(default)]
     pub sites: Vec<Site>,
+    /// Planar engine: the integrator (default semi-implicit Euler).
+    #[serde(default)]
+    pub integrator: Integrator,
 }
 
 fn yes() -> bool {

@@ -41,6 +41,14 @@
 //!   Coulomb friction `friction · m · |gravity|` at its centre of mass (two bounded rows, along
 //!   the plane's axes, on the centre of mass's velocity).
 //!
+//! With the side file's `"integrator": "rk4"` (the contact-free models whose XML asks for
+//! MuJoCo's RK4: the inverted pendulums, Reacher) a step is classic fourth-order Runge–Kutta as
+//! MuJoCo's `mj_RungeKutta`: each of the four stages computes the acceleration at its state,
+//! constraint rows included (the row impulses of a step of length `h` from that state, over
+//! `h`), with the joint damping explicit; `ang_damping` acts after the whole step. A step that
+//! starts with an impact on a bouncing limit (elasticity > 0) is one semi-implicit Euler step:
+//! RK4's averaged stages would blur the restitution impulse.
+//!
 //! Ground contact normals are soft as MuJoCo's: by default its default `solref` and `solimp`
 //! (time constant 0.02 s, damping ratio 1, impedance 0.9–0.95 as a linear ramp); with the side
 //! file's `contact_model` its `solref`, `solimp` (MuJoCo's sigmoid) and `margin` as MuJoCo
@@ -99,6 +107,7 @@ pub struct PlanarSystem {
     motors: Vec<(usize, f64)>,
     ctrl_range: [f64; 2],
     torso: usize,
+    rk4: bool,
 }
 
 impl PlanarSystem {
@@ -192,6 +201,7 @@ impl PlanarSystem {
             motors,
             ctrl_range: side.ctrl_range,
             torso: model.torso,
+            rk4: side.integrator == super::model::Integrator::Rk4,
             tree,
         })
     }
@@ -330,8 +340,117 @@ impl PlanarWorld {
         if u.is_nan() { 0.0 } else { f64::from(u).clamp(lo, hi) }
     }
 
+    /// The acceleration at the current state (links placed at `q`) into `out`, the constraint
+    /// rows included (solved for a step of length `h` from this state); damping explicit. The
+    /// state is unchanged. `false` if the mass matrix is not positive definite.
+    fn acceleration(&mut self, ctrl: &[f32], out: &mut [f64]) -> bool {
+        let sys = Arc::clone(&self.sys);
+        let tree = &sys.tree;
+        let n = sys.num_dofs();
+        let h = sys.h;
+        velocities(tree, &self.v, &mut self.links, &self.axes);
+        dynamics::mass_matrix_and_bias(
+            tree,
+            &self.links,
+            &self.axes,
+            sys.gravity,
+            &mut self.mass,
+            &mut self.bias,
+        );
+        for (d, dof) in tree.dofs.iter().enumerate() {
+            self.mass[d * n + d] += dof.armature;
+            self.force[d] = -self.bias[d] - sys.damping[d] * self.v[d] - dof.spring * self.q[d];
+        }
+        for (&(d, gear), &u) in sys.motors.iter().zip(ctrl) {
+            self.force[d] += gear * self.clipped(u);
+        }
+        if sys.viscosity > 0.0 {
+            self.add_viscosity();
+        }
+        self.v_start.copy_from_slice(&self.v);
+        if !dynamics::cholesky(&mut self.mass, n) {
+            return false;
+        }
+        dynamics::cholesky_solve(&self.mass, n, &mut self.force);
+        for (v, a) in self.v.iter_mut().zip(&self.force) {
+            *v += h * a;
+        }
+        self.build_rows();
+        self.rows.solve(&self.mass, &mut self.v);
+        self.collect_wrenches();
+        for ((o, v), v0) in out.iter_mut().zip(&mut self.v).zip(&self.v_start) {
+            *o = (*v - v0) / h;
+            *v = *v0;
+        }
+        true
+    }
+
+    /// Whether a bouncing limit (`bouncing_limits`, with `elasticity` > 0) is passed and
+    /// approached at the current state: an impact with restitution, which an RK4 model
+    /// integrates with one semi-implicit Euler step (RK4's averaged stages would blur the
+    /// impulse).
+    fn impact(&self) -> bool {
+        let sys = &*self.sys;
+        if sys.elasticity <= 0.0 {
+            return false;
+        }
+        let margin = sys.limit_mujoco.map_or(0.0, |(_, m)| m);
+        sys.tree.dofs.iter().enumerate().any(|(d, dof)| {
+            let Some((lo, hi)) = dof.limits else { return false };
+            sys.bouncing[d]
+                && ((self.q[d] - lo < margin && self.v[d] < 0.0) || (hi - self.q[d] < margin && self.v[d] > 0.0))
+        })
+    }
+
+    /// One RK4 step (MuJoCo's `mj_RungeKutta` with the classic tableau).
+    fn step_rk4(&mut self, ctrl: &[f32]) {
+        let sys = Arc::clone(&self.sys);
+        let n = sys.num_dofs();
+        let h = sys.h;
+        let (q0, v0) = (self.q.clone(), self.v.clone());
+        let mut acc = vec![0.0; 4 * n];
+        let mut vel = vec![0.0; 4 * n];
+        for k in 0..4 {
+            if k > 0 {
+                let c = if k == 3 { h } else { h / 2.0 };
+                for d in 0..n {
+                    self.q[d] = q0[d] + c * vel[(k - 1) * n + d];
+                    self.v[d] = v0[d] + c * acc[(k - 1) * n + d];
+                }
+                positions(&sys.tree, &self.q, &mut self.links, &mut self.axes);
+            }
+            vel[k * n..(k + 1) * n].copy_from_slice(&self.v);
+            if !self.acceleration(ctrl, &mut acc[k * n..(k + 1) * n]) {
+                self.v.fill(f64::NAN);
+                return;
+            }
+        }
+        let w = [1.0, 2.0, 2.0, 1.0];
+        for d in 0..n {
+            let (mut a, mut v) = (0.0, 0.0);
+            for k in 0..4 {
+                a += w[k] * acc[k * n + d];
+                v += w[k] * vel[k * n + d];
+            }
+            self.v[d] = v0[d] + h / 6.0 * a;
+            self.q[d] = q0[d] + h / 6.0 * v;
+        }
+        if sys.angular_decay != 1.0 {
+            for (v, dof) in self.v.iter_mut().zip(&sys.tree.dofs) {
+                if dof.hinge {
+                    *v *= sys.angular_decay;
+                }
+            }
+        }
+        positions(&sys.tree, &self.q, &mut self.links, &mut self.axes);
+    }
+
     /// One physics step with motor controls `ctrl` (clipped to the control range).
     pub fn step(&mut self, ctrl: &[f32]) {
+        if self.sys.rk4 && !self.impact() {
+            self.step_rk4(ctrl);
+            return;
+        }
         let sys = Arc::clone(&self.sys);
         let tree = &sys.tree;
         let n = sys.num_dofs();
