@@ -206,38 +206,36 @@ fn reacher_side_of_the_mujoco_table() {
     check(&REACHER, PIN_REACHER);
 }
 
-// InvertedPendulum's cart step at 0.12 s is 1.16x MuJoCo's: semi-implicit Euler advances a
-// position by h*v after the velocity update, RK4 by its average (6 steps of 0.02 s: 21 vs 18
-// a*h^2); not within 15 %. Reacher's random episodes all last 50 steps (no termination).
+// Reacher's random episodes all last 50 steps (no termination).
 const PIN_IP: &[Pin] = &[
-    ("fall_time_0.02", 0.6400, 0.041, 0.6400, true),
-    ("fall_time_0.05", 0.4400, 0.041, 0.4400, true),
-    ("step_0_3", 0.0138, 0.002, 0.0119, false),
-    ("step_0_6", 0.0514, 0.002, 0.0476, true),
-    ("step_1_3", -0.0308, 0.002, -0.0270, true),
-    ("step_1_6", -0.1175, 0.003524, -0.1104, true),
-    ("random_length", 6.1900, 1.238, 6.6300, true),
-    ("random_return", 5.1900, 1.038, 5.6300, true),
+    ("fall_time_0.02", 0.6400, 0.0410, 0.6400, true),
+    ("fall_time_0.05", 0.4400, 0.0410, 0.4400, true),
+    ("step_0_3", 0.0119, 0.0005, 0.0119, true),
+    ("step_0_6", 0.0476, 0.0014, 0.0476, true),
+    ("step_1_3", -0.0270, 0.0008, -0.0270, true),
+    ("step_1_6", -0.1104, 0.0033, -0.1104, true),
+    ("random_length", 6.3800, 1.2760, 6.6300, true),
+    ("random_return", 5.3800, 1.0760, 5.6300, true),
 ];
 
 const PIN_IDP: &[Pin] = &[
-    ("fall_time_0.02", 0.6500, 0.041, 0.6500, true),
-    ("fall_time_0.05", 0.5500, 0.041, 0.5500, true),
-    ("step_0_2", 0.0235, 0.002, 0.0214, true),
-    ("step_0_5", 0.1448, 0.004343, 0.1390, true),
-    ("step_1_2", -0.0496, 0.002, -0.0450, true),
-    ("step_1_5", -0.3489, 0.01047, -0.3336, true),
-    ("step_2_2", 0.0644, 0.002, 0.0584, true),
-    ("step_2_5", 0.4973, 0.01492, 0.4745, true),
-    ("random_length", 6.3500, 1.27, 6.6000, true),
-    ("random_return", 47.8165, 9.563, 50.0978, true),
+    ("fall_time_0.02", 0.6500, 0.0410, 0.6500, true),
+    ("fall_time_0.05", 0.5500, 0.0410, 0.5500, true),
+    ("step_0_2", 0.0214, 0.0006, 0.0214, true),
+    ("step_0_5", 0.1390, 0.0042, 0.1390, true),
+    ("step_1_2", -0.0450, 0.0013, -0.0450, true),
+    ("step_1_5", -0.3336, 0.0100, -0.3336, true),
+    ("step_2_2", 0.0584, 0.0018, 0.0584, true),
+    ("step_2_5", 0.4745, 0.0142, 0.4745, true),
+    ("random_length", 6.4400, 1.2880, 6.6000, true),
+    ("random_return", 48.6701, 9.7340, 50.0978, true),
 ];
 
 const PIN_REACHER: &[Pin] = &[
-    ("step_0_5", 1.0562, 0.03169, 0.9664, true),
-    ("step_0_12", 5.5074, 0.1652, 5.3199, true),
-    ("step_1_5", 1.0572, 0.03172, 0.9673, true),
-    ("step_1_12", 3.0394, 0.09118, 3.0943, true),
-    ("random_length", 50.0000, 0.5, 50.0000, true),
-    ("random_return", -43.0788, 8.616, -42.8759, true),
+    ("step_0_5", 0.9664, 0.0290, 0.9664, true),
+    ("step_0_12", 5.3199, 0.1596, 5.3199, true),
+    ("step_1_5", 0.9673, 0.0290, 0.9673, true),
+    ("step_1_12", 3.0943, 0.0928, 3.0943, true),
+    ("random_length", 50.0000, 0.5000, 50.0000, true),
+    ("random_return", -43.1030, 8.6206, -42.8759, true),
 ];
