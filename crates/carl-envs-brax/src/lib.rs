@@ -1,5 +1,6 @@
 //! Articulated robots from URDF on rapier3d (reduced-coordinate multibody joints), and planar
-//! ones (HalfCheetah, Hopper, Walker2d) on a reduced-coordinate engine of their own ([`planar`]).
+//! ones (HalfCheetah, Hopper, Walker2d, the inverted pendulums, Reacher) on a reduced-coordinate
+//! engine of their own ([`planar`]).
 //!
 //! * [`model`]: the embedded robot descriptions: `robots/<name>.urdf` (links, collision
 //!   shapes, masses, joints; authored for this project from the published geometry) and

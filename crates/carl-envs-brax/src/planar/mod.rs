@@ -1,6 +1,8 @@
-//! A reduced-coordinate engine for planar robots (HalfCheetah, Hopper, Walker2d): every link
-//! moves in the x-z plane, so the state is the joint coordinates `q` and rates `v` alone and one physics step
-//! is a handful of small dense operations in f64.
+//! A reduced-coordinate engine for planar robots (HalfCheetah, Hopper, Walker2d,
+//! InvertedPendulum, InvertedDoublePendulum, Reacher): every link moves in the x-z plane (Reacher's
+//! horizontal plane is turned into it, see `gravity_normal_to_plane`), so the state is the joint
+//! coordinates `q` and rates `v` alone and one physics step is a handful of small dense
+//! operations in f64.
 //!
 //! * [`tree`]: the planar kinematic tree read from the same URDF and side file as the rapier
 //!   world, with a clear error for a robot that is not planar;
