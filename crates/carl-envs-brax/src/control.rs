@@ -462,8 +462,11 @@ mod tests {
     /// 10 − (1.2 − 2)² − small terms; tipped over it terminates.
     #[test]
     fn double_pendulum_tip_and_termination() {
-        let mut e = make_control("inverted_double_pendulum", default_params("inverted_double_pendulum").unwrap())
-            .unwrap();
+        let mut e = make_control(
+            "inverted_double_pendulum",
+            default_params("inverted_double_pendulum").unwrap(),
+        )
+        .unwrap();
         e.reset(Some(0));
         e.set_state(&[0.0; 7]).unwrap();
         let s = e.step(&Action::Continuous(vec![0.0])).unwrap();

@@ -109,9 +109,11 @@ impl Physics {
     pub fn link_point(&self, i: usize, local: [f64; 3]) -> [f64; 3] {
         match self {
             Physics::Rapier(w) => {
-                let p = w
-                    .link_pose(i)
-                    .transform_point(rapier3d::prelude::Vector::new(local[0] as f32, local[1] as f32, local[2] as f32));
+                let p = w.link_pose(i).transform_point(rapier3d::prelude::Vector::new(
+                    local[0] as f32,
+                    local[1] as f32,
+                    local[2] as f32,
+                ));
                 [f64::from(p.x), f64::from(p.y), f64::from(p.z)]
             }
             Physics::Planar(w) => w.link_point(i, local),

@@ -166,7 +166,13 @@ impl PlanarSystem {
         let table_friction = if side.gravity_normal_to_plane {
             tree.links
                 .iter()
-                .map(|l| if l.ancestors.is_empty() { 0.0 } else { friction * g.abs() * l.mass })
+                .map(|l| {
+                    if l.ancestors.is_empty() {
+                        0.0
+                    } else {
+                        friction * g.abs() * l.mass
+                    }
+                })
                 .collect()
         } else {
             Vec::new()

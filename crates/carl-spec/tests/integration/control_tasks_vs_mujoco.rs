@@ -178,7 +178,12 @@ fn check(t: &Task, pins: &[Pin]) {
         }
     }
     let names: Vec<&str> = got.iter().map(|(n, _)| n.as_str()).collect();
-    assert_eq!(names, pins.iter().map(|p| p.0).collect::<Vec<_>>(), "{}: metric list", t.id);
+    assert_eq!(
+        names,
+        pins.iter().map(|p| p.0).collect::<Vec<_>>(),
+        "{}: metric list",
+        t.id
+    );
     let mut misses = Vec::new();
     for ((name, value), &(_, pin, tol, mujoco, within)) in got.iter().zip(pins) {
         if (value - pin).abs() > tol {
