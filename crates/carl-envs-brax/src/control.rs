@@ -267,7 +267,7 @@ impl Control {
                 let tip = self.site_pos();
                 let (x, y) = (tip[0], tip[2]);
                 let (_, v) = self.q_v();
-                let terminated = diverged || !(y > 1.0);
+                let terminated = diverged || y <= 1.0;
                 t.distance = -(0.01 * x * x + (y - 2.0).powi(2));
                 t.velocity = -(1e-3 * v[1] * v[1] + 5e-3 * v[2] * v[2]);
                 t.survive = if terminated { 0.0 } else { 10.0 };
