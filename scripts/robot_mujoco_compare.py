@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Compare carl-spec's Ant, HalfCheetah, Humanoid, Hopper and Walker2d with Gymnasium's MuJoCo v5 versions.
+"""Compare carl-spec's Ant, HalfCheetah, Humanoid, Hopper, Walker2d, InvertedPendulum, InvertedDoublePendulum and Reacher with Gymnasium's MuJoCo v5 versions.
 
 Both sides are driven the same way and measured from their observations (the v5 layout is the
 same on both): each metric below runs on Gymnasium 1.4 (`gymnasium.make("Ant-v5")`, MuJoCo) and on
@@ -21,6 +21,15 @@ Metrics (per robot):
   mean and standard deviation over `--episodes` seeds (default 20), and the two-sided p-value
   of a Mann-Whitney U test (normal approximation) of each carl-spec column against MuJoCo's
   episodes (the criterion where MuJoCo's spread exceeds its mean).
+
+The control tasks (inverted_pendulum, inverted_double_pendulum, reacher: `CONTROL`) have their own
+metrics, from explicit initial states set on both sides (`--initial-state`, `set_state`):
+* fall_time_<tilt>: seconds of zero action from the pole (IDP: the lower pole) tilted by <tilt> rad,
+  at rest, until the episode terminates;
+* step_<joint>_<t>s: change of a coordinate (the cart's x, the pole angle; Reacher's arm angles)
+  <t> s after a constant control on one actuator from the rest state (the pendulums: a fraction of
+  full scale small enough that the pole stays up past 0.25 s), minus the zero-action run's;
+* random_length / random_return as above.
 
 carl-spec runs twice: with its default context (CARL's Brax parameters: masses, actuator
 strength, joint damping and friction differ from MuJoCo's XML) and with a context set to
@@ -84,7 +93,89 @@ MUJOCO_CONTEXT = {
     "humanoid": {"joint_angular_damping": 5, "friction": 1.0},
 }
 # Robots whose spec freezes MuJoCo's values as the instance set `mujoco_v5` (read from the spec).
-INSTANCE_SET_ROBOTS = ("ant", "hopper", "walker2d")
+INSTANCE_SET_ROBOTS = ("ant", "hopper", "walker2d", "inverted_pendulum", "inverted_double_pendulum", "reacher")
+
+
+# The control tasks: gym id, action dim, env-step dt, rest state (qpos ++ qvel; Reacher: arm
+# angles ++ target ++ arm rates, carl-spec's state layout; IDP's state ends with qfrc_constraint[0]),
+# tilted coordinate, step responses (actuator, control, name, how to read it from the
+# observation), env steps read.
+CONTROL = {
+    "inverted_pendulum": dict(
+        gym="InvertedPendulum-v5", na=1, dt=0.04, nq=2, tilt=1, tilts=[0.02, 0.05],
+        steps=[(0, 0.2, "cart_x", ("obs", 0)), (0, 0.2, "pole", ("obs", 1))], at=[3, 6],
+    ),
+    "inverted_double_pendulum": dict(
+        gym="InvertedDoublePendulum-v5", na=1, dt=0.05, nq=3, tilt=1, tilts=[0.02, 0.05],
+        steps=[(0, 0.1, "cart_x", ("obs", 0)), (0, 0.1, "pole", ("angle", 1, 3)), (0, 0.1, "pole2", ("angle", 2, 4))],
+        at=[2, 5],
+    ),
+    "reacher": dict(
+        gym="Reacher-v5", na=2, dt=0.02, nq=4, tilt=None, tilts=[],
+        steps=[(0, 1.0, "joint0", ("angle", 2, 0)), (1, 1.0, "joint1", ("angle", 3, 1))], at=[5, 12],
+    ),
+}
+for _r in CONTROL:
+    ROBOTS.setdefault(_r, dict(gym=CONTROL[_r]["gym"]))
+
+
+def control_state(robot, tilt=0.0):
+    """carl-spec's state and Gymnasium's (qpos, qvel) of the rest state with a tilt."""
+    c = CONTROL[robot]
+    if robot == "reacher":
+        qpos = [0.0, 0.0, 0.1, 0.1]
+        return qpos + [0.0, 0.0], (qpos, [0.0] * 4)
+    qpos = [0.0] * c["nq"]
+    if c["tilt"] is not None:
+        qpos[c["tilt"]] = tilt
+    extra = [0.0] if robot == "inverted_double_pendulum" else []
+    return qpos + [0.0] * c["nq"] + extra, (qpos, [0.0] * c["nq"])
+
+
+def read(obs, n, how):
+    """The coordinate at observation n; an angle (atan2 of its sin and cos) unwrapped along the
+    run (Reacher's upper arm turns past pi within 0.25 s)."""
+    if how[0] == "obs":
+        return obs[n][how[1]]
+    total, prev = 0.0, None
+    for o in obs[: n + 1]:
+        a = math.atan2(o[how[1]], o[how[2]])
+        if prev is not None:
+            total += (a - prev + math.pi) % (2 * math.pi) - math.pi
+        else:
+            total = a
+        prev = a
+    return total
+
+
+def measure_control(side, robot, episodes):
+    c = CONTROL[robot]
+    zero = [0.0] * c["na"]
+    res = {}
+    for tilt in c["tilts"]:
+        _, rewards = side.run(0, [zero] * 1000, init=control_state(robot, tilt))
+        res[f"fall_time_{tilt:g}"] = len(rewards) * c["dt"]
+    horizon = max(c["at"])
+    base, _ = side.run(0, [zero] * horizon, init=control_state(robot))
+    for act, u, name, how in c["steps"]:
+        a = [0.0] * c["na"]
+        a[act] = u
+        obs, _ = side.run(0, [a] * horizon, init=control_state(robot))
+        for n in c["at"]:
+            if n < len(obs):
+                res[f"step_{name}_{n * c['dt']:.3g}s"] = read(obs, n, how) - read(base, n, how)
+    lens, rets = [], []
+    for s in range(episodes):
+        n, ret = side.random_episode(s)
+        lens.append(n)
+        rets.append(ret)
+    res["random_length"] = statistics.mean(lens)
+    res["random_length_sd"] = statistics.pstdev(lens)
+    res["random_return"] = statistics.mean(rets)
+    res["random_return_sd"] = statistics.pstdev(rets)
+    res["random_length_samples"] = lens
+    res["random_return_samples"] = rets
+    return res
 
 
 def mujoco_context(robot):
@@ -171,9 +262,12 @@ class CarlSide:
             done = d["terminated"] or d["truncated"]
         return obs, rewards, done
 
-    def run(self, seed, actions):
-        """Observations (reset first) and rewards of one episode under the action list."""
+    def run(self, seed, actions, init=None):
+        """Observations (reset first) and rewards of one episode under the action list, from the
+        state `init` (carl-spec's state, Gymnasium's (qpos, qvel)) if given."""
         cmd = self._cmd(seed) + ["--actions", "-", "--steps", str(len(actions))]
+        if init is not None:
+            cmd += ["--initial-state", ",".join(repr(float(x)) for x in init[0])]
         stdin = "".join(json.dumps(a) + "\n" for a in actions)
         p = subprocess.run(cmd, input=stdin, capture_output=True, text=True)
         if p.returncode != 0:
@@ -201,10 +295,14 @@ class GymSide:
     def without_termination(self):
         return GymSide(self.robot, terminate_when_unhealthy=False)
 
-    def run(self, seed, actions):
+    def run(self, seed, actions, init=None):
         import numpy as np
 
         obs, _ = self.env.reset(seed=seed)
+        if init is not None:
+            u = self.env.unwrapped
+            u.set_state(np.asarray(init[1][0], dtype=np.float64), np.asarray(init[1][1], dtype=np.float64))
+            obs = u._get_obs()
         out, rewards = [obs.tolist()], []
         for a in actions:
             obs, r, term, trunc, _ = self.env.step(np.asarray(a, dtype=np.float64))
@@ -391,7 +489,11 @@ def main():
         rows = {}
         for key, side in sides.items():
             print(f"{robot}: {key} ...", file=sys.stderr, flush=True)
-            for metric, value in measure(side, robot, args.episodes, args.gait_seeds).items():
+            if robot in CONTROL:
+                measured = measure_control(side, robot, args.episodes)
+            else:
+                measured = measure(side, robot, args.episodes, args.gait_seeds)
+            for metric, value in measured.items():
                 rows.setdefault(metric, {})[key] = value
         for metric in ("random_length", "random_return", "gait_velocity"):
             if metric + "_samples" not in rows:

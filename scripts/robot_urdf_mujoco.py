@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Convert Gymnasium's MuJoCo v5 XML of a robot (Hopper, Walker2d, Ant) into
+"""Convert Gymnasium's MuJoCo v5 XML of a robot (Hopper, Walker2d, Ant: `convert`; InvertedPendulum,
+InvertedDoublePendulum, Reacher: `convert_fixed`) into
 crates/carl-envs-brax/robots/<name>.urdf and <name>.actuators.json.
 
 MuJoCo itself compiles the XML (`mujoco.MjModel.from_xml_path`), so every number is MuJoCo's
@@ -39,6 +40,36 @@ ROBOTS = {
     "ant": ("ant.xml", 5, "Ant-v5"),
 }
 ROOT_JOINTS = ["rootx", "rootz", "rooty"]
+
+# Robots welded to the world (a cart on its rail, an arm on its table): name -> (XML file,
+# frame_skip, Gymnasium id, options). `plane` "xy": the robot moves in MuJoCo's horizontal x-y
+# plane (hinges about z); the URDF is MuJoCo's model turned by +90 deg about x (MuJoCo (x, y, z)
+# -> URDF (x, -z, y)), so that it moves in the planar engine's x-z plane, and the side file says
+# that gravity is normal to that plane. `skip`: bodies that are task state, not robot (Reacher's
+# target, which never moves: no force acts on its slides). `fuse`: joint-less bodies welded into
+# their parent (the parent's mass and inertia include them; their origin becomes a site).
+# `rail`: slides whose dry friction is the context's friction times the weight they carry;
+# `bounce`: joints whose limits restitute with the context's elasticity.
+FIXED = {
+    "inverted_pendulum": (
+        "inverted_pendulum.xml",
+        2,
+        "InvertedPendulum-v5",
+        {"plane": "xz", "skip": [], "fuse": [], "rail": ["slider"], "bounce": ["slider"]},
+    ),
+    "inverted_double_pendulum": (
+        "inverted_double_pendulum.xml",
+        5,
+        "InvertedDoublePendulum-v5",
+        {"plane": "xz", "skip": [], "fuse": [], "rail": ["slider"], "bounce": ["slider"]},
+    ),
+    "reacher": (
+        "reacher.xml",
+        2,
+        "Reacher-v5",
+        {"plane": "xy", "skip": ["target"], "fuse": ["fingertip"], "rail": [], "bounce": ["joint1"]},
+    ),
+}
 
 
 def fmt(x):
@@ -261,6 +292,221 @@ def convert(name):
     return urdf, json.dumps(side, indent=2) + "\n"
 
 
+def convert_fixed(name):
+    """A robot whose first body hangs from the world by its joints (no planar root)."""
+    import gymnasium
+    import mujoco
+
+    xml_file, frame_skip, gym_id, opt = FIXED[name]
+    path = os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets", xml_file)
+    m = mujoco.MjModel.from_xml_path(path)
+    xy = opt["plane"] == "xy"
+    # MuJoCo (x, y, z) -> URDF coordinates.
+    P = [[1.0, 0, 0], [0, 0, -1.0], [0, 1.0, 0]] if xy else [[1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0]]
+
+    def tr(v):
+        return [sum(P[i][k] * float(v[k]) for k in range(3)) for i in range(3)]
+
+    def tr_mat(A):
+        return [[sum(P[i][a] * A[a][b] * P[j][b] for a in range(3) for b in range(3)) for j in range(3)] for i in range(3)]
+
+    def jname(j):
+        return mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j)
+
+    def bname(b):
+        return mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b)
+
+    def flat(v):
+        # The planar model lies in its plane: the offset along the hinge axes (Reacher's arm
+        # 1 cm above its table) moves nothing and is dropped.
+        return [float(v[0]), 0.0 if xy else float(v[1]), float(v[2])] if not xy else [float(v[0]), float(v[1]), 0.0]
+
+    bodies = [b for b in range(1, m.nbody) if bname(b) not in opt["skip"] and bname(b) not in opt["fuse"]]
+    joints_of = {b: [j for j in range(m.njnt) if m.jnt_bodyid[j] == b] for b in bodies}
+    anchor = {0: [0.0, 0.0, 0.0]}
+    for b in bodies:
+        assert list(m.body_quat[b]) == [1, 0, 0, 0], f"body {bname(b)} is rotated"
+        assert len(joints_of[b]) == 1, f"body {bname(b)} needs one joint"
+        anchor[b] = flat(m.jnt_pos[joints_of[b][0]])
+    links, joints, sites = [], [], []
+
+    def link_xml(lname, mass, com, inertia, shapes):
+        out = [f'  <link name="{lname}">', "    <inertial>"]
+        out.append(f'      <origin xyz="{vec(tr(com))}" rpy="0 0 0"/>')
+        out.append(f'      <mass value="{fmt(mass)}"/>')
+        I = tr_mat(inertia)
+        out.append(
+            f'      <inertia ixx="{fmt(I[0][0])}" ixy="{fmt(I[0][1])}" ixz="{fmt(I[0][2])}" '
+            f'iyy="{fmt(I[1][1])}" iyz="{fmt(I[1][2])}" izz="{fmt(I[2][2])}"/>'
+        )
+        out.append("    </inertial>")
+        for c, axis, r, length in shapes:
+            out.append("    <collision>")
+            rpy = capsule_rpy(tr(axis)) if length > 0 else (0.0, 0.0, 0.0)
+            out.append(f'      <origin xyz="{vec(tr(c))}" rpy="{vec(rpy)}"/>')
+            geo = f'<capsule radius="{fmt(r)}" length="{fmt(length)}"/>' if length > 0 else f'<sphere radius="{fmt(r)}"/>'
+            out.append(f"      <geometry>{geo}</geometry>")
+            out.append("    </collision>")
+        out.append("  </link>")
+        links.append("\n".join(out))
+
+    def shapes_of(b, a, extra=(0.0, 0.0, 0.0)):
+        out = []
+        for g in range(m.ngeom):
+            if m.geom_bodyid[g] != b:
+                continue
+            G = quat_mat(m.geom_quat[g])
+            axis = [G[0][2], G[1][2], G[2][2]]
+            c = [float(m.geom_pos[g][i]) + extra[i] - a[i] for i in range(3)]
+            c = flat(c)
+            if m.geom_type[g] == mujoco.mjtGeom.mjGEOM_CAPSULE:
+                out.append((c, axis, float(m.geom_size[g][0]), 2 * float(m.geom_size[g][1])))
+            elif m.geom_type[g] == mujoco.mjtGeom.mjGEOM_SPHERE:
+                out.append((c, axis, float(m.geom_size[g][0]), 0.0))
+        return out
+
+    def body_inertia(b):
+        R = quat_mat(m.body_iquat[b])
+        d = m.body_inertia[b]
+        return [[sum(R[i][k] * d[k] * R[j][k] for k in range(3)) for j in range(3)] for i in range(3)]
+
+    # The world link carries the fixed geoms (the rail, the arena) for drawing; it never moves.
+    world_shapes = [s for s in shapes_of(0, [0.0, 0.0, 0.0])]
+    eye = [[1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0]]
+    link_xml("world", 1.0, [0, 0, 0], eye, world_shapes)
+    for b in bodies:
+        a = anchor[b]
+        mass = float(m.body_mass[b])
+        com = [float(m.body_ipos[b][i]) for i in range(3)]
+        inertia = body_inertia(b)
+        shapes = shapes_of(b, a)
+        for f in range(1, m.nbody):
+            if bname(f) in opt["fuse"] and int(m.body_parentid[f]) == b:
+                assert not any(m.jnt_bodyid[j] == f for j in range(m.njnt)), f"fused body {bname(f)} has a joint"
+                # Parallel-axis sum of the two bodies about their joint centre of mass.
+                mf = float(m.body_mass[f])
+                cf = [float(m.body_pos[f][i]) + float(m.body_ipos[f][i]) for i in range(3)]
+                If = body_inertia(f)
+                total = mass + mf
+                c = [(mass * com[i] + mf * cf[i]) / total for i in range(3)]
+
+                def shifted(I, mm, p):
+                    d = [p[i] - c[i] for i in range(3)]
+                    dd = sum(x * x for x in d)
+                    return [[I[i][j] + mm * ((dd if i == j else 0.0) - d[i] * d[j]) for j in range(3)] for i in range(3)]
+
+                Ia, Ib = shifted(inertia, mass, com), shifted(If, mf, cf)
+                inertia = [[Ia[i][j] + Ib[i][j] for j in range(3)] for i in range(3)]
+                mass, com = total, c
+                shapes += shapes_of(f, a, [float(x) for x in m.body_pos[f]])
+                pos = flat([float(m.body_pos[f][i]) - a[i] for i in range(3)])
+                sites.append({"name": bname(f), "link": bname(b), "pos": tr(pos)})
+        com = flat([com[i] - a[i] for i in range(3)])
+        link_xml(bname(b), mass, com, inertia, shapes)
+        parent = int(m.body_parentid[b])
+        j = joints_of[b][0]
+        pa = anchor[parent]
+        xyz = flat([float(m.body_pos[b][i]) + a[i] - pa[i] for i in range(3)])
+        lim = [float(x) for x in m.jnt_range[j]] if m.jnt_limited[j] else None
+        if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_SLIDE:
+            kind = "prismatic"
+            lim = lim or (-1000, 1000)
+        else:
+            kind = "revolute" if lim else "continuous"
+        pname = bname(parent) if parent != 0 else "world"
+        lim_xml = ""
+        if lim is not None:
+            lim_xml = f'\n    <limit lower="{fmt(lim[0])}" upper="{fmt(lim[1])}" effort="0" velocity="0"/>'
+        joints.append(
+            f'  <joint name="{jname(j)}" type="{kind}">\n    <parent link="{pname}"/>\n    <child link="{bname(b)}"/>\n'
+            f'    <origin xyz="{vec(tr(xyz))}" rpy="0 0 0"/>\n    <axis xyz="{vec(tr(m.jnt_axis[j]))}"/>{lim_xml}\n  </joint>'
+        )
+    for s_id in range(m.nsite):
+        b = int(m.site_bodyid[s_id])
+        sites.append({
+            "name": mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_SITE, s_id),
+            "link": bname(b),
+            "pos": tr(flat([float(m.site_pos[s_id][i]) - anchor[b][i] for i in range(3)])),
+        })
+    robot_joints = [jname(j) for j in range(m.njnt) if int(m.jnt_bodyid[j]) in bodies]
+    jid = {jname(j): j for j in range(m.njnt)}
+    dof = lambda jn: int(m.jnt_dofadr[jid[jn]])
+    lim_j = [jid[jn] for jn in robot_joints if m.jnt_limited[jid[jn]]]
+    assert len({tuple(m.jnt_solref[j]) for j in lim_j}) == 1 and len({tuple(m.jnt_solimp[j]) for j in lim_j}) == 1
+    assert len({float(m.jnt_margin[j]) for j in lim_j}) == 1, "one limit margin"
+    acts = [{"joint": jname(int(m.actuator_trnid[k][0])), "gear": float(m.actuator_gear[k][0])} for k in range(m.nu)]
+    ranges = {tuple(float(x) for x in r) for r in m.actuator_ctrlrange}
+    assert len(ranges) == 1
+    for jn in robot_joints:
+        assert float(m.jnt_stiffness[jid[jn]]) == 0.0 and float(m.dof_frictionloss[dof(jn)]) == 0.0
+        assert float(m.qpos0[m.jnt_qposadr[jid[jn]]]) == 0.0
+    integrator = {0: "Euler", 1: "RK4", 2: "implicit", 3: "implicitfast"}[int(m.opt.integrator)]
+    g = [float(x) for x in m.opt.gravity]
+    side = {
+        "robot": name,
+        "source": (
+            f"Gymnasium {gym_id} ({xml_file}), compiled by MuJoCo {mujoco.__version__} and converted by "
+            f"scripts/robot_urdf_mujoco.py: masses, inertias, joint anchors, axes, ranges, damping and armature, "
+            f"capsules, sites, gears, control range, time step ({float(m.opt.timestep)} s) and integrator (the XML's {integrator}), "
+            f"frame_skip {frame_skip} (Gymnasium's), "
+            f"joint-limit solref/solimp/margin; gravity {g} (the context's gravity feature). "
+            + (
+                "The XML's arm moves in the horizontal x-y plane: this URDF is it turned by +90 deg about x "
+                "(MuJoCo (x, y, z) is URDF (x, -z, y)), its 1 cm height above the table dropped; gravity is "
+                "normal to the plane of motion. "
+                if xy
+                else ""
+            )
+            + (f"Bodies {opt['fuse']} are welded into their parents (sites here). " if opt["fuse"] else "")
+            + (f"Bodies {opt['skip']} are task state, not robot. " if opt["skip"] else "")
+            + "No geom of the XML collides (contype 0)."
+        ),
+        "engine": "planar",
+        "timestep": float(m.opt.timestep),
+        "frame_skip": frame_skip,
+        "solver_iterations": 1,
+        "root": "fixed",
+        "torso_link": bname(bodies[0]),
+        "root_height": 0.0,
+        "ctrl_range": list(ranges.pop()),
+        "strength_reference": 1.0,
+        "actuators": acts,
+        "joint_armatures": [{"joint": jn, "armature": float(m.dof_armature[dof(jn)])} for jn in robot_joints],
+        "joint_dampings": [{"joint": jn, "damping": float(m.dof_damping[dof(jn)])} for jn in robot_joints],
+        "limit_model": {
+            "solref": [float(x) for x in m.jnt_solref[lim_j[0]]],
+            "solimp": [float(x) for x in m.jnt_solimp[lim_j[0]]],
+            "margin": float(m.jnt_margin[lim_j[0]]),
+        },
+        "limit_reference_inertia": 1.0,
+        "limit_damping_ratio": 1.0,
+        "restitution": 0.0,
+        "self_collisions": False,
+        "ground_contacts": False,
+        "gravity_normal_to_plane": xy,
+        "rail_joints": opt["rail"],
+        "bouncing_limits": opt["bounce"],
+        "sites": sites,
+        "integrator": "rk4" if integrator == "RK4" else "euler",
+        "max_speed": 1000.0,
+    }
+    doc = (
+        f"carl-spec robot description, generated by scripts/robot_urdf_mujoco.py from Gymnasium {gym_id}'s "
+        f"{xml_file} as compiled by MuJoCo {mujoco.__version__}: links are the XML's bodies (masses and inertias "
+        f"from its geoms at density 1000), each link frame at the anchor of its joint, the first welded to the world"
+        + (" (the model turned by +90 deg about x: MuJoCo's x-y plane of motion is the x-z plane here)" if xy else "")
+        + "."
+    )
+    urdf = (
+        f'<?xml version="1.0"?>\n<!-- {doc} -->\n<robot name="{name}">\n'
+        + "\n".join(links)
+        + "\n"
+        + "\n".join(joints)
+        + "\n</robot>\n"
+    )
+    return urdf, json.dumps(side, indent=2) + "\n"
+
+
 def convert_free(name, m, mujoco, floor, jname, bname, root):
     """A robot with a free root on the articulated engine (see the module docs)."""
     xml_file, frame_skip, gym_id = ROBOTS[name]
@@ -385,14 +631,14 @@ def convert_free(name, m, mujoco, floor, jname, bname, root):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("robots", nargs="*", default=list(ROBOTS))
+    ap.add_argument("robots", nargs="*", default=list(ROBOTS) + list(FIXED))
     ap.add_argument("--check", action="store_true", help="compare with the committed files instead of writing")
     args = ap.parse_args()
     stale = []
     for name in args.robots:
-        if name not in ROBOTS:
-            sys.exit(f"unknown robot {name!r}; choose from {', '.join(ROBOTS)}")
-        urdf, side = convert(name)
+        if name not in ROBOTS and name not in FIXED:
+            sys.exit(f"unknown robot {name!r}; choose from {', '.join(list(ROBOTS) + list(FIXED))}")
+        urdf, side = convert(name) if name in ROBOTS else convert_fixed(name)
         for ext, text in (("urdf", urdf), ("actuators.json", side)):
             path = os.path.join(ROBOTS_DIR, f"{name}.{ext}")
             if args.check:

@@ -1,7 +1,7 @@
 //! Articulated robots from URDF: Ant on the articulated-body engine with MuJoCo's semantics
 //! (crate `carl-articulated`, [`articulated`]), Humanoid and the manipulation tasks on rapier3d
-//! (reduced-coordinate multibody joints), and planar ones (HalfCheetah, Hopper, Walker2d) on a
-//! reduced-coordinate engine of their own ([`planar`]).
+//! (reduced-coordinate multibody joints), and planar ones (HalfCheetah, Hopper, Walker2d, the
+//! inverted pendulums, Reacher) on a reduced-coordinate engine of their own ([`planar`]).
 //!
 //! * [`model`]: the embedded robot descriptions: `robots/<name>.urdf` (links, collision
 //!   shapes, masses, joints; authored for this project from the published geometry or converted
@@ -16,6 +16,8 @@
 //! * [`world`]: one instance's rapier3d physics world, built from model + context; nothing is shared
 //!   between instances.
 //! * [`locomotion`]: Gymnasium v5 tasks (Ant, HalfCheetah, Humanoid, Hopper, Walker2d).
+//! * [`control`]: Gymnasium v5 control tasks (InvertedPendulum, InvertedDoublePendulum,
+//!   Reacher) on the planar engine.
 //! * [`com`]: MuJoCo's centre-of-mass based body quantities (`cinert`, `cvel`, `cfrc_ext`).
 //! * [`fetch`]: Brax's fetch task (a dog runs to random targets).
 //! * [`grasp`]: Brax's claw hand grasping a ball.
@@ -23,6 +25,7 @@
 
 pub mod articulated;
 pub mod com;
+pub mod control;
 pub mod fetch;
 pub mod grasp;
 pub mod locomotion;
@@ -36,6 +39,7 @@ pub mod render;
 pub mod vec3;
 pub mod world;
 
+pub use control::{Control, ControlTask};
 pub use fetch::Fetch;
 pub use grasp::Grasp;
 pub use locomotion::{ContactCost, ForwardVelocity, Locomotion, StepInfo, TaskConfig, VelocityNoise};
@@ -79,6 +83,20 @@ pub fn default_params(id: &str) -> Option<RobotParams> {
             }
             p.link_masses = masses.into_iter().map(|(l, m)| (l.to_string(), m)).collect();
         }
+        // carl-bench 1.1.1's CARLBraxInvertedPendulum / CARLBraxInvertedDoublePendulum /
+        // CARLBraxReacher defaults (Brax's masses of the pendulums; Reacher's equal MuJoCo's).
+        "inverted_pendulum" | "inverted_double_pendulum" => {
+            p.friction = 1.0;
+            let mut masses = vec![("cart", 1.0), ("pole", 1.0)];
+            if id == "inverted_double_pendulum" {
+                masses.push(("pole2", 1.0));
+            }
+            p.link_masses = masses.into_iter().map(|(l, m)| (l.to_string(), m)).collect();
+        }
+        "reacher" => {
+            p.friction = 1.0;
+            p.link_masses = vec![("body0".to_string(), 0.03560472), ("body1".to_string(), 0.03979351)];
+        }
         "ur5e" => {
             p.gravity = -9.81;
             p.joint_angular_damping = 50.0;
@@ -120,6 +138,9 @@ fn robot_of(id: &str) -> Option<&'static str> {
         "humanoid" => Some("humanoid"),
         "hopper" => Some("hopper"),
         "walker2d" => Some("walker2d"),
+        "inverted_pendulum" => Some("inverted_pendulum"),
+        "inverted_double_pendulum" => Some("inverted_double_pendulum"),
+        "reacher" => Some("reacher"),
         "ur5e" => Some("ur5e"),
         "fetch" => Some("fetch"),
         "grasp" => Some("grasp"),
@@ -130,6 +151,18 @@ fn robot_of(id: &str) -> Option<&'static str> {
 /// Build the fetch environment with context `params`.
 pub fn make_fetch(params: RobotParams) -> Option<Fetch> {
     Some(Fetch::new(RobotModel::load("fetch").ok()?, params))
+}
+
+/// Build Gymnasium's control task `id` (inverted_pendulum, inverted_double_pendulum, reacher)
+/// with context `params`, or `None` if `id` is none of them.
+pub fn make_control(id: &str, params: RobotParams) -> Option<Control> {
+    let (id, task) = match id {
+        "inverted_pendulum" => ("inverted_pendulum", ControlTask::InvertedPendulum),
+        "inverted_double_pendulum" => ("inverted_double_pendulum", ControlTask::InvertedDoublePendulum),
+        "reacher" => ("reacher", ControlTask::Reacher),
+        _ => return None,
+    };
+    Control::new(id, RobotModel::load(robot_of(id)?).ok()?, params, task).ok()
 }
 
 /// Build the UR5e reach environment with context `params`.

@@ -44,6 +44,18 @@ pub enum IntegratorName {
     Rk4,
 }
 
+/// The integrator of the planar engine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Integrator {
+    /// Semi-implicit Euler with implicit joint damping (MuJoCo's default `Euler`).
+    #[default]
+    Euler,
+    /// Classic fourth-order Runge–Kutta (MuJoCo's `RK4`): every stage's acceleration with its
+    /// constraint impulses, damping explicit.
+    Rk4,
+}
+
 /// One motor: a URDF joint and its gear (torque per unit control, before the strength factor).
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -94,6 +106,16 @@ pub struct SoftConstraint {
     pub solimp: [f64; 5],
     #[serde(default)]
     pub margin: f64,
+}
+
+/// A named point fixed on a link (MuJoCo's sites, and its joint-less bodies welded into their
+/// parent), in the link frame.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Site {
+    pub name: String,
+    pub link: String,
+    pub pos: [f64; 3],
 }
 
 /// The side file `robots/<name>.actuators.json`.
@@ -183,6 +205,26 @@ pub struct SideFile {
     pub ground_links: Vec<String>,
     /// Any link faster than this (m/s or rad/s) counts as a diverged simulation.
     pub max_speed: f64,
+    /// Planar engine: gravity is normal to the plane of motion (an arm moving on a horizontal
+    /// table, Reacher): no gravity force acts in the plane; each link's weight presses it onto
+    /// the table, where it slides with the context's friction (default: gravity along −z, in
+    /// the plane).
+    #[serde(default)]
+    pub gravity_normal_to_plane: bool,
+    /// Planar engine: slides running on a rail that carries the weight of everything they move;
+    /// their dry friction is the context's friction times that weight (MuJoCo's joint
+    /// `frictionloss`).
+    #[serde(default)]
+    pub rail_joints: Vec<String>,
+    /// Planar engine: joints whose limits restitute with the context's elasticity (end stops).
+    #[serde(default)]
+    pub bouncing_limits: Vec<String>,
+    /// Named points on links (MuJoCo's sites).
+    #[serde(default)]
+    pub sites: Vec<Site>,
+    /// Planar engine: the integrator (default semi-implicit Euler).
+    #[serde(default)]
+    pub integrator: Integrator,
 }
 
 fn yes() -> bool {
@@ -242,6 +284,21 @@ pub const ROBOT_FILES: &[(&str, &str, &str)] = &[
         "walker2d",
         include_str!("../robots/walker2d.urdf"),
         include_str!("../robots/walker2d.actuators.json"),
+    ),
+    (
+        "inverted_pendulum",
+        include_str!("../robots/inverted_pendulum.urdf"),
+        include_str!("../robots/inverted_pendulum.actuators.json"),
+    ),
+    (
+        "inverted_double_pendulum",
+        include_str!("../robots/inverted_double_pendulum.urdf"),
+        include_str!("../robots/inverted_double_pendulum.actuators.json"),
+    ),
+    (
+        "reacher",
+        include_str!("../robots/reacher.urdf"),
+        include_str!("../robots/reacher.actuators.json"),
     ),
     (
         "ur5e",
@@ -317,6 +374,8 @@ impl RobotModel {
             .chain(armature_joints)
             .chain(damping_joints)
             .chain(initial_joints)
+            .chain(&side.rail_joints)
+            .chain(&side.bouncing_limits)
         {
             if !joint_names.contains(name) {
                 return Err(ModelError::Side {
@@ -325,11 +384,11 @@ impl RobotModel {
                 });
             }
         }
-        for l in &side.ground_links {
+        for l in side.ground_links.iter().chain(side.sites.iter().map(|s| &s.link)) {
             if !link_names.contains(l) {
                 return Err(ModelError::Side {
                     robot,
-                    message: format!("ground link {l} is not a link of the URDF"),
+                    message: format!("ground or site link {l} is not a link of the URDF"),
                 });
             }
         }
@@ -395,6 +454,12 @@ impl RobotModel {
             shape: vec![n],
             dtype: carl_env::api::DType::Float32,
         }
+    }
+
+    /// The link index and link-frame position of site `name`.
+    pub fn site(&self, name: &str) -> Option<(usize, [f64; 3])> {
+        let s = self.side.sites.iter().find(|s| s.name == name)?;
+        Some((self.link_names.iter().position(|l| *l == s.link)?, s.pos))
     }
 
     /// The URDF mass of a link (kg).

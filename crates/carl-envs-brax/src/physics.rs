@@ -113,6 +113,30 @@ impl Physics {
         }
     }
 
+    /// Generalized constraint forces of the last step (MuJoCo's `qfrc_constraint`), one per
+    /// coordinate; the planar engine's (zeros on rapier, whose impulses are not exposed).
+    pub fn constraint_forces(&self, out: &mut [f64]) {
+        match self {
+            Physics::Rapier(_) => out.fill(0.0),
+            Physics::Planar(w) => w.constraint_forces(out),
+        }
+    }
+
+    /// World position of the point `local` (link frame) of link `i`.
+    pub fn link_point(&self, i: usize, local: [f64; 3]) -> [f64; 3] {
+        match self {
+            Physics::Rapier(w) => {
+                let p = w.link_pose(i).transform_point(rapier3d::prelude::Vector::new(
+                    local[0] as f32,
+                    local[1] as f32,
+                    local[2] as f32,
+                ));
+                [f64::from(p.x), f64::from(p.y), f64::from(p.z)]
+            }
+            Physics::Planar(w) => w.link_point(i, local),
+        }
+    }
+
     /// The rapier world, if this is one (the com-based observation terms need it).
     pub fn rapier(&self) -> Option<&RobotWorld> {
         match self {

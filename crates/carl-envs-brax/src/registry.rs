@@ -124,6 +124,76 @@ pub const REGISTRATIONS: &[Registration] = &[
         vector_kernel: None,
     },
     Registration {
+        id: "inverted_pendulum",
+        build: |v, _| control("inverted_pendulum", v),
+        runtime_default: |n| robot_default("inverted_pendulum", n),
+        options: &[],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        // Two coordinates; cart positions beyond the rail's ends (±1, where elasticity acts),
+        // pole angles up to its ±90° limits. State: slider hinge, then rates.
+        audit: AuditProfile {
+            trajectory_seeds: 3,
+            trajectory_steps: 16,
+            random_states: 32,
+            reset_seeds: 4,
+            state_hint: &[(-1.1, 1.1), (-1.7, 1.7), (-2.0, 2.0), (-2.0, 2.0)],
+        },
+        vector_kernel: None,
+    },
+    Registration {
+        id: "inverted_double_pendulum",
+        build: |v, _| control("inverted_double_pendulum", v),
+        runtime_default: |n| robot_default("inverted_double_pendulum", n),
+        options: &[],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        // As InvertedPendulum's; State: slider hinge hinge2, rates, the slider's constraint force.
+        audit: AuditProfile {
+            trajectory_seeds: 3,
+            trajectory_steps: 16,
+            random_states: 32,
+            reset_seeds: 4,
+            state_hint: &[
+                (-1.1, 1.1),
+                (-1.0, 1.0),
+                (-1.0, 1.0),
+                (-2.0, 2.0),
+                (-2.0, 2.0),
+                (-2.0, 2.0),
+            ],
+        },
+        vector_kernel: None,
+    },
+    Registration {
+        id: "reacher",
+        build: |v, _| control("reacher", v),
+        runtime_default: |n| robot_default("reacher", n),
+        options: &[],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        // Elbow angles beyond its ±3 rad limit (where elasticity acts), targets in the disc.
+        // State: joint0 joint1 target_x target_y, then the arm's rates.
+        audit: AuditProfile {
+            trajectory_seeds: 3,
+            trajectory_steps: 16,
+            random_states: 32,
+            reset_seeds: 4,
+            state_hint: &[
+                (-3.2, 3.2),
+                (-3.2, 3.2),
+                (-0.2, 0.2),
+                (-0.2, 0.2),
+                (-5.0, 5.0),
+                (-5.0, 5.0),
+            ],
+        },
+        vector_kernel: None,
+    },
+    Registration {
         id: "ur5e",
         build: |v, _| {
             let p = robot_params("ur5e", v)?;
@@ -261,6 +331,13 @@ fn robot_params(id: &str, values: &[(String, f64)]) -> Result<RobotParams, MakeE
 fn locomotion(id: &str, values: &[(String, f64)]) -> Result<robots::Locomotion, MakeError> {
     let p = robot_params(id, values)?;
     robots::make_robot(id, p).ok_or_else(|| missing_model(id))
+}
+
+fn control(id: &str, values: &[(String, f64)]) -> Result<AnyEnv, MakeError> {
+    let p = robot_params(id, values)?;
+    robots::make_control(id, p)
+        .map(AnyEnv::new)
+        .ok_or_else(|| missing_model(id))
 }
 
 /// The embedded robot description failed to load (a build defect, reported, never a panic).

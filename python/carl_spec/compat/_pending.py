@@ -19,10 +19,7 @@ ISSUES = {
 #: carl-bench class -> (the carl-spec environment it needs, the issue adding it)
 PENDING: dict[str, tuple[str, int]] = {
     "CARLBraxHumanoidStandup": ("humanoid_standup", 26),
-    "CARLBraxInvertedDoublePendulum": ("inverted_double_pendulum", 26),
-    "CARLBraxInvertedPendulum": ("inverted_pendulum", 26),
     "CARLBraxPusher": ("pusher", 26),
-    "CARLBraxReacher": ("reacher", 26),
     "CARLDmcFingerEnv": ("dmc_finger", 27),
     "CARLDmcFishEnv": ("dmc_fish", 27),
     "CARLDmcPointMassEnv": ("dmc_point_mass", 27),

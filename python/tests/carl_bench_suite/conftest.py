@@ -3,7 +3,7 @@
 The vendored test files are carl-bench's with only the import prefix changed; this file is ours.
 Every test passes except those listed here, each with its reason:
 
-* `PENDING`: tests of environments carl-spec does not have yet (the five Brax classes not built yet and the
+* `PENDING`: tests of environments carl-spec does not have yet (the two Brax classes not built yet and the
   dm_control family, `carl_spec.compat._pending`, and the goal option of the Brax walkers). They
   are skipped, the skip naming the missing environment and its issue.
 * `CARL_BENCH_BUGS`: tests that rely on a carl-bench bug compat deliberately does not reproduce
@@ -41,7 +41,7 @@ _GOAL_REASON = f"needs {GOAL}: pending issue 26 (carl-spec's CARLBraxAnt/CARLBra
 PENDING_TESTS: dict[str, str] = {
     "test_brax_env.py::TestBraxEnvs::test_envs": "builds every class of carl.envs.brax; "
     + "; ".join(reason(c) for c in BRAX_PENDING)
-    + " (Ant, HalfCheetah and Humanoid are checked by python/tests/test_compat_suite.py)",
+    + " (the eight Brax classes carl-spec has are checked by python/tests/test_compat_suite.py)",
     "test_dmc.py::TestDMCLoader::test_load_classic_dmc_env": _dmc("CARLDmcWalkerEnv"),
     "test_dmc.py::TestDMCLoader::test_load_context_dmc_env": _dmc("CARLDmcWalkerEnv"),
     "test_dmc.py::TestDMCLoader::test_load_unknowntask_dmc_env": _dmc("CARLDmcWalkerEnv"),

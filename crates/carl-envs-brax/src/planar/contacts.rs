@@ -136,6 +136,9 @@ pub enum RowKind {
     Unilateral,
     /// Friction bounded by `mu` times the impulse of row `normal`.
     Friction { normal: usize, mu: f64 },
+    /// Dry friction of a known normal load: `|λ| ≤ limit` (MuJoCo's joint `frictionloss`
+    /// times the step).
+    Bounded { limit: f64 },
 }
 
 /// The constraint rows of one step, in preallocated buffers.
@@ -237,6 +240,7 @@ impl Rows {
                         let lim = mu * self.lambda[normal];
                         free.clamp(-lim, lim)
                     }
+                    RowKind::Bounded { limit } => free.clamp(-limit, limit),
                 };
                 let d = new - old;
                 if d != 0.0 {

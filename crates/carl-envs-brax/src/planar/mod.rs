@@ -1,6 +1,8 @@
-//! A reduced-coordinate engine for planar robots (HalfCheetah, Hopper, Walker2d): every link
-//! moves in the x-z plane, so the state is the joint coordinates `q` and rates `v` alone and one physics step
-//! is a handful of small dense operations in f64.
+//! A reduced-coordinate engine for planar robots (HalfCheetah, Hopper, Walker2d,
+//! InvertedPendulum, InvertedDoublePendulum, Reacher): every link moves in the x-z plane (Reacher's
+//! horizontal plane is turned into it, see `gravity_normal_to_plane`), so the state is the joint
+//! coordinates `q` and rates `v` alone and one physics step is a handful of small dense
+//! operations in f64.
 //!
 //! * [`tree`]: the planar kinematic tree read from the same URDF and side file as the rapier
 //!   world, with a clear error for a robot that is not planar;
@@ -29,6 +31,25 @@
 //! * `viscosity` → MuJoCo's medium viscosity (inertia-box model): each link's Stokes drag
 //!   `−3πμd·v` at its centre of mass and `−πμd³·ω`, `d` the mean side of its inertia box,
 //!   implicit like the joint damping (`h·Dᵥ` joins the matrix).
+//!
+//! Robots welded to the world without ground contacts (the inverted pendulums' cart on its
+//! rail, Reacher's arm on its table) use three side-file properties:
+//! * `rail_joints`: a slide carrying the weight of everything it moves has dry friction
+//!   `friction · |gravity| · carried mass` (a bounded row on its rate, MuJoCo's `frictionloss`);
+//! * `bouncing_limits`: these joints' limit rows restitute with `elasticity` (an approaching
+//!   limit row targets at least `elasticity` times the approach speed as separation speed);
+//! * `gravity_normal_to_plane`: the plane of motion is horizontal (Reacher): gravity exerts no
+//!   force in it; each moving link's weight presses it onto the table, where it slides with
+//!   Coulomb friction `friction · m · |gravity|` at its centre of mass (two bounded rows, along
+//!   the plane's axes, on the centre of mass's velocity).
+//!
+//! With the side file's `"integrator": "rk4"` (the contact-free models whose XML asks for
+//! MuJoCo's RK4: the inverted pendulums, Reacher) a step is classic fourth-order Runge–Kutta as
+//! MuJoCo's `mj_RungeKutta`: each of the four stages computes the acceleration at its state,
+//! constraint rows included (the row impulses of a step of length `h` from that state, over
+//! `h`), with the joint damping explicit; `ang_damping` acts after the whole step. A step that
+//! starts with an impact on a bouncing limit (elasticity > 0) is one semi-implicit Euler step:
+//! RK4's averaged stages would blur the restitution impulse.
 //!
 //! Ground contact normals are soft as MuJoCo's: by default its default `solref` and `solimp`
 //! (time constant 0.02 s, damping ratio 1, impedance 0.9–0.95 as a linear ramp); with the side
@@ -59,8 +80,16 @@ pub use tree::PlanarTree;
 pub struct PlanarSystem {
     pub tree: PlanarTree,
     pub h: f64,
+    /// Gravity in the plane of motion (0 when it is normal to the plane).
     pub gravity: f64,
     pub friction: f64,
+    /// Dry-friction bound (N) of each coordinate's rate: the rail joints' (0 elsewhere).
+    rail_friction: Vec<f64>,
+    /// Coulomb friction bound (N) of each link's centre of mass sliding on its table
+    /// (`gravity_normal_to_plane`; empty otherwise).
+    table_friction: Vec<f64>,
+    /// Per coordinate: its limits restitute with `elasticity`.
+    bouncing: Vec<bool>,
     /// Implicit damping per coordinate.
     damping: Vec<f64>,
     /// Multiplier of the hinge rates after each step.
@@ -80,6 +109,7 @@ pub struct PlanarSystem {
     motors: Vec<(usize, f64)>,
     ctrl_range: [f64; 2],
     torso: usize,
+    rk4: bool,
 }
 
 impl PlanarSystem {
@@ -116,10 +146,52 @@ impl PlanarSystem {
                 .ok_or_else(|| format!("actuator joint {} is not movable", a.joint))?;
             motors.push((j, a.gear * strength));
         }
+        let g = finite_or(params.gravity, 0.0);
+        let friction = finite_or(params.friction, 0.0).max(0.0);
+        let dof_of = |name: &String| model.joint_names.iter().position(|n| n == name);
+        let mut rail_friction = vec![0.0; tree.dofs.len()];
+        for name in &side.rail_joints {
+            let d = dof_of(name).ok_or_else(|| format!("rail joint {name} is not movable"))?;
+            if tree.dofs[d].hinge {
+                return Err(format!("rail joint {name} is a hinge, not a slide"));
+            }
+            let carried: f64 = tree
+                .links
+                .iter()
+                .filter(|l| l.ancestors.contains(&d))
+                .map(|l| l.mass)
+                .sum();
+            rail_friction[d] = friction * g.abs() * carried;
+        }
+        let table_friction = if side.gravity_normal_to_plane {
+            tree.links
+                .iter()
+                .map(|l| {
+                    if l.ancestors.is_empty() {
+                        0.0
+                    } else {
+                        friction * g.abs() * l.mass
+                    }
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let mut bouncing = vec![false; tree.dofs.len()];
+        for name in &side.bouncing_limits {
+            let d = dof_of(name).ok_or_else(|| format!("bouncing limit {name} is not a movable joint"))?;
+            if side.limit_model.is_none() {
+                return Err(format!("bouncing limit {name} needs the side file's limit_model"));
+            }
+            bouncing[d] = true;
+        }
         Ok(PlanarSystem {
             h,
-            gravity: finite_or(params.gravity, 0.0),
-            friction: finite_or(params.friction, 0.0).max(0.0),
+            gravity: if side.gravity_normal_to_plane { 0.0 } else { g },
+            friction,
+            rail_friction,
+            table_friction,
+            bouncing,
             damping,
             angular_decay: (finite_or(params.angular_damping, 0.0) * h).exp(),
             limit_soft: Softness::new(limit_omega, side.limit_damping_ratio, h),
@@ -137,6 +209,7 @@ impl PlanarSystem {
             motors,
             ctrl_range: side.ctrl_range,
             torso: model.torso,
+            rk4: side.integrator == super::model::Integrator::Rk4,
             tree,
         })
     }
@@ -182,6 +255,8 @@ enum RowSite {
         p: [f64; 2],
     },
     Limit,
+    /// Dry friction of a rail or a table.
+    Friction0,
 }
 
 /// Clamp a state coordinate to a finite value (as the rapier world does).
@@ -202,7 +277,7 @@ impl PlanarWorld {
         for (d, x) in v.iter_mut().zip(&c.vel) {
             *d = coord(*x);
         }
-        let capacity = 2 * 2 * sys.tree.capsules.len() + 2 * n;
+        let capacity = 2 * 2 * sys.tree.capsules.len() + 3 * n + 2 * nl;
         let mut w = PlanarWorld {
             q,
             v,
@@ -273,8 +348,117 @@ impl PlanarWorld {
         if u.is_nan() { 0.0 } else { f64::from(u).clamp(lo, hi) }
     }
 
+    /// The acceleration at the current state (links placed at `q`) into `out`, the constraint
+    /// rows included (solved for a step of length `h` from this state); damping explicit. The
+    /// state is unchanged. `false` if the mass matrix is not positive definite.
+    fn acceleration(&mut self, ctrl: &[f32], out: &mut [f64]) -> bool {
+        let sys = Arc::clone(&self.sys);
+        let tree = &sys.tree;
+        let n = sys.num_dofs();
+        let h = sys.h;
+        velocities(tree, &self.v, &mut self.links, &self.axes);
+        dynamics::mass_matrix_and_bias(
+            tree,
+            &self.links,
+            &self.axes,
+            sys.gravity,
+            &mut self.mass,
+            &mut self.bias,
+        );
+        for (d, dof) in tree.dofs.iter().enumerate() {
+            self.mass[d * n + d] += dof.armature;
+            self.force[d] = -self.bias[d] - sys.damping[d] * self.v[d] - dof.spring * self.q[d];
+        }
+        for (&(d, gear), &u) in sys.motors.iter().zip(ctrl) {
+            self.force[d] += gear * self.clipped(u);
+        }
+        if sys.viscosity > 0.0 {
+            self.add_viscosity();
+        }
+        self.v_start.copy_from_slice(&self.v);
+        if !dynamics::cholesky(&mut self.mass, n) {
+            return false;
+        }
+        dynamics::cholesky_solve(&self.mass, n, &mut self.force);
+        for (v, a) in self.v.iter_mut().zip(&self.force) {
+            *v += h * a;
+        }
+        self.build_rows();
+        self.rows.solve(&self.mass, &mut self.v);
+        self.collect_wrenches();
+        for ((o, v), v0) in out.iter_mut().zip(&mut self.v).zip(&self.v_start) {
+            *o = (*v - v0) / h;
+            *v = *v0;
+        }
+        true
+    }
+
+    /// Whether a bouncing limit (`bouncing_limits`, with `elasticity` > 0) is passed and
+    /// approached at the current state: an impact with restitution, which an RK4 model
+    /// integrates with one semi-implicit Euler step (RK4's averaged stages would blur the
+    /// impulse).
+    fn impact(&self) -> bool {
+        let sys = &*self.sys;
+        if sys.elasticity <= 0.0 {
+            return false;
+        }
+        let margin = sys.limit_mujoco.map_or(0.0, |(_, m)| m);
+        sys.tree.dofs.iter().enumerate().any(|(d, dof)| {
+            let Some((lo, hi)) = dof.limits else { return false };
+            sys.bouncing[d]
+                && ((self.q[d] - lo < margin && self.v[d] < 0.0) || (hi - self.q[d] < margin && self.v[d] > 0.0))
+        })
+    }
+
+    /// One RK4 step (MuJoCo's `mj_RungeKutta` with the classic tableau).
+    fn step_rk4(&mut self, ctrl: &[f32]) {
+        let sys = Arc::clone(&self.sys);
+        let n = sys.num_dofs();
+        let h = sys.h;
+        let (q0, v0) = (self.q.clone(), self.v.clone());
+        let mut acc = vec![0.0; 4 * n];
+        let mut vel = vec![0.0; 4 * n];
+        for k in 0..4 {
+            if k > 0 {
+                let c = if k == 3 { h } else { h / 2.0 };
+                for d in 0..n {
+                    self.q[d] = q0[d] + c * vel[(k - 1) * n + d];
+                    self.v[d] = v0[d] + c * acc[(k - 1) * n + d];
+                }
+                positions(&sys.tree, &self.q, &mut self.links, &mut self.axes);
+            }
+            vel[k * n..(k + 1) * n].copy_from_slice(&self.v);
+            if !self.acceleration(ctrl, &mut acc[k * n..(k + 1) * n]) {
+                self.v.fill(f64::NAN);
+                return;
+            }
+        }
+        let w = [1.0, 2.0, 2.0, 1.0];
+        for d in 0..n {
+            let (mut a, mut v) = (0.0, 0.0);
+            for k in 0..4 {
+                a += w[k] * acc[k * n + d];
+                v += w[k] * vel[k * n + d];
+            }
+            self.v[d] = v0[d] + h / 6.0 * a;
+            self.q[d] = q0[d] + h / 6.0 * v;
+        }
+        if sys.angular_decay != 1.0 {
+            for (v, dof) in self.v.iter_mut().zip(&sys.tree.dofs) {
+                if dof.hinge {
+                    *v *= sys.angular_decay;
+                }
+            }
+        }
+        positions(&sys.tree, &self.q, &mut self.links, &mut self.axes);
+    }
+
     /// One physics step with motor controls `ctrl` (clipped to the control range).
     pub fn step(&mut self, ctrl: &[f32]) {
+        if self.sys.rk4 && !self.impact() {
+            self.step_rk4(ctrl);
+            return;
+        }
         let sys = Arc::clone(&self.sys);
         let tree = &sys.tree;
         let n = sys.num_dofs();
@@ -411,7 +595,11 @@ impl PlanarWorld {
                     if r >= 0.0 {
                         continue;
                     }
-                    let (target, ratio) = imp.row(sign * self.v_start[d], r, h);
+                    let approach = sign * self.v_start[d];
+                    let (mut target, ratio) = imp.row(approach, r, h);
+                    if sys.bouncing[d] && sys.elasticity > 0.0 && approach < 0.0 {
+                        target = target.max(-sys.elasticity * approach);
+                    }
                     let Some(row) = self.rows.push(RowKind::Unilateral, target, ratio) else {
                         return;
                     };
@@ -434,6 +622,52 @@ impl PlanarWorld {
         for site in &mut self.row_site[first_limit..self.rows.count] {
             *site = RowSite::Limit;
         }
+        let first_friction = self.rows.count;
+        for (d, &f) in sys.rail_friction.iter().enumerate() {
+            if f > 0.0 {
+                let Some(row) = self.rows.push(RowKind::Bounded { limit: f * h }, 0.0, 0.0) else {
+                    return;
+                };
+                row[d] = 1.0;
+            }
+        }
+        for (l, &f) in sys.table_friction.iter().enumerate() {
+            if f <= 0.0 {
+                continue;
+            }
+            let com = self.links[l].com;
+            for axis in 0..2 {
+                let Some(row) = self.rows.push(RowKind::Bounded { limit: f * h }, 0.0, 0.0) else {
+                    return;
+                };
+                for &d in &tree.links[l].ancestors {
+                    row[d] = self.axes[d].point_column(com).0[axis];
+                }
+            }
+        }
+        for site in &mut self.row_site[first_friction..self.rows.count] {
+            *site = RowSite::Friction0;
+        }
+    }
+
+    /// Generalized constraint forces of the last step (MuJoCo's `qfrc_constraint`): every
+    /// row's impulse over the step, one per coordinate.
+    pub fn constraint_forces(&self, out: &mut [f64]) {
+        let n = self.sys.num_dofs();
+        out.fill(0.0);
+        for r in 0..self.rows.count {
+            let f = self.rows.lambda[r] / self.sys.h;
+            for (o, j) in out.iter_mut().zip(&self.rows.jac[r * n..(r + 1) * n]) {
+                *o += j * f;
+            }
+        }
+    }
+
+    /// World position `[x, 0, z]` of the point `local` (`[x, y, z]`, y ignored) of link `i`.
+    pub fn link_point(&self, i: usize, local: [f64; 3]) -> [f64; 3] {
+        let s = &self.links[i];
+        let p = kinematics::add(s.pos, tree::rotate(s.cs, [local[0], local[2]]));
+        [p[0], 0.0, p[1]]
     }
 
     /// Per-link contact force and torque of the last step from the contact impulses.
@@ -445,7 +679,7 @@ impl PlanarWorld {
             let (link, p, force) = match self.row_site[r] {
                 RowSite::Normal { link, p } => (link, p, [0.0, f]),
                 RowSite::Friction { link, p } => (link, p, [f, 0.0]),
-                RowSite::Limit => continue,
+                RowSite::Limit | RowSite::Friction0 => continue,
             };
             let c = self.links[link].com;
             let rr = kinematics::sub(p, c);

@@ -275,3 +275,122 @@ fn mujoco_impedance_follows_its_sigmoid() {
         2.0 * h
     );
 }
+
+/// A system of robot `name` at the context `params`.
+fn system_of(name: &str, params: &RobotParams) -> Arc<PlanarSystem> {
+    Arc::new(PlanarSystem::new(&RobotModel::load(name).unwrap(), params).unwrap())
+}
+
+/// The rail's dry friction holds the cart (and the pole, hanging straight up at rest) against a
+/// push below `friction · |g| · carried mass` and yields to one above it.
+#[test]
+fn rail_friction_holds_below_its_bound_and_slides_above() {
+    let mut p = blank_params("inverted_pendulum").unwrap();
+    p.friction = 0.5;
+    p.link_masses = vec![("cart".into(), 2.0), ("pole".into(), 1.0)];
+    let sys = system_of("inverted_pendulum", &p);
+    let bound = 0.5 * 9.8 * 3.0; // N; gear 100
+    let run = |force: f64| {
+        let mut w = world(&sys, &[0.0, 0.0], &[0.0, 0.0]);
+        for _ in 0..10 {
+            w.step(&[(force / 100.0) as f32]);
+        }
+        w.q()[0]
+    };
+    assert!(run(0.8 * bound).abs() < 1e-6, "{}", run(0.8 * bound));
+    assert!(run(1.5 * bound) > 1e-3, "{}", run(1.5 * bound));
+    // No friction: the same small push moves the cart.
+    p.friction = 0.0;
+    let free = system_of("inverted_pendulum", &p);
+    let mut w = world(&free, &[0.0, 0.0], &[0.0, 0.0]);
+    w.step(&[0.01]);
+    assert!(w.v()[0] > 0.0);
+}
+
+/// A cart hitting the rail's end stop bounces back faster with elasticity than without it
+/// (MuJoCo's soft limit alone returns part of the speed from its penetration spring).
+#[test]
+fn rail_end_stops_restitute_with_elasticity() {
+    let bounce = |e: f64| {
+        let mut p = blank_params("inverted_pendulum").unwrap();
+        p.elasticity = e;
+        p.gravity = 0.0;
+        let sys = system_of("inverted_pendulum", &p);
+        let mut w = world(&sys, &[0.95, 0.0], &[1.0, 0.0]);
+        for _ in 0..20 {
+            w.step(&[0.0]);
+        }
+        w.v()[0]
+    };
+    let (inelastic, elastic) = (bounce(0.0), bounce(0.8));
+    assert!(inelastic > -0.5, "{inelastic}");
+    assert!(elastic < inelastic - 0.15, "{elastic} vs {inelastic}");
+}
+
+/// Reacher's plane is horizontal: gravity exerts no torque on the arm (its energy stays
+/// constant without damping), and only presses it onto the table, where friction stops a
+/// spinning arm that would otherwise keep turning.
+#[test]
+fn horizontal_arm_feels_gravity_only_through_table_friction() {
+    let mut p = blank_params("reacher").unwrap();
+    p.friction = 0.0;
+    p.gravity = -1000.0;
+    let sys = system_of("reacher", &p);
+    assert_eq!(sys.gravity, 0.0);
+    let mut w = world(&sys, &[0.3, 0.5], &[0.0, 0.0]);
+    for _ in 0..50 {
+        w.step(&[0.0, 0.0]);
+    }
+    assert_eq!(w.q(), &[0.3, 0.5]);
+    let spin = |friction: f64| {
+        let mut p = blank_params("reacher").unwrap();
+        p.friction = friction;
+        let sys = system_of("reacher", &p);
+        let mut w = world(&sys, &[0.0, 0.0], &[5.0, 0.0]);
+        for _ in 0..20 {
+            w.step(&[0.0, 0.0]);
+        }
+        w.v()[0]
+    };
+    assert!(spin(100.0) < spin(0.0) - 0.1, "{} {}", spin(100.0), spin(0.0));
+}
+
+/// RK4 (the side file's `integrator`) conserves the energy of the undamped double pendulum on
+/// its cart swinging through large angles far better than semi-implicit Euler, and its error
+/// falls as the fourth power of the step.
+#[test]
+fn rk4_conserves_the_energy_of_an_undamped_double_pendulum() {
+    use crate::model::Integrator;
+    let drift = |integrator: Integrator, h: f64| {
+        let mut m = (*RobotModel::load("inverted_double_pendulum").unwrap()).clone();
+        m.side.joint_dampings.iter_mut().for_each(|d| d.damping = 0.0);
+        m.side.integrator = integrator;
+        m.side.timestep = h;
+        let mut p = blank_params("inverted_double_pendulum").unwrap();
+        p.angular_damping = 0.0;
+        p.friction = 0.0;
+        p.gravity = -9.81;
+        // A heavy cart: the swing does not carry it to the rail's ends.
+        p.link_masses = vec![("cart".into(), 1000.0)];
+        let sys = Arc::new(PlanarSystem::new(&m, &p).unwrap());
+        let mut w = world(&sys, &[0.0, 1.0, -0.5], &[0.0, 0.0, 0.0]);
+        let e0 = w.energy();
+        let steps = (2.0 / h).round() as usize;
+        let mut worst: f64 = 0.0;
+        for _ in 0..steps {
+            w.step(&[0.0]);
+            worst = worst.max((w.energy() - e0).abs());
+        }
+        assert!(w.q()[0].abs() < 0.5, "the cart reached {}", w.q()[0]);
+        worst
+    };
+    let (rk, rk_half, euler) = (
+        drift(Integrator::Rk4, 0.01),
+        drift(Integrator::Rk4, 0.005),
+        drift(Integrator::Euler, 0.01),
+    );
+    // The poles' potential energy swings by tens of joules.
+    assert!(rk < 1e-2, "RK4 drift {rk} J");
+    assert!(rk < euler / 100.0, "RK4 {rk} J vs Euler {euler} J");
+    assert!(rk_half < rk / 8.0, "RK4 at h/2: {rk_half} J vs {rk} J");
+}

@@ -1,7 +1,7 @@
 """carl-bench 1.1.1's `carl.envs`: its environment classes over carl-spec's runtimes.
 
 As in carl-bench, `carl.envs` holds the environments that are available: here every one carl-spec
-has (Box2D, Mario and RNA need no extra package). The pending ones (five Brax classes and the
+has (Box2D, Mario and RNA need no extra package). The pending ones (two Brax classes and the
 dm_control family, `carl_spec.compat._pending`) are importable from their own modules
 (`carl_spec.compat.envs.brax`, `carl_spec.compat.envs.dmc`) but not listed here, as carl-bench
 leaves out the families whose package is missing. Submodules mirror carl-bench's tree
@@ -11,7 +11,16 @@ leaves out the families whose package is missing. Submodules mirror carl-bench's
 from __future__ import annotations
 
 from ._classes import CLASSES as CLASSES  # carl-spec's table of the classes (not carl-bench's API)
-from .brax import CARLBraxAnt, CARLBraxHalfcheetah, CARLBraxHopper, CARLBraxHumanoid, CARLBraxWalker2d
+from .brax import (
+    CARLBraxAnt,
+    CARLBraxHalfcheetah,
+    CARLBraxHopper,
+    CARLBraxHumanoid,
+    CARLBraxInvertedDoublePendulum,
+    CARLBraxInvertedPendulum,
+    CARLBraxReacher,
+    CARLBraxWalker2d,
+)
 from .gymnasium import (
     CARLAcrobot,
     CARLBipedalWalker,
@@ -39,6 +48,9 @@ __all__ = [
     "CARLBraxHopper",
     "CARLBraxHumanoid",
     "CARLBraxWalker2d",
+    "CARLBraxInvertedPendulum",
+    "CARLBraxInvertedDoublePendulum",
+    "CARLBraxReacher",
     "CARLMarioEnv",
     "CARLRnaDesignEnv",
 ]

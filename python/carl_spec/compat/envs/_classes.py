@@ -168,6 +168,24 @@ class CARLBraxWalker2d(_Robot):
     bench_only = _goal_only("walker2d")
 
 
+class CARLBraxInvertedPendulum(_Robot):
+    env_id = "inverted_pendulum"
+    bench_names = ("gravity", "friction", "elasticity", "mass_cart", "mass_pole", "ang_damping", "viscosity")
+
+
+class CARLBraxInvertedDoublePendulum(_Robot):
+    # carl-bench's key mass_pole2 (its hyperparameter is misnamed mass_pole, its default context lacks it)
+    env_id = "inverted_double_pendulum"
+    bench_names = (
+        "gravity", "friction", "elasticity", "mass_cart", "mass_pole", "mass_pole2", "ang_damping", "viscosity",
+    )
+
+
+class CARLBraxReacher(_Robot):
+    env_id = "reacher"
+    bench_names = ("gravity", "friction", "elasticity", "ang_damping", "viscosity", "mass_body0", "mass_body1")
+
+
 class CARLMarioEnv(CARLEnv):
     env_id = "mario"
     bench_names = ("level_width", "level_index", "noise_seed", "mario_state", "mario_inertia")
@@ -183,7 +201,7 @@ CLASSES: dict[str, type[CARLEnv]] = {
     for c in (
         CARLCartPole, CARLPendulum, CARLAcrobot, CARLMountainCar, CARLMountainCarContinuous, CARLLunarLander,
         CARLBipedalWalker, CARLVehicleRacing, CARLBraxAnt, CARLBraxHalfcheetah, CARLBraxHumanoid, CARLBraxHopper,
-        CARLBraxWalker2d, CARLMarioEnv,
+        CARLBraxWalker2d, CARLBraxInvertedPendulum, CARLBraxInvertedDoublePendulum, CARLBraxReacher, CARLMarioEnv,
         CARLRnaDesignEnv,
     )
 }

@@ -1,5 +1,6 @@
-"""carl-bench's `carl.envs.brax`: Ant, HalfCheetah and Humanoid run on carl-spec's robots; the
-other seven are pending (building one raises `PendingEnvironmentError`, see `_pending`)."""
+"""carl-bench's `carl.envs.brax`: Ant, HalfCheetah, Hopper, Humanoid, Walker2d, InvertedPendulum,
+InvertedDoublePendulum and Reacher run on carl-spec's robots; the other two are pending (building
+one raises `PendingEnvironmentError`, see `_pending`)."""
 
 from .carl_ant import CARLBraxAnt
 from .carl_halfcheetah import CARLBraxHalfcheetah

@@ -1,7 +1,5 @@
-"""carl-bench's `carl.envs.brax.carl_inverted_double_pendulum`: pending (see `carl_spec.compat._pending`)."""
+"""carl-bench's `carl.envs.brax.carl_inverted_double_pendulum`."""
 
-from ..._pending import pending_class
-
-CARLBraxInvertedDoublePendulum = pending_class("CARLBraxInvertedDoublePendulum", __name__)
+from .._classes import CARLBraxInvertedDoublePendulum
 
 __all__ = ["CARLBraxInvertedDoublePendulum"]

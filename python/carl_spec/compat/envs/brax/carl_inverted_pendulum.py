@@ -1,7 +1,5 @@
-"""carl-bench's `carl.envs.brax.carl_inverted_pendulum`: pending (see `carl_spec.compat._pending`)."""
+"""carl-bench's `carl.envs.brax.carl_inverted_pendulum`."""
 
-from ..._pending import pending_class
-
-CARLBraxInvertedPendulum = pending_class("CARLBraxInvertedPendulum", __name__)
+from .._classes import CARLBraxInvertedPendulum
 
 __all__ = ["CARLBraxInvertedPendulum"]

@@ -1,7 +1,5 @@
-"""carl-bench's `carl.envs.brax.carl_reacher`: pending (see `carl_spec.compat._pending`)."""
+"""carl-bench's `carl.envs.brax.carl_reacher`."""
 
-from ..._pending import pending_class
-
-CARLBraxReacher = pending_class("CARLBraxReacher", __name__)
+from .._classes import CARLBraxReacher
 
 __all__ = ["CARLBraxReacher"]
