@@ -24,7 +24,11 @@ pub struct Contact {
 /// MuJoCo's default tangent frame of normal `n`: `t₁ = n × x̂` (or `n × ŷ` when `n` is close to
 /// x̂) normalized, `t₂ = n × t₁`.
 pub fn make_frame(n: V3) -> [V3; 3] {
-    let t = if n[0].abs() < 0.5 { cross(n, [1.0, 0.0, 0.0]) } else { cross(n, [0.0, 1.0, 0.0]) };
+    let t = if n[0].abs() < 0.5 {
+        cross(n, [1.0, 0.0, 0.0])
+    } else {
+        cross(n, [0.0, 1.0, 0.0])
+    };
     let t1 = normalize(t).unwrap_or([0.0, 1.0, 0.0]);
     [n, t1, cross(n, t1)]
 }
@@ -118,7 +122,16 @@ pub fn collide(a: &Placed, b: &Placed, margin: f64, out: &mut [Contact]) -> usiz
 
 /// A contact of a sphere of `radius` centred at `c` at distance `d` above a plane of normal `n`.
 #[allow(clippy::too_many_arguments)]
-fn push_plane_point(n: V3, c: V3, radius: f64, d: f64, margin: f64, frame: [V3; 3], out: &mut [Contact], k: usize) -> usize {
+fn push_plane_point(
+    n: V3,
+    c: V3,
+    radius: f64,
+    d: f64,
+    margin: f64,
+    frame: [V3; 3],
+    out: &mut [Contact],
+    k: usize,
+) -> usize {
     if d >= margin || k >= out.len() {
         return 0;
     }
@@ -140,7 +153,11 @@ fn spheres(pa: V3, ra: f64, pb: V3, rb: f64, margin: f64, out: &mut [Contact], k
     if d >= margin || k >= out.len() {
         return 0;
     }
-    let n = if len > 1e-12 { scale(dv, 1.0 / len) } else { [1.0, 0.0, 0.0] };
+    let n = if len > 1e-12 {
+        scale(dv, 1.0 / len)
+    } else {
+        [1.0, 0.0, 0.0]
+    };
     out[k] = Contact {
         pos: add(pa, scale(n, ra + 0.5 * d)),
         frame: make_frame(n),
@@ -155,7 +172,11 @@ fn spheres(pa: V3, ra: f64, pb: V3, rb: f64, margin: f64, out: &mut [Contact], k
 fn closest_on_segment(p0: V3, p1: V3, x: V3) -> f64 {
     let d = sub(p1, p0);
     let l2 = dot(d, d);
-    if l2 < 1e-24 { 0.0 } else { (dot(sub(x, p0), d) / l2).clamp(0.0, 1.0) }
+    if l2 < 1e-24 {
+        0.0
+    } else {
+        (dot(sub(x, p0), d) / l2).clamp(0.0, 1.0)
+    }
 }
 
 fn lerp(a: V3, b: V3, t: f64) -> V3 {
@@ -212,7 +233,11 @@ fn closest_points(a0: V3, a1: V3, b0: V3, b1: V3) -> (V3, V3) {
         } else {
             let b = dot(d1, d2);
             let denom = a * e - b * b;
-            let s0 = if denom > 1e-24 { ((b * f - c * e) / denom).clamp(0.0, 1.0) } else { 0.0 };
+            let s0 = if denom > 1e-24 {
+                ((b * f - c * e) / denom).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
             let t0 = (b * s0 + f) / e;
             if t0 < 0.0 {
                 t = 0.0;
@@ -235,13 +260,22 @@ mod tests {
     use crate::math::IDENTITY;
 
     fn placed(shape: Shape, pos: V3) -> Placed {
-        Placed { shape, pos, mat: IDENTITY }
+        Placed {
+            shape,
+            pos,
+            mat: IDENTITY,
+        }
     }
 
     #[test]
     fn sphere_on_plane_contact_is_midway() {
         let mut out = [Contact::default(); 4];
-        let n = collide(&placed(Shape::Plane, [0.0; 3]), &placed(Shape::Sphere { radius: 0.1 }, [0.0, 0.0, 0.09]), 0.0, &mut out);
+        let n = collide(
+            &placed(Shape::Plane, [0.0; 3]),
+            &placed(Shape::Sphere { radius: 0.1 }, [0.0, 0.0, 0.09]),
+            0.0,
+            &mut out,
+        );
         assert_eq!(n, 1);
         assert!((out[0].dist + 0.01).abs() < 1e-12);
         assert!((out[0].pos[2] + 0.005).abs() < 1e-12);
@@ -250,13 +284,20 @@ mod tests {
     #[test]
     fn crossing_and_parallel_capsules() {
         let mut out = [Contact::default(); 4];
-        let cap = Shape::Capsule { radius: 0.1, half_length: 0.1 };
+        let cap = Shape::Capsule {
+            radius: 0.1,
+            half_length: 0.1,
+        };
         // Parallel capsules side by side along z: two contacts.
         let a = placed(cap, [0.0; 3]);
         let b = placed(cap, [0.15, 0.0, 0.0]);
         let n = collide(&a, &b, 0.0, &mut out);
         assert_eq!(n, 2);
-        assert!(out[..2].iter().all(|c| (c.dist + 0.05).abs() < 1e-12 && (c.frame[0][0] - 1.0).abs() < 1e-12));
+        assert!(
+            out[..2]
+                .iter()
+                .all(|c| (c.dist + 0.05).abs() < 1e-12 && (c.frame[0][0] - 1.0).abs() < 1e-12)
+        );
         // Crossed capsules: one contact on the common perpendicular.
         let mut b = placed(cap, [0.15, 0.0, 0.0]);
         b.mat = [[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]];

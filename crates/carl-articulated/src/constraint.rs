@@ -32,7 +32,11 @@ use crate::model::{SolImp, SolRef};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum RowKind {
     /// Edge `edge` (0–3) of contact `contact`'s pyramid, or its normal (frictionless, `edge` 0).
-    Contact { contact: usize, edge: u8, frictionless: bool },
+    Contact {
+        contact: usize,
+        edge: u8,
+        frictionless: bool,
+    },
     /// A joint limit of `joint` (`upper`: the upper one).
     Limit { joint: usize, upper: bool },
     #[default]
@@ -93,8 +97,16 @@ impl Data {
             if reach.is_finite() && crate::math::norm(sub(self.geom_xpos[g1], self.geom_xpos[g2])) > reach {
                 continue;
             }
-            let a = Placed { shape: s1, pos: self.geom_xpos[g1], mat: self.geom_xmat[g1] };
-            let b = Placed { shape: s2, pos: self.geom_xpos[g2], mat: self.geom_xmat[g2] };
+            let a = Placed {
+                shape: s1,
+                pos: self.geom_xpos[g1],
+                mat: self.geom_xmat[g1],
+            };
+            let b = Placed {
+                shape: s2,
+                pos: self.geom_xpos[g2],
+                mat: self.geom_xmat[g2],
+            };
             let start = self.ncon;
             let room = (self.contacts.len() - start).min(pair.max_contacts);
             let k = collide(&a, &b, pair.margin - pair.gap, &mut self.contacts[start..start + room]);
@@ -157,7 +169,11 @@ impl Data {
                 } else {
                     2.0 * mu * mu / m.opt.impratio * (1.0 + mu * mu) * tran
                 };
-                self.efc_kind[r] = RowKind::Contact { contact: ci, edge: e as u8, frictionless: pair.condim == 1 };
+                self.efc_kind[r] = RowKind::Contact {
+                    contact: ci,
+                    edge: e as u8,
+                    frictionless: pair.condim == 1,
+                };
                 self.set_row(r, r_viol, imp, kk, bb, diag);
             }
         }
@@ -189,7 +205,11 @@ impl Data {
     /// Reference acceleration and regularizer of row `r`.
     fn set_row(&mut self, r: usize, viol: f64, imp: f64, k: f64, b: f64, diag: f64) {
         let nv = self.model.nv;
-        let vel: f64 = self.efc_j[r * nv..(r + 1) * nv].iter().zip(&self.qvel).map(|(a, v)| a * v).sum();
+        let vel: f64 = self.efc_j[r * nv..(r + 1) * nv]
+            .iter()
+            .zip(&self.qvel)
+            .map(|(a, v)| a * v)
+            .sum();
         self.efc_aref[r] = -b * vel - k * imp * viol;
         self.efc_r[r] = ((1.0 - imp) / imp * diag).max(1e-15);
     }
@@ -236,7 +256,10 @@ impl Data {
             self.efc_inv[r] = 1.0 / (self.efc_a[r * n + r] + self.efc_r[r]);
             // Warm start from the previous solve's force of the same row.
             let key = self.row_key(r);
-            self.efc_force[r] = self.warm[..self.warm_count].iter().find(|(k, _)| *k == key).map_or(0.0, |(_, f)| *f);
+            self.efc_force[r] = self.warm[..self.warm_count]
+                .iter()
+                .find(|(k, _)| *k == key)
+                .map_or(0.0, |(_, f)| *f);
         }
         // g = b + A f, kept current as forces change (a row whose force does not move costs
         // nothing).
@@ -305,7 +328,11 @@ impl Data {
         let mu = m.pairs[c.pair].friction;
         let mut f = [0.0; 3];
         for r in 0..self.nefc {
-            if let RowKind::Contact { contact, edge, frictionless } = self.efc_kind[r]
+            if let RowKind::Contact {
+                contact,
+                edge,
+                frictionless,
+            } = self.efc_kind[r]
                 && contact == ci
             {
                 let fr = self.efc_force[r];

@@ -17,7 +17,10 @@ use std::sync::Arc;
 use crate::collision::Contact;
 use crate::constraint::RowKind;
 use crate::dynamics::{cholesky, cholesky_solve};
-use crate::math::{IDENTITY, Inertia, M3, QUAT_IDENTITY, Quat, V3, V6, ZERO3, add, cross, dot, quat_integrate, quat_mul, quat_normalize, scale, split};
+use crate::math::{
+    IDENTITY, Inertia, M3, QUAT_IDENTITY, Quat, V3, V6, ZERO3, add, cross, dot, quat_integrate, quat_mul,
+    quat_normalize, scale, split,
+};
 use crate::model::{Integrator, JointKind, Model};
 
 /// One instance of a [`Model`].
@@ -259,7 +262,10 @@ impl Data {
             let (qa, da) = (m.jnt_qposadr[j], m.jnt_dofadr[j]);
             let lin = if jt.kind == JointKind::Free { 3 } else { 1 };
             for k in 0..lin {
-                let v: f64 = (0..4).filter(|&s| w[s] != 0.0).map(|s| w[s] * self.rk_vel[s][da + k]).sum();
+                let v: f64 = (0..4)
+                    .filter(|&s| w[s] != 0.0)
+                    .map(|s| w[s] * self.rk_vel[s][da + k])
+                    .sum();
                 q[qa + k] = q0[qa + k] + h * v;
             }
             if jt.kind == JointKind::Free {

@@ -8,8 +8,8 @@
 
 use crate::data::Data;
 use crate::math::{
-    IDENTITY, Inertia, QUAT_IDENTITY, ZERO3, add, add6, col, cross, cross_force, cross_motion, dot6,
-    join, mat_mul, mat_vec, quat_axis_angle, quat_mul, quat_normalize, quat_to_mat, rotate_diag, scale,
+    IDENTITY, Inertia, QUAT_IDENTITY, ZERO3, add, add6, col, cross, cross_force, cross_motion, dot6, join, mat_mul,
+    mat_vec, quat_axis_angle, quat_mul, quat_normalize, quat_to_mat, rotate_diag, scale,
 };
 use crate::model::{JointKind, Model};
 
@@ -34,7 +34,12 @@ impl Data {
                 match jt.kind {
                     JointKind::Free => {
                         pos = [self.qpos[qa], self.qpos[qa + 1], self.qpos[qa + 2]];
-                        quat = quat_normalize([self.qpos[qa + 3], self.qpos[qa + 4], self.qpos[qa + 5], self.qpos[qa + 6]]);
+                        quat = quat_normalize([
+                            self.qpos[qa + 3],
+                            self.qpos[qa + 4],
+                            self.qpos[qa + 5],
+                            self.qpos[qa + 6],
+                        ]);
                         r = quat_to_mat(quat);
                         let anchor = add(pos, mat_vec(&r, jt.pos));
                         for k in 0..3 {
@@ -341,4 +346,3 @@ pub(crate) fn set_invweight0(model: &mut Model) {
         }
     }
 }
-

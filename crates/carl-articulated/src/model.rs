@@ -130,11 +130,18 @@ impl Joint {
 pub enum Shape {
     /// The plane `z = 0` of the geom frame, normal `+z` (infinite).
     Plane,
-    Sphere { radius: f64 },
+    Sphere {
+        radius: f64,
+    },
     /// A segment along the geom's local z of half-length `half_length`, inflated by `radius`.
-    Capsule { radius: f64, half_length: f64 },
+    Capsule {
+        radius: f64,
+        half_length: f64,
+    },
     /// Half-sizes along the geom's local axes.
-    Box { half: V3 },
+    Box {
+        half: V3,
+    },
 }
 
 impl Shape {
@@ -255,13 +262,29 @@ impl Default for Options {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ModelError {
     #[error("body {index} ({name}): {message}")]
-    Body { index: usize, name: String, message: String },
+    Body {
+        index: usize,
+        name: String,
+        message: String,
+    },
     #[error("joint {index} ({name}): {message}")]
-    Joint { index: usize, name: String, message: String },
+    Joint {
+        index: usize,
+        name: String,
+        message: String,
+    },
     #[error("geom {index} ({name}): {message}")]
-    Geom { index: usize, name: String, message: String },
+    Geom {
+        index: usize,
+        name: String,
+        message: String,
+    },
     #[error("actuator {index} ({name}): {message}")]
-    Actuator { index: usize, name: String, message: String },
+    Actuator {
+        index: usize,
+        name: String,
+        message: String,
+    },
     #[error("options: {0}")]
     Options(String),
 }
@@ -419,7 +442,8 @@ impl Model {
                 jt.solref_limit[0],
                 jt.solref_limit[1],
             ];
-            if !nums.iter().all(|x| x.is_finite()) || !finite3(jt.pos) || !jt.solimp_limit.iter().all(|x| x.is_finite()) {
+            if !nums.iter().all(|x| x.is_finite()) || !finite3(jt.pos) || !jt.solimp_limit.iter().all(|x| x.is_finite())
+            {
                 return Err(e("parameters must be finite".into()));
             }
             if jt.armature < 0.0 || jt.damping < 0.0 || jt.stiffness < 0.0 {
@@ -467,7 +491,11 @@ impl Model {
         }
         let mut body_weld = vec![0; nb];
         for b in 1..nb {
-            body_weld[b] = if body_joints[b].is_empty() { body_weld[bodies[b].parent] } else { b };
+            body_weld[b] = if body_joints[b].is_empty() {
+                body_weld[bodies[b].parent]
+            } else {
+                b
+            };
         }
         for (i, g) in geoms.iter().enumerate() {
             let e = |message: &str| ModelError::Geom {
@@ -606,12 +634,18 @@ fn collision_pairs(bodies: &[Body], weld: &[usize], geoms: &[Geom]) -> Vec<GeomP
             if (a.contype & b.conaffinity) == 0 && (b.contype & a.conaffinity) == 0 {
                 continue;
             }
-            let (g1, g2) = if a.shape.order() <= b.shape.order() { (i, j) } else { (j, i) };
+            let (g1, g2) = if a.shape.order() <= b.shape.order() {
+                (i, j)
+            } else {
+                (j, i)
+            };
             let (s1, s2) = (geoms[g1].shape, geoms[g2].shape);
             let supported = matches!(
                 (s1, s2),
-                (Shape::Plane, Shape::Sphere { .. } | Shape::Capsule { .. } | Shape::Box { .. })
-                    | (Shape::Sphere { .. }, Shape::Sphere { .. } | Shape::Capsule { .. })
+                (
+                    Shape::Plane,
+                    Shape::Sphere { .. } | Shape::Capsule { .. } | Shape::Box { .. }
+                ) | (Shape::Sphere { .. }, Shape::Sphere { .. } | Shape::Capsule { .. })
                     | (Shape::Capsule { .. }, Shape::Capsule { .. })
             );
             if !supported {

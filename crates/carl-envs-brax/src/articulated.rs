@@ -152,10 +152,21 @@ impl ArticulatedSystem {
             }
             let m = finite_or(m, base).max(1e-6);
             let ine = &l.inertial.inertia;
-            let tensor = [[ine.ixx, ine.ixy, ine.ixz], [ine.ixy, ine.iyy, ine.iyz], [ine.ixz, ine.iyz, ine.izz]];
+            let tensor = [
+                [ine.ixx, ine.ixy, ine.ixz],
+                [ine.ixy, ine.iyy, ine.iyz],
+                [ine.ixz, ine.iyz, ine.izz],
+            ];
             let (moments, axes) = math::principal_axes(&tensor);
             let frame = math::mat_to_quat(&rpy_mat(l.inertial.origin.rpy.0));
-            let mut body = Body::new(&l.name, parent, pos, m, l.inertial.origin.xyz.0, math::scale(moments, m / base));
+            let mut body = Body::new(
+                &l.name,
+                parent,
+                pos,
+                m,
+                l.inertial.origin.xyz.0,
+                math::scale(moments, m / base),
+            );
             body.quat = quat;
             body.iquat = math::quat_mul(frame, axes);
             bodies.push(body);
@@ -188,7 +199,11 @@ impl ArticulatedSystem {
                         None if !root => jd,
                         None => 0.0,
                     };
-                    joint.stiffness = side.joint_springs.iter().find(|s| s.joint == *name).map_or(0.0, |s| s.stiffness);
+                    joint.stiffness = side
+                        .joint_springs
+                        .iter()
+                        .find(|s| s.joint == *name)
+                        .map_or(0.0, |s| s.stiffness);
                     if !matches!(jt.joint_type, urdf_rs::JointType::Continuous) && jt.limit.lower < jt.limit.upper {
                         joint.range = Some([jt.limit.lower, jt.limit.upper]);
                     }
@@ -257,8 +272,8 @@ impl ArticulatedSystem {
             timestep: h,
             gravity: [0.0, 0.0, finite_or(params.gravity, 0.0)],
             integrator: match side.integrator {
-                super::model::IntegratorName::Euler => Integrator::Euler,
-                super::model::IntegratorName::Rk4 => Integrator::Rk4,
+                super::model::Integrator::Euler => Integrator::Euler,
+                super::model::Integrator::Rk4 => Integrator::Rk4,
             },
             viscosity: finite_or(params.viscosity, 0.0).max(0.0),
             ..Options::default()
@@ -343,7 +358,11 @@ impl ArticulatedWorld {
         let mut vel = d.qvel[..off].to_vec();
         vel.extend(self.sys.joint_addr.iter().map(|&(_, da)| d.qvel[da]));
         Configuration {
-            root: if self.sys.free_root { d.qpos[..7].to_vec() } else { Vec::new() },
+            root: if self.sys.free_root {
+                d.qpos[..7].to_vec()
+            } else {
+                Vec::new()
+            },
             joints: self.sys.joint_addr.iter().map(|&(qa, _)| d.qpos[qa]).collect(),
             vel,
         }
@@ -374,6 +393,24 @@ impl ArticulatedWorld {
     /// Whether every coordinate and rate is finite and no rate exceeds `max_speed`.
     pub fn is_sane(&self, max_speed: f64) -> bool {
         self.data.is_sane(max_speed)
+    }
+
+    /// Generalized constraint forces of the last step (MuJoCo's `qfrc_constraint`), one per
+    /// velocity coordinate (a free root's six first).
+    pub fn constraint_forces(&self, out: &mut [f64]) {
+        out.fill(0.0);
+        for (o, f) in out.iter_mut().zip(&self.data.qfrc_constraint) {
+            *o = *f;
+        }
+    }
+
+    /// World position of the point `local` (link frame) of URDF link `i`.
+    pub fn link_point(&self, i: usize, local: [f64; 3]) -> [f64; 3] {
+        let b = self.sys.link_body[i];
+        carl_articulated::math::add(
+            self.data.xpos[b],
+            carl_articulated::math::mat_vec(&self.data.xmat[b], local),
+        )
     }
 
     /// Contact wrench on each URDF link over the last step, `[torque, force]` (world frame,
@@ -470,14 +507,20 @@ mod tests {
         let robot = RobotModel::load("ant").unwrap();
         let sys = ArticulatedSystem::new(&robot, &mujoco_ant_params(&robot)).unwrap();
         let m = &*sys.model;
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../carl-articulated/tests/fixtures/mujoco_ant.json");
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../carl-articulated/tests/fixtures/mujoco_ant.json"
+        );
         let fx: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-        let nums = |v: &serde_json::Value| -> Vec<f64> {
-            v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()
-        };
+        let nums =
+            |v: &serde_json::Value| -> Vec<f64> { v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect() };
         let dw = nums(&fx["model"]["dof_invweight0"]);
         for (a, b) in m.dof_invweight0.iter().zip(&dw) {
-            assert!((a - b).abs() < 1e-6 * b, "dof_invweight0 {:?} vs {dw:?}", m.dof_invweight0);
+            assert!(
+                (a - b).abs() < 1e-6 * b,
+                "dof_invweight0 {:?} vs {dw:?}",
+                m.dof_invweight0
+            );
         }
         assert_eq!(m.nq, 15);
         let recs = fx["trajectory"].as_array().unwrap();
@@ -498,7 +541,10 @@ mod tests {
             dq = dq.max(d.qpos.iter().zip(&q1).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max));
             dv = dv.max(d.qvel.iter().zip(&v1).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max));
         }
-        assert!(dq < 1e-5 && dv < 2e-4, "ant from the URDF: qpos off by {dq}, qvel by {dv}");
+        assert!(
+            dq < 1e-5 && dv < 2e-4,
+            "ant from the URDF: qpos off by {dq}, qvel by {dv}"
+        );
     }
 
     #[test]

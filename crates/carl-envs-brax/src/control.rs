@@ -103,6 +103,7 @@ impl Clone for Control {
         };
         match &self.world {
             Some(Physics::Planar(w)) => c.world = Some(Physics::Planar(w.clone())),
+            Some(Physics::Articulated(w)) => c.world = Some(Physics::Articulated(w.clone())),
             Some(Physics::Rapier(_)) => c.load(&self.state_vec()),
             None => {}
         }

@@ -33,26 +33,16 @@ pub enum Engine {
     Articulated,
 }
 
-/// Time integration of the articulated engine (MuJoCo's `integrator`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum IntegratorName {
-    /// Semi-implicit Euler with implicit joint damping (MuJoCo's default).
-    #[default]
-    Euler,
-    /// Fourth-order Runge–Kutta (every stage with contacts, as MuJoCo's `RK4`).
-    Rk4,
-}
-
-/// The integrator of the planar engine.
+/// Time integration (MuJoCo's `integrator`), for the planar and the articulated engine.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Integrator {
     /// Semi-implicit Euler with implicit joint damping (MuJoCo's default `Euler`).
     #[default]
     Euler,
-    /// Classic fourth-order Runge–Kutta (MuJoCo's `RK4`): every stage's acceleration with its
-    /// constraint impulses, damping explicit.
+    /// Fourth-order Runge–Kutta (MuJoCo's `RK4`): every stage's acceleration with its
+    /// constraint forces (the articulated engine: with contacts in every stage; the planar
+    /// engine: damping explicit).
     Rk4,
 }
 
@@ -130,9 +120,9 @@ pub struct SideFile {
     pub engine: Engine,
     /// Physics time step (s).
     pub timestep: f64,
-    /// The articulated engine's integrator (default Euler).
+    /// Time integration of the planar and articulated engines (default semi-implicit Euler).
     #[serde(default)]
-    pub integrator: IntegratorName,
+    pub integrator: Integrator,
     /// Physics steps per environment step.
     pub frame_skip: usize,
     /// rapier solver iterations (substeps) per physics step.
@@ -222,9 +212,6 @@ pub struct SideFile {
     /// Named points on links (MuJoCo's sites).
     #[serde(default)]
     pub sites: Vec<Site>,
-    /// Planar engine: the integrator (default semi-implicit Euler).
-    #[serde(default)]
-    pub integrator: Integrator,
 }
 
 fn yes() -> bool {

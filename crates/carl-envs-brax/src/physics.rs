@@ -114,11 +114,12 @@ impl Physics {
     }
 
     /// Generalized constraint forces of the last step (MuJoCo's `qfrc_constraint`), one per
-    /// coordinate; the planar engine's (zeros on rapier, whose impulses are not exposed).
+    /// coordinate; the planar and articulated engines' (zeros on rapier, whose impulses are not exposed).
     pub fn constraint_forces(&self, out: &mut [f64]) {
         match self {
             Physics::Rapier(_) => out.fill(0.0),
             Physics::Planar(w) => w.constraint_forces(out),
+            Physics::Articulated(w) => w.constraint_forces(out),
         }
     }
 
@@ -134,6 +135,7 @@ impl Physics {
                 [f64::from(p.x), f64::from(p.y), f64::from(p.z)]
             }
             Physics::Planar(w) => w.link_point(i, local),
+            Physics::Articulated(w) => w.link_point(i, local),
         }
     }
 

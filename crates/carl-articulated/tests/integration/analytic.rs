@@ -24,7 +24,14 @@ fn world() -> Body {
 fn pendulum(l: f64, integrator: Integrator, h: f64) -> Model {
     let bob = Body::new("bob", 0, [0.0; 3], 1.0, [0.0, 0.0, -l], [1e-6; 3]);
     let hinge = Joint::new("hinge", 1, JointKind::Hinge, [0.0, 1.0, 0.0]);
-    Model::new(opts(h, integrator, 9.81), vec![world(), bob], vec![hinge], vec![], vec![]).unwrap()
+    Model::new(
+        opts(h, integrator, 9.81),
+        vec![world(), bob],
+        vec![hinge],
+        vec![],
+        vec![],
+    )
+    .unwrap()
 }
 
 #[test]
@@ -54,7 +61,14 @@ fn rk4_conserves_energy_without_damping() {
     let b2 = Body::new("b", 1, [0.4, 0.0, 0.0], 0.7, [0.15, 0.05, 0.0], [0.005, 0.01, 0.008]);
     let j1 = Joint::new("j1", 1, JointKind::Hinge, [0.0, 1.0, 0.0]);
     let j2 = Joint::new("j2", 2, JointKind::Hinge, [0.3, 1.0, 0.2]);
-    let m = Model::new(opts(1e-3, Integrator::Rk4, 9.81), vec![world(), b1, b2], vec![j1, j2], vec![], vec![]).unwrap();
+    let m = Model::new(
+        opts(1e-3, Integrator::Rk4, 9.81),
+        vec![world(), b1, b2],
+        vec![j1, j2],
+        vec![],
+        vec![],
+    )
+    .unwrap();
     let mut d = Data::new(Arc::new(m));
     d.qvel[0] = 4.0;
     d.qvel[1] = -6.0;
@@ -85,7 +99,14 @@ fn free_tumbling_body_conserves_momentum_and_energy() {
     let mut body = Body::new("b", 0, [0.0; 3], 2.0, [0.05, -0.02, 0.03], [0.1, 0.2, 0.3]);
     body.iquat = math::quat_normalize([0.9, 0.1, 0.3, -0.2]);
     let free = Joint::new("free", 1, JointKind::Free, [0.0, 0.0, 1.0]);
-    let m = Model::new(opts(1e-3, Integrator::Rk4, 0.0), vec![world(), body], vec![free], vec![], vec![]).unwrap();
+    let m = Model::new(
+        opts(1e-3, Integrator::Rk4, 0.0),
+        vec![world(), body],
+        vec![free],
+        vec![],
+        vec![],
+    )
+    .unwrap();
     let mut d = Data::new(Arc::new(m));
     d.qvel.copy_from_slice(&[0.3, -0.1, 0.2, 0.05, 5.0, 0.02]);
     d.update_kinematics();
@@ -116,10 +137,25 @@ fn capsule_rests_at_radius_minus_soft_penetration() {
     // A horizontal capsule (axis along x).
     let mut body = Body::new("cap", 0, [0.0, 0.0, 0.2], mass, [0.0; 3], [0.001, 0.005, 0.005]);
     body.quat = math::quat_axis_angle([0.0, 1.0, 0.0], std::f64::consts::FRAC_PI_2);
-    let cap = Geom::new("cap", 1, Shape::Capsule { radius: r, half_length: 0.1 }, [0.0; 3]);
+    let cap = Geom::new(
+        "cap",
+        1,
+        Shape::Capsule {
+            radius: r,
+            half_length: 0.1,
+        },
+        [0.0; 3],
+    );
     let free = Joint::new("free", 1, JointKind::Free, [0.0, 0.0, 1.0]);
     let h = 0.002;
-    let m = Model::new(opts(h, Integrator::Euler, 9.81), vec![world(), body], vec![free], vec![floor, cap], vec![]).unwrap();
+    let m = Model::new(
+        opts(h, Integrator::Euler, 9.81),
+        vec![world(), body],
+        vec![free],
+        vec![floor, cap],
+        vec![],
+    )
+    .unwrap();
     let mut d = Data::new(Arc::new(m));
     for _ in 0..2000 {
         d.step();
@@ -135,7 +171,10 @@ fn capsule_rests_at_radius_minus_soft_penetration() {
     let pen = -(1.0 - imp) * 9.81 / (k * imp * imp);
     let z = d.qpos[2];
     let expected = r + pen;
-    assert!((z - expected).abs() < 2e-5, "rest height {z} vs {expected} (radius {r}, soft penetration {pen})");
+    assert!(
+        (z - expected).abs() < 2e-5,
+        "rest height {z} vs {expected} (radius {r}, soft penetration {pen})"
+    );
     assert!(z < r, "no soft penetration: {z}");
     assert!(d.qvel.iter().all(|v| v.abs() < 1e-6), "not at rest: {:?}", d.qvel);
 }
@@ -145,7 +184,14 @@ fn slide_joint_falls_with_gravity() {
     let body = Body::new("slider", 0, [0.0; 3], 3.0, [0.0; 3], [0.1; 3]);
     let mut slide = Joint::new("z", 1, JointKind::Slide, [0.0, 0.0, 1.0]);
     slide.armature = 0.0;
-    let m = Model::new(opts(1e-3, Integrator::Euler, 9.81), vec![world(), body], vec![slide], vec![], vec![]).unwrap();
+    let m = Model::new(
+        opts(1e-3, Integrator::Euler, 9.81),
+        vec![world(), body],
+        vec![slide],
+        vec![],
+        vec![],
+    )
+    .unwrap();
     let mut d = Data::new(Arc::new(m));
     for _ in 0..1000 {
         d.step();
@@ -167,7 +213,14 @@ fn slide_joint_falls_with_gravity() {
 fn bad_input_is_refused_with_a_clear_error() {
     let body = Body::new("b", 0, [0.0; 3], 1.0, [0.0; 3], [0.1; 3]);
     let zero_axis = Joint::new("j", 1, JointKind::Hinge, [0.0; 3]);
-    let e = Model::new(Options::default(), vec![world(), body.clone()], vec![zero_axis], vec![], vec![]).unwrap_err();
+    let e = Model::new(
+        Options::default(),
+        vec![world(), body.clone()],
+        vec![zero_axis],
+        vec![],
+        vec![],
+    )
+    .unwrap_err();
     assert!(matches!(e, ModelError::Joint { .. }), "{e}");
     assert!(e.to_string().contains("axis"), "{e}");
     let mut bad = body.clone();

@@ -70,7 +70,12 @@ pub fn model(fx: &Value) -> Model {
                 "hinge" => JointKind::Hinge,
                 _ => JointKind::Slide,
             };
-            let mut jt = Joint::new(&format!("joint{i}"), j["body"].as_u64().unwrap() as usize, kind, v3(&j["axis"]));
+            let mut jt = Joint::new(
+                &format!("joint{i}"),
+                j["body"].as_u64().unwrap() as usize,
+                kind,
+                v3(&j["axis"]),
+            );
             jt.pos = v3(&j["pos"]);
             jt.armature = f(&j["armature"]);
             jt.damping = f(&j["damping"]);
@@ -98,9 +103,16 @@ pub fn model(fx: &Value) -> Model {
                     radius: s[0],
                     half_length: s[1],
                 },
-                _ => Shape::Box { half: [s[0], s[1], s[2]] },
+                _ => Shape::Box {
+                    half: [s[0], s[1], s[2]],
+                },
             };
-            let mut geom = Geom::new(&format!("geom{i}"), g["body"].as_u64().unwrap() as usize, shape, v3(&g["pos"]));
+            let mut geom = Geom::new(
+                &format!("geom{i}"),
+                g["body"].as_u64().unwrap() as usize,
+                shape,
+                v3(&g["pos"]),
+            );
             geom.quat = q4(&g["quat"]);
             geom.contype = g["contype"].as_u64().unwrap() as u32;
             geom.conaffinity = g["conaffinity"].as_u64().unwrap() as u32;

@@ -39,11 +39,18 @@ fn check_constants(fx: &Value) {
         .collect();
     let ours: Vec<f64> = m.body_invweight0.iter().flat_map(|x| x.to_vec()).collect();
     for (a, b) in ours.iter().zip(&bw) {
-        assert!((a - b).abs() <= 1e-6 * b.abs().max(1.0), "body_invweight0 {ours:?} vs MuJoCo {bw:?}");
+        assert!(
+            (a - b).abs() <= 1e-6 * b.abs().max(1.0),
+            "body_invweight0 {ours:?} vs MuJoCo {bw:?}"
+        );
     }
     let dw = fs(&fx["model"]["dof_invweight0"]);
     for (a, b) in m.dof_invweight0.iter().zip(&dw) {
-        assert!((a - b).abs() <= 1e-6 * b.abs().max(1.0), "dof_invweight0 {:?} vs MuJoCo {dw:?}", m.dof_invweight0);
+        assert!(
+            (a - b).abs() <= 1e-6 * b.abs().max(1.0),
+            "dof_invweight0 {:?} vs MuJoCo {dw:?}",
+            m.dof_invweight0
+        );
     }
     assert!(max_abs_diff(&m.qpos0, &fs(&fx["model"]["qpos0"])) < 1e-9, "qpos0");
 }
@@ -59,16 +66,36 @@ fn check_first(fx: &Value, acc_tol: f64) {
     assert!(d.forward());
     let first = &fx["first"];
     let qm: Vec<f64> = first["qM"].as_array().unwrap().iter().flat_map(fs).collect();
-    assert!(max_abs_diff(&d.qm, &qm) < 1e-9, "mass matrix {:?} vs MuJoCo {qm:?}", d.qm);
+    assert!(
+        max_abs_diff(&d.qm, &qm) < 1e-9,
+        "mass matrix {:?} vs MuJoCo {qm:?}",
+        d.qm
+    );
     let bias = fs(&first["qfrc_bias"]);
-    assert!(max_abs_diff(&d.qfrc_bias, &bias) < 1e-8, "bias {:?} vs MuJoCo {bias:?}", d.qfrc_bias);
+    assert!(
+        max_abs_diff(&d.qfrc_bias, &bias) < 1e-8,
+        "bias {:?} vs MuJoCo {bias:?}",
+        d.qfrc_bias
+    );
     let pas = fs(&first["qfrc_passive"]);
-    assert!(max_abs_diff(&d.qfrc_passive, &pas) < 1e-9, "passive {:?} vs {pas:?}", d.qfrc_passive);
+    assert!(
+        max_abs_diff(&d.qfrc_passive, &pas) < 1e-9,
+        "passive {:?} vs {pas:?}",
+        d.qfrc_passive
+    );
     let a0 = fs(&first["qacc_smooth"]);
-    assert!(max_abs_diff(&d.qacc_smooth, &a0) < 1e-7, "qacc_smooth {:?} vs {a0:?}", d.qacc_smooth);
+    assert!(
+        max_abs_diff(&d.qacc_smooth, &a0) < 1e-7,
+        "qacc_smooth {:?} vs {a0:?}",
+        d.qacc_smooth
+    );
     let a = fs(&first["qacc"]);
     let scale = a.iter().fold(1.0f64, |s, x| s.max(x.abs()));
-    assert!(max_abs_diff(&d.qacc, &a) < acc_tol * scale, "qacc {:?} vs MuJoCo {a:?}", d.qacc);
+    assert!(
+        max_abs_diff(&d.qacc, &a) < acc_tol * scale,
+        "qacc {:?} vs MuJoCo {a:?}",
+        d.qacc
+    );
     assert_eq!(d.ncon as u64, first["ncon"].as_u64().unwrap(), "contact count");
 }
 
@@ -93,7 +120,12 @@ fn trajectory(fx: &Value, upto: usize) -> (f64, f64) {
         }
         assert!((d.time - f(&rec["time"])).abs() < 1e-9);
         if std::env::var("ARTICULATED_TRACE").is_ok() {
-            eprintln!("step {target}: qpos {:.3e} qvel {:.3e} ncon {}", max_abs_diff(&d.qpos, &fs(&rec["qpos"])), max_abs_diff(&d.qvel, &fs(&rec["qvel"])), d.ncon);
+            eprintln!(
+                "step {target}: qpos {:.3e} qvel {:.3e} ncon {}",
+                max_abs_diff(&d.qpos, &fs(&rec["qpos"])),
+                max_abs_diff(&d.qvel, &fs(&rec["qvel"])),
+                d.ncon
+            );
         }
         dq = dq.max(max_abs_diff(&d.qpos, &fs(&rec["qpos"])));
         dv = dv.max(max_abs_diff(&d.qvel, &fs(&rec["qvel"])));
@@ -119,7 +151,10 @@ fn local_errors(fx: &Value) -> (f64, f64) {
             d.ctrl.copy_from_slice(&u);
             d.step();
         }
-        let (a, b) = (max_abs_diff(&d.qpos, &fs(&w[1]["qpos"])), max_abs_diff(&d.qvel, &fs(&w[1]["qvel"])));
+        let (a, b) = (
+            max_abs_diff(&d.qpos, &fs(&w[1]["qpos"])),
+            max_abs_diff(&d.qvel, &fs(&w[1]["qvel"])),
+        );
         if std::env::var("ARTICULATED_TRACE").is_ok() {
             eprintln!("local {}: qpos {a:.3e} qvel {b:.3e} ncon {}", w[1]["step"], d.ncon);
         }
@@ -218,7 +253,13 @@ fn ant_speed() {
         sweeps += d.solver_sweeps;
     }
     let el = t0.elapsed().as_secs_f64();
-    eprintln!("{n} RK4 steps in {el:.3} s: {:.0} physics steps/s, {:.0} env steps/s (frame skip 5); mean contacts {:.2}, sweeps {:.1}", n as f64 / el, n as f64 / el / 5.0, rows as f64 / n as f64, sweeps as f64 / n as f64);
+    eprintln!(
+        "{n} RK4 steps in {el:.3} s: {:.0} physics steps/s, {:.0} env steps/s (frame skip 5); mean contacts {:.2}, sweeps {:.1}",
+        n as f64 / el,
+        n as f64 / el / 5.0,
+        rows as f64 / n as f64,
+        sweeps as f64 / n as f64
+    );
 }
 
 #[test]
