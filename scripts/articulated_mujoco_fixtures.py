@@ -15,8 +15,8 @@ each other and the floor (capsule–capsule, sphere–capsule contacts), and Gym
 (RK4, its own option) under a fixed open-loop control.
 
 Needs mujoco 4.0.0 and gymnasium 1.4.0 (for ant.xml), e.g. in a venv outside the repository:
-    python3 -m venv /tmp/mj-venv && /tmp/mj-venv/bin/pip install mujoco==4.0.0 gymnasium==1.4.0
-Run from the repository root: `/tmp/mj-venv/bin/python scripts/articulated_mujoco_fixtures.py`
+    python3 -m venv ~/venvs/mujoco && ~/venvs/mujoco/bin/pip install mujoco==4.0.0 gymnasium==1.4.0
+Run from the repository root: `~/venvs/mujoco/bin/python scripts/articulated_mujoco_fixtures.py`
 (`--check` compares with the committed fixtures instead of writing).
 """
 import argparse

@@ -14,8 +14,8 @@ envpool) and the load average before and after (compare ratios, not absolute rat
 may be shared). The robots are those of `robot_speed_compare.py` (its `GYM_IDS`).
 
 Usage (from the repository root, in a venv with envpool from PyPI, e.g.
-`python3 -m venv /tmp/envpool-venv && /tmp/envpool-venv/bin/pip install envpool==1.2.5`):
-    /tmp/envpool-venv/bin/python scripts/robot_envpool_compare.py --carl-spec target/release/carl-spec \\
+`python3 -m venv ~/venvs/envpool && ~/venvs/envpool/bin/pip install envpool==1.2.5`):
+    ~/venvs/envpool/bin/python scripts/robot_envpool_compare.py --carl-spec target/release/carl-spec \\
         --num-envs 16 --threads 2 --runs 5 --json robot_envpool.json --markdown robot_envpool.md
 """
 import argparse
