@@ -12,12 +12,14 @@
 //!   between instances.
 //! * [`locomotion`]: Gymnasium v5 tasks (Ant, HalfCheetah, Humanoid, Hopper, Walker2d).
 //! * [`com`]: MuJoCo's centre-of-mass based body quantities (`cinert`, `cvel`, `cfrc_ext`).
+//! * [`goal`]: carl-bench's goal-directed variant of the locomotion tasks (the `goal` option).
 //! * [`fetch`]: Brax's fetch task (a dog runs to random targets).
 //! * [`grasp`]: Brax's claw hand grasping a ball.
 //! * [`render`]: software rendering of a world to a [`Frame`](carl_pixels::Frame).
 
 pub mod com;
 pub mod fetch;
+pub mod goal;
 pub mod grasp;
 pub mod locomotion;
 pub mod model;
@@ -31,6 +33,7 @@ pub mod vec3;
 pub mod world;
 
 pub use fetch::Fetch;
+pub use goal::GoalLocomotion;
 pub use grasp::Grasp;
 pub use locomotion::{ContactCost, ForwardVelocity, Locomotion, StepInfo, TaskConfig, VelocityNoise};
 pub use model::RobotModel;
@@ -98,7 +101,18 @@ pub fn default_params(id: &str) -> Option<RobotParams> {
         }
         _ => return None,
     }
+    if has_goal_option(id) {
+        // carl-bench 1.1.1's goal features (BraxWalkerGoalWrapper).
+        p.target_distance = 100.0;
+        p.target_radius = 5.0;
+        p.target_direction = 1.0;
+    }
     Some(p)
+}
+
+/// Whether environment `id` takes the `goal` option (carl-bench's goal-directed walkers).
+pub fn has_goal_option(id: &str) -> bool {
+    matches!(id, "ant" | "half_cheetah" | "hopper" | "humanoid" | "walker2d")
 }
 
 /// Whether `id` is one of the robot environments of this module.
