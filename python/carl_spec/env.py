@@ -171,6 +171,7 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
         self._seeded = False
         self._info: dict[str, Any] = {}
         self._noise_per_step = self._core.noise_redraw() == "step"
+        self._goal = False
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[np.ndarray, dict[str, Any]]:
         check_seed(seed)
@@ -181,7 +182,11 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
             self._seeded = True
         obs, info = self._core.reset(seed)
         self._info = _with_numpy_seed(info)
-        return obs, _fresh(info)
+        self._goal = self._core.goal_info() is not None
+        out = _fresh(info)
+        if self._goal:
+            out.update(self._core.goal_info() or {})
+        return obs, out
 
     def step(self, action: Any) -> tuple[np.ndarray, SupportsFloat, bool, bool, dict[str, Any]]:
         if not self._discrete:
@@ -195,6 +200,8 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
         if self._noise_per_step:
             self._info["observed_context"] = self._core.observed_context()
         info = _fresh(self._info)
+        if self._goal:
+            info.update(self._core.goal_info() or {})
         if terminated:
             end = self._core.episode_end_info()
             if end is not None:

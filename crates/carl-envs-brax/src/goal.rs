@@ -118,6 +118,14 @@ impl GoalLocomotion {
         self.direction
     }
 
+    /// The torso's `(x, y)` at the episode's start.
+    pub fn start(&self) -> [f64; 2] {
+        self.start
+    }
+    /// The torso's `(x, y)` now.
+    pub fn torso_position(&self) -> [f64; 2] {
+        self.torso_xy(&self.task.state())
+    }
     /// The goal's position `(x, y)`.
     pub fn goal(&self) -> [f64; 2] {
         let u = self.direction.unit();
@@ -246,6 +254,141 @@ impl Env for GoalLocomotion {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::{default_params, make_robot};
+    use carl_env::rng::{EnvRng, uniform};
+
+    fn goal_env(id: &str, set: impl FnOnce(&mut RobotParams)) -> GoalLocomotion {
+        let mut p = default_params(id).unwrap();
+        set(&mut p);
+        GoalLocomotion::new(make_robot(id, p).unwrap()).unwrap()
+    }
+
+    fn random_action(env: &GoalLocomotion, rng: &mut EnvRng) -> Action {
+        let n = match env.action_space() {
+            Space::Box { shape, .. } => shape[0],
+            other => panic!("{other:?}"),
+        };
+        Action::Continuous((0..n).map(|_| uniform(rng, -1.0, 1.0) as f32).collect())
+    }
+
+    /// The reward is the decrease of the torso's true x-y distance to the goal (never
+    /// negative), `info` reports that distance, the goal lies `target_distance` away on the
+    /// bearing of the code.
+    #[test]
+    fn reward_is_the_decrease_of_the_torsos_distance_to_the_goal() {
+        for id in ["ant", "half_cheetah", "hopper"] {
+            for code in [2.0, 14.0, 232.0] {
+                let mut env = goal_env(id, |p| {
+                    p.target_direction = code;
+                    p.target_distance = 3.0;
+                    p.target_radius = 0.1;
+                });
+                let mut obs = vec![0.0; env.obs_dim()];
+                env.reset_into(Some(3), &mut obs).unwrap();
+                let start = env.torso_xy(&env.task().state());
+                let u = direction(code).unwrap().unit();
+                let g = env.goal();
+                assert!((g[0] - start[0] - 3.0 * u[0]).abs() < 1e-12 && (g[1] - start[1] - 3.0 * u[1]).abs() < 1e-12);
+                let dist = |p: [f64; 2]| (g[0] - p[0]).hypot(g[1] - p[1]);
+                assert!((env.info()["goal_distance"] - 3.0).abs() < 1e-12, "{id}");
+                let mut rng = EnvRng::from_seed(9);
+                let mut positive = 0;
+                for _ in 0..30 {
+                    let before = dist(env.torso_xy(&env.task().state()));
+                    let a = random_action(&env, &mut rng);
+                    let out = env.step_into(&a, &mut obs).unwrap();
+                    let after = dist(env.torso_xy(&env.task().state()));
+                    assert_eq!(out.reward, (before - after).max(0.0), "{id} {code}");
+                    assert_eq!(env.info()["goal_distance"], after);
+                    assert_eq!(env.info()["goal_direction"], code);
+                    positive += usize::from(out.reward > 0.0);
+                    if out.terminated {
+                        break;
+                    }
+                }
+                assert!(positive > 0, "{id} {code}: the torso never came closer");
+            }
+        }
+    }
+
+    /// Within `target_radius` the episode terminates with `success = 1`; outside it goes on.
+    #[test]
+    fn reaching_the_goal_terminates_with_success() {
+        let mut env = goal_env("ant", |p| {
+            p.target_distance = 10.0;
+            p.target_radius = 2.0;
+            p.target_direction = 12.0;
+        });
+        let mut obs = vec![0.0; env.obs_dim()];
+        env.reset_into(Some(0), &mut obs).unwrap();
+        assert_eq!(env.info()["success"], 0.0);
+        let zero = Action::Continuous(vec![0.0; 8]);
+        let out = env.step_into(&zero, &mut obs).unwrap();
+        assert!(!out.terminated && env.info()["success"] == 0.0);
+        // Move the start so that the goal lies 1 m ahead of the torso: inside the radius.
+        let mut s = env.state();
+        let n = s.len() - 2;
+        let p = env.torso_xy(&s);
+        let u = env.direction().unit();
+        s[n] = p[0] - 9.0 * u[0];
+        s[n + 1] = p[1] - 9.0 * u[1];
+        env.set_state(&s).unwrap();
+        assert!((env.info()["goal_distance"] - 1.0).abs() < 1e-9);
+        let out = env.step_into(&zero, &mut obs).unwrap();
+        assert!(out.terminated && !out.truncated);
+        assert_eq!(env.info()["success"], 1.0);
+        // The same state with a smaller radius is not a success.
+        let mut small = goal_env("ant", |p| {
+            p.target_distance = 10.0;
+            p.target_radius = 0.5;
+            p.target_direction = 12.0;
+        });
+        small.set_state(&s).unwrap();
+        let out = small.step_into(&zero, &mut obs).unwrap();
+        assert!(!out.terminated && small.info()["success"] == 0.0);
+        // A goal at the start is reached on the first step.
+        let mut here = goal_env("hopper", |p| p.target_distance = 0.0);
+        here.reset_into(Some(1), &mut obs[..11]).unwrap();
+        let out = here.step_into(&Action::Continuous(vec![0.0; 3]), &mut obs[..11]).unwrap();
+        assert!(out.terminated && here.info()["success"] == 1.0);
+    }
+
+    /// The goal variant steps the task's physics unchanged: same states, observations and
+    /// (unhealthy) termination as the task itself.
+    #[test]
+    fn the_goal_leaves_the_tasks_physics_and_observation_alone() {
+        let mut task = make_robot("walker2d", default_params("walker2d").unwrap()).unwrap();
+        let mut env = goal_env("walker2d", |_| {});
+        let (mut oa, mut ob) = (vec![0.0; task.obs_dim()], vec![0.0; env.obs_dim()]);
+        task.reset_into(Some(5), &mut oa).unwrap();
+        env.reset_into(Some(5), &mut ob).unwrap();
+        assert_eq!(oa, ob);
+        let mut rng = EnvRng::from_seed(1);
+        for _ in 0..40 {
+            let a = random_action(&env, &mut rng);
+            let x = task.step_into(&a, &mut oa).unwrap();
+            let y = env.step_into(&a, &mut ob).unwrap();
+            assert_eq!(oa, ob);
+            assert_eq!(task.state(), env.task().state());
+            assert_eq!(x.terminated, y.terminated);
+            if x.terminated {
+                break;
+            }
+        }
+    }
+
+    #[test]
+    fn a_direction_that_is_no_code_is_refused_and_bad_states_are_errors() {
+        let mut p = default_params("ant").unwrap();
+        p.target_direction = 5.0;
+        assert!(GoalLocomotion::new(make_robot("ant", p).unwrap()).is_none());
+        let mut env = goal_env("ant", |_| {});
+        let mut s = env.state();
+        assert!(env.set_state(&s[..s.len() - 1]).is_err());
+        let n = s.len();
+        s[n - 1] = f64::NAN;
+        assert!(env.set_state(&s).is_err());
+    }
 
     #[test]
     fn every_code_points_where_its_name_says() {

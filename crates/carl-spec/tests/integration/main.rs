@@ -10,6 +10,7 @@ mod context_noise;
 mod contextual;
 mod fetch;
 mod fold_cli;
+mod goal_option;
 mod golden;
 mod grasp;
 mod hostile_input;
