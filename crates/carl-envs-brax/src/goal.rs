@@ -43,7 +43,9 @@ impl Direction {
     /// Unit vector `(east, north)` of the bearing.
     pub fn unit(&self) -> [f64; 2] {
         let b = self.bearing_deg.to_radians();
-        [b.sin(), b.cos()]
+        // Exact zeros on the axes (cos 90° is 6e-17 in floating point).
+        let exact = |v: f64| if v.abs() < 1e-12 { 0.0 } else { v };
+        [exact(b.sin()), exact(b.cos())]
     }
 }
 

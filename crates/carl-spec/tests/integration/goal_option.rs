@@ -97,3 +97,42 @@ fn the_goal_option_off_is_the_task_and_on_replaces_reward_and_adds_info() {
         }
     }
 }
+
+/// With the option on, every goal feature at each of its finite bounds (and every direction)
+/// gives finite observations and rewards.
+#[test]
+fn the_goal_variant_is_finite_at_the_goal_features_bounds() {
+    let specs = SpecSet::bundled().unwrap();
+    for id in ["ant", "hopper"] {
+        let spec = specs.get(id).unwrap();
+        let mut contexts: Vec<Context> = Vec::new();
+        for f in spec.features.iter().filter(|f| f.requires_option.is_some()) {
+            for b in f.bounds.iter().flatten() {
+                contexts.push(Context::from([(f.name.clone(), Value::Number(*b))]));
+            }
+            for c in f.choices.iter().flatten() {
+                if let carl_spec::spec::model::Scalar::Number(x) = c {
+                    contexts.push(Context::from([(f.name.clone(), Value::Number(*x))]));
+                }
+            }
+        }
+        assert!(contexts.len() >= 20);
+        for ctx in contexts {
+            let mut env = make_env(spec, &ctx, MakeOptions::default(), &goal_on()).unwrap();
+            let (obs, _) = env.reset(Some(0));
+            assert!(obs.iter().all(|x| x.is_finite()));
+            let n = match env.action_space() {
+                carl_spec::envs::Space::Box { shape, .. } => shape[0],
+                _ => unreachable!(),
+            };
+            for _ in 0..3 {
+                let s = env.step(&carl_spec::envs::Action::Continuous(vec![0.3; n])).unwrap();
+                assert!(s.reward.is_finite() && s.reward >= 0.0, "{id} {ctx:?}");
+                assert!(s.info["goal_distance"].is_finite());
+                if s.terminated {
+                    break;
+                }
+            }
+        }
+    }
+}
