@@ -19,6 +19,10 @@ _ROBOT = (
 )
 
 
+#: carl-bench's goal features of its walkers, in its order (they act with the `goal` option).
+_GOAL_NAMES = ("target_distance", "target_direction", "target_radius")
+
+
 def _robot_only(env: str) -> dict[str, str]:
     why = _ROBOT.format(env=env)
     return {"elasticity": why, "viscosity": why}
@@ -42,6 +46,8 @@ class _Robot(CARLEnv):
         self.env: Any = None
         self._tracker: Any = None
         super().__init__(*args, **kwargs)
+        if use_language_goals:
+            self._ctor["use_language_goals"] = True
         if self._goal:
             self.env = BraxWalkerGoalWrapper(self, self.env_id, "")
             if use_language_goals:
@@ -199,7 +205,7 @@ class CARLVehicleRacing(CARLEnv):
 
 class CARLBraxAnt(_Robot):
     env_id = "ant"
-    bench_names = ("gravity", "friction", "ang_damping", "mass_torso")
+    bench_names = ("gravity", "friction", "ang_damping", "mass_torso", *_GOAL_NAMES)
     bench_only = _robot_only("ant")
 
 
@@ -207,7 +213,7 @@ class CARLBraxHalfcheetah(_Robot):
     env_id = "half_cheetah"
     bench_names = (
         "gravity", "friction", "ang_damping", "mass_torso", "mass_bthigh", "mass_bshin", "mass_bfoot",
-        "mass_fthigh", "mass_fshin", "mass_ffoot",
+        "mass_fthigh", "mass_fshin", "mass_ffoot", *_GOAL_NAMES,
     )
     bench_only = _robot_only("half_cheetah")
 
@@ -217,7 +223,7 @@ class CARLBraxHumanoid(_Robot):
     bench_names = (
         "gravity", "friction", "ang_damping", "mass_torso", "mass_lwaist", "mass_pelvis", "mass_right_thigh",
         "mass_right_shin", "mass_left_thigh", "mass_left_shin", "mass_right_upper_arm", "mass_right_lower_arm",
-        "mass_left_upper_arm", "mass_left_lower_arm",
+        "mass_left_upper_arm", "mass_left_lower_arm", *_GOAL_NAMES,
     )
     bench_only = _robot_only("humanoid")
 
@@ -225,13 +231,13 @@ class CARLBraxHumanoid(_Robot):
 class CARLBraxHopper(_Robot):
     env_id = "hopper"
     bench_names = ("gravity", "friction", "elasticity", "ang_damping", "viscosity", "mass_torso", "mass_thigh",
-                   "mass_leg", "mass_foot")
+                   "mass_leg", "mass_foot", *_GOAL_NAMES)
 
 
 class CARLBraxWalker2d(_Robot):
     env_id = "walker2d"
     bench_names = ("gravity", "friction", "elasticity", "ang_damping", "viscosity", "mass_torso", "mass_thigh",
-                   "mass_leg", "mass_foot", "mass_thigh_left", "mass_leg_left", "mass_foot_left")
+                   "mass_leg", "mass_foot", "mass_thigh_left", "mass_leg_left", "mass_foot_left", *_GOAL_NAMES)
 
 
 class CARLMarioEnv(CARLEnv):
