@@ -71,13 +71,13 @@ def _walker(env: Any, who: str) -> Any:
     return base
 
 
-class BraxWalkerGoalWrapper(gymnasium.Wrapper):  # type: ignore[type-arg]
+class BraxWalkerGoalWrapper(gymnasium.Wrapper):
     """carl-bench's positional goal for the Brax walkers, over carl-spec's `goal` option.
 
     `position` and `goal_position` are relative to the torso's start (m, x east, y north),
     `goal_radius` is target_radius; all None before the first reset."""
 
-    def __init__(self, env: gymnasium.Env, env_name: str = "", asset_path: str = "") -> None:  # type: ignore[type-arg]
+    def __init__(self, env: gymnasium.Env, env_name: str = "", asset_path: str = "") -> None:
         walker = _walker(env, "BraxWalkerGoalWrapper")
         super().__init__(env)
         self.env_name = env_name or walker.env_id
@@ -98,10 +98,10 @@ class BraxWalkerGoalWrapper(gymnasium.Wrapper):  # type: ignore[type-arg]
         self.goal_radius = float(context.get("target_radius", np.nan))
 
 
-class BraxLanguageWrapper(gymnasium.Wrapper):  # type: ignore[type-arg]
+class BraxLanguageWrapper(gymnasium.Wrapper):
     """carl-bench's goal in words: the observation's `obs` becomes `{"obs": ..., "goal": text}`."""
 
-    def __init__(self, env: gymnasium.Env) -> None:  # type: ignore[type-arg]
+    def __init__(self, env: gymnasium.Env) -> None:
         walker = _walker(env, "BraxLanguageWrapper")
         super().__init__(env)
         self.context: dict[str, Any] | None = None
