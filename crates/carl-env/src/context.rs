@@ -230,13 +230,19 @@ pub fn resolve_context(spec: &EnvSpec, context: &Context, opts: MakeOptions) -> 
 /// Refuse a feature that acts only with an option (its spec's `requires_option`) at a value other
 /// than its default while that option is off: the value would be silently dead. `values` are
 /// [`resolve_context`]'s.
-pub fn check_option_features(spec: &EnvSpec, values: &[(String, f64)], options: &OptionValues) -> Result<(), MakeError> {
+pub fn check_option_features(
+    spec: &EnvSpec,
+    values: &[(String, f64)],
+    options: &OptionValues,
+) -> Result<(), MakeError> {
     for f in &spec.features {
         let Some(option) = &f.requires_option else { continue };
         if options.flag(option) {
             continue;
         }
-        let Some((_, x)) = values.iter().find(|(n, _)| *n == f.name) else { continue };
+        let Some((_, x)) = values.iter().find(|(n, _)| *n == f.name) else {
+            continue;
+        };
         let default = f.default_f64();
         if default != Some(*x) {
             return Err(MakeError::NeedsOption {

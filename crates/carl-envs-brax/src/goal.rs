@@ -51,22 +51,86 @@ impl Direction {
 
 /// carl-bench's 16 codes, in its `directions` order.
 pub const DIRECTIONS: [Direction; 16] = [
-    Direction { code: 1, name: "north", bearing_deg: 0.0 },
-    Direction { code: 3, name: "south", bearing_deg: 180.0 },
-    Direction { code: 2, name: "east", bearing_deg: 90.0 },
-    Direction { code: 4, name: "west", bearing_deg: 270.0 },
-    Direction { code: 12, name: "north east", bearing_deg: 45.0 },
-    Direction { code: 32, name: "south east", bearing_deg: 135.0 },
-    Direction { code: 14, name: "north west", bearing_deg: 315.0 },
-    Direction { code: 34, name: "south west", bearing_deg: 225.0 },
-    Direction { code: 112, name: "north north east", bearing_deg: 22.5 },
-    Direction { code: 332, name: "south south east", bearing_deg: 157.5 },
-    Direction { code: 114, name: "north north west", bearing_deg: 337.5 },
-    Direction { code: 334, name: "south south west", bearing_deg: 202.5 },
-    Direction { code: 212, name: "east north east", bearing_deg: 67.5 },
-    Direction { code: 232, name: "east south east", bearing_deg: 112.5 },
-    Direction { code: 414, name: "west north west", bearing_deg: 292.5 },
-    Direction { code: 434, name: "west south west", bearing_deg: 247.5 },
+    Direction {
+        code: 1,
+        name: "north",
+        bearing_deg: 0.0,
+    },
+    Direction {
+        code: 3,
+        name: "south",
+        bearing_deg: 180.0,
+    },
+    Direction {
+        code: 2,
+        name: "east",
+        bearing_deg: 90.0,
+    },
+    Direction {
+        code: 4,
+        name: "west",
+        bearing_deg: 270.0,
+    },
+    Direction {
+        code: 12,
+        name: "north east",
+        bearing_deg: 45.0,
+    },
+    Direction {
+        code: 32,
+        name: "south east",
+        bearing_deg: 135.0,
+    },
+    Direction {
+        code: 14,
+        name: "north west",
+        bearing_deg: 315.0,
+    },
+    Direction {
+        code: 34,
+        name: "south west",
+        bearing_deg: 225.0,
+    },
+    Direction {
+        code: 112,
+        name: "north north east",
+        bearing_deg: 22.5,
+    },
+    Direction {
+        code: 332,
+        name: "south south east",
+        bearing_deg: 157.5,
+    },
+    Direction {
+        code: 114,
+        name: "north north west",
+        bearing_deg: 337.5,
+    },
+    Direction {
+        code: 334,
+        name: "south south west",
+        bearing_deg: 202.5,
+    },
+    Direction {
+        code: 212,
+        name: "east north east",
+        bearing_deg: 67.5,
+    },
+    Direction {
+        code: 232,
+        name: "east south east",
+        bearing_deg: 112.5,
+    },
+    Direction {
+        code: 414,
+        name: "west north west",
+        bearing_deg: 292.5,
+    },
+    Direction {
+        code: 434,
+        name: "west south west",
+        bearing_deg: 247.5,
+    },
 ];
 
 /// The direction of code `code` (`None` for a number that is not one of the 16 codes).
@@ -131,7 +195,10 @@ impl GoalLocomotion {
     /// The goal's position `(x, y)`.
     pub fn goal(&self) -> [f64; 2] {
         let u = self.direction.unit();
-        [self.start[0] + self.distance * u[0], self.start[1] + self.distance * u[1]]
+        [
+            self.start[0] + self.distance * u[0],
+            self.start[1] + self.distance * u[1],
+        ]
     }
 
     /// The torso's `(x, y)` in a task state (`y = 0` on a planar robot).
@@ -351,7 +418,9 @@ mod tests {
         // A goal at the start is reached on the first step.
         let mut here = goal_env("hopper", |p| p.target_distance = 0.0);
         here.reset_into(Some(1), &mut obs[..11]).unwrap();
-        let out = here.step_into(&Action::Continuous(vec![0.0; 3]), &mut obs[..11]).unwrap();
+        let out = here
+            .step_into(&Action::Continuous(vec![0.0; 3]), &mut obs[..11])
+            .unwrap();
         assert!(out.terminated && here.info()["success"] == 1.0);
     }
 
@@ -441,7 +510,14 @@ mod tests {
                 expect_bearing
             );
         }
-        assert_eq!(DIRECTIONS.iter().map(|d| d.code).collect::<std::collections::BTreeSet<_>>().len(), 16);
+        assert_eq!(
+            DIRECTIONS
+                .iter()
+                .map(|d| d.code)
+                .collect::<std::collections::BTreeSet<_>>()
+                .len(),
+            16
+        );
         assert!(direction(5.0).is_none() && direction(1.0).is_some());
     }
 }

@@ -48,7 +48,8 @@ pub const REGISTRATIONS: &[Registration] = &[
         build: |v, o| {
             if o.flag("rapier") {
                 let p = robot_params("half_cheetah", v)?;
-                let task = robots::make_robot_on_rapier("half_cheetah", p).ok_or_else(|| missing_model("half_cheetah"))?;
+                let task =
+                    robots::make_robot_on_rapier("half_cheetah", p).ok_or_else(|| missing_model("half_cheetah"))?;
                 return with_goal(task, o);
             }
             with_goal(locomotion("half_cheetah", v)?, o)

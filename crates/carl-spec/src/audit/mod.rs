@@ -269,7 +269,12 @@ pub fn audit_with(spec: &EnvSpec, opts: &AuditOptions) -> Result<AuditReport, Au
         if with_option.iter().any(|(name, ..)| name == o) {
             continue;
         }
-        let env = build(&Context::new(), &option_sets(Some(o)), &format!("(defaults, option {o})"), "-".into())?;
+        let env = build(
+            &Context::new(),
+            &option_sets(Some(o)),
+            &format!("(defaults, option {o})"),
+            "-".into(),
+        )?;
         let states = probes::base_states(&env, opts).map_err(env_err)?;
         let answers = respond(&env, &states, &actions, opts).map_err(env_err)?;
         with_option.push((o.clone(), states, answers));

@@ -27,7 +27,10 @@ fn target_features_without_the_goal_option_are_refused_naming_it() {
             let msg = e.to_string();
             assert!(matches!(e, MakeError::NeedsOption { .. }), "{id} {name}: {msg}");
             assert!(msg.contains("option goal") && msg.contains(name), "{msg}");
-            assert!(make_env(spec, &ctx, MakeOptions::default(), &goal_on()).is_ok(), "{id} {name}");
+            assert!(
+                make_env(spec, &ctx, MakeOptions::default(), &goal_on()).is_ok(),
+                "{id} {name}"
+            );
         }
         // At their defaults they are accepted without the option (a full default context).
         let ctx = Context::from([("target_distance".to_string(), Value::Number(100.0))]);
@@ -86,7 +89,8 @@ fn the_goal_option_off_is_the_task_and_on_replaces_reward_and_adds_info() {
             _ => unreachable!(),
         };
         for t in 0..5 {
-            let act = carl_spec::envs::Action::Continuous((0..n).map(|k| ((t + k) as f32 * 0.37).sin() * 0.4).collect());
+            let act =
+                carl_spec::envs::Action::Continuous((0..n).map(|k| ((t + k) as f32 * 0.37).sin() * 0.4).collect());
             let sa = a.step(&act).unwrap();
             let sb = b.step(&act).unwrap();
             let sc = c.step(&act).unwrap();
