@@ -215,6 +215,7 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
         self._seeded = False
         self._info: dict[str, Any] = {}
         self._noise_per_step = self._core.noise_redraw() == "step"
+        self._goal = False
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[np.ndarray, dict[str, Any]]:
         check_seed(seed)
@@ -226,7 +227,11 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
             self._seeded = True
         obs, info = self._core.reset(seed, instance)
         self._info = _with_numpy_seed(info)
-        return obs, _fresh(info)
+        self._goal = self._core.goal_info() is not None
+        out = _fresh(info)
+        if self._goal:
+            out.update(self._core.goal_info() or {})
+        return obs, out
 
     def step(self, action: Any) -> tuple[np.ndarray, SupportsFloat, bool, bool, dict[str, Any]]:
         if not self._discrete:
@@ -240,6 +245,8 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
         if self._noise_per_step:
             self._info["observed_context"] = self._core.observed_context()
         info = _fresh(self._info)
+        if self._goal:
+            info.update(self._core.goal_info() or {})
         if terminated or truncated:
             outcome = self._core.outcome()
             if outcome is not None:

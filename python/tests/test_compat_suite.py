@@ -148,7 +148,8 @@ def test_box2d_classes_run_as_carl_bench_test_box2d_envs_does() -> None:
     assert ran == ["CARLBipedalWalker", "CARLLunarLander", "CARLVehicleRacing"]
 
 
-def test_goal_wrapper_module_has_carl_bench_constants_and_names_issue_26() -> None:
+def test_goal_wrappers_run_the_goal_option() -> None:
+    from carl_spec.compat.envs import CARLBraxHopper
     from carl_spec.compat.envs.brax.brax_walker_goal_wrapper import (
         DIRECTION_NAMES,
         BraxLanguageWrapper,
@@ -159,12 +160,40 @@ def test_goal_wrapper_module_has_carl_bench_constants_and_names_issue_26() -> No
     assert directions == [1, 3, 2, 4, 12, 32, 14, 34, 112, 332, 114, 334, 212, 232, 414, 434]
     assert set(DIRECTION_NAMES) == set(directions) and DIRECTION_NAMES[212] == "east north east"
     for wrapper in (BraxWalkerGoalWrapper, BraxLanguageWrapper):
-        with pytest.raises(PendingEnvironmentError, match="goal option of issue 26"):
-            wrapper(None)
-    with pytest.raises(PendingEnvironmentError, match="use_language_goals=True.*goal option of issue 26"):
-        CARLBraxAnt(use_language_goals=True)
-    with pytest.raises(cs.UnknownNameError, match="goal feature.*goal option of issue 26"):
-        CARLBraxAnt(contexts={0: {"target_distance": 10.0, "target_direction": 1}})
+        with pytest.raises(TypeError, match="Brax walkers"):
+            wrapper(CARLCartPole())
+    # Without goal features: carl-bench's task, no goal, no goal features in the context.
+    plain = CARLBraxAnt()
+    assert plain.env is None and plain.position is None
+    assert "target_distance" not in CARLBraxAnt.get_default_context()
+    assert CARLBraxAnt.get_default_goal_context()["target_direction"] == 1
+    _, info = plain.reset(seed=0)
+    assert "success" not in info and "target_distance" not in plain.context
+    # A context naming a goal feature turns the goal on: reward = approach, success within the radius.
+    env = CARLBraxHopper(contexts={0: {"target_distance": 0.5, "target_direction": 2, "target_radius": 0.1}})
+    assert isinstance(env.env, BraxWalkerGoalWrapper) and env.position is None
+    obs, info = env.reset(seed=1)
+    assert info["success"] == 0 and info["goal_direction"] == "east" and env.position == (0.0, 0.0)
+    assert np.allclose(env.env.goal_position, [0.5, 0.0])
+    total = 0.0
+    for t in range(200):
+        obs, reward, terminated, truncated, info = env.step(np.array([0.0, 0.0, 0.0], dtype=np.float32))
+        assert reward >= 0
+        total += reward
+        assert abs(info["goal_distance"] - np.hypot(*(env.env.goal_position - np.array(env.position)))) < 1e-9
+        if terminated:
+            break
+    # Wrapping a walker turns the goal on; the language wrapper adds the goal in words.
+    wrapped = BraxLanguageWrapper(BraxWalkerGoalWrapper(CARLBraxAnt(), "ant", "envs/assets/ant.xml"))
+    obs, info = wrapped.reset(seed=0)
+    assert obs["obs"]["goal"] == "The distance to the goal is 100.0m north. Move within 5.0m of the goal."
+    assert wrapped.observation_space.contains(obs)
+    assert wrapped.unwrapped.position == (0.0, 0.0) and info["success"] == 0
+    with pytest.raises(ValueError, match="option goal"):
+        cs.make("ant", context={"target_distance": 10.0})
+    g = cs.make("ant", context={"target_distance": 10.0, "target_direction": "south east"}, options={"goal": True})
+    _, info = g.reset(seed=0)
+    assert info["goal_direction"] == "south east" and abs(info["goal_distance"] - 10.0) < 1e-9
 
 
 def test_contexts_setter_replaces_the_set_from_the_next_reset() -> None:

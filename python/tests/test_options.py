@@ -180,3 +180,27 @@ def test_pixels_with_visible_context_are_a_dict() -> None:
     vobs, _ = venv.reset(seed=0)
     assert vobs["obs"].shape == (2, 96, 96, 3) and vobs["obs"].dtype == np.uint8
     assert vobs["context"].shape == (2, len(venv.single_observation_space["context"].low))
+
+
+def test_goal_option_of_the_walkers() -> None:
+    # Without the option the goal features are refused away from their defaults, naming it.
+    with pytest.raises(ValueError, match="acts only with option goal"):
+        cs.make("hopper", context={"target_radius": 1.0})
+    cs.make("hopper", context={"target_radius": 5.0})  # the default is no change
+    env = cs.make("half_cheetah", options={"goal": True}, context={"target_distance": 2.0, "target_direction": 2})
+    obs, info = env.reset(seed=0)
+    assert info["goal_direction"] == "east" and info["success"] == 0
+    assert abs(info["goal_distance"] - 2.0) < 1e-12 and info["goal_position"] == [2.0, 0.0]
+    plain = cs.make("half_cheetah")
+    plain_obs, plain_info = plain.reset(seed=0)
+    assert np.array_equal(obs, plain_obs) and "goal_distance" not in plain_info
+    before = info["goal_distance"]
+    for _ in range(50):
+        obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+        assert reward == pytest.approx(max(0.0, before - info["goal_distance"]), abs=1e-12)
+        before = info["goal_distance"]
+        assert info["success"] == int(terminated)
+        if terminated:
+            break
+    with pytest.raises(ValueError, match="target_direction = 5 is outside its bounds choices"):
+        cs.make("ant", options={"goal": True}, context={"target_direction": 5})

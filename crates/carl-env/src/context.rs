@@ -65,6 +65,17 @@ pub enum MakeError {
          (Python: options={{\"{name}\": [1, 2]}}; CLI: --option {name}=1,2)"
     )]
     ListFeature { env: String, name: String },
+    #[error(
+        "{env}: {name} = {value} acts only with option {option}, which is off (its default {default} is used without it); \
+         set the option (Python: options={{\"{option}\": True}}; CLI: --option {option}=true) or leave {name} out"
+    )]
+    NeedsOption {
+        env: String,
+        name: String,
+        value: f64,
+        default: String,
+        option: String,
+    },
     #[error("{env}: {name} = {value} is not finite")]
     NotFinite { env: String, name: String, value: f64 },
     /// The runtime could not be built from a valid context: its data is missing or corrupt, or
@@ -214,6 +225,36 @@ pub fn resolve_context(spec: &EnvSpec, context: &Context, opts: MakeOptions) -> 
         out.push((f.name.clone(), x));
     }
     Ok(out)
+}
+
+/// Refuse a feature that acts only with an option (its spec's `requires_option`) at a value other
+/// than its default while that option is off: the value would be silently dead. `values` are
+/// [`resolve_context`]'s.
+pub fn check_option_features(
+    spec: &EnvSpec,
+    values: &[(String, f64)],
+    options: &OptionValues,
+) -> Result<(), MakeError> {
+    for f in &spec.features {
+        let Some(option) = &f.requires_option else { continue };
+        if options.flag(option) {
+            continue;
+        }
+        let Some((_, x)) = values.iter().find(|(n, _)| *n == f.name) else {
+            continue;
+        };
+        let default = f.default_f64();
+        if default != Some(*x) {
+            return Err(MakeError::NeedsOption {
+                env: spec.id.clone(),
+                name: f.name.clone(),
+                value: *x,
+                default: default.map_or_else(|| "(none)".to_string(), |d| d.to_string()),
+                option: option.clone(),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// Write every `(feature, value)` into a runtime's parameters with `set`; a name the runtime does

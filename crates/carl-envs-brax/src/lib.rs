@@ -19,6 +19,7 @@
 //! * [`control`]: Gymnasium v5 control tasks (InvertedPendulum, InvertedDoublePendulum,
 //!   Reacher) on the planar engine.
 //! * [`com`]: MuJoCo's centre-of-mass based body quantities (`cinert`, `cvel`, `cfrc_ext`).
+//! * [`goal`]: carl-bench's goal-directed variant of the locomotion tasks (the `goal` option).
 //! * [`fetch`]: Brax's fetch task (a dog runs to random targets).
 //! * [`grasp`]: Brax's claw hand grasping a ball.
 //! * [`render`]: software rendering of a world to a [`Frame`](carl_pixels::Frame).
@@ -27,6 +28,7 @@ pub mod articulated;
 pub mod com;
 pub mod control;
 pub mod fetch;
+pub mod goal;
 pub mod grasp;
 pub mod locomotion;
 pub mod model;
@@ -41,6 +43,7 @@ pub mod world;
 
 pub use control::{Control, ControlTask};
 pub use fetch::Fetch;
+pub use goal::GoalLocomotion;
 pub use grasp::Grasp;
 pub use locomotion::{ContactCost, ForwardVelocity, Locomotion, StepInfo, TaskConfig, VelocityNoise};
 pub use model::RobotModel;
@@ -122,7 +125,18 @@ pub fn default_params(id: &str) -> Option<RobotParams> {
         }
         _ => return None,
     }
+    if has_goal_option(id) {
+        // carl-bench 1.1.1's goal features (BraxWalkerGoalWrapper).
+        p.target_distance = 100.0;
+        p.target_radius = 5.0;
+        p.target_direction = 1.0;
+    }
     Some(p)
+}
+
+/// Whether environment `id` takes the `goal` option (carl-bench's goal-directed walkers).
+pub fn has_goal_option(id: &str) -> bool {
+    matches!(id, "ant" | "half_cheetah" | "hopper" | "humanoid" | "walker2d")
 }
 
 /// Whether `id` is one of the robot environments of this module.

@@ -27,6 +27,9 @@ pub struct RobotParams {
     pub viscosity: f64,
     pub target_distance: f64,
     pub target_radius: f64,
+    /// carl-bench's compass code of the goal's direction (the locomotion robots' `goal` option,
+    /// [`crate::goal`]).
+    pub target_direction: f64,
     pub target_height: f64,
     /// `mass_<link>` overrides (link name, kg).
     pub link_masses: Vec<(String, f64)>,
@@ -51,6 +54,7 @@ const NAMES: &[(&str, &[&str])] = &[
     ("viscosity", &[]),
     ("target_distance", &[]),
     ("target_radius", &[]),
+    ("target_direction", &[]),
     ("target_height", &[]),
 ];
 
@@ -74,6 +78,7 @@ impl RobotParams {
             viscosity: 0.0,
             target_distance: 15.0,
             target_radius: 2.0,
+            target_direction: 1.0,
             target_height: 8.0,
             link_masses: Vec::new(),
             known_links,
@@ -124,6 +129,7 @@ impl RobotParams {
             Some("viscosity") => self.viscosity = value,
             Some("target_distance") => self.target_distance = value,
             Some("target_radius") => self.target_radius = value,
+            Some("target_direction") => self.target_direction = value,
             Some("target_height") => self.target_height = value,
             _ => {
                 let link = name
@@ -155,6 +161,7 @@ impl RobotParams {
             Some("viscosity") => self.viscosity,
             Some("target_distance") => self.target_distance,
             Some("target_radius") => self.target_radius,
+            Some("target_direction") => self.target_direction,
             Some("target_height") => self.target_height,
             _ => {
                 let link = name.strip_prefix("mass_").ok_or_else(|| self.unknown(name))?;

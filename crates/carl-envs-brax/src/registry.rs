@@ -1,6 +1,6 @@
 //! The Brax family's registrations.
 
-use carl_env::context::{MakeError, OptionKind, OptionSpec};
+use carl_env::context::{MakeError, OptionKind, OptionSpec, OptionValues};
 use carl_env::registration::{AuditProfile, Registration, StepCost};
 use carl_env::runtime::AnyEnv;
 
@@ -22,13 +22,21 @@ const TERMINATE_WHEN_UNHEALTHY: OptionSpec = OptionSpec {
     kind: OptionKind::Bool { default: true },
 };
 
+/// carl-bench's goal-directed variant ([`crate::goal`]): reward for approaching a goal placed by
+/// target_distance / target_direction, success within target_radius.
+const GOAL: OptionSpec = OptionSpec {
+    name: "goal",
+    help: "carl-bench's goal-directed variant: reward is the decrease of the torso's distance to a goal target_distance m away on the bearing of target_direction, success (termination) within target_radius",
+    kind: OptionKind::Bool { default: false },
+};
+
 /// The environments of this family, in registry order.
 pub const REGISTRATIONS: &[Registration] = &[
     Registration {
         id: "ant",
-        build: |v, _| Ok(AnyEnv::new(locomotion("ant", v)?)),
+        build: |v, o| with_goal(locomotion("ant", v)?, o),
         runtime_default: |n| robot_default("ant", n),
-        options: &[],
+        options: &[GOAL],
         heuristic: None,
         renders: true,
         cost: StepCost::Heavy,
@@ -40,18 +48,21 @@ pub const REGISTRATIONS: &[Registration] = &[
         build: |v, o| {
             if o.flag("rapier") {
                 let p = robot_params("half_cheetah", v)?;
-                return robots::make_robot_on_rapier("half_cheetah", p)
-                    .map(AnyEnv::new)
-                    .ok_or_else(|| missing_model("half_cheetah"));
+                let task =
+                    robots::make_robot_on_rapier("half_cheetah", p).ok_or_else(|| missing_model("half_cheetah"))?;
+                return with_goal(task, o);
             }
-            Ok(AnyEnv::new(locomotion("half_cheetah", v)?))
+            with_goal(locomotion("half_cheetah", v)?, o)
         },
         runtime_default: |n| robot_default("half_cheetah", n),
-        options: &[OptionSpec {
-            name: "rapier",
-            help: "the rapier3d multibody engine instead of the planar reduced-coordinate engine (crates/carl-envs-brax/src/planar)",
-            kind: OptionKind::Bool { default: false },
-        }],
+        options: &[
+            OptionSpec {
+                name: "rapier",
+                help: "the rapier3d multibody engine instead of the planar reduced-coordinate engine (crates/carl-envs-brax/src/planar)",
+                kind: OptionKind::Bool { default: false },
+            },
+            GOAL,
+        ],
         heuristic: None,
         renders: true,
         cost: StepCost::Heavy,
@@ -62,12 +73,12 @@ pub const REGISTRATIONS: &[Registration] = &[
         id: "hopper",
         build: |v, o| {
             let p = robot_params("hopper", v)?;
-            robots::make_robot_with_termination("hopper", p, o.flag("terminate_when_unhealthy"))
-                .map(AnyEnv::new)
-                .ok_or_else(|| missing_model("hopper"))
+            let task = robots::make_robot_with_termination("hopper", p, o.flag("terminate_when_unhealthy"))
+                .ok_or_else(|| missing_model("hopper"))?;
+            with_goal(task, o)
         },
         runtime_default: |n| robot_default("hopper", n),
-        options: &[TERMINATE_WHEN_UNHEALTHY],
+        options: &[TERMINATE_WHEN_UNHEALTHY, GOAL],
         heuristic: None,
         renders: true,
         cost: StepCost::Heavy,
@@ -94,12 +105,12 @@ pub const REGISTRATIONS: &[Registration] = &[
         id: "walker2d",
         build: |v, o| {
             let p = robot_params("walker2d", v)?;
-            robots::make_robot_with_termination("walker2d", p, o.flag("terminate_when_unhealthy"))
-                .map(AnyEnv::new)
-                .ok_or_else(|| missing_model("walker2d"))
+            let task = robots::make_robot_with_termination("walker2d", p, o.flag("terminate_when_unhealthy"))
+                .ok_or_else(|| missing_model("walker2d"))?;
+            with_goal(task, o)
         },
         runtime_default: |n| robot_default("walker2d", n),
-        options: &[TERMINATE_WHEN_UNHEALTHY],
+        options: &[TERMINATE_WHEN_UNHEALTHY, GOAL],
         heuristic: None,
         renders: true,
         cost: StepCost::Heavy,
@@ -258,9 +269,9 @@ pub const REGISTRATIONS: &[Registration] = &[
     },
     Registration {
         id: "humanoid",
-        build: |v, _| Ok(AnyEnv::new(locomotion("humanoid", v)?)),
+        build: |v, o| with_goal(locomotion("humanoid", v)?, o),
         runtime_default: |n| robot_default("humanoid", n),
-        options: &[],
+        options: &[GOAL],
         heuristic: None,
         renders: true,
         cost: StepCost::Heavy,
@@ -338,6 +349,23 @@ fn control(id: &str, values: &[(String, f64)]) -> Result<AnyEnv, MakeError> {
     robots::make_control(id, p)
         .map(AnyEnv::new)
         .ok_or_else(|| missing_model(id))
+}
+
+/// `task`, or with the `goal` option its goal-directed variant ([`crate::goal`]).
+fn with_goal(task: robots::Locomotion, o: &OptionValues) -> Result<AnyEnv, MakeError> {
+    if !o.flag("goal") {
+        return Ok(AnyEnv::new(task));
+    }
+    let id = carl_env::api::Env::id(&task);
+    let code = task.params().target_direction;
+    robots::GoalLocomotion::new(task)
+        .map(AnyEnv::new)
+        .ok_or_else(|| MakeError::Runtime {
+            env: id.into(),
+            message: format!(
+                "target_direction = {code} is not one of carl-bench's 16 compass codes (1 north, 2 east, 3 south, 4 west, 12, 32, 14, 34, 112, 332, 114, 334, 212, 232, 414, 434)"
+            ),
+        })
 }
 
 /// The embedded robot description failed to load (a build defect, reported, never a panic).

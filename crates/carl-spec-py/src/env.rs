@@ -12,7 +12,7 @@ use carl_spec::envs::{Action, Env as _, Space};
 
 use crate::actions::{BoxBounds, check_obs};
 use crate::context_args::{ContextArgs, build_contextual, source_of};
-use crate::env_infos::{episode_end_info, info_dict, observed_dict};
+use crate::env_infos::{episode_end_info, goal_info, info_dict, observed_dict};
 use crate::errors::{env_error, value_error};
 use crate::obs_layout::ObsLayout;
 use crate::specs::{space_json, with_specs};
@@ -174,6 +174,12 @@ impl Env {
     /// distances), else None.
     fn episode_end_info<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
         episode_end_info(py, self.inner.inner().inner())
+    }
+
+    /// After a reset or step of a robot built with the `goal` option: `goal_direction` (name),
+    /// `goal_distance` and `success`; else None.
+    fn goal_info<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        goal_info(py, self.inner.inner().inner())
     }
 
     /// When noise on the observed context is redrawn: "episode", "step", or None (no noise).

@@ -5,6 +5,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use carl_spec::envs::AnyEnv;
+use carl_spec::envs::brax::GoalLocomotion;
 use carl_spec::envs::contextual::{ContextInfo, ContextualEnv};
 use carl_spec::envs::rna_design::RnaDesign;
 
@@ -66,6 +67,26 @@ pub(crate) fn episode_end_info<'py>(py: Python<'py>, runtime: &AnyEnv) -> PyResu
         o.distance as f64 / o.target_structure.len() as f64,
     )?;
     d.set_item("improvement_folds", o.improvement_folds)?;
+    Ok(Some(d))
+}
+
+/// The goal of a locomotion robot built with the `goal` option after its last reset or step:
+/// `goal_direction` (the name of its compass code), `goal_distance` (m), `success` (0/1), and
+/// `goal_position` / `torso_position` relative to the torso's start.
+/// None for other runtimes.
+pub(crate) fn goal_info<'py>(py: Python<'py>, runtime: &AnyEnv) -> PyResult<Option<Bound<'py, PyDict>>> {
+    let Some(g) = runtime.downcast_ref::<GoalLocomotion>() else {
+        return Ok(None);
+    };
+    let info = carl_spec::envs::Env::info(g);
+    let d = PyDict::new(py);
+    d.set_item("goal_direction", g.direction().name)?;
+    d.set_item("goal_distance", info.get("goal_distance").copied().unwrap_or(f64::NAN))?;
+    d.set_item("success", info.get("success").map_or(0, |s| i64::from(*s != 0.0)))?;
+    // Relative to the torso's start (m, x east, y north).
+    let (s, g, t) = (g.start(), g.goal(), g.torso_position());
+    d.set_item("goal_position", [g[0] - s[0], g[1] - s[1]])?;
+    d.set_item("torso_position", [t[0] - s[0], t[1] - s[1]])?;
     Ok(Some(d))
 }
 

@@ -12,7 +12,7 @@ from typing import Any, Callable, NoReturn
 
 #: issue number -> what it adds
 ISSUES = {
-    26: "the MuJoCo-family environments (and the goal option of ant, half_cheetah and humanoid)",
+    26: "the MuJoCo-family environments",
     27: "the dm_control family",
 }
 
@@ -32,13 +32,6 @@ HELPERS: dict[str, tuple[str, int]] = {
     "CARLDmcEnv": ("dm_control family", 27),
     "MujocoToGymWrapper": ("dm_control family", 27),
 }
-
-#: The goal features of carl-bench's Brax walkers (BraxWalkerGoalWrapper, BraxLanguageWrapper).
-GOAL = (
-    "the goal option of issue 26 (target_distance, target_direction and target_radius on ant, half_cheetah "
-    "and humanoid, with the goal reward)"
-)
-
 
 class PendingEnvironmentError(NotImplementedError):
     """A carl-bench environment (or helper) carl-spec does not have yet."""

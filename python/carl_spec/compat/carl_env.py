@@ -221,7 +221,8 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
                     contexts_json=json.dumps(canonical_contexts),
                 )
             # One runtime per context, each checked now (names, bounds) like a carl-spec set.
-            envs = [_core.Env(self.env_id, context_args(context=c)) for c in canonical_contexts]
+            options = self._env_options(canonical_contexts)
+            envs = [_core.Env(self.env_id, context_args(context=c, options=options)) for c in canonical_contexts]
         # Everything is checked: replace the set (a selector instance the user passed follows it).
         selector.contexts, selector.contexts_keys = contexts, list(contexts.keys())
         selector.context_ids, selector.context_id = list(range(len(contexts))), None
@@ -246,6 +247,10 @@ class CARLEnv(gymnasium.Env[dict[str, Any], Any]):
         self._seeded = False
         self._current = 0
         self.context: Context | None = None
+
+    def _env_options(self, canonical_contexts: list[dict[str, Any]]) -> dict[str, Any] | None:
+        """The runtime options of the set's runtimes (subclasses: e.g. the Brax walkers' goal)."""
+        return None
 
     def _compat(self, canonical: dict[str, float]) -> Context:
         """A resolved context in carl-bench's names and order, typed (whole int and categorical

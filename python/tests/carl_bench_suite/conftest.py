@@ -4,7 +4,7 @@ The vendored test files are carl-bench's with only the import prefix changed; th
 Every test passes except those listed here, each with its reason:
 
 * `PENDING`: tests of environments carl-spec does not have yet (the two Brax classes not built yet and the
-  dm_control family, `carl_spec.compat._pending`, and the goal option of the Brax walkers). They
+  dm_control family, `carl_spec.compat._pending`). They
   are skipped, the skip naming the missing environment and its issue.
 * `CARL_BENCH_BUGS`: tests that rely on a carl-bench bug compat deliberately does not reproduce
   (docs/guides/migration.md). They are strict xfails raising the stated error: one that starts
@@ -25,7 +25,7 @@ from typing import Any
 import pytest
 
 from carl_spec._errors import UnknownNameError
-from carl_spec.compat._pending import GOAL, PENDING, message, reason
+from carl_spec.compat._pending import PENDING, message, reason
 
 HERE = Path(__file__).parent
 BRAX_PENDING = [c for c, (_, issue) in PENDING.items() if issue == 26]
@@ -34,8 +34,6 @@ BRAX_PENDING = [c for c, (_, issue) in PENDING.items() if issue == 26]
 def _dmc(*classes: str) -> str:
     return "; ".join(reason(c) for c in classes)
 
-
-_GOAL_REASON = f"needs {GOAL}: pending issue 26 (carl-spec's CARLBraxAnt/CARLBraxHalfcheetah have no target_* features yet)"
 
 #: test id -> why it is skipped (the environment carl-spec does not have yet)
 PENDING_TESTS: dict[str, str] = {
@@ -59,12 +57,6 @@ PENDING_TESTS: dict[str, str] = {
     "test_dmc.py::TestPointmass::test_make_model": _dmc("CARLDmcPointMassEnv"),
     "test_dmc.py::TestPointmass::test_instantiate_env_with_context": _dmc("CARLDmcPointMassEnv"),
     "test_dmc.py::TestPointmass::test_constraints": _dmc("CARLDmcPointMassEnv"),
-    "test_language_goals.py::TestGoalSampling::test_uniform_sampling": _GOAL_REASON,
-    "test_language_goals.py::TestGoalSampling::test_normal_sampling": _GOAL_REASON,
-    "test_language_goals.py::TestGoalWrapper::test_reset": _GOAL_REASON,
-    "test_language_goals.py::TestGoalWrapper::test_reward_scale": _GOAL_REASON,
-    "test_language_goals.py::TestLanguageWrapper::test_reset": _GOAL_REASON,
-    "test_language_goals.py::TestLanguageWrapper::test_step": _GOAL_REASON,
 }
 
 _DEAD_GRAVITY = (

@@ -34,6 +34,10 @@ pub struct Feature {
     pub unit: Option<String>,
     pub description: String,
     pub affects: Vec<Effect>,
+    /// The boolean environment option without which the feature does not act (see
+    /// [`RawFeature::requires_option`](super::raw::RawFeature::requires_option)).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub requires_option: Option<String>,
     /// The shared fragment this feature came from, if any.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub from_fragment: Option<String>,

@@ -169,6 +169,12 @@ pub struct RawFeature {
     pub description: String,
     /// What changing the feature changes. Verified by `carl-spec audit` where a runtime exists.
     pub affects: Vec<Effect>,
+    /// The boolean environment option (e.g. `goal`) without which the feature does not act.
+    /// `make` refuses a value other than the default while the option is off (naming it), and
+    /// `carl-spec audit` audits the feature with the option set.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(regex(pattern = r"^[a-z][a-z0-9_]{0,63}$"))]
+    pub requires_option: Option<String>,
 }
 
 /// `[lower, upper]`, each side a number or `null` (unbounded).

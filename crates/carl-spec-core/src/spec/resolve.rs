@@ -168,6 +168,7 @@ fn from_raw(f: &RawFeature, fragment: Option<&str>) -> Feature {
         unit: f.unit.clone(),
         description: f.description.clone(),
         affects: f.affects.clone(),
+        requires_option: f.requires_option.clone(),
         from_fragment: fragment.map(str::to_string),
     }
 }

@@ -25,7 +25,7 @@ pub mod probes;
 
 use serde::Serialize;
 
-use crate::envs::registry::{Context, MakeError, has_runtime, lookup, make};
+use crate::envs::registry::{Context, EnvOptions, MakeError, MakeOptions, has_runtime, lookup, make_env};
 use crate::envs::runtime::AnyEnv;
 use crate::envs::{Action, Env, EnvError};
 use crate::spec::model::{Effect, EnvSpec, Feature, FeatureType, Value};
@@ -242,8 +242,10 @@ pub fn audit_with(spec: &EnvSpec, opts: &AuditOptions) -> Result<AuditReport, Au
         env: spec.id.clone(),
         source,
     };
-    let build = |ctx: &Context, feature: &str, value: String| -> Result<AnyEnv, AuditError> {
-        make(spec, ctx)
+    // A feature that acts only with an option (`requires_option`) is audited with that option
+    // set, against the defaults under the same option; the others with the default options.
+    let build = |ctx: &Context, options: &EnvOptions, feature: &str, value: String| -> Result<AnyEnv, AuditError> {
+        make_env(spec, ctx, MakeOptions::default(), options)
             .map(|e| e.into_inner())
             .map_err(|source| AuditError::Make {
                 env: spec.id.clone(),
@@ -252,10 +254,31 @@ pub fn audit_with(spec: &EnvSpec, opts: &AuditOptions) -> Result<AuditReport, Au
                 source: Box::new(source),
             })
     };
-    let base = build(&Context::new(), "(defaults)", "-".into())?;
+    let option_sets = |option: Option<&String>| -> EnvOptions {
+        option
+            .map(|o| EnvOptions::from([(o.clone(), crate::spec::model::Value::Bool(true))]))
+            .unwrap_or_default()
+    };
+    let base = build(&Context::new(), &EnvOptions::new(), "(defaults)", "-".into())?;
     let states = probes::base_states(&base, opts).map_err(env_err)?;
     let actions = probes::probe_actions(&base.action_space());
     let reference = respond(&base, &states, &actions, opts).map_err(env_err)?;
+    // Base states and reference answers under each option some feature requires.
+    let mut with_option: Vec<(String, Vec<Vec<f64>>, Responses)> = Vec::new();
+    for o in spec.features.iter().filter_map(|f| f.requires_option.as_ref()) {
+        if with_option.iter().any(|(name, ..)| name == o) {
+            continue;
+        }
+        let env = build(
+            &Context::new(),
+            &option_sets(Some(o)),
+            &format!("(defaults, option {o})"),
+            "-".into(),
+        )?;
+        let states = probes::base_states(&env, opts).map_err(env_err)?;
+        let answers = respond(&env, &states, &actions, opts).map_err(env_err)?;
+        with_option.push((o.clone(), states, answers));
+    }
 
     let mut features = Vec::with_capacity(spec.features.len());
     for f in &spec.features {
@@ -276,12 +299,21 @@ pub fn audit_with(spec: &EnvSpec, opts: &AuditOptions) -> Result<AuditReport, Au
             features.push(fa);
             continue;
         }
+        let options = option_sets(f.requires_option.as_ref());
+        let (states, reference) = match &f.requires_option {
+            Some(o) => with_option
+                .iter()
+                .find(|(name, ..)| name == o)
+                .map(|(_, s, r)| (s, r))
+                .unwrap_or((&states, &reference)),
+            None => (&states, &reference),
+        };
         let mut accs = Accs::default();
         for &x in &values {
             let ctx = Context::from([(f.name.clone(), feature_value(f, x))]);
-            let pert = build(&ctx, &f.name, x.to_string())?;
-            let answers = respond(&pert, &states, &actions, opts).map_err(env_err)?;
-            compare(&reference, &answers, x, &mut accs);
+            let pert = build(&ctx, &options, &f.name, x.to_string())?;
+            let answers = respond(&pert, states, &actions, opts).map_err(env_err)?;
+            compare(reference, &answers, x, &mut accs);
         }
         fa.effects = Effect::ALL
             .iter()

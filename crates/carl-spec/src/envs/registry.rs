@@ -15,7 +15,8 @@ use super::runtime::AnyEnv;
 use crate::spec::model::EnvSpec;
 
 pub use carl_env::context::{
-    Context, EnvOptions, MakeError, MakeOptions, OptionKind, OptionSpec, OptionValues, resolve_context, resolve_options,
+    Context, EnvOptions, MakeError, MakeOptions, OptionKind, OptionSpec, OptionValues, check_option_features,
+    resolve_context, resolve_options,
 };
 pub use carl_env::registration::{AuditProfile, BuildFn, HeuristicFn, Registration, StepCost, VectorKernel};
 
@@ -114,6 +115,7 @@ pub fn make_env(
     })?;
     let values = resolve_context(spec, context, opts)?;
     let options = resolve_options(reg.id, reg.options, options)?;
+    check_option_features(spec, &values, &options)?;
     let env = (reg.build)(&values, &options)?;
     Ok(TimeLimit::new(env, spec.max_episode_steps))
 }

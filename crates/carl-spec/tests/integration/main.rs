@@ -12,6 +12,7 @@ mod control_tasks_vs_mujoco;
 mod evaluate;
 mod fetch;
 mod fold_cli;
+mod goal_option;
 mod golden;
 mod grasp;
 mod hostile_input;

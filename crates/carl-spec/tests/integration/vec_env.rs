@@ -14,7 +14,7 @@ fn context(spec: &EnvSpec, i: usize) -> Context {
     let mut c = Context::new();
     let mut changed = 0;
     for f in &spec.features {
-        if changed == 3 || f.kind != FeatureType::Float {
+        if changed == 3 || f.kind != FeatureType::Float || f.requires_option.is_some() {
             continue;
         }
         let Some(d) = f.default_f64() else { continue };

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 from typing import Any
 
-from .._pending import GOAL, PendingEnvironmentError
 from ..carl_env import CARLEnv
 
 _START = "carl-spec starts {env} exactly as Gymnasium does (same initial state for the same seed), so it has no {what} features"
@@ -20,33 +19,113 @@ _ROBOT = (
 )
 
 
-_GOAL = (
-    "it is a goal feature of carl-bench's BraxWalkerGoalWrapper; carl-spec's {env} has no goal features yet: "
-    "it needs {goal}"
-)
+#: carl-bench's goal features of its walkers, in its order (they act with the `goal` option).
+_GOAL_NAMES = ("target_distance", "target_direction", "target_radius")
 
 
 def _robot_only(env: str) -> dict[str, str]:
     why = _ROBOT.format(env=env)
-    goal = _GOAL.format(env=env, goal=GOAL)
-    return {
-        "elasticity": why,
-        "viscosity": why,
-        **{n: goal for n in ("target_distance", "target_direction", "target_radius")},
-    }
+    return {"elasticity": why, "viscosity": why}
 
 
 class _Robot(CARLEnv):
-    """carl-bench's Brax classes take `use_language_goals` (its goal option, pending here)."""
+    """carl-bench's Brax walkers: `use_language_goals`, and its goal-directed variant (carl-spec's
+    `goal` option) whenever a context names a goal feature (target_distance, target_direction,
+    target_radius) or a goal wrapper of `brax_walker_goal_wrapper` wraps the env."""
 
     def __init__(self, *args: Any, use_language_goals: bool = False, batch_size: int = 1, **kwargs: Any) -> None:
-        if use_language_goals:
-            raise PendingEnvironmentError(
-                f"{type(self).__name__}(use_language_goals=True): carl-spec's {self.env_id} has no goal features yet: it needs {GOAL}"
-            )
         if batch_size != 1:
             raise ValueError(f"{type(self).__name__}: batch_size={batch_size}: use carl_spec.make_vec({self.env_id!r}, num_envs)")
+        from .brax.brax_walker_goal_wrapper import GOAL_FEATURES, BraxLanguageWrapper, BraxWalkerGoalWrapper
+
+        contexts = kwargs.get("contexts") if "contexts" in kwargs else (args[1] if len(args) > 1 else None)
+        self._goal = bool(use_language_goals) or (
+            isinstance(contexts, dict) and any(isinstance(c, dict) and GOAL_FEATURES & set(c) for c in contexts.values())
+        )
+        self.use_language_goals = bool(use_language_goals)
+        self.env: Any = None
+        self._tracker: Any = None
         super().__init__(*args, **kwargs)
+        if use_language_goals:
+            self._ctor["use_language_goals"] = True
+        if self._goal:
+            self.env = BraxWalkerGoalWrapper(self, self.env_id, "")
+            if use_language_goals:
+                self.env = BraxLanguageWrapper(self.env)
+
+    @classmethod
+    def get_default_context(cls) -> dict[str, Any]:
+        """carl-bench's: the default context without the goal features."""
+        from .brax.brax_walker_goal_wrapper import GOAL_FEATURES
+
+        return {k: v for k, v in super().get_default_context().items() if k not in GOAL_FEATURES}
+
+    @classmethod
+    def get_default_goal_context(cls) -> dict[str, Any]:
+        """carl-bench's: the default context with the goal features."""
+        return super().get_default_context()
+
+    def _env_options(self, canonical_contexts: list[dict[str, Any]]) -> dict[str, Any] | None:
+        return {"goal": True} if getattr(self, "_goal", False) else None
+
+    def _compat(self, canonical: dict[str, float]) -> dict[str, Any]:
+        from .brax.brax_walker_goal_wrapper import GOAL_FEATURES
+
+        out = super()._compat(canonical)
+        return out if self._goal else {k: v for k, v in out.items() if k not in GOAL_FEATURES}
+
+    def _enable_goal(self) -> None:
+        """Rebuild the context set with the goal option (a goal wrapper wrapped this env)."""
+        if self._goal:
+            return
+        self._goal = True
+        self._set_contexts(self._ctor.get("contexts"))
+        first = next(iter(self._contexts.values()))
+        self.obs_context_features = [*self.obs_context_features, *(n for n in first if n not in self.obs_context_features)]
+        self.observation_space = self.get_observation_space(self.obs_context_features)
+
+    def _enable_language(self) -> None:
+        self._enable_goal()
+        self.use_language_goals = True
+        self.observation_space = self.get_observation_space(self.obs_context_features)
+
+    @property
+    def position(self) -> Any:
+        """carl-bench's goal wrapper's `position` (None without the goal or before a reset)."""
+        tracker = getattr(self, "_tracker", None)
+        return None if tracker is None else tracker.position
+
+    def get_observation_space(self, obs_context_feature_names: list[str] | None = None) -> Any:
+        from gymnasium import spaces
+
+        space = super().get_observation_space(obs_context_feature_names)
+        if getattr(self, "use_language_goals", False):
+            from .brax.brax_walker_goal_wrapper import GOAL_TEXT
+
+            space = spaces.Dict({"obs": spaces.Dict({"obs": space["obs"], "goal": GOAL_TEXT}), "context": space["context"]})
+        return space
+
+    def _goal_step(self, obs: dict[str, Any], info: dict[str, Any]) -> dict[str, Any]:
+        goal = self._runtime().goal_info() if self._goal else None
+        if goal is None:
+            return obs
+        info.update(goal)
+        tracker = getattr(self, "_tracker", None)
+        if tracker is not None:
+            tracker._track(goal, self.context or {})
+        if self.use_language_goals:
+            from .brax.brax_walker_goal_wrapper import goal_description
+
+            obs["obs"] = {"obs": obs["obs"], "goal": goal_description(self.context or {})}
+        return obs
+
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[dict[str, Any], dict[str, Any]]:
+        obs, info = super().reset(seed=seed, options=options)
+        return self._goal_step(obs, info), info
+
+    def step(self, action: Any) -> tuple[dict[str, Any], Any, bool, bool, dict[str, Any]]:
+        obs, reward, terminated, truncated, info = super().step(action)
+        return self._goal_step(obs, info), reward, terminated, truncated, info
 
 
 class CARLCartPole(CARLEnv):
@@ -126,7 +205,7 @@ class CARLVehicleRacing(CARLEnv):
 
 class CARLBraxAnt(_Robot):
     env_id = "ant"
-    bench_names = ("gravity", "friction", "ang_damping", "mass_torso")
+    bench_names = ("gravity", "friction", "ang_damping", "mass_torso", *_GOAL_NAMES)
     bench_only = _robot_only("ant")
 
 
@@ -134,7 +213,7 @@ class CARLBraxHalfcheetah(_Robot):
     env_id = "half_cheetah"
     bench_names = (
         "gravity", "friction", "ang_damping", "mass_torso", "mass_bthigh", "mass_bshin", "mass_bfoot",
-        "mass_fthigh", "mass_fshin", "mass_ffoot",
+        "mass_fthigh", "mass_fshin", "mass_ffoot", *_GOAL_NAMES,
     )
     bench_only = _robot_only("half_cheetah")
 
@@ -144,28 +223,21 @@ class CARLBraxHumanoid(_Robot):
     bench_names = (
         "gravity", "friction", "ang_damping", "mass_torso", "mass_lwaist", "mass_pelvis", "mass_right_thigh",
         "mass_right_shin", "mass_left_thigh", "mass_left_shin", "mass_right_upper_arm", "mass_right_lower_arm",
-        "mass_left_upper_arm", "mass_left_lower_arm",
+        "mass_left_upper_arm", "mass_left_lower_arm", *_GOAL_NAMES,
     )
     bench_only = _robot_only("humanoid")
-
-
-def _goal_only(env: str) -> dict[str, str]:
-    goal = _GOAL.format(env=env, goal=GOAL)
-    return {n: goal for n in ("target_distance", "target_direction", "target_radius")}
 
 
 class CARLBraxHopper(_Robot):
     env_id = "hopper"
     bench_names = ("gravity", "friction", "elasticity", "ang_damping", "viscosity", "mass_torso", "mass_thigh",
-                   "mass_leg", "mass_foot")
-    bench_only = _goal_only("hopper")
+                   "mass_leg", "mass_foot", *_GOAL_NAMES)
 
 
 class CARLBraxWalker2d(_Robot):
     env_id = "walker2d"
     bench_names = ("gravity", "friction", "elasticity", "ang_damping", "viscosity", "mass_torso", "mass_thigh",
-                   "mass_leg", "mass_foot", "mass_thigh_left", "mass_leg_left", "mass_foot_left")
-    bench_only = _goal_only("walker2d")
+                   "mass_leg", "mass_foot", "mass_thigh_left", "mass_leg_left", "mass_foot_left", *_GOAL_NAMES)
 
 
 class CARLBraxInvertedPendulum(_Robot):
