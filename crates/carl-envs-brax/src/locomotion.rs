@@ -494,6 +494,10 @@ impl Locomotion {
                 let c = w.center_of_mass();
                 w.com_inertia(&self.model.bodies, c, &mut com_terms[..10 * nb]);
                 w.com_velocity(&self.model.bodies, c, &mut com_terms[10 * nb..]);
+            } else if let Some(w) = self.world.as_ref().and_then(Physics::articulated) {
+                let c = w.center_of_mass();
+                w.com_inertia(&self.model.bodies, c, &mut com_terms[..10 * nb]);
+                w.com_velocity(&self.model.bodies, c, &mut com_terms[10 * nb..]);
             }
             for v in com_terms.iter().chain(&self.act) {
                 put(k, *v);
