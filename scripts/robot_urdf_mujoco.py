@@ -26,10 +26,7 @@ context: the side file does not fix them (the spec's `mujoco_v5` instance set ha
 Where the XML's joints differ in damping (Humanoid), the side file keeps the pattern and
 `joint_angular_damping` scales it (`damping_reference` is the XML's largest damping); where its
 motors differ in gear, the side file keeps the gears (Humanoid has no `actuator_strength`
-feature); joint springs, condim and the soft-limit parameters are the XML's. The committed
-humanoid files are still the rapier3d ones of scripts/robot_urdf_humanoid.py: this script's
-humanoid output (the articulated engine's) replaces them when the `humanoid` environment moves
-to that engine.
+feature); joint springs, condim and the soft-limit parameters are the XML's.
 
 Run from the repository root with Gymnasium 1.4 and mujoco installed (e.g. in a venv outside the
 repository): `python scripts/robot_urdf_mujoco.py` (all robots) or `... hopper`; the output is
