@@ -12,9 +12,12 @@ dynamics alone.
 Models: a damped double pendulum with armature and joint limits (Euler and RK4), a free box
 and a free capsule dropped on the floor (Euler), a pile of two capsules and a sphere falling on
 each other and the floor (capsule–capsule, sphere–capsule contacts), and Gymnasium's ant.xml
-(RK4, its own option) under a fixed open-loop control.
+and humanoid.xml (RK4, their own options) under a fixed open-loop control. The humanoid has
+multi-hinge bodies, joint springs, frictionless (condim 1) contacts and capsule self-collisions;
+its two fixed tendons carry no stiffness, damping or limit, so they exert nothing and are not
+written.
 
-Needs mujoco 4.0.0 and gymnasium 1.4.0 (for ant.xml), e.g. in a venv outside the repository:
+Needs mujoco 4.0.0 and gymnasium 1.4.0 (for ant.xml and humanoid.xml), e.g. in a venv outside the repository:
     python3 -m venv ~/venvs/mujoco && ~/venvs/mujoco/bin/pip install mujoco==4.0.0 gymnasium==1.4.0
 Run from the repository root: `~/venvs/mujoco/bin/python scripts/articulated_mujoco_fixtures.py`
 (`--check` compares with the committed fixtures instead of writing).
@@ -89,9 +92,15 @@ PILE = """
 """
 
 
-def gym_ant_xml():
+def gym_xml(name):
     import gymnasium
-    return os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets", "ant.xml")
+    return os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets", name)
+
+
+def inert_tendons(m):
+    """True when the model's tendons exert no force (no stiffness, damping or limit)."""
+    return all(m.tendon_stiffness[t] == 0 and m.tendon_damping[t] == 0 and not m.tendon_limited[t]
+               for t in range(m.ntendon))
 
 
 def r(x):
@@ -177,8 +186,11 @@ def fixtures():
                        **run(mujoco, m, 600, 10, qvel0=[0.5, 0, 0, 1.0, -2.0, 0.5, 0, 0.3, 0, 0, 0, 0]))
     m = mujoco.MjModel.from_xml_string(PILE)
     out["pile"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 500, 10))
-    m = mujoco.MjModel.from_xml_path(gym_ant_xml())
+    m = mujoco.MjModel.from_xml_path(gym_xml("ant.xml"))
     out["ant"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 300, 5))
+    m = mujoco.MjModel.from_xml_path(gym_xml("humanoid.xml"))
+    assert inert_tendons(m), "humanoid.xml's tendons act"
+    out["humanoid"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 400, 5))
     return out
 
 

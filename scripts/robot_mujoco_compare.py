@@ -33,7 +33,7 @@ metrics, from explicit initial states set on both sides (`--initial-state`, `set
 
 carl-spec runs twice: with its default context (CARL's Brax parameters: masses, actuator
 strength, joint damping and friction differ from MuJoCo's XML) and with a context set to
-MuJoCo's values where a context feature exists (`MUJOCO_CONTEXT`; Ant, Hopper and Walker2d:
+MuJoCo's values where a context feature exists (`MUJOCO_CONTEXT`; Ant, Humanoid, Hopper and Walker2d:
 their spec's frozen instance set `mujoco_v5`, which holds every model value): the first column shows
 what a user of the benchmark gets, the second how much of the difference is the parameters.
 
@@ -89,11 +89,9 @@ MUJOCO_CONTEXT = {
     # half_cheetah.xml: torso 6.2502 kg (settotalmass 14), damping 6/4.5/3/4.5/3/1.5 (mean 3.75),
     # friction 0.4.
     "half_cheetah": {"torso_mass": 6.2502, "joint_angular_damping": 3.75, "friction": 0.4},
-    # humanoid.xml: damping 5 (knees, arms 1), friction 1.
-    "humanoid": {"joint_angular_damping": 5, "friction": 1.0},
 }
 # Robots whose spec freezes MuJoCo's values as the instance set `mujoco_v5` (read from the spec).
-INSTANCE_SET_ROBOTS = ("ant", "hopper", "walker2d", "inverted_pendulum", "inverted_double_pendulum", "reacher")
+INSTANCE_SET_ROBOTS = ("ant", "humanoid", "hopper", "walker2d", "inverted_pendulum", "inverted_double_pendulum", "reacher")
 
 
 # The control tasks: gym id, action dim, env-step dt, rest state (qpos ++ qvel; Reacher: arm

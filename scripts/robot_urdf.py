@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Write crates/carl-envs-brax/robots/<name>.urdf from the published geometry of each robot (see the docstrings).
 
-Ant is no longer written here: scripts/robot_urdf_mujoco.py converts Gymnasium's ant.xml.
+Ant and Humanoid are no longer written here: scripts/robot_urdf_mujoco.py converts Gymnasium's ant.xml and humanoid.xml.
 
 The URDF files are authored for carl-spec: link lengths, radii, joint axes and ranges are read
 from the published models (Gymnasium's MuJoCo v5 XML for HalfCheetah), masses from

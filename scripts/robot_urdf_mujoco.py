@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Convert Gymnasium's MuJoCo v5 XML of a robot (Hopper, Walker2d, Ant: `convert`; InvertedPendulum,
+"""Convert Gymnasium's MuJoCo v5 XML of a robot (Hopper, Walker2d, Ant, Humanoid: `convert`; InvertedPendulum,
 InvertedDoublePendulum, Reacher: `convert_fixed`) into
 crates/carl-envs-brax/robots/<name>.urdf and <name>.actuators.json.
 
@@ -13,13 +13,21 @@ carrier links and a continuous pitch hinge, as HalfCheetah's; each link's frame 
 anchor of the joint that moves it (URDF's convention), MuJoCo's body frame shifted accordingly.
 `rootz` keeps MuJoCo's reference position: its coordinate is the torso's height (qpos0 1.25).
 
-A robot with a free root (Ant) keeps MuJoCo's bodies one for one: the free body is the URDF's
-root link (the side file's `"root": "free"`), bodies without joints are links on fixed joints
-(the articulated engine welds them, as MuJoCo does), unnamed bodies are named after their
-joint. It runs on the articulated engine (`"engine": "articulated"`) with the XML's integrator;
-its contact margin is the pair's (MuJoCo adds the two geoms' margins). The features the robot's
-spec keeps (damping, joint-limit stiffness, gear, friction, gravity, torso mass) are left to the
+A robot with a free root (Ant, Humanoid) keeps MuJoCo's bodies one for one: the free body is
+the URDF's root link (the side file's `"root": "free"`), bodies without joints are links on
+fixed joints (the articulated engine welds them, as MuJoCo does), unnamed bodies are named after
+their joint, a body's rotation becomes its joint origin's `rpy`. A body with several hinges at
+one anchor (Humanoid's abdomen, hips, shoulders) becomes a chain of massless, shapeless carrier
+links named `<joint>_link` joined at the anchor, which the articulated engine folds back into
+one body with the hinges in MuJoCo's order. It runs on the articulated engine (`"engine":
+"articulated"`) with the XML's integrator; its contact margin is the robot–floor pair's (MuJoCo
+adds the two geoms' margins; `floor_margin` is the floor's share). The features the robot's spec
+keeps (damping, joint-limit stiffness, gear, friction, gravity, torso mass) are left to the
 context: the side file does not fix them (the spec's `mujoco_v5` instance set has the XML's).
+Where the XML's joints differ in damping (Humanoid), the side file keeps the pattern and
+`joint_angular_damping` scales it (`damping_reference` is the XML's largest damping); where its
+motors differ in gear, the side file keeps the gears (Humanoid has no `actuator_strength`
+feature); joint springs, condim and the soft-limit parameters are the XML's.
 
 Run from the repository root with Gymnasium 1.4 and mujoco installed (e.g. in a venv outside the
 repository): `python scripts/robot_urdf_mujoco.py` (all robots) or `... hopper`; the output is
@@ -38,6 +46,7 @@ ROBOTS = {
     "hopper": ("hopper.xml", 4, "Hopper-v5"),
     "walker2d": ("walker2d_v5.xml", 4, "Walker2d-v5"),
     "ant": ("ant.xml", 5, "Ant-v5"),
+    "humanoid": ("humanoid.xml", 5, "Humanoid-v5"),
 }
 ROOT_JOINTS = ["rootx", "rootz", "rooty"]
 
@@ -507,18 +516,47 @@ def convert_fixed(name):
     return urdf, json.dumps(side, indent=2) + "\n"
 
 
+def rpy_of(R):
+    """URDF rpy (R = Rz(yaw) Ry(pitch) Rx(roll)) of rotation matrix R."""
+    pitch = math.asin(max(-1.0, min(1.0, -R[2][0])))
+    return (math.atan2(R[2][1], R[2][2]), pitch, math.atan2(R[1][0], R[0][0]))
+
+
 def convert_free(name, m, mujoco, floor, jname, bname, root):
     """A robot with a free root on the articulated engine (see the module docs)."""
     xml_file, frame_skip, gym_id = ROBOTS[name]
     assert m.jnt_bodyid[root] == 1 and m.body_parentid[1] == 0, "the free joint must be the first body's"
-    anchor = {}
+    assert list(m.body_quat[1]) == [1, 0, 0, 0], "the free body is rotated"
+    anchor, hinges_of = {}, {}
     for b in range(1, m.nbody):
-        assert list(m.body_quat[b]) == [1, 0, 0, 0], f"body {bname(b)} is rotated"
         js = [j for j in range(m.njnt) if m.jnt_bodyid[j] == b]
         hinges = [j for j in js if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE]
-        assert len(js) == len(hinges) <= 1 or b == 1, f"body {bname(b)}: one hinge at most"
+        assert len(js) == len(hinges) or b == 1, f"body {bname(b)}: hinges only"
         anchor[b] = [float(x) for x in m.jnt_pos[hinges[0]]] if hinges else [0.0, 0.0, 0.0]
+        assert all(list(m.jnt_pos[j]) == list(m.jnt_pos[hinges[0]]) for j in hinges), \
+            f"body {bname(b)}: its hinges need one anchor"
+        hinges_of[b] = hinges
+    tendons_inert = all(m.tendon_stiffness[t] == 0 and m.tendon_damping[t] == 0 and not m.tendon_limited[t]
+                        for t in range(m.ntendon))
+    assert tendons_inert, "tendons that act are not converted"
     links, joints = [], []
+
+    def carrier(jn):
+        return (f'  <link name="{jn}_link">\n    <inertial>\n      <origin xyz="0 0 0" rpy="0 0 0"/>\n'
+                f'      <mass value="0"/>\n      <inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/>\n'
+                f'    </inertial>\n  </link>')
+
+    def joint_xml(j, parent, child, xyz, rpy):
+        lim = ""
+        kind = "continuous"
+        if m.jnt_limited[j]:
+            kind = "revolute"
+            lim = (f'\n    <limit lower="{fmt(float(m.jnt_range[j][0]))}" upper="{fmt(float(m.jnt_range[j][1]))}" '
+                   f'effort="0" velocity="0"/>')
+        return (f'  <joint name="{jname(j)}" type="{kind}">\n    <parent link="{parent}"/>\n'
+                f'    <child link="{child}"/>\n    <origin xyz="{vec(xyz)}" rpy="{vec(rpy)}"/>\n'
+                f'    <axis xyz="{vec(m.jnt_axis[j])}"/>{lim}\n  </joint>')
+
     for b in range(1, m.nbody):
         a = anchor[b]
         R = quat_mat(m.body_iquat[b])
@@ -543,27 +581,27 @@ def convert_free(name, m, mujoco, floor, jname, bname, root):
             out += ["    <collision>", f'      <origin xyz="{vec(c)}" rpy="{vec(rpy)}"/>',
                     f"      <geometry>{geom}</geometry>", "    </collision>"]
         out.append("  </link>")
-        links.append("\n".join(out))
         parent = int(m.body_parentid[b])
         if parent == 0:
+            links.append("\n".join(out))
             continue
         pa = anchor[parent]
-        xyz = [float(m.body_pos[b][i]) + a[i] - pa[i] for i in range(3)]
-        js = [j for j in range(m.njnt) if m.jnt_bodyid[j] == b]
-        if not js:
+        Rb = quat_mat(m.body_quat[b])
+        xyz = [float(m.body_pos[b][i]) + sum(Rb[i][k] * a[k] for k in range(3)) - pa[i] for i in range(3)]
+        rpy = rpy_of(Rb) if list(m.body_quat[b]) != [1, 0, 0, 0] else (0.0, 0.0, 0.0)
+        hs = hinges_of[b]
+        if not hs:
+            links.append("\n".join(out))
             joints.append(f'  <joint name="{bname(b)}_weld" type="fixed">\n    <parent link="{bname(parent)}"/>\n'
-                          f'    <child link="{bname(b)}"/>\n    <origin xyz="{vec(xyz)}" rpy="0 0 0"/>\n  </joint>')
+                          f'    <child link="{bname(b)}"/>\n    <origin xyz="{vec(xyz)}" rpy="{vec(rpy)}"/>\n  </joint>')
             continue
-        j = js[0]
-        lim = ""
-        kind = "continuous"
-        if m.jnt_limited[j]:
-            kind = "revolute"
-            lim = (f'\n    <limit lower="{fmt(float(m.jnt_range[j][0]))}" upper="{fmt(float(m.jnt_range[j][1]))}" '
-                   f'effort="0" velocity="0"/>')
-        joints.append(f'  <joint name="{jname(j)}" type="{kind}">\n    <parent link="{bname(parent)}"/>\n'
-                      f'    <child link="{bname(b)}"/>\n    <origin xyz="{vec(xyz)}" rpy="0 0 0"/>\n'
-                      f'    <axis xyz="{vec(m.jnt_axis[j])}"/>{lim}\n  </joint>')
+        up = bname(parent)
+        for j in hs[:-1]:
+            links.append(carrier(jname(j)))
+            joints.append(joint_xml(j, up, f"{jname(j)}_link", xyz, rpy))
+            up, xyz, rpy = f"{jname(j)}_link", [0.0, 0.0, 0.0], (0.0, 0.0, 0.0)
+        links.append("\n".join(out))
+        joints.append(joint_xml(hs[-1], up, bname(b), xyz, rpy))
     movable = [s.split('"')[1] for s in joints if 'type="fixed"' not in s]
     assert movable == [jname(j) for j in range(m.njnt) if j != root], "URDF joint order must be MuJoCo's qpos order"
     robot_geoms = [g for g in range(m.ngeom) if g != floor]
@@ -575,16 +613,46 @@ def convert_free(name, m, mujoco, floor, jname, bname, root):
     solimps = {tuple(mix(m.geom_solimp[g], m.geom_solimp[floor])) for g in robot_geoms}
     margins = {float(m.geom_margin[g]) + float(m.geom_margin[floor]) for g in robot_geoms}
     assert len(solrefs) == len(solimps) == len(margins) == 1, "one contact model for all geoms"
+    assert all(tuple(m.geom_solref[g]) == tuple(m.geom_solref[floor]) and
+               tuple(m.geom_solimp[g]) == tuple(m.geom_solimp[floor]) for g in robot_geoms), \
+        "robot and floor geoms need one solref and solimp (self-contacts mix robot geoms only)"
     frictions = {max(float(m.geom_friction[g][0]), float(m.geom_friction[floor][0])) for g in robot_geoms}
-    gears = {float(m.actuator_gear[k][0]) for k in range(m.nu)}
+    condims = {int(m.geom_condim[g]) for g in robot_geoms}
+    assert len(condims) == 1 and int(m.geom_condim[floor]) == 3, "one robot condim, floor condim 3"
+    gears = [float(m.actuator_gear[k][0]) for k in range(m.nu)]
     lim_j = [j for j in range(m.njnt) if m.jnt_limited[j]]
     solreflimit = {tuple(float(x) for x in m.jnt_solref[j]) for j in lim_j}
-    dampings = {float(m.dof_damping[m.jnt_dofadr[j]]) for j in range(m.njnt) if j != root}
+    hinge_j = [j for j in range(m.njnt) if j != root]
+    dampings = [float(m.dof_damping[m.jnt_dofadr[j]]) for j in hinge_j]
+    springs = [(j, float(m.jnt_stiffness[j])) for j in hinge_j if m.jnt_stiffness[j] != 0]
+    assert all(m.qpos_spring[m.jnt_qposadr[j]] == m.qpos0[m.jnt_qposadr[j]] == 0 for j, _ in springs)
+    self_coll = m.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_FILTERPARENT == 0 and all(
+        m.geom_contype[g] & m.geom_conaffinity[h] or m.geom_contype[h] & m.geom_conaffinity[g]
+        for g in robot_geoms for h in robot_geoms)
+    assert self_coll or all(not (m.geom_contype[g] & m.geom_conaffinity[h] or m.geom_contype[h] & m.geom_conaffinity[g])
+                            for g in robot_geoms for h in robot_geoms), "all robot geoms collide or none"
     ranges = {tuple(float(x) for x in r) for r in m.actuator_ctrlrange}
-    assert len(ranges) == 1 and len(gears) == 1 and len(frictions) == 1 and len(dampings) == 1
+    assert len(ranges) == 1 and len(frictions) == 1
     assert solreflimit == {(0.02, 1.0)}, "joint_stiffness 2500 on inertia 1 stands for solreflimit (0.02, 1)"
     assert all(tuple(m.jnt_solimp[j]) == (0.9, 0.95, 0.001, 0.5, 2.0) and m.jnt_margin[j] == 0 for j in lim_j)
     integrator = {0: "euler", 1: "rk4"}[int(m.opt.integrator)]
+    uniform = len(set(gears)) == 1 and len(set(dampings)) == 1 and not springs and condims == {3} and not self_coll
+    floor_margin = float(m.geom_margin[floor])
+    if uniform:
+        left = (f"Left to the context (the spec's mujoco_v5 instance set has the XML's values): gear {gears[0]} "
+                f"(actuator_strength; torque = control x gear x actuator_strength / strength_reference), joint "
+                f"damping {dampings[0]} (joint_angular_damping), friction {frictions.pop()}, gravity, torso mass "
+                f"{float(m.body_mass[1]):.6g} kg, and the joint limits' solreflimit (0.02, 1) (joint_stiffness 2500 "
+                f"on limit_reference_inertia 1).")
+    else:
+        left = (f"Kept from the XML: each motor's gear, each joint's damping pattern (joint_angular_damping scales "
+                f"it: a joint's damping is its XML damping x joint_angular_damping / damping_reference "
+                f"{max(dampings)}), joint springs, condim {condims.copy().pop()} on the robot's geoms (the floor's 3 "
+                f"wins robot-floor pairs), self-collisions with MuJoCo's parent-child filter, and the joint limits "
+                f"(solreflimit (0.02, 1), limit_model). Left to the context (the spec's mujoco_v5 instance set has "
+                f"the XML's values): friction {frictions.pop()}, gravity, joint damping, torso mass "
+                f"{float(m.body_mass[1]):.6g} kg and the other link masses. Its fixed tendons exert nothing and are "
+                f"not converted.")
     side = {
         "robot": name,
         "source": (
@@ -592,11 +660,7 @@ def convert_free(name, m, mujoco, floor, jname, bname, root):
             f"scripts/robot_urdf_mujoco.py: bodies one for one (masses and inertias from the geoms at the XML's "
             f"density), joint anchors, axes and ranges, armature, spheres and capsules, control range, time step "
             f"({float(m.opt.timestep)} s) and integrator ({integrator}), frame_skip {frame_skip} (Gymnasium's), "
-            f"contact solref/solimp and the pair's margin. Left to the context (the spec's mujoco_v5 instance set "
-            f"has the XML's values): gear {gears.pop()} (actuator_strength; torque = control x gear x "
-            f"actuator_strength / strength_reference), joint damping {dampings.pop()} (joint_angular_damping), "
-            f"friction {frictions.pop()}, gravity, torso mass {float(m.body_mass[1]):.6g} kg, and the joint limits' "
-            f"solreflimit (0.02, 1) (joint_stiffness 2500 on limit_reference_inertia 1)."
+            f"contact solref/solimp and the pair's margin. " + left
         ),
         "engine": "articulated",
         "integrator": integrator,
@@ -608,7 +672,8 @@ def convert_free(name, m, mujoco, floor, jname, bname, root):
         "root_height": float(m.body_pos[1][2]),
         "ctrl_range": list(ranges.pop()),
         "strength_reference": 1.0,
-        "actuators": [{"joint": jname(int(m.actuator_trnid[k][0])), "gear": 1.0} for k in range(m.nu)],
+        "actuators": [{"joint": jname(int(m.actuator_trnid[k][0])), "gear": 1.0 if uniform else gears[k]}
+                      for k in range(m.nu)],
         "joint_armatures": [
             {"joint": jname(j), "armature": float(m.dof_armature[m.jnt_dofadr[j]])} for j in range(m.njnt) if j != root
         ],
@@ -616,13 +681,24 @@ def convert_free(name, m, mujoco, floor, jname, bname, root):
         "limit_reference_inertia": 1.0,
         "limit_damping_ratio": 1.0,
         "restitution": 0.0,
-        "self_collisions": False,
+        "self_collisions": bool(self_coll),
         "max_speed": 1000.0,
     }
+    if not uniform:
+        side["bodies"] = [bname(b) for b in range(1, m.nbody)]
+        side["joint_dampings"] = [{"joint": jname(j), "damping": dmp} for j, dmp in zip(hinge_j, dampings)]
+        side["damping_reference"] = max(dampings)
+        side["joint_springs"] = [{"joint": jname(j), "stiffness": k} for j, k in springs]
+        side["contact_condim"] = condims.pop()
+        side["floor_margin"] = floor_margin
+        side["limit_model"] = {"solref": [0.02, 1.0], "solimp": [0.9, 0.95, 0.001, 0.5, 2.0], "margin": 0.0}
     doc = (
         f"carl-spec robot description, generated by scripts/robot_urdf_mujoco.py from Gymnasium {gym_id}'s "
         f"{xml_file} as compiled by MuJoCo {mujoco.__version__}: links are the XML's bodies (free root: the first "
-        f"link; bodies without joints on fixed joints), each link frame at the anchor of its joint."
+        f"link; bodies without joints on fixed joints"
+        + ("; a body's several hinges through massless carrier links" if any(len(h) > 1 for h in hinges_of.values())
+           else "")
+        + "), each link frame at the anchor of its joint."
     )
     urdf = (f'<?xml version="1.0"?>\n<!-- {doc} -->\n<robot name="{name}">\n' + "\n".join(links) + "\n"
             + "\n".join(joints) + "\n</robot>\n")

@@ -5,12 +5,16 @@
 //!
 //! The URDF's root link is body 1 (a free joint when the side file's root is `free`, welded to
 //! the world otherwise); every other link is a body placed at its joint's origin, hinge or
-//! slide along the URDF axis (fixed joints weld). Inertials: the URDF tensor's principal axes.
+//! slide along the URDF axis (fixed joints weld). A carrier link (massless, no colliders, one
+//! child on a hinge or slide at its own frame: [`super::model::is_carrier`]) and its child are
+//! one body with both joints, in order (MuJoCo's several hinges of one body, e.g. Humanoid's
+//! hips). Inertials: the URDF tensor's principal axes.
 //! Colliders: spheres, capsules and boxes; the floor is a plane. How the context enters:
 //! * `gravity` → the gravity vector's z; `friction` → every geom's sliding friction (MuJoCo
 //!   takes the pair's larger, so every contact has it);
 //! * `joint_angular_damping` → MuJoCo's joint damping of every robot joint the side file's
-//!   `joint_dampings` does not list (implicit under Euler, explicit under RK4, as MuJoCo);
+//!   `joint_dampings` does not list (implicit under Euler, explicit under RK4, as MuJoCo); with
+//!   a `damping_reference`, the listed dampings scaled by `joint_angular_damping / reference`;
 //! * `joint_stiffness` → the joint limits unless the side file gives a `limit_model`: MuJoCo
 //!   soft limits with `solref = [−k/I, −2ζ√(k/I)]` (stiffness and damping form), `k` the
 //!   feature, `I` the side file's `limit_reference_inertia`, `ζ` its `limit_damping_ratio`
@@ -21,13 +25,17 @@
 //!   are scaled by `exp(angular_damping · h)` (Brax's global angular damping; 0 in MuJoCo);
 //! * `viscosity` → MuJoCo's medium viscosity.
 //!
-//! Contacts use the side file's `contact_model` (`solref`, `solimp`, and the robot geoms'
-//! `margin`, the floor's being 0) or MuJoCo's defaults; robot geoms collide with the floor, with
+//! Contacts use the side file's `contact_model` (`solref`, `solimp`, and the robot–floor pair's
+//! `margin`, of which the floor has `floor_margin`, default 0, and each robot geom the rest) or
+//! MuJoCo's defaults, the robot geoms' `condim` the side file's `contact_condim` (default 3; the
+//! floor's is 3, a pair takes the larger); robot geoms collide with the floor, with
 //! each other only under `self_collisions` (MuJoCo's parent–child filter applies), and only the
 //! side file's `ground_links` touch the floor when it names any.
 //!
 //! Velocities are MuJoCo's: a free root's linear velocity in the world frame, its angular
-//! velocity in the root body's frame.
+//! velocity in the root body's frame. [`ArticulatedWorld::com_inertia`] and
+//! [`ArticulatedWorld::com_velocity`] give MuJoCo's `cinert` and `cvel` about a point (the
+//! robot's centre of mass) from the state the last step ended in.
 
 use std::sync::Arc;
 
@@ -122,14 +130,20 @@ impl ArticulatedSystem {
             Some(c) => (c.solref, c.solimp, c.margin.max(0.0)),
             None => (carl_articulated::model::SOLREF_DEFAULT, SOLIMP_DEFAULT, 0.0),
         };
+        let floor_margin = side.floor_margin.clamp(0.0, margin);
         let mut bodies = vec![Body::new("world", 0, [0.0; 3], 0.0, [0.0; 3], [0.0; 3])];
         let mut joints = Vec::new();
         let mut geoms = Vec::new();
         let mut link_body = vec![0; nl];
         let mut urdf_joint_model: Vec<Option<usize>> = vec![None; urdf.joints.len()];
+        let carrier: Vec<bool> = (0..nl).map(|i| super::model::is_carrier(urdf, i)).collect();
         for &li in &order {
             let l = &urdf.links[li];
-            let b = bodies.len();
+            // The child of a carrier shares the carrier's body (one body, several joints).
+            let merged = parent_joint[li]
+                .and_then(|j| link_index(&urdf.joints[j].parent.link))
+                .filter(|&p| carrier[p]);
+            let b = merged.map_or(bodies.len(), |p| link_body[p]);
             link_body[li] = b;
             let (parent, pos, quat) = match parent_joint[li] {
                 None => (0, [0.0, 0.0, side.root_height], math::QUAT_IDENTITY),
@@ -150,7 +164,6 @@ impl ArticulatedSystem {
             if let Some((_, v)) = params.link_masses.iter().find(|(n, _)| *n == l.name) {
                 m = *v;
             }
-            let m = finite_or(m, base).max(1e-6);
             let ine = &l.inertial.inertia;
             let tensor = [
                 [ine.ixx, ine.ixy, ine.ixz],
@@ -159,18 +172,37 @@ impl ArticulatedSystem {
             ];
             let (moments, axes) = math::principal_axes(&tensor);
             let frame = math::mat_to_quat(&rpy_mat(l.inertial.origin.rpy.0));
-            let mut body = Body::new(
-                &l.name,
-                parent,
-                pos,
-                m,
-                l.inertial.origin.xyz.0,
-                math::scale(moments, m / base),
-            );
-            body.quat = quat;
-            body.iquat = math::quat_mul(frame, axes);
-            bodies.push(body);
+            if carrier[li] {
+                // Filled in by the carried link (a carrier carried by a carrier adds nothing).
+                if merged.is_none() {
+                    let mut body = Body::new(&l.name, parent, pos, 0.0, [0.0; 3], [0.0; 3]);
+                    body.quat = quat;
+                    bodies.push(body);
+                }
+            } else {
+                let m = finite_or(m, base).max(1e-6);
+                let moments = math::scale(moments, m / base);
+                match merged {
+                    Some(_) => {
+                        let body = &mut bodies[b];
+                        body.name.clone_from(&l.name);
+                        body.mass = m;
+                        body.ipos = l.inertial.origin.xyz.0;
+                        body.inertia = moments;
+                        body.iquat = math::quat_mul(frame, axes);
+                    }
+                    None => {
+                        let mut body = Body::new(&l.name, parent, pos, m, l.inertial.origin.xyz.0, moments);
+                        body.quat = quat;
+                        body.iquat = math::quat_mul(frame, axes);
+                        bodies.push(body);
+                    }
+                }
+            }
+            // A fixed joint welds the link: its body has no joint (MuJoCo's weld), its colliders stay.
+            let welded = parent_joint[li].is_some_and(|j| urdf.joints[j].joint_type == urdf_rs::JointType::Fixed);
             match parent_joint[li] {
+                _ if welded => {}
                 None if side.root == RootKind::Free => {
                     joints.push(Joint::new("root", b, JointKind::Free, [0.0, 0.0, 1.0]));
                 }
@@ -180,7 +212,6 @@ impl ArticulatedSystem {
                     let kind = match jt.joint_type {
                         urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous => JointKind::Hinge,
                         urdf_rs::JointType::Prismatic => JointKind::Slide,
-                        urdf_rs::JointType::Fixed => continue,
                         ref other => return Err(format!("joint {} is a {other:?} joint", jt.name)),
                     };
                     let name = &jt.name;
@@ -195,7 +226,10 @@ impl ArticulatedSystem {
                             .map_or(side.joint_armature, |a| a.armature)
                     };
                     joint.damping = match side.joint_dampings.iter().find(|d| d.joint == *name) {
-                        Some(d) => d.damping.max(0.0),
+                        Some(d) => match side.damping_reference {
+                            Some(r) => d.damping.max(0.0) * jd / r,
+                            None => d.damping.max(0.0),
+                        },
                         None if !root => jd,
                         None => 0.0,
                     };
@@ -237,7 +271,8 @@ impl ArticulatedSystem {
                 g.friction[0] = friction;
                 g.solref = solref;
                 g.solimp = solimp;
-                g.margin = margin;
+                g.margin = margin - floor_margin;
+                g.condim = side.contact_condim.unwrap_or(3);
                 // Bit 1: the floor (contype = conaffinity = 1); bit 2: other robot geoms.
                 let selfc = if side.self_collisions { 2 } else { 0 };
                 g.contype = u32::from(ground) | selfc;
@@ -250,6 +285,7 @@ impl ArticulatedSystem {
             floor.friction[0] = friction;
             floor.solref = solref;
             floor.solimp = solimp;
+            floor.margin = floor_margin;
             floor.contype = 1;
             floor.conaffinity = 1;
             geoms.push(floor);
@@ -439,6 +475,43 @@ impl ArticulatedWorld {
         }
     }
 
+    /// MuJoCo's `cinert` of the links `bodies` about `c`, 10 values per body:
+    /// `[Ixx Iyy Izz Ixy Ixz Iyz, m·d, m]`, `d` = the link's centre of mass − `c`.
+    pub fn com_inertia(&self, bodies: &[usize], c: [f64; 3], out: &mut [f64]) {
+        let m = &*self.sys.model;
+        for (k, &i) in bodies.iter().enumerate() {
+            let bi = self.sys.link_body[i];
+            let body = &m.bodies[bi];
+            let r = math::mat_mul(&self.data.xmat[bi], &math::quat_to_mat(body.iquat));
+            let iw = math::rotate_diag(&r, body.inertia);
+            let mass = body.mass;
+            let d = math::sub(self.data.xipos[bi], c);
+            let o = &mut out[10 * k..10 * k + 10];
+            o[0] = iw[0][0] + mass * (d[1] * d[1] + d[2] * d[2]);
+            o[1] = iw[1][1] + mass * (d[0] * d[0] + d[2] * d[2]);
+            o[2] = iw[2][2] + mass * (d[0] * d[0] + d[1] * d[1]);
+            o[3] = iw[0][1] - mass * d[0] * d[1];
+            o[4] = iw[0][2] - mass * d[0] * d[2];
+            o[5] = iw[1][2] - mass * d[1] * d[2];
+            for j in 0..3 {
+                o[6 + j] = mass * d[j];
+            }
+            o[9] = mass;
+        }
+    }
+
+    /// MuJoCo's `cvel` of the links `bodies` at `c`, 6 values per body: `[ω, v]`, the angular
+    /// velocity and the velocity of the body's point (rigidly extended) at `c`, world axes.
+    pub fn com_velocity(&self, bodies: &[usize], c: [f64; 3], out: &mut [f64]) {
+        for (k, &i) in bodies.iter().enumerate() {
+            let (w, v0) = math::split(&self.data.cvel[self.sys.link_body[i]]);
+            let v = math::add(v0, math::cross(w, c));
+            let o = &mut out[6 * k..6 * k + 6];
+            o[..3].copy_from_slice(&w);
+            o[3..].copy_from_slice(&v);
+        }
+    }
+
     /// Generalized actuator forces under controls `ctrl`, one per movable URDF joint.
     pub fn actuator_forces(&self, ctrl: &[f32], out: &mut [f64]) {
         out.fill(0.0);
@@ -544,6 +617,83 @@ mod tests {
         assert!(
             dq < 1e-5 && dv < 2e-4,
             "ant from the URDF: qpos off by {dq}, qvel by {dv}"
+        );
+    }
+
+    /// robots/humanoid (converted from humanoid.xml: carrier links folded into multi-hinge
+    /// bodies, per-joint damping, springs, gears, condim 1, self-collisions) at MuJoCo's values
+    /// is MuJoCo's Humanoid: its bodies, compiled constants and every 5-step interval of
+    /// carl-articulated's MuJoCo fixture agree (as carl-articulated's own parity test: 75 of
+    /// 80 intervals within 2e-7 / 2e-5, contact onsets within 5e-5 / 5e-3).
+    #[test]
+    fn humanoid_at_mujoco_values_matches_the_mujoco_fixture() {
+        let robot = RobotModel::load("humanoid").unwrap();
+        let mut p = RobotParams::for_model("humanoid", &robot);
+        for (name, v) in [
+            ("gravity", -9.81),
+            ("friction", 1.0),
+            ("angular_damping", 0.0),
+            ("joint_angular_damping", 5.0),
+        ] {
+            p.set(name, v).unwrap();
+        }
+        let sys = ArticulatedSystem::new(&robot, &p).unwrap();
+        let m = &*sys.model;
+        assert_eq!((m.bodies.len(), m.nq, m.nv), (14, 24, 23));
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../carl-articulated/tests/fixtures/mujoco_humanoid.json"
+        );
+        let fx: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        let nums =
+            |v: &serde_json::Value| -> Vec<f64> { v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect() };
+        let dw = nums(&fx["model"]["dof_invweight0"]);
+        for (a, b) in m.dof_invweight0.iter().zip(&dw) {
+            assert!(
+                (a - b).abs() < 1e-6 * b,
+                "dof_invweight0 {:?} vs {dw:?}",
+                m.dof_invweight0
+            );
+        }
+        for (j, fj) in m.joints.iter().zip(fx["model"]["joints"].as_array().unwrap()) {
+            assert_eq!(j.body, fj["body"].as_u64().unwrap() as usize, "joint {} body", j.name);
+            assert!(
+                (j.damping - fj["damping"].as_f64().unwrap()).abs() < 1e-12,
+                "joint {} damping",
+                j.name
+            );
+            assert!(
+                (j.stiffness - fj["stiffness"].as_f64().unwrap()).abs() < 1e-12,
+                "joint {} stiffness",
+                j.name
+            );
+        }
+        let recs = fx["trajectory"].as_array().unwrap();
+        let mut d = Data::new(Arc::clone(&sys.model));
+        let (mut dq, mut dv, mut loose) = (0.0f64, 0.0f64, 0);
+        for w in recs.windows(2) {
+            d.qpos.copy_from_slice(&nums(&w[0]["qpos"]));
+            d.qvel.copy_from_slice(&nums(&w[0]["qvel"]));
+            d.time = w[0]["time"].as_f64().unwrap();
+            for _ in 0..5 {
+                for (a, u) in d.ctrl.iter_mut().enumerate() {
+                    let t = d.time;
+                    *u = (2.0 * std::f64::consts::PI * 1.3 * t + 0.7 * a as f64).sin() * (0.6 + 0.1 * a as f64);
+                }
+                d.step();
+            }
+            let (q1, v1) = (nums(&w[1]["qpos"]), nums(&w[1]["qvel"]));
+            let eq = d.qpos.iter().zip(&q1).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+            let ev = d.qvel.iter().zip(&v1).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+            if eq > 2e-7 || ev > 2e-5 {
+                loose += 1;
+            }
+            dq = dq.max(eq);
+            dv = dv.max(ev);
+        }
+        assert!(
+            dq < 5e-5 && dv < 5e-3 && loose <= 6,
+            "humanoid from the URDF: qpos off by {dq}, qvel by {dv}, {loose} loose intervals"
         );
     }
 

@@ -1,5 +1,5 @@
-//! Articulated robots from URDF: Ant on the articulated-body engine with MuJoCo's semantics
-//! (crate `carl-articulated`, [`articulated`]), Humanoid and the manipulation tasks on rapier3d
+//! Articulated robots from URDF: Ant and Humanoid on the articulated-body engine with MuJoCo's
+//! semantics (crate `carl-articulated`, [`articulated`]), the manipulation tasks on rapier3d
 //! (reduced-coordinate multibody joints), and planar ones (HalfCheetah, Hopper, Walker2d, the
 //! inverted pendulums, Reacher) on a reduced-coordinate engine of their own ([`planar`]).
 //!
@@ -10,7 +10,7 @@
 //!   settings that URDF cannot express).
 //! * [`params`]: the context (Brax's physics parameters as CARL sets them, per-link masses).
 //! * [`articulated`]: the loader from URDF + side file + context to a `carl_articulated::Model`,
-//!   and one instance's world on that engine (Ant's).
+//!   and one instance's world on that engine (Ant's, Humanoid's).
 //! * [`planar`]: a reduced-coordinate engine for planar robots (HalfCheetah's default).
 //! * [`physics`]: a task's physics, any of the three engines.
 //! * [`world`]: one instance's rapier3d physics world, built from model + context; nothing is shared

@@ -7,22 +7,22 @@
 //! 0.01 s physics step, and the observation layout `qpos[skip..] ++ qvel (++ clip(cfrc_ext))`.
 //!
 //! Where it differs (documented deviations and known gaps) depends on the engine:
-//! * Ant runs on the articulated-body engine ([`super::articulated`]) with the bodies of
-//!   Gymnasium's ant.xml (13, so the contact block has 13·6 values as in v5), MuJoCo's root
-//!   velocity convention (angular velocity in the torso frame) and `cfrc_ext` with normal and
-//!   friction parts; what differs from MuJoCo there is the context (CARL's Brax parameters by
-//!   default; the spec's `mujoco_v5` instance set has ant.xml's);
-//! * on rapier3d (Humanoid), `cfrc_ext` comes from rapier's normal contact impulses (no friction
-//!   part) and the root's generalized velocity is rapier's world-frame linear and angular
-//!   velocity; on the planar engine (HalfCheetah, Hopper, Walker2d, which do not observe it)
-//!   `cfrc_ext` includes friction; `cfrc_ext` is com-based (torque about the robot's centre of
-//!   mass, world axes) where the task asks for it (Ant, Humanoid);
+//! * Ant and Humanoid run on the articulated-body engine ([`super::articulated`]) with the
+//!   bodies of Gymnasium's ant.xml and humanoid.xml (13 each, so the per-body blocks have 13
+//!   rows as in v5), MuJoCo's root velocity convention (angular velocity in the torso frame) and
+//!   `cfrc_ext` with normal and friction parts; what differs from MuJoCo there is the context
+//!   (CARL's Brax parameters by default; the specs' `mujoco_v5` instance sets have the XMLs');
+//! * on rapier3d, `cfrc_ext` comes from rapier's normal contact impulses (no friction part) and
+//!   the root's generalized velocity is rapier's world-frame linear and angular velocity; on the
+//!   planar engine (HalfCheetah, Hopper, Walker2d, which do not observe it) `cfrc_ext` includes
+//!   friction; `cfrc_ext` is com-based (torque about the robot's centre of mass, world axes)
+//!   where the task asks for it (Ant, Humanoid);
 //! * masses, damping, gravity and actuator torques come from CARL's (Brax) context, not from
 //!   MuJoCo's geom densities and gears.
 //!
 //! The physics is the side file's engine ([`Physics`]): rapier3d, the planar engine for a
 //! planar robot whose task observes no com-based body terms (HalfCheetah, Hopper, Walker2d), or
-//! the articulated engine (Ant).
+//! the articulated engine (Ant, Humanoid).
 //!
 //! A simulation that diverges (non-finite or faster than the side file's `max_speed`) is rolled
 //! back to the state before the step and the step terminates with `info["diverged"] = 1`.
@@ -32,12 +32,12 @@
 //! the context enter the reward), the velocity reset noise is uniform, the contact cost is
 //! `min(w·Σ cfrc_ext², 10)` over raw (unclipped) com-based `cfrc_ext`, and the observation is
 //! `qpos[2:] ++ qvel ++ cinert ++ cvel ++ qfrc_actuator ++ cfrc_ext` over the robot's bodies
-//! (the side file's `bodies`; MuJoCo's world body row is dropped as in v5), computed from rapier
-//! quantities by [`super::com`]. Known differences there: MuJoCo's `cinert`/`cvel` after
-//! `mj_step` belong to the state at the start of the last physics step, here to the state after
-//! it; `cfrc_ext` has no friction part (see above); the centre of mass includes the massless
-//! carrier links (1e-4 kg each) of the multi-hinge joints. The last step's actuator forces are
-//! part of [`Env::state`] so that the observation is a function of the state.
+//! (the side file's `bodies`; MuJoCo's world body row is dropped as in v5), computed by the
+//! engine's world ([`super::articulated::ArticulatedWorld::com_inertia`], or [`super::com`] on
+//! rapier3d). Known difference there: MuJoCo's `cinert`/`cvel` after `mj_step` belong to the
+//! state at the start of the last physics step, here to the state after it. The last step's
+//! actuator forces are part of [`Env::state`] so that the observation is a function of the
+//! state.
 
 use std::sync::Arc;
 
@@ -491,6 +491,10 @@ impl Locomotion {
             let nb = self.num_bodies();
             let mut com_terms = vec![0.0; 16 * nb];
             if let Some(w) = self.world() {
+                let c = w.center_of_mass();
+                w.com_inertia(&self.model.bodies, c, &mut com_terms[..10 * nb]);
+                w.com_velocity(&self.model.bodies, c, &mut com_terms[10 * nb..]);
+            } else if let Some(w) = self.world.as_ref().and_then(Physics::articulated) {
                 let c = w.center_of_mass();
                 w.com_inertia(&self.model.bodies, c, &mut com_terms[..10 * nb]);
                 w.com_velocity(&self.model.bodies, c, &mut com_terms[10 * nb..]);

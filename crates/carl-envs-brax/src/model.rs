@@ -147,9 +147,23 @@ pub struct SideFile {
     #[serde(default)]
     pub bodies: Vec<String>,
     /// Per-joint viscous damping from the model (MuJoCo's joint `damping`); a joint listed here
-    /// is not damped by the context's `joint_angular_damping` (planar engine).
+    /// is not damped by the context's `joint_angular_damping` (planar engine), unless
+    /// `damping_reference` is given.
     #[serde(default)]
     pub joint_dampings: Vec<JointDamping>,
+    /// With `joint_dampings`, the articulated engine scales them by the context's
+    /// `joint_angular_damping / damping_reference` (the model's pattern of dampings, its level
+    /// from the context).
+    #[serde(default)]
+    pub damping_reference: Option<f64>,
+    /// MuJoCo's `condim` of the robot's geoms (1 or 3, default 3; the floor's is 3 and a pair
+    /// takes the larger), articulated engine.
+    #[serde(default)]
+    pub contact_condim: Option<u8>,
+    /// The floor's share of `contact_model.margin` (default 0): robot geoms get the rest, so a
+    /// pair of robot geoms has twice the rest (MuJoCo adds the two geoms' margins).
+    #[serde(default)]
+    pub floor_margin: f64,
     /// Reset values of joint coordinates (default 0): MuJoCo's `qpos0`, around which the reset
     /// noise is drawn.
     #[serde(default)]
@@ -216,6 +230,28 @@ pub struct SideFile {
 
 fn yes() -> bool {
     true
+}
+
+/// Whether URDF link `li` is a carrier of a multi-hinge body: no inertia of its own, no
+/// colliders, moved by a hinge or slide and carrying exactly one link on a hinge or slide at
+/// its own frame. The articulated engine folds a carrier and its child into one body with
+/// both joints (MuJoCo's several joints of one body, in order).
+pub fn is_carrier(urdf: &urdf_rs::Robot, li: usize) -> bool {
+    let l = &urdf.links[li];
+    let i = &l.inertial.inertia;
+    let massless = l.inertial.mass.value == 0.0 && [i.ixx, i.ixy, i.ixz, i.iyy, i.iyz, i.izz].iter().all(|x| *x == 0.0);
+    let moved = urdf
+        .joints
+        .iter()
+        .any(|j| j.child.link == l.name && is_movable(&j.joint_type));
+    let children: Vec<_> = urdf.joints.iter().filter(|j| j.parent.link == l.name).collect();
+    massless
+        && l.collision.is_empty()
+        && moved
+        && children.len() == 1
+        && is_movable(&children[0].joint_type)
+        && children[0].origin.xyz.0 == [0.0; 3]
+        && children[0].origin.rpy.0 == [0.0; 3]
 }
 
 /// A parsed robot description, shared read-only by all instances of one environment.
@@ -401,13 +437,25 @@ impl RobotModel {
                 message: format!("torso link {torso} is not a link of the URDF"),
             });
         };
-        for l in &urdf.links {
-            if l.inertial.mass.value <= 0.0 {
+        for (i, l) in urdf.links.iter().enumerate() {
+            let carrier = side.engine == Engine::Articulated && is_carrier(&urdf, i);
+            if !(l.inertial.mass.value > 0.0 || carrier && l.inertial.mass.value == 0.0) {
                 return Err(ModelError::Urdf {
                     robot,
                     message: format!("link {} has no mass", l.name),
                 });
             }
+        }
+        if side.damping_reference.is_some_and(|d| !(d > 0.0 && d.is_finite()))
+            || side.contact_condim.is_some_and(|c| c != 1 && c != 3)
+            || !(side.floor_margin >= 0.0 && side.floor_margin <= side.contact_model.as_ref().map_or(0.0, |c| c.margin))
+        {
+            return Err(ModelError::Side {
+                robot,
+                message: "damping_reference must be positive, contact_condim 1 or 3, floor_margin within the \
+                          contact margin"
+                    .into(),
+            });
         }
         if side.timestep <= 0.0 || side.frame_skip == 0 || side.solver_iterations == 0 {
             return Err(ModelError::Side {

@@ -1,4 +1,4 @@
-//! The Humanoid (Gymnasium Humanoid-v5 on the humanoid.xml geometry, rapier3d): the model's
+//! The Humanoid (Gymnasium Humanoid-v5 on humanoid.xml, the articulated engine): the model's
 //! bodies and masses, standing height at reset, falling under zero control (and how gravity
 //! changes it), motor directions, the v5 reward and observation layout, robustness at the spec
 //! bounds, independence of instances and rendering (tests/audit.rs audits every runtime).
@@ -47,7 +47,8 @@ fn fall_steps(ctx: &[(&str, f64)], max: usize) -> Option<usize> {
 #[test]
 fn model_has_the_mujoco_bodies_joints_and_masses() {
     let m = RobotModel::load("humanoid").unwrap();
-    // 13 MuJoCo bodies plus 7 massless carriers of the multi-hinge joints.
+    // 13 MuJoCo bodies plus 7 massless carriers of the multi-hinge joints (the engine folds
+    // them into their bodies).
     assert_eq!(m.link_names.len(), 20);
     assert_eq!(m.bodies.len(), NB);
     let bodies: Vec<&str> = m.bodies.iter().map(|&i| m.link_names[i].as_str()).collect();
@@ -151,10 +152,14 @@ fn each_motor_turns_its_joint_in_the_positive_direction() {
         e.set_state(&s).unwrap();
         e.step(&Action::Continuous(act)).unwrap();
         let r = e.inner().downcast_ref::<carl_spec::envs::brax::Locomotion>().unwrap();
-        let link = |name: &str| m.link_names.iter().position(|n| n == name).unwrap();
-        let w = r.world().unwrap();
-        let knee = w.link_pose(link("right_shin")).translation;
-        f64::from(w.link_pose(link("pelvis")).inverse_transform_point(knee).x)
+        let w = r.physics().and_then(|p| p.articulated()).unwrap();
+        let body = |name: &str| w.system().link_body[m.link_names.iter().position(|n| n == name).unwrap()];
+        let d = w.data();
+        let (knee, pelvis) = (d.xpos[body("right_shin")], d.xpos[body("pelvis")]);
+        let rel = [0, 1, 2].map(|k| knee[k] - pelvis[k]);
+        // x of the knee in the pelvis frame (first column of the pelvis rotation · rel).
+        let r0 = &d.xmat[body("pelvis")];
+        r0[0][0] * rel[0] + r0[1][0] * rel[1] + r0[2][0] * rel[2]
     };
     let mut act = vec![0.0; NA];
     act[5] = 0.4;

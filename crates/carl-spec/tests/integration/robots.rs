@@ -1,4 +1,4 @@
-//! Articulated robots (Ant on the articulated-body engine, Humanoid on rapier3d, HalfCheetah on
+//! Articulated robots (Ant and Humanoid on the articulated-body engine, HalfCheetah on
 //! the planar engine): physics checks (free fall, rest, joint torque direction,
 //! friction), every context feature acting on the physics, robustness at the spec bounds,
 //! independence of instances, the Gymnasium v5 task rules, and rendering.
@@ -65,7 +65,7 @@ fn robots_load_from_urdf() {
     assert!((mass("torso") - 4.0).abs() < 1e-12);
     assert!((mass("ankle_3_link") - 2.5).abs() < 1e-12);
     assert!((mass("aux_1") - 0.0391578).abs() < 1e-6);
-    // rapier3d still builds the same URDF (Humanoid's engine).
+    // rapier3d still builds the same URDF (the manipulation tasks' engine).
     let w = RobotWorld::build(&ant, &p, &ant_in_air(2.0));
     assert!((w.link_mass(0) - 4.0).abs() < 1e-5);
     let cheetah = RobotModel::load("half_cheetah").unwrap();

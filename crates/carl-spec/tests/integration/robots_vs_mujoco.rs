@@ -324,4 +324,4 @@ fn humanoid_side_of_the_mujoco_table() {
 // Ant and HalfCheetah do not fall under zero control: their fall time is the 1000-step limit.
 const PIN_ANT: [f64; 9] = [0.3824, 50.0, 0.5731, 0.5468, 0.4474, 0.6330, 0.2238, 1000.0, -340.3810];
 const PIN_CHEETAH: [f64; 9] = [0.5947, 50.0, 0.3424, 0.5163, 0.3746, 0.5979, 0.4518, 1000.0, -236.9631];
-const PIN_HUMANOID: [f64; 9] = [1.2943, 1.149, 0.3687, 0.3997, 0.0305, 0.0351, 0.1622, 69.85, 348.7686];
+const PIN_HUMANOID: [f64; 9] = [1.2927, 1.248, 0.3778, 0.3933, 0.0263, 0.0732, 0.2686, 39.1, 188.7901];
