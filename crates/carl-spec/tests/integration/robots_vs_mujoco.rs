@@ -1,4 +1,5 @@
-//! carl-spec's side of the robots-versus-MuJoCo table (README "Robots against MuJoCo"):
+//! carl-spec's side of the robots-versus-MuJoCo tables (the Fidelity section of each robot's page,
+//! `crates/carl-envs-brax/docs/<id>.md`):
 //! the metrics of `scripts/robot_mujoco_compare.py`, computed here through the library with the
 //! same seeds, actions and definitions, at the spec's default context, and pinned.
 //!
@@ -6,7 +7,7 @@
 //! tightly; the long, chaotic ones (open-loop gait velocity, random-policy means over 20
 //! episodes) within a band wide enough for float-level changes of the physics engine (e.g. a
 //! faster mass-matrix computation) but not for a model change. A legitimate model change
-//! re-runs the script (`--carl-only` prints this side) and updates the pins with the README.
+//! re-runs the script (`--carl-only` prints this side) and updates the pins with the robot's page.
 
 use carl_spec::envs::policy::{Policy, RandomPolicy};
 use carl_spec::envs::registry::{Context, SpecEnv, make};
