@@ -27,7 +27,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from robot_speed_compare import GYM_IDS  # noqa: E402
+from robot_speed_compare import GYM_IDS, write_report  # noqa: E402
 
 ACTION_TABLE = 256
 
@@ -121,14 +121,7 @@ def main():
         f"load average before {meta['load_before'][0]:.1f}, after {meta['load_after'][0]:.1f} on {meta['cpus']} CPUs."
     )
     md = "\n".join(lines) + "\n"
-    if args.json:
-        with open(args.json, "w") as f:
-            json.dump({"meta": meta, "results": results}, f, indent=1)
-            f.write("\n")
-    if args.markdown:
-        with open(args.markdown, "w") as f:
-            f.write(md)
-    print(md)
+    write_report(args, meta, results, md)
 
 
 if __name__ == "__main__":

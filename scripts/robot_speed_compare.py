@@ -59,6 +59,18 @@ def carl_steps_per_sec(exe, robot, steps):
     return float(json.loads(p.stdout.strip().splitlines()[-1])["single_steps_per_sec"])
 
 
+def write_report(args, meta, results, md):
+    """The raw runs as JSON (`--json`), the table as markdown (`--markdown`), the table printed."""
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump({"meta": meta, "results": results}, f, indent=1)
+            f.write("\n")
+    if args.markdown:
+        with open(args.markdown, "w") as f:
+            f.write(md)
+    print(md)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--carl-spec", default="target/release/carl-spec")
@@ -117,14 +129,7 @@ def main():
         f"{meta['load_before'][0]:.1f}, after {meta['load_after'][0]:.1f} on {meta['cpus']} CPUs."
     )
     md = "\n".join(lines) + "\n"
-    if args.json:
-        with open(args.json, "w") as f:
-            json.dump({"meta": meta, "results": results}, f, indent=1)
-            f.write("\n")
-    if args.markdown:
-        with open(args.markdown, "w") as f:
-            f.write(md)
-    print(md)
+    write_report(args, meta, results, md)
 
 
 if __name__ == "__main__":

@@ -71,12 +71,7 @@ pub const REGISTRATIONS: &[Registration] = &[
     },
     Registration {
         id: "hopper",
-        build: |v, o| {
-            let p = robot_params("hopper", v)?;
-            let task = robots::make_robot_with_termination("hopper", p, o.flag("terminate_when_unhealthy"))
-                .ok_or_else(|| missing_model("hopper"))?;
-            with_goal(task, o)
-        },
+        build: |v, o| planar_walker("hopper", v, o),
         runtime_default: |n| robot_default("hopper", n),
         options: &[TERMINATE_WHEN_UNHEALTHY, GOAL],
         heuristic: None,
@@ -103,12 +98,7 @@ pub const REGISTRATIONS: &[Registration] = &[
     },
     Registration {
         id: "walker2d",
-        build: |v, o| {
-            let p = robot_params("walker2d", v)?;
-            let task = robots::make_robot_with_termination("walker2d", p, o.flag("terminate_when_unhealthy"))
-                .ok_or_else(|| missing_model("walker2d"))?;
-            with_goal(task, o)
-        },
+        build: |v, o| planar_walker("walker2d", v, o),
         runtime_default: |n| robot_default("walker2d", n),
         options: &[TERMINATE_WHEN_UNHEALTHY, GOAL],
         heuristic: None,
@@ -349,6 +339,14 @@ fn control(id: &str, values: &[(String, f64)]) -> Result<AnyEnv, MakeError> {
     robots::make_control(id, p)
         .map(AnyEnv::new)
         .ok_or_else(|| missing_model(id))
+}
+
+/// Hopper or Walker2d with Gymnasium's `terminate_when_unhealthy` and the `goal` option.
+fn planar_walker(id: &'static str, values: &[(String, f64)], o: &OptionValues) -> Result<AnyEnv, MakeError> {
+    let p = robot_params(id, values)?;
+    let task = robots::make_robot_with_termination(id, p, o.flag("terminate_when_unhealthy"))
+        .ok_or_else(|| missing_model(id))?;
+    with_goal(task, o)
 }
 
 /// `task`, or with the `goal` option its goal-directed variant ([`crate::goal`]).
