@@ -1,8 +1,8 @@
 //! Joint-space dynamics of the planar tree: the mass matrix `M(q)` as `Σ Jᵢᵀ Mᵢ Jᵢ` over the
 //! links' centre-of-mass Jacobians (only a link's ancestor coordinates have non-zero
 //! columns), the bias forces `C(q, q̇)q̇ − τ_gravity` by recursive Newton–Euler with zero joint
-//! accelerations, and a dense Cholesky factorization for the small symmetric positive definite
-//! systems (n ≤ a dozen coordinates).
+//! accelerations; the dense Cholesky factorization of the small symmetric positive definite
+//! systems (n ≤ a dozen coordinates) is the articulated engine's.
 
 use super::kinematics::{DofAxis, LinkState, dot, point_bias_acceleration};
 use super::tree::PlanarTree;
@@ -73,47 +73,9 @@ pub fn potential_energy(tree: &PlanarTree, links: &[LinkState], gravity: f64) ->
         .sum()
 }
 
-/// In-place Cholesky factorization `A = L Lᵀ` of the row-major `n × n` matrix `a` (lower
-/// triangle written, upper left untouched). Returns `false` if `a` is not positive definite.
-pub fn cholesky(a: &mut [f64], n: usize) -> bool {
-    for j in 0..n {
-        let mut d = a[j * n + j];
-        for k in 0..j {
-            d -= a[j * n + k] * a[j * n + k];
-        }
-        if d.is_nan() || d <= 0.0 {
-            return false;
-        }
-        let d = d.sqrt();
-        a[j * n + j] = d;
-        for i in j + 1..n {
-            let mut s = a[i * n + j];
-            for k in 0..j {
-                s -= a[i * n + k] * a[j * n + k];
-            }
-            a[i * n + j] = s / d;
-        }
-    }
-    true
-}
-
-/// Solve `L Lᵀ x = b` in place (`x` holds `b` on entry) with the factor of [`cholesky`].
-pub fn cholesky_solve(l: &[f64], n: usize, x: &mut [f64]) {
-    for i in 0..n {
-        let mut s = x[i];
-        for k in 0..i {
-            s -= l[i * n + k] * x[k];
-        }
-        x[i] = s / l[i * n + i];
-    }
-    for i in (0..n).rev() {
-        let mut s = x[i];
-        for k in i + 1..n {
-            s -= l[k * n + i] * x[k];
-        }
-        x[i] = s / l[i * n + i];
-    }
-}
+/// The dense Cholesky factorization and solve of the small symmetric positive definite systems
+/// (n ≤ a dozen coordinates): the articulated engine's, the same arithmetic.
+pub use carl_articulated::dynamics::{cholesky, cholesky_solve};
 
 /// `J_p` of world point `p` on the link with ancestors `ancestors`: its velocity per unit rate
 /// of each coordinate (one row per axis, row-major `2 × n`, zero outside the ancestors).
