@@ -152,6 +152,7 @@ def context_args(
     context_noise_redraw: str = "episode",
     options: Mapping[str, Any] | None = None,
     allow_out_of_bounds: bool = False,
+    schedules: Mapping[str, Mapping[str, Any]] | None = None,
 ) -> _core.ContextArgs:
     """The context source of `make`, `make_vec` and `wrap`, checked, as the native constructors
     take it."""
@@ -172,4 +173,23 @@ def context_args(
         context_noise_redraw=check_name("context_noise_redraw", context_noise_redraw),
         options=_json_object("options", options),
         allow_out_of_bounds=allow_out_of_bounds,
+        schedules=_schedules_json(schedules),
     )
+
+
+def _schedules_json(schedules: Mapping[str, Mapping[str, Any]] | None) -> str | None:
+    """`schedules={feature: {"kind": ..., ...}}` as the native constructors take it (JSON)."""
+    if schedules is None:
+        return None
+    if not isinstance(schedules, Mapping):
+        raise ValueError(f"schedules must be a dict of feature -> schedule, got {type(schedules).__name__}")
+    plain = {}
+    for name, schedule in schedules.items():
+        name = check_name("schedules", name)
+        if not isinstance(schedule, Mapping):
+            raise ValueError(
+                f"schedules[{quote(name)}] must be a dict such as {{'kind': 'sine', 'amplitude': 2, 'period': 100}}, "
+                f"got {quote(repr(schedule))}"
+            )
+        plain[name] = {check_name(f"schedules[{quote(name)}]", k): _value(f"schedules[{quote(name)}][{quote(k)}]", v) for k, v in schedule.items()}
+    return json.dumps(plain, allow_nan=False)

@@ -132,6 +132,15 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
     `target_id` and the Hamming distances. A fixed context outside the spec's bounds is refused (naming the
     feature and its bounds) unless `allow_out_of_bounds=True`.
 
+    Schedules: `schedules={feature: {"kind": ...}}` changes dynamics features within every
+    episode, from the episode's own value `b` at step `t` (0 at reset): `{"kind": "step", "at": t0,
+    "to": x}`, `{"kind": "linear", "to": x, "over": n}` (reaches x after n steps), `{"kind": "sine",
+    "amplitude": a, "period": p, "phase": 0}`, `{"kind": "random_walk", "std": s, "low": lo, "high":
+    hi}` (seeded by `reset(seed=...)`, reflected into [lo, hi]). `info["context"]` holds the current
+    values at every step. A schedule that can leave a feature's bounds, a feature that does not act
+    on the dynamics, or an environment whose runtime cannot change its context mid-episode (the
+    classic-control five can) raises a ValueError naming the problem.
+
     Seeding: `reset(seed=s)` determines everything that follows (instance choice, draws, initial
     states); the classic five start from the state Gymnasium's env starts from with seed `s`.
     An env never seeded draws its first seed from the OS. `reset(options={"instance": i})` plays
@@ -183,6 +192,7 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
         context_noise_redraw: str = "episode",
         options: dict[str, Any] | None = None,
         allow_out_of_bounds: bool = False,
+        schedules: dict[str, dict[str, Any]] | None = None,
     ) -> None:
         source: dict[str, Any] = dict(
             context=context,
@@ -195,6 +205,7 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
             context_noise_redraw=context_noise_redraw,
             options=options,
             allow_out_of_bounds=allow_out_of_bounds,
+            schedules=schedules,
         )
         self._ctor: dict[str, Any] = dict(env=env, render_mode=render_mode, specs_dir=specs_dir, **source)
         self._spec: EnvSpec | None = None
@@ -215,6 +226,7 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
         self._seeded = False
         self._info: dict[str, Any] = {}
         self._noise_per_step = self._core.noise_redraw() == "step"
+        self._scheduled = schedules is not None and len(schedules) > 0
         self._goal = False
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None) -> tuple[np.ndarray, dict[str, Any]]:
@@ -244,6 +256,8 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
             raise ValueError(f"{self.env_id}: action {action} is not in {self.action_space}") from None
         if self._noise_per_step:
             self._info["observed_context"] = self._core.observed_context()
+        if self._scheduled:
+            self._info["context"].update(self._core.scheduled_context())
         info = _fresh(self._info)
         if self._goal:
             info.update(self._core.goal_info() or {})

@@ -43,8 +43,9 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
     environment `k` (None or -1: its own selection). The observation space is the same for every
     context source (see `CarlEnv`). At the step that ends an episode, `infos["outcome"]` (with
     `_outcome`; in same-step mode inside `final_info`) says how it ended where the environment
-    defines it (`landed`, `solved`, `timed_out`, ...). `context_noise`, `context_noise_redraw`, `options` and
-    `allow_out_of_bounds` are `carl_spec.make`'s (see `CarlEnv`); with noise,
+    defines it (`landed`, `solved`, `timed_out`, ...). `context_noise`, `context_noise_redraw`, `options`,
+    `allow_out_of_bounds` and `schedules` are `carl_spec.make`'s (see `CarlEnv`; under a schedule
+    `infos["context"]` holds every environment's current values at every step); with noise,
     `infos["observed_context"]` holds what each environment observes (`{feature: (num_envs,)}`
     plus Gymnasium's `_feature` / `_observed_context` masks). In same-step mode
     `infos["final_info"]` is the finished episodes' step info (`context`, `instance_id`, ...) in
@@ -78,6 +79,7 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
         context_noise_redraw: str = "episode",
         options: dict[str, Any] | None = None,
         allow_out_of_bounds: bool = False,
+        schedules: dict[str, dict[str, Any]] | None = None,
         max_episode_steps: int | None = None,
     ) -> None:
         if render_mode is not None:
@@ -96,6 +98,7 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
             context_noise_redraw=context_noise_redraw,
             options=options,
             allow_out_of_bounds=allow_out_of_bounds,
+            schedules=schedules,
         )
         num_envs = check_int("num_envs", num_envs, 1)
         threads = check_int("threads", threads, 1)

@@ -10,6 +10,7 @@ use std::any::Any;
 use std::fmt;
 
 use super::api::{Action, Env, EnvError, Info, Space, StepOutcome};
+use super::context::MakeError;
 
 /// An environment the registry can hold: an [`Env`] that can be cloned, sent to worker
 /// threads and inspected as its concrete type.
@@ -19,6 +20,14 @@ pub trait Runtime: Env + RuntimeBase + Send + Sync + fmt::Debug + 'static {
     /// termination, so the sensitivity audit probes them. Tasks without goals return none.
     fn goal_states(&self, _states: &[Vec<f64>]) -> Result<Vec<Vec<f64>>, EnvError> {
         Ok(Vec::new())
+    }
+
+    /// Change context features in the middle of an episode (context schedules): the parameters
+    /// take the new values from the next step on, the state stays. `None`: this runtime fixes
+    /// its context when it is built (the default); the contextual wrapper then refuses schedules
+    /// for it, naming the environments that take them.
+    fn set_features(&mut self, _values: &[(String, f64)]) -> Option<Result<(), MakeError>> {
+        None
     }
 }
 
@@ -62,6 +71,11 @@ impl AnyEnv {
     /// See [`Runtime::goal_states`].
     pub fn goal_states(&self, states: &[Vec<f64>]) -> Result<Vec<Vec<f64>>, EnvError> {
         self.0.goal_states(states)
+    }
+
+    /// See [`Runtime::set_features`].
+    pub fn set_features(&mut self, values: &[(String, f64)]) -> Option<Result<(), MakeError>> {
+        self.0.set_features(values)
     }
 }
 

@@ -7,6 +7,7 @@ use carl_spec::envs::contextual::{
     ContextNoise, ContextSource, ContextualEnv, ContextualOptions, NoiseRedraw, NoiseStd,
 };
 use carl_spec::envs::registry::{Context, EnvOptions, MakeError, has_runtime, ids_text};
+use carl_spec::envs::schedules::parse_schedules;
 use carl_spec::envs::{Features, Selection, Visibility};
 use carl_spec::instances::Store;
 use carl_spec::spec::SpecSet;
@@ -28,6 +29,8 @@ pub(crate) struct SourceArgs {
     pub(crate) options_json: Option<String>,
     pub(crate) noise: ContextNoise,
     pub(crate) allow_out_of_bounds: bool,
+    /// Features changing within episodes, `{"feature": {"kind": ...}}` as JSON.
+    pub(crate) schedules_json: Option<String>,
 }
 
 impl Default for SourceArgs {
@@ -47,6 +50,7 @@ impl Default for SourceArgs {
                 redraw: NoiseRedraw::Episode,
             },
             allow_out_of_bounds: false,
+            schedules_json: None,
         }
     }
 }
@@ -77,6 +81,7 @@ impl SourceArgs {
             && self.obs_context.as_ref().is_none_or(Vec::is_empty)
             && !self.obs_context_all
             && self.noise.is_empty()
+            && self.schedules_json.is_none()
     }
 }
 
@@ -142,6 +147,10 @@ pub(crate) fn build_contextual(py: Python<'_>, specs: &SpecSet, env: &str, a: &S
             noise: a.noise.clone(),
             env_options: a.env_options()?,
             allow_out_of_bounds: a.allow_out_of_bounds,
+            schedules: match &a.schedules_json {
+                Some(text) => parse_schedules(text).map_err(value_error)?,
+                None => Vec::new(),
+            },
         },
     )
     .map_err(|e| contextual_error(py, &e))
@@ -160,7 +169,7 @@ pub(crate) struct ContextArgs {
 #[pymethods]
 impl ContextArgs {
     #[new]
-    #[pyo3(signature = (*, context=None, instances=None, distribution=None, selection="round_robin", instance=None, obs_context=None, context_noise=None, context_noise_redraw="episode", options=None, allow_out_of_bounds=false))]
+    #[pyo3(signature = (*, context=None, instances=None, distribution=None, selection="round_robin", instance=None, obs_context=None, context_noise=None, context_noise_redraw="episode", options=None, allow_out_of_bounds=false, schedules=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         context: Option<String>,
@@ -173,6 +182,7 @@ impl ContextArgs {
         context_noise_redraw: &str,
         options: Option<String>,
         allow_out_of_bounds: bool,
+        schedules: Option<String>,
     ) -> PyResult<Self> {
         let (obs_context, obs_context_all) = match obs_context {
             None => (None, false),
@@ -202,6 +212,7 @@ impl ContextArgs {
                 options_json: options,
                 noise: context_noise_arg(context_noise, context_noise_redraw)?,
                 allow_out_of_bounds,
+                schedules_json: schedules,
             },
         })
     }

@@ -164,6 +164,16 @@ impl Env {
         info_dict(py, self.inner.context_info())
     }
 
+    /// The scheduled features' current values (empty without schedules): what changes in the
+    /// context info from step to step.
+    fn scheduled_context<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for (k, x) in self.inner.scheduled_values() {
+            d.set_item(k, x)?;
+        }
+        Ok(d)
+    }
+
     /// What the agent observes of the visible features now (noise included).
     fn observed_context<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         observed_dict(py, &self.inner)

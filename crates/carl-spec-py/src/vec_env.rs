@@ -78,6 +78,8 @@ pub(crate) struct VecEnv {
     steps: u64,
     /// Every env's context infos (see `cached_context_infos`), until a context may change.
     context_cache: Option<Py<PyDict>>,
+    /// Some feature changes within episodes (a schedule): the context infos change every step.
+    scheduled: bool,
     /// Whether an episode ended in the last step (its env resets in the next, next-step mode).
     last_any_done: bool,
     /// The tuples the last two steps returned, released while the workers step a later batch
@@ -487,6 +489,7 @@ impl VecEnv {
             bounds: BoxBounds::of(&inner.action_space()),
             steps: 0,
             context_cache: None,
+            scheduled: proto.has_schedules(),
             last_any_done: false,
             inner,
             layout,
@@ -801,8 +804,8 @@ impl VecEnv {
             Vec::new()
         };
         // Contexts change only where an env resets: in this step (same-step) or the next
-        // (next-step); a plain batch has one fixed context.
-        if this.contextual && (any_done || this.last_any_done) {
+        // (next-step), or at every step under a schedule; a plain batch has one fixed context.
+        if this.contextual && (any_done || this.last_any_done || this.scheduled) {
             this.context_cache = None;
         }
         this.last_any_done = any_done;

@@ -80,6 +80,7 @@ registry! {
     INSTANCE_OUT_OF_BOUNDS = "instance-out-of-bounds", Error, false, "an explicit or grid value lies outside its bounds (without allow_out_of_bounds)";
     DUPLICATE_INSTANCE = "duplicate-instance", Error, false, "two explicit instances share a name";
     GRID_PARAMS = "grid-params", Error, false, "a grid is empty or reversed";
+    SPLIT_DEFINITION = "split-definition", Error, false, "a region or a split set derived from it is malformed (unknown region or feature, a range outside the bounds, the wrong parameters for its kind, too many points)";
     NEEDLESS_ALLOW_OUT_OF_BOUNDS = "needless-allow-out-of-bounds", Warning, false, "allow_out_of_bounds is set but every value is inside the bounds";
     TOO_MANY_PROBLEMS = "too-many-problems", Error, false, "more than 200 problems in one file; the rest are not shown";
     INTERNAL = "internal", Error, false, "carl-spec's own schema does not compile (a bug, never the spec's fault)";

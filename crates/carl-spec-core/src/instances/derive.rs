@@ -2,7 +2,7 @@
 
 use std::collections::BTreeMap;
 
-use super::frozen::{FORMAT, FrozenSet, Instance, Provenance, spec_digest};
+use super::frozen::{FORMAT, FrozenSet, Instance, Provenance, set_distribution, spec_digest};
 use crate::sampling::{self, FeatureInfo, SamplingError};
 use crate::spec::model::{Distribution, EnvSpec, Feature, Value};
 use crate::spec::raw::{MAX_INSTANCES, MAX_SET_VALUES};
@@ -99,6 +99,7 @@ pub fn sample_adhoc(spec: &EnvSpec, dist_name: &str, n: u64, seed: u64) -> Resul
         }),
         explicit: None,
         grid: None,
+        split: None,
     };
     build(spec, &format!("{dist_name}_n{n}_seed{seed}"), &set)
 }
@@ -118,6 +119,7 @@ pub fn derive_set(spec: &EnvSpec, set_name: &str) -> Result<FrozenSet, DeriveErr
 
 fn build(spec: &EnvSpec, set_name: &str, set: &crate::spec::model::InstanceSet) -> Result<FrozenSet, DeriveError> {
     let mut dist = None;
+    let mut region = None;
     let (features, instances): (Vec<String>, Vec<Instance>) = if let Some(s) = &set.sampled {
         let d = spec
             .distributions
@@ -187,9 +189,31 @@ fn build(spec: &EnvSpec, set_name: &str, set: &crate::spec::model::InstanceSet) 
             });
         }
         (vec![f.name.clone()], instances)
+    } else if let Some(sp) = &set.split {
+        let points = super::split::split_points(spec, sp)
+            .map_err(|e| DeriveError::Invalid(format!("{}/{set_name}: {e}", spec.id)))?;
+        let mut names: Vec<String> = Vec::new();
+        let mut instances = Vec::with_capacity(points.len());
+        for (id, p) in points.into_iter().enumerate() {
+            let mut context = BTreeMap::new();
+            for (k, x) in p.context {
+                let f = spec.feature(&k).expect("split points name resolved features");
+                let v = Value::Number(x);
+                let who = p.name.clone().unwrap_or_else(|| format!("#{id}"));
+                check_value(spec, f, &v, set.allow_out_of_bounds, &who)?;
+                if !names.contains(&k) {
+                    names.push(k.clone());
+                }
+                context.insert(k, v);
+            }
+            instances.push(Instance { id, name: p.name, split: p.split, context });
+        }
+        region = spec.regions.get(&sp.region).cloned();
+        dist = set_distribution(spec, set);
+        (names, instances)
     } else {
         return Err(DeriveError::Invalid(format!(
-            "{}/{set_name} has no sampled, explicit or grid definition",
+            "{}/{set_name} has no sampled, explicit, grid or split definition",
             spec.id
         )));
     };
@@ -203,9 +227,10 @@ fn build(spec: &EnvSpec, set_name: &str, set: &crate::spec::model::InstanceSet) 
             generator: format!("carl-spec {}", env!("CARGO_PKG_VERSION")),
             rng: sampling::GENERATOR.to_string(),
             sampler_version: sampling::SAMPLER_VERSION.to_string(),
-            spec_digest: spec_digest(spec, set, dist.as_ref()),
+            spec_digest: spec_digest(spec, set),
             definition: set.clone(),
             distribution: dist,
+            region,
         },
         features,
         instances,

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use crate::spec::model::{Distribution, EnvSpec, InstanceSet, Value};
+use crate::spec::model::{Distribution, EnvSpec, InstanceSet, Region, Value};
 use crate::spec::raw::Split;
 
 /// Format tag of frozen files; bump on incompatible changes.
@@ -44,6 +44,9 @@ pub struct Provenance {
     pub definition: InstanceSet,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub distribution: Option<Distribution>,
+    /// The region a `split` set derives from.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub region: Option<Region>,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -125,14 +128,17 @@ type FeatureBasis<'a> = (
     &'a [Option<f64>; 2],
 );
 
-pub fn spec_digest(spec: &EnvSpec, set: &InstanceSet, dist: Option<&Distribution>) -> String {
+pub fn spec_digest(spec: &EnvSpec, set: &InstanceSet) -> String {
     #[derive(Serialize)]
     struct Basis<'a> {
         env: &'a str,
         features: Vec<FeatureBasis<'a>>,
         set: &'a InstanceSet,
         distribution: Option<&'a Distribution>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        region: Option<&'a Region>,
     }
+    let dist = set_distribution(spec, set);
     let basis = Basis {
         env: &spec.id,
         features: spec
@@ -141,10 +147,23 @@ pub fn spec_digest(spec: &EnvSpec, set: &InstanceSet, dist: Option<&Distribution
             .map(|f| (f.name.as_str(), &f.kind, &f.default, &f.bounds))
             .collect(),
         set,
-        distribution: dist,
+        distribution: dist.as_ref(),
+        region: set.split.as_ref().and_then(|s| spec.regions.get(&s.region)),
     };
     let bytes = serde_json::to_vec(&basis).unwrap_or_default();
     format!("sha256:{}", hex(&Sha256::digest(&bytes)))
+}
+
+/// The distribution a set's values are drawn from: its named distribution, or uniform over the
+/// region of a sampled split.
+pub fn set_distribution(spec: &EnvSpec, set: &InstanceSet) -> Option<Distribution> {
+    if let Some(s) = &set.sampled {
+        return spec.distributions.get(&s.distribution).cloned();
+    }
+    set.split
+        .as_ref()
+        .filter(|s| s.sampled.is_some())
+        .and_then(|s| super::split::region_distribution(spec, s))
 }
 
 fn hex(bytes: &[u8]) -> String {

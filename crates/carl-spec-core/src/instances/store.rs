@@ -192,11 +192,7 @@ impl<'a> Store<'a> {
             reason,
         })?;
         let def = &spec.instance_sets[&set];
-        let dist = def
-            .sampled
-            .as_ref()
-            .and_then(|s| spec.distributions.get(&s.distribution));
-        if frozen.provenance.spec_digest != spec_digest(spec, def, dist) {
+        if frozen.provenance.spec_digest != spec_digest(spec, def) {
             return Err(StoreError::Stale {
                 name: qualified,
                 where_: loc.describe(),

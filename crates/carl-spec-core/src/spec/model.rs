@@ -8,8 +8,8 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 
 pub use super::raw::{
-    AtBounds, Bounds, Effect, FeatureType, RawDistribution as Distribution, RawInstanceSet as InstanceSet, Sampler,
-    Scalar, Space, Upstream, Value,
+    AtBounds, Bounds, Effect, FeatureType, RawDistribution as Distribution, RawInstanceSet as InstanceSet, Region,
+    Sampler, Scalar, Space, SplitSet, Upstream, Value,
 };
 
 /// A context feature after resolution.
@@ -93,6 +93,8 @@ pub struct EnvSpec {
     pub features: Vec<Feature>,
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
     pub distributions: BTreeMap<String, Distribution>,
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub regions: BTreeMap<String, Region>,
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
     pub instance_sets: BTreeMap<String, InstanceSet>,
     /// Where the spec was loaded from (file path or `bundled:<path>`).

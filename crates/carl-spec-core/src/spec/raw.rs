@@ -62,6 +62,10 @@ pub struct RawEnvSpec {
     /// Named distributions over the context space.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub distributions: BTreeMap<String, RawDistribution>,
+    /// Named regions of the context space (a box over continuous features) from which `split`
+    /// instance sets derive train, interpolation and extrapolation sets.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub regions: BTreeMap<String, Region>,
     /// Named instance sets (train/test splits).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub instance_sets: BTreeMap<String, RawInstanceSet>,
@@ -363,6 +367,71 @@ pub struct RawInstanceSet {
     /// `from, from+step, ...` up to `to` (inclusive) for one feature.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub grid: Option<GridSet>,
+    /// Derived from a named region: its training points, or test points between them
+    /// (interpolation) or beyond it (extrapolation), one feature at a time or jointly.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub split: Option<SplitSet>,
+}
+
+/// A box over continuous features: the training region of a generalization protocol.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Region {
+    pub description: String,
+    /// Feature name -> `[low, high]`, inside the feature's bounds, with low < high.
+    pub features: BTreeMap<String, [f64; 2]>,
+}
+
+/// Which points of a region a `split` set holds.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, JsonSchema, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum SplitKind {
+    /// Inside the region: its grid points (edges included) or uniform draws.
+    Train,
+    /// Inside the region, between the training grid's points (the cell centres, or the midpoints
+    /// along each feature when one factor varies), or fresh uniform draws.
+    Interpolation,
+    /// Beyond the region: each feature `distance × width` below its low or above its high edge.
+    Extrapolation,
+}
+
+/// Whether the features of a region vary one at a time or jointly.
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, JsonSchema, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Factors {
+    /// Every point moves all the region's features (the grid's product; every side of every corner).
+    #[default]
+    Combinatorial,
+    /// Every point moves one feature; the others keep their defaults (which must lie in the region).
+    Single,
+}
+
+/// A set derived from a region (Kirk et al.'s evaluation protocols; CARL's TMLR paper).
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SplitSet {
+    /// The region's name (under `regions`).
+    pub region: String,
+    pub kind: SplitKind,
+    #[serde(default)]
+    pub factors: Factors,
+    /// `train` and `interpolation`: points per feature of the training grid (≥ 2).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grid: Option<u32>,
+    /// `train` and `interpolation`: uniform draws in the region instead of a grid (per feature
+    /// when one factor varies).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sampled: Option<SplitSample>,
+    /// `extrapolation`: how far beyond the region, in multiples of each feature's width (> 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub distances: Option<Vec<f64>>,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SplitSample {
+    pub size: u64,
+    pub seed: u64,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema, PartialEq)]

@@ -142,6 +142,7 @@ pub fn resolve(
         source: raw.source.clone(),
         features,
         distributions: raw.distributions.clone(),
+        regions: raw.regions.clone(),
         instance_sets: raw.instance_sets.clone(),
         origin: origin.to_string(),
     };

@@ -140,10 +140,26 @@ pub fn check_env(r: &Resolved, sink: &mut Sink<'_>) {
             }
         }
     }
+    for name in spec.regions.keys() {
+        check_set_name(name, r.file, &format!("/regions/{}", escape_token(name)), "region", sink);
+        if let Err(e) = crate::instances::split::check_region(spec, name) {
+            sink.report(
+                r.file,
+                &rule::SPLIT_DEFINITION,
+                &format!("/regions/{}", escape_token(name)),
+                e,
+                Some(SPLIT_HELP.into()),
+            );
+        }
+    }
     for (name, set) in &spec.instance_sets {
         check_instance_set(r, name, set, sink);
     }
 }
+
+const SPLIT_HELP: &str = "a region maps float features to [low, high] inside their bounds; a split set names it \
+     with kind train or interpolation (and grid or sampled) or extrapolation (and distances); see the \
+     spec-language reference, \"Split kinds\"";
 
 pub fn check_set(resolved: &[Resolved], sink: &mut Sink<'_>) {
     let mut ids: BTreeMap<&str, &Resolved> = BTreeMap::new();
@@ -667,10 +683,12 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
             Some("say what the set is for (train/test, which experiment)".into()),
         );
     }
-    let n_sources =
-        usize::from(set.sampled.is_some()) + usize::from(set.explicit.is_some()) + usize::from(set.grid.is_some());
+    let n_sources = usize::from(set.sampled.is_some())
+        + usize::from(set.explicit.is_some())
+        + usize::from(set.grid.is_some())
+        + usize::from(set.split.is_some());
     if n_sources != 1 {
-        sink.report(file, &rule::INSTANCE_SET_SOURCE, &base, format!("instance set \"{name}\" must have exactly one of sampled, explicit, grid (has {n_sources})"), Some("sampled: draws from a named distribution; explicit: a list of named contexts; grid: a regular grid over one feature".into()));
+        sink.report(file, &rule::INSTANCE_SET_SOURCE, &base, format!("instance set \"{name}\" must have exactly one of sampled, explicit, grid, split (has {n_sources})"), Some("sampled: draws from a named distribution; explicit: a list of named contexts; grid: a regular grid over one feature; split: train, interpolation or extrapolation points of a region".into()));
     }
     let mut any_out = false;
     // Reports a value outside its feature's bounds (unless allowed); true when it was outside.
@@ -825,7 +843,26 @@ fn check_instance_set(r: &Resolved, name: &str, set: &InstanceSet, sink: &mut Si
             }
         }
     }
-    if set.allow_out_of_bounds && !any_out && (set.explicit.is_some() || set.grid.is_some()) {
+    if let Some(sp) = &set.split {
+        let p = format!("{base}/split");
+        // A broken region is reported once, under /regions.
+        if !spec.regions.contains_key(&sp.region) || crate::instances::split::check_region(spec, &sp.region).is_ok() {
+            match crate::instances::split::split_points(spec, sp) {
+                Err(e) => sink.report(file, &rule::SPLIT_DEFINITION, &p, e, Some(SPLIT_HELP.into())),
+                Ok(points) => {
+                    'points: for pt in &points {
+                        for (fname, &x) in &pt.context {
+                            if out_of_bounds(fname, x, &p, sink) {
+                                any_out = true;
+                                break 'points; // one diagnostic per set is enough
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    if set.allow_out_of_bounds && !any_out && (set.explicit.is_some() || set.grid.is_some() || set.split.is_some()) {
         sink.report(
             file,
             &rule::NEEDLESS_ALLOW_OUT_OF_BOUNDS,

@@ -70,6 +70,7 @@ const EXPECTED: &[(&str, &str, &str, usize, usize)] = &[
     ("schema-type.json", "schema/type", "", 15, 23),
     ("space-bounds.json", "space-bounds", "", 7, 62),
     ("space-shape.json", "space-shape", "", 7, 62),
+    ("split-definition.json", "split-definition", "", 46, 57),
     ("too-many-problems.json", "too-many-problems", "", 0, 0),
     ("type-mismatch.json", "type-mismatch", "", 14, 18),
     ("unknown-distribution.json", "unknown-distribution", "", 45, 77),

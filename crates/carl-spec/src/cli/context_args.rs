@@ -1,7 +1,7 @@
 //! The options shared by the commands that run an environment (`rollout`, `render`):
 //! `--context NAME=VALUE`, `--instance-set ENV/SET [--instance I]`, `--allow-out-of-bounds`,
-//! `--option NAME=VALUE`, `--obs-context NAME`, `--noise NAME=STD[%]`, `--noise-redraw`, and
-//! `--policy`.
+//! `--option NAME=VALUE`, `--obs-context NAME`, `--noise NAME=STD[%]`, `--noise-redraw`,
+//! `--schedule NAME=JSON`, and `--policy`.
 
 use clap::{Args, ValueEnum};
 
@@ -11,6 +11,7 @@ use crate::envs::contextual::{
     ContextNoise, ContextSource, ContextualEnv, ContextualOptions, Features, NoiseRedraw, NoiseStd, Visibility,
 };
 use crate::envs::policy::PolicyKind;
+use crate::envs::schedules::{Schedule, parse_schedules};
 use crate::envs::registry::{
     Context, EnvOptions, MakeOptions, Registration, ids_text, lookup, make_env, resolve_context,
 };
@@ -50,6 +51,12 @@ pub struct ContextArgs {
     /// When noise is drawn anew.
     #[arg(long, value_enum, default_value_t = RedrawArg::Episode)]
     pub noise_redraw: RedrawArg,
+    /// Change a dynamics feature within the episode: `NAME=JSON`, e.g.
+    /// `--schedule 'g={"kind": "sine", "amplitude": 2, "period": 100}'`; kinds `step {at, to}`,
+    /// `linear {to, over}`, `sine {amplitude, period, phase}`, `random_walk {std, low, high}`
+    /// (steps count from the reset). Repeatable.
+    #[arg(long = "schedule", value_name = "NAME=JSON")]
+    pub schedules: Vec<String>,
 }
 
 #[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum, Default)]
@@ -93,6 +100,7 @@ pub struct Resolved {
     pub env_options: EnvOptions,
     pub visibility: Visibility,
     pub noise: ContextNoise,
+    pub schedules: Vec<(String, Schedule)>,
 }
 
 impl Resolved {
@@ -107,9 +115,10 @@ impl Resolved {
         resolve_context(&self.spec, &self.context, self.make_options()).map_err(|e| Failure::usage(e.to_string()))
     }
 
-    /// Whether the context is part of the observation (then the contextual wrapper runs).
+    /// Whether the context is part of the observation or changes within the episode (then the
+    /// contextual wrapper runs).
     pub fn observes_context(&self) -> bool {
-        self.visibility != Visibility::Hidden
+        self.visibility != Visibility::Hidden || !self.schedules.is_empty()
     }
 
     /// The environment: the runtime itself, or, when context is observed, CARL's contextual
@@ -125,6 +134,7 @@ impl Resolved {
             noise: self.noise.clone(),
             env_options: self.env_options.clone(),
             allow_out_of_bounds: self.allow_out_of_bounds,
+            schedules: self.schedules.clone(),
             ..ContextualOptions::default()
         };
         let env = ContextualEnv::new(&self.spec, ContextSource::Fixed(self.context.clone()), opts)
@@ -246,6 +256,13 @@ impl ContextArgs {
                 "--noise applies to observed context features: add --obs-context NAME (or --obs-context all)",
             ));
         }
+        let mut schedules = Vec::new();
+        for kv in &self.schedules {
+            let (k, v) = split_kv("--schedule", kv)?;
+            let one = parse_schedules(&format!("{{{}: {v}}}", serde_json::Value::from(k)))
+                .map_err(|e| Failure::usage(format!("--schedule {e}")))?;
+            schedules.extend(one);
+        }
         Ok(Resolved {
             specs,
             spec,
@@ -255,6 +272,7 @@ impl ContextArgs {
             env_options,
             visibility,
             noise,
+            schedules,
         })
     }
 }

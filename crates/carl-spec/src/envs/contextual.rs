@@ -91,6 +91,7 @@
 use super::api::{Action, Env, EnvError, Info, Space, Step, StepOutcome, check_obs_len};
 use super::context_schedule::{ContextSchedule, ObservationNoise, Pick, ScheduleKind, drawn_context};
 use super::registry::{Context, EnvOptions, MakeError, MakeOptions, SpecEnv, make_env, resolve_context};
+use super::schedules::Schedules;
 use super::rng::DEFAULT_SEED;
 use crate::instances::derive::sample_distribution;
 use crate::spec::model::{Distribution, EnvSpec, FeatureType, Value};
@@ -139,6 +140,11 @@ pub struct ContextualEnv {
     /// What the agent observes of the visible features this step (true value + noise).
     observed: Vec<f32>,
     resets: u64,
+    /// Features changing within the episode, with each slot's own (base) values of them and
+    /// where each scheduled feature sits among the visible ones.
+    schedules: Schedules,
+    schedule_bases: Vec<Vec<f64>>,
+    schedule_visible: Vec<Option<usize>>,
 }
 
 fn make_err(who: &str) -> impl FnOnce(MakeError) -> ContextualError + '_ {
@@ -372,6 +378,8 @@ impl ContextualEnv {
             fill_visible(spec, slot, &visible, who)?;
         }
         let noise = ObservationNoise::new(spec, &visible, &options.noise)?;
+        let (schedules, schedule_bases, schedule_visible) =
+            schedules_for(spec, &options, &mut slots, &labels, &visible, &noise, matches!(mode, Mode::Distribution { .. }))?;
 
         // The space of every source alike (module docs). Where the context sets the observation's
         // length itself (rna_design's state_radius) there is no common space: the first slot's.
@@ -447,6 +455,9 @@ impl ContextualEnv {
             observed: slots_first_ctx_obs,
             env_options: options.env_options.clone(),
             resets: 0,
+            schedules,
+            schedule_bases,
+            schedule_visible,
         })
     }
 
@@ -500,6 +511,16 @@ impl ContextualEnv {
     /// The runtime of the current episode.
     pub fn inner(&self) -> &SpecEnv {
         &self.slots[self.current].env
+    }
+
+    /// Whether some feature changes within episodes ([`super::schedules`]).
+    pub fn has_schedules(&self) -> bool {
+        !self.schedules.is_empty()
+    }
+
+    /// The scheduled features' current values (canonical names), as in the context info.
+    pub fn scheduled_values(&self) -> impl Iterator<Item = (&str, f64)> + '_ {
+        self.schedules.current().map(|(i, x)| (self.spec.features[i].name.as_str(), x))
     }
 
     /// Number of resets so far.
@@ -622,6 +643,9 @@ impl ContextualEnv {
         let runtime_seed = plan.runtime_seed;
         self.resets += 1;
         self.current = index;
+        if !self.schedules.is_empty() {
+            self.start_schedules(seed, index)?;
+        }
         let slot = &mut self.slots[index];
         slot.info.episode = episode;
         slot.env.reset_into(runtime_seed, &mut obs[..self.base_dim])?;
@@ -629,6 +653,117 @@ impl ContextualEnv {
         self.write_context(obs);
         Ok(())
     }
+}
+
+impl ContextualEnv {
+    /// A new episode in slot `index`: its own values back in place (sets and fixed contexts; a
+    /// distribution's draw is checked against the schedules' reach instead), the walks' stream
+    /// seeded, the runtime given the values of step 0.
+    fn start_schedules(&mut self, seed: Option<u64>, index: usize) -> Result<(), EnvError> {
+        let err = |message: String| EnvError::Context { env: self.id, message };
+        if let Some(s) = seed {
+            self.schedules.seed(s);
+        }
+        let slot = &mut self.slots[index];
+        match self.mode {
+            Mode::Distribution { .. } => {
+                let who = format!("draw with seed {}", slot.info.context_seed.unwrap_or_default());
+                self.schedules.check_reach(&slot.info.context, &who).map_err(err)?;
+            }
+            _ => {
+                for ((i, _), base) in self.schedules.current().zip(&self.schedule_bases[index]) {
+                    slot.info.context[i].1 = *base;
+                }
+            }
+        }
+        let values = self.schedules.start(&slot.info.context);
+        apply_scheduled(&mut slot.env, values).map_err(err)?;
+        self.show_scheduled_values(index, false);
+        Ok(())
+    }
+
+    /// After a step: the schedules' next values into the runtime, the info and the observation.
+    fn advance_schedules(&mut self) -> Result<(), EnvError> {
+        let index = self.current;
+        if let Some(values) = self.schedules.advance() {
+            apply_scheduled(&mut self.slots[index].env, values)
+                .map_err(|message| EnvError::Context { env: self.id, message })?;
+            self.show_scheduled_values(index, true);
+        }
+        Ok(())
+    }
+
+    /// The scheduled features' current values in the slot's info and visible context (and, after
+    /// a step, in what the agent observes: scheduled features carry no noise).
+    fn show_scheduled_values(&mut self, index: usize, observed: bool) {
+        let slot = &mut self.slots[index];
+        for ((i, x), vis) in self.schedules.current().zip(&self.schedule_visible) {
+            slot.info.context[i].1 = x;
+            if let Some(k) = *vis {
+                slot.ctx_obs[k] = x as f32;
+                if observed {
+                    self.observed[k] = x as f32;
+                }
+            }
+        }
+    }
+}
+
+fn apply_scheduled(env: &mut SpecEnv, values: &[(String, f64)]) -> Result<(), String> {
+    match env.inner_mut().set_features(values) {
+        Some(r) => r.map_err(|e| e.to_string()),
+        None => Err("the runtime does not take new values within an episode".into()),
+    }
+}
+
+/// The schedules of `options`, checked: the runtime takes new values mid-episode, scheduled
+/// visible features carry no noise, and every instance's (or the fixed context's) episode stays
+/// in the bounds. Also each slot's own values of the scheduled features and where they sit among
+/// the visible features.
+#[allow(clippy::type_complexity)]
+fn schedules_for(
+    spec: &EnvSpec,
+    options: &ContextualOptions,
+    slots: &mut [Slot],
+    labels: &[String],
+    visible: &[String],
+    noise: &ObservationNoise,
+    drawn: bool,
+) -> Result<(Schedules, Vec<Vec<f64>>, Vec<Option<usize>>), ContextualError> {
+    let schedules = Schedules::new(spec, &options.schedules).map_err(ContextualError::Schedule)?;
+    if schedules.is_empty() {
+        return Ok((schedules, Vec::new(), Vec::new()));
+    }
+    let mut probe = slots[0].env.clone();
+    if probe.inner_mut().set_features(&[]).is_none() {
+        return Err(ContextualError::Schedule(format!(
+            "{}: its runtime fixes the context when it is built, so no feature can change within an episode \
+             (schedules need a runtime that implements Runtime::set_features)",
+            spec.id
+        )));
+    }
+    let visible_at: Vec<Option<usize>> = schedules
+        .current()
+        .map(|(i, _)| visible.iter().position(|v| *v == spec.features[i].name))
+        .collect();
+    for k in visible_at.iter().flatten() {
+        if noise.stds()[*k] > 0.0 {
+            return Err(ContextualError::Schedule(format!(
+                "{}: \"{}\" is both scheduled and observed with noise; give it one of the two",
+                spec.id, visible[*k]
+            )));
+        }
+    }
+    let mut bases = Vec::with_capacity(slots.len());
+    for (slot, who) in slots.iter().zip(labels) {
+        if !drawn {
+            schedules
+                .check_reach(&slot.info.context, who)
+                .map_err(|e| ContextualError::Schedule(format!("{}: {e}", spec.id)))?;
+        }
+        bases.push(schedules.current().map(|(i, _)| slot.info.context[i].1).collect());
+    }
+    Ok((schedules, bases, visible_at))
 }
 
 /// A fresh slot for one draw of a distribution (reset time only; allocates).
@@ -677,6 +812,9 @@ impl Env for ContextualEnv {
         let out = self.slots[self.current]
             .env
             .step_into(action, &mut obs[..self.base_dim])?;
+        if !self.schedules.is_empty() {
+            self.advance_schedules()?;
+        }
         self.noise
             .after_step(&self.slots[self.current].ctx_obs, &mut self.observed);
         self.write_context(obs);

@@ -72,6 +72,8 @@ pub struct ContextualOptions {
     /// A fixed context may lie outside the spec's bounds (a set's instances follow the set's
     /// own declaration; distribution draws never may).
     pub allow_out_of_bounds: bool,
+    /// Features that change within every episode ([`super::schedules`]), by feature name.
+    pub schedules: Vec<(String, super::schedules::Schedule)>,
 }
 
 /// The paper's "context measured with noise": each listed visible feature is observed as
@@ -156,4 +158,6 @@ pub enum ContextualError {
     },
     #[error("{0}")]
     Derive(#[from] DeriveError),
+    #[error("{0}")]
+    Schedule(String),
 }

@@ -8,7 +8,8 @@
 //! * [`registry`]: the families' registrations in one table, and `make`.
 //! * [`contextual`]: CARL's contextual wrapper (instance selection, context in observation/info).
 //!   Its vocabulary (sources, selection, visibility, noise, errors) is [`contextual_options`]; its
-//!   per-reset rules (which instance, which seeds) are [`context_schedule`].
+//!   per-reset rules (which instance, which seeds) are [`context_schedule`]; features that change
+//!   within an episode are [`schedules`].
 //! * [`vec_env`]: [`VecEnv`](vec_env::VecEnv), N environments with their own contexts stepped as a
 //!   batch (auto-reset, structure-of-arrays CartPole kernel, multi-threaded).
 
@@ -24,6 +25,7 @@ pub mod contextual;
 pub mod contextual_options;
 mod pool;
 pub mod registry;
+pub mod schedules;
 pub mod vec_env;
 
 pub use api::{Action, DType, Env, EnvError, Info, Space, Step, StepOutcome, TimeLimit, UnknownFeature};

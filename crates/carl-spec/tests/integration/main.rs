@@ -29,6 +29,7 @@ mod rna_design_options;
 mod robots;
 mod robots_vs_mujoco;
 mod rollout;
+mod schedules;
 mod runtime_registry;
 mod ur5e;
 mod vec_env;
