@@ -140,6 +140,13 @@ def _json_object(what: str, value: Mapping[str, Any] | None) -> str | None:
     return json.dumps(plain, allow_nan=False)
 
 
+def json_object(what: str, value: Mapping[str, Any]) -> str:
+    """A dict of name -> value (e.g. a curriculum's context) as JSON, each value checked."""
+    if value is None:
+        raise ValueError(f"{what} must be a dict of name -> value, got None")
+    return _json_object(what, value)  # type: ignore[return-value]
+
+
 def context_args(
     *,
     context: Mapping[str, Any] | None = None,
@@ -153,6 +160,7 @@ def context_args(
     options: Mapping[str, Any] | None = None,
     allow_out_of_bounds: bool = False,
     schedules: Mapping[str, Mapping[str, Any]] | None = None,
+    curriculum: bool = False,
 ) -> _core.ContextArgs:
     """The context source of `make`, `make_vec` and `wrap`, checked, as the native constructors
     take it."""
@@ -174,6 +182,7 @@ def context_args(
         options=_json_object("options", options),
         allow_out_of_bounds=allow_out_of_bounds,
         schedules=_schedules_json(schedules),
+        curriculum=curriculum,
     )
 
 

@@ -12,9 +12,10 @@ import numpy as np
 from gymnasium.envs.registration import EnvSpec
 
 from . import _core
-from ._args import NoiseStd, check_name, check_seed, context_args
+from ._args import NoiseStd, check_name, check_seed, context_args, json_object
 from ._errors import InvalidActionError
 from ._spaces import space_from_json
+from .curriculum import check_selector
 
 
 def os_entropy_seed() -> int:
@@ -141,6 +142,12 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
     on the dynamics, or an environment whose runtime cannot change its context mid-episode (the
     classic-control five can) raises a ValueError naming the problem.
 
+    Curricula: `curriculum=` an object with `select(env_index)`, `update(env_index, context,
+    episode_return)` and `describe()` (`carl_spec.curriculum`: `AutomaticDomainRandomization`,
+    `SelfPacedCurriculum`, or your own) chooses each episode's context at reset and hears every
+    finished episode's context and return; `info["curriculum"]` holds `describe()`. It needs a
+    fixed `context=` or a `distribution=` as the source (not `instances=`).
+
     Seeding: `reset(seed=s)` determines everything that follows (instance choice, draws, initial
     states); the classic five start from the state Gymnasium's env starts from with seed `s`.
     An env never seeded draws its first seed from the OS. `reset(options={"instance": i})` plays
@@ -193,6 +200,7 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
         options: dict[str, Any] | None = None,
         allow_out_of_bounds: bool = False,
         schedules: dict[str, dict[str, Any]] | None = None,
+        curriculum: Any = None,
     ) -> None:
         source: dict[str, Any] = dict(
             context=context,
@@ -207,7 +215,11 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
             allow_out_of_bounds=allow_out_of_bounds,
             schedules=schedules,
         )
-        self._ctor: dict[str, Any] = dict(env=env, render_mode=render_mode, specs_dir=specs_dir, **source)
+        self._ctor: dict[str, Any] = dict(
+            env=env, render_mode=render_mode, specs_dir=specs_dir, curriculum=curriculum, **source
+        )
+        self._curriculum = None if curriculum is None else check_selector(curriculum)
+        self._return = 0.0
         self._spec: EnvSpec | None = None
         self._core = _core.Env(
             check_name("env", env),
@@ -237,8 +249,13 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
             seed = os_entropy_seed()
         if seed is not None:
             self._seeded = True
+        if self._curriculum is not None:
+            self._core.set_next_context(json_object("curriculum context", self._curriculum.select(0)))
+            self._return = 0.0
         obs, info = self._core.reset(seed, instance)
         self._info = _with_numpy_seed(info)
+        if self._curriculum is not None:
+            self._info["curriculum"] = self._curriculum.describe()
         self._goal = self._core.goal_info() is not None
         out = _fresh(info)
         if self._goal:
@@ -258,6 +275,11 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
             self._info["observed_context"] = self._core.observed_context()
         if self._scheduled:
             self._info["context"].update(self._core.scheduled_context())
+        if self._curriculum is not None:
+            self._return += reward
+            if terminated or truncated:
+                self._curriculum.update(0, dict(self._info["context"]), self._return)
+                self._info["curriculum"] = self._curriculum.describe()
         info = _fresh(self._info)
         if self._goal:
             info.update(self._core.goal_info() or {})

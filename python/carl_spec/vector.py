@@ -13,8 +13,9 @@ from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
 from . import _core
-from ._args import NoiseStd, check_int, check_name, check_seed, context_args, quote
+from ._args import NoiseStd, check_int, check_name, check_seed, context_args, json_object, quote
 from ._spaces import space_from_json
+from .curriculum import check_selector
 from .env import instance_index, os_entropy_seed
 
 _MODES = {
@@ -44,8 +45,11 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
     context source (see `CarlEnv`). At the step that ends an episode, `infos["outcome"]` (with
     `_outcome`; in same-step mode inside `final_info`) says how it ended where the environment
     defines it (`landed`, `solved`, `timed_out`, ...). `context_noise`, `context_noise_redraw`, `options`,
-    `allow_out_of_bounds` and `schedules` are `carl_spec.make`'s (see `CarlEnv`; under a schedule
-    `infos["context"]` holds every environment's current values at every step); with noise,
+    `allow_out_of_bounds`, `schedules` and `curriculum` are `carl_spec.make`'s (see `CarlEnv`; under
+    a schedule `infos["context"]` holds every environment's current values at every step; a
+    curriculum chooses each environment's next context when its episode ends, so it needs
+    `autoreset_mode` "next_step" or "disabled", and `infos["curriculum"]` is its `describe()` at
+    reset and at steps that end an episode); with noise,
     `infos["observed_context"]` holds what each environment observes (`{feature: (num_envs,)}`
     plus Gymnasium's `_feature` / `_observed_context` masks). In same-step mode
     `infos["final_info"]` is the finished episodes' step info (`context`, `instance_id`, ...) in
@@ -80,6 +84,7 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
         options: dict[str, Any] | None = None,
         allow_out_of_bounds: bool = False,
         schedules: dict[str, dict[str, Any]] | None = None,
+        curriculum: Any = None,
         max_episode_steps: int | None = None,
     ) -> None:
         if render_mode is not None:
@@ -103,12 +108,19 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
         num_envs = check_int("num_envs", num_envs, 1)
         threads = check_int("threads", threads, 1)
         self._ctor: dict[str, Any] = dict(
-            env=env, num_envs=num_envs, autoreset_mode=mode, threads=threads, specs_dir=specs_dir, **source
+            env=env, num_envs=num_envs, autoreset_mode=mode, threads=threads, specs_dir=specs_dir,
+            curriculum=curriculum, **source
         )
+        self._curriculum = None if curriculum is None else check_selector(curriculum)
+        if self._curriculum is not None and _MODES[mode] == AutoresetMode.SAME_STEP:
+            raise ValueError(
+                "a curriculum chooses each episode's context when the previous one ends, before the reset: "
+                "use autoreset_mode='next_step' (the default) or 'disabled', not 'same_step'"
+            )
         self._core = _core.VecEnv(
             check_name("env", env),
             num_envs,
-            context_args(**source),
+            context_args(**source, curriculum=self._curriculum is not None),
             autoreset_mode=check_name("autoreset_mode", mode),
             threads=threads,
             specs_dir=None if specs_dir is None else os.fspath(specs_dir),
@@ -124,7 +136,8 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
         self._mode = _MODES[mode]
         self._same_step = self._mode == AutoresetMode.SAME_STEP
         self._end_info = self._core.has_episode_end_info
-        if not self._end_info and type(self).step is CarlVectorEnv.step:
+        self._returns = np.zeros(num_envs)
+        if not self._end_info and self._curriculum is None and type(self).step is CarlVectorEnv.step:
             # Nothing to add in Python: the batch step is the native call itself (one Python
             # frame less per batch step; a subclass that overrides `step` keeps its own).
             self.step = self._core.step  # type: ignore[method-assign]
@@ -150,6 +163,10 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
                 raise ValueError(f"options['reset_mask'] must be a bool array of shape ({self.num_envs},) with a True value")
         if options is not None and options.get("instance") is not None:
             instances = self._instances(options["instance"])
+        if self._curriculum is not None:
+            for i in range(self.num_envs) if mask is None else np.flatnonzero(mask):
+                self._choose(int(i))
+                self._returns[i] = 0.0
         if isinstance(seed, (list, tuple)) or instances is not None:
             if isinstance(seed, (list, tuple)):
                 if len(seed) != self.num_envs:
@@ -171,7 +188,7 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
             self._seeded = True
             # One native call resets every chosen env with its own seed (and instance).
             obs = self._core.reset_each(seeds, instances, mask)
-            return obs, self._core.infos(mask)
+            return obs, self._with_curriculum(self._core.infos(mask))
         if isinstance(seed, int) and not isinstance(seed, bool):
             # Env i gets seed + i, as Gymnasium's vector envs seed it: each must be a seed.
             check_seed(seed)
@@ -187,7 +204,32 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
         if seed is not None:
             self._seeded = True
         obs = self._core.reset(seed, mask)
-        return obs, self._core.infos(mask)
+        return obs, self._with_curriculum(self._core.infos(mask))
+
+    def _choose(self, i: int) -> None:
+        """The curriculum's context for environment `i`'s next episode."""
+        assert self._curriculum is not None
+        self._core.set_next_context(i, json_object("curriculum context", self._curriculum.select(i)))
+
+    def _with_curriculum(self, infos: dict[str, Any]) -> dict[str, Any]:
+        if self._curriculum is not None:
+            infos["curriculum"] = self._curriculum.describe()
+        return infos
+
+    def _curriculum_step(self, rewards: np.ndarray, done: np.ndarray, infos: dict[str, Any]) -> None:
+        """Returns summed; each finished episode's context and return to the curriculum, and (next-step
+        autoreset) the context of the episode that starts at the next step chosen now."""
+        assert self._curriculum is not None
+        self._returns += rewards
+        ended = [int(i) for i in np.flatnonzero(done)]
+        for i in ended:
+            info = self._core.context_info(i)
+            self._curriculum.update(i, dict(info["context"]) if info else {}, float(self._returns[i]))
+            self._returns[i] = 0.0
+            if self._mode == AutoresetMode.NEXT_STEP:
+                self._choose(i)
+        if len(ended):
+            infos["curriculum"] = self._curriculum.describe()
 
     def _instances(self, value: Any) -> list[int | None]:
         """`options["instance"]`: one instance index per env (None or -1: the selection's pick)."""
@@ -215,6 +257,8 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
         out = self._core.step(actions)
         if self._end_info and out[2].any():
             self._add_episode_end_info(out[4], out[2])
+        if self._curriculum is not None:
+            self._curriculum_step(out[1], out[2] | out[3], out[4])
         return out
 
     def _add_episode_end_info(self, infos: dict[str, Any], terminated: np.ndarray) -> None:

@@ -31,6 +31,8 @@ pub(crate) struct SourceArgs {
     pub(crate) allow_out_of_bounds: bool,
     /// Features changing within episodes, `{"feature": {"kind": ...}}` as JSON.
     pub(crate) schedules_json: Option<String>,
+    /// A curriculum chooses the contexts: the batch keeps the contextual wrapper.
+    pub(crate) curriculum: bool,
 }
 
 impl Default for SourceArgs {
@@ -51,6 +53,7 @@ impl Default for SourceArgs {
             },
             allow_out_of_bounds: false,
             schedules_json: None,
+            curriculum: false,
         }
     }
 }
@@ -82,6 +85,7 @@ impl SourceArgs {
             && !self.obs_context_all
             && self.noise.is_empty()
             && self.schedules_json.is_none()
+            && !self.curriculum
     }
 }
 
@@ -169,7 +173,7 @@ pub(crate) struct ContextArgs {
 #[pymethods]
 impl ContextArgs {
     #[new]
-    #[pyo3(signature = (*, context=None, instances=None, distribution=None, selection="round_robin", instance=None, obs_context=None, context_noise=None, context_noise_redraw="episode", options=None, allow_out_of_bounds=false, schedules=None))]
+    #[pyo3(signature = (*, context=None, instances=None, distribution=None, selection="round_robin", instance=None, obs_context=None, context_noise=None, context_noise_redraw="episode", options=None, allow_out_of_bounds=false, schedules=None, curriculum=false))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         context: Option<String>,
@@ -183,6 +187,7 @@ impl ContextArgs {
         options: Option<String>,
         allow_out_of_bounds: bool,
         schedules: Option<String>,
+        curriculum: bool,
     ) -> PyResult<Self> {
         let (obs_context, obs_context_all) = match obs_context {
             None => (None, false),
@@ -213,6 +218,7 @@ impl ContextArgs {
                 noise: context_noise_arg(context_noise, context_noise_redraw)?,
                 allow_out_of_bounds,
                 schedules_json: schedules,
+                curriculum,
             },
         })
     }

@@ -8,12 +8,13 @@ use pyo3::types::PyDict;
 
 use carl_spec::envs::cancel;
 use carl_spec::envs::contextual::{ContextualEnv, NoiseRedraw};
+use carl_spec::envs::registry::Context;
 use carl_spec::envs::{Action, Env as _, Space};
 
 use crate::actions::{BoxBounds, check_obs};
 use crate::context_args::{ContextArgs, build_contextual, source_of};
 use crate::env_infos::{episode_end_info, goal_info, info_dict, observed_dict};
-use crate::errors::{env_error, value_error};
+use crate::errors::{contextual_error, env_error, value_error};
 use crate::obs_layout::ObsLayout;
 use crate::specs::{space_json, with_specs};
 
@@ -162,6 +163,12 @@ impl Env {
     /// The current episode's context info (as `reset` returns it).
     fn info<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         info_dict(py, self.inner.context_info())
+    }
+
+    /// The next episode plays `context` (a JSON object; a curriculum's choice).
+    fn set_next_context(&mut self, py: Python<'_>, context: &str) -> PyResult<()> {
+        let ctx: Context = serde_json::from_str(context).map_err(|e| value_error(format!("context: {e}")))?;
+        self.inner.set_next_context(&ctx).map_err(|e| contextual_error(py, &e))
     }
 
     /// The scheduled features' current values (empty without schedules): what changes in the

@@ -12,7 +12,7 @@ use pyo3::types::{PyDict, PyTuple};
 use pyo3::{PyTraverseError, PyVisit};
 
 use carl_spec::envs::contextual::ContextInfo;
-use carl_spec::envs::registry::{MakeOptions, make_env};
+use carl_spec::envs::registry::{Context, MakeOptions, make_env};
 use carl_spec::envs::vec_env::{AutoresetMode, VecActions, VecEnv as RustVecEnv, VecEnvError, VecOptions};
 use carl_spec::envs::{Env as _, Space, cancel};
 
@@ -940,6 +940,12 @@ impl VecEnv {
     /// Each environment's instance id in its set (-1: not from a set).
     fn instance_ids<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i64>> {
         PyArray1::from_slice(py, self.inner.instance_ids())
+    }
+
+    /// Environment `i`'s next episode plays `context` (a JSON object; a curriculum's choice).
+    fn set_next_context(&mut self, i: usize, context: &str) -> PyResult<()> {
+        let ctx: Context = serde_json::from_str(context).map_err(|e| value_error(format!("context: {e}")))?;
+        self.inner.set_next_context(i, &ctx).map_err(value_error)
     }
 
     /// Environment `i`'s context info (contextual batches), else None.

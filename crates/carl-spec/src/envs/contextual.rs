@@ -145,6 +145,10 @@ pub struct ContextualEnv {
     schedules: Schedules,
     schedule_bases: Vec<Vec<f64>>,
     schedule_visible: Vec<Option<usize>>,
+    /// A curriculum's choice for the next episode ([`ContextualEnv::set_next_context`]), and
+    /// the fixed context it stood in for (put back at the reset after).
+    pending: Option<Slot>,
+    fixed_original: Option<Slot>,
 }
 
 fn make_err(who: &str) -> impl FnOnce(MakeError) -> ContextualError + '_ {
@@ -458,6 +462,8 @@ impl ContextualEnv {
             schedules,
             schedule_bases,
             schedule_visible,
+            pending: None,
+            fixed_original: None,
         })
     }
 
@@ -481,7 +487,7 @@ impl ContextualEnv {
     pub fn previous_context_info(&self) -> Option<ContextInfo> {
         let (slot, episode) = self.previous?;
         let mut info = match (&self.mode, &self.retired) {
-            (Mode::Distribution { .. }, Some(retired)) => retired.clone(),
+            (Mode::Distribution { .. } | Mode::Fixed, Some(retired)) => retired.clone(),
             _ => self.slots[slot].info.clone(),
         };
         info.episode = episode;
@@ -587,6 +593,34 @@ impl ContextualEnv {
         self.reset_impl(seed, Some(index), obs)
     }
 
+    /// The next episode plays `context` (missing features at their defaults) instead of the
+    /// source's own pick: a curriculum's choice. The episodes after it return to the source (the
+    /// fixed context, or fresh draws of the distribution). Checked and built now, so a context
+    /// outside the bounds (or that a schedule would take out of them) is an error naming it,
+    /// and nothing changes then. Fixed contexts and distributions only: a set's instances are
+    /// chosen with [`ContextualEnv::reset_instance_into`].
+    pub fn set_next_context(&mut self, context: &Context) -> Result<(), ContextualError> {
+        if let Mode::Set = self.mode {
+            return Err(ContextualError::Curriculum(format!(
+                "{}: a curriculum chooses contexts for a fixed context or a distribution; this environment \
+                 plays an instance set (choose its instances with reset(options={{\"instance\": i}}))",
+                self.spec.id
+            )));
+        }
+        let who = format!("{} next context", self.spec.id);
+        let mut ctx = self.spec.default_context();
+        ctx.extend(context.iter().map(|(k, v)| (k.clone(), v.clone())));
+        let mut slot = build_slot(&self.spec, &ctx, MakeOptions::default(), &self.env_options, &who, None, None)?;
+        fill_visible(&self.spec, &mut slot, &self.visible, &who)?;
+        if !self.schedules.is_empty() {
+            self.schedules
+                .check_reach(&slot.info.context, &who)
+                .map_err(|e| ContextualError::Schedule(format!("{}: {e}", self.spec.id)))?;
+        }
+        self.pending = Some(slot);
+        Ok(())
+    }
+
     /// Whether [`ContextualEnv::reset_instance_into`] can play instance `index` (the error it
     /// would return otherwise).
     pub fn check_instance(&self, index: usize) -> Result<(), EnvError> {
@@ -637,6 +671,19 @@ impl ContextualEnv {
             }
             _ => 0,
         };
+        // A curriculum's choice plays this episode (a distribution's draw above still advanced
+        // its stream, so the seeds of later episodes do not depend on the curriculum).
+        if let Some(chosen) = self.pending.take() {
+            let before = std::mem::replace(&mut self.slots[0], chosen);
+            if let Mode::Fixed = self.mode {
+                self.retired = Some(before.info.clone());
+                self.fixed_original.get_or_insert(before);
+            }
+        } else if let Some(original) = self.fixed_original.take() {
+            self.retired = Some(std::mem::replace(&mut self.slots[0], original).info);
+        } else if let Mode::Fixed = self.mode {
+            self.retired = None;
+        }
         if episode > 0 {
             self.previous = Some(finished);
         }
@@ -670,6 +717,8 @@ impl ContextualEnv {
                 let who = format!("draw with seed {}", slot.info.context_seed.unwrap_or_default());
                 self.schedules.check_reach(&slot.info.context, &who).map_err(err)?;
             }
+            // A curriculum's context (checked when it was set): its own values.
+            Mode::Fixed if self.fixed_original.is_some() => {}
             _ => {
                 for ((i, _), base) in self.schedules.current().zip(&self.schedule_bases[index]) {
                     slot.info.context[i].1 = *base;

@@ -160,4 +160,6 @@ pub enum ContextualError {
     Derive(#[from] DeriveError),
     #[error("{0}")]
     Schedule(String),
+    #[error("{0}")]
+    Curriculum(String),
 }

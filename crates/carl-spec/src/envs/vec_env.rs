@@ -465,6 +465,24 @@ impl VecEnv {
         }
     }
 
+    /// Environment `i`'s next episode plays `context` (a curriculum's choice; see
+    /// [`ContextualEnv::set_next_context`]). Contextual batches only: a plain batch has one fixed
+    /// context and no wrapper to take the choice.
+    pub fn set_next_context(&mut self, i: usize, context: &Context) -> Result<(), String> {
+        let n = self.n;
+        match &mut self.envs {
+            Envs::Contextual(envs, _) => envs
+                .get_mut(i)
+                .ok_or_else(|| format!("environment {i} is outside the batch of {n}"))?
+                .set_next_context(context)
+                .map_err(|e| e.to_string()),
+            _ => Err(format!(
+                "{}: this batch plays one fixed context without the contextual wrapper, so no context can be chosen per episode",
+                self.id
+            )),
+        }
+    }
+
     /// Environment `i`'s runtime (not for the CartPole kernel, which has none per environment).
     pub fn runtime(&self, i: usize) -> Option<&AnyEnv> {
         match &self.envs {
