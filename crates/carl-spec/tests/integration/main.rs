@@ -8,6 +8,7 @@ mod cli;
 mod common;
 mod context_noise;
 mod contextual;
+mod curriculum;
 mod control_tasks_vs_mujoco;
 mod evaluate;
 mod fetch;
