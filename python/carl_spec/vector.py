@@ -277,7 +277,9 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
         """Frees the native batch: any later `reset`, `step` or query raises Gymnasium's
         `ClosedEnvironmentError` (as `AsyncVectorEnv` does), never steps a closed batch."""
         self.__dict__.pop("step", None)  # the native step bound in __init__
-        self._core = _ClosedCore(f"make_vec({self._ctor['env']!r}, {self.num_envs})")  # type: ignore[assignment]
+        # A batch whose construction failed part way has neither (Gymnasium's __del__ still closes it).
+        ctor = self.__dict__.get("_ctor", {})
+        self._core = _ClosedCore(f"make_vec({ctor.get('env')!r}, {ctor.get('num_envs')})")  # type: ignore[assignment]
 
     def context_info(self, i: int) -> dict[str, Any] | None:
         """Environment `i`'s current context info (contexts from a set or distribution)."""
