@@ -53,8 +53,7 @@ class Trial:
     def train_set(self) -> str:
         if self.experiment == "q3":
             return "lunar_lander/landing_in_space_train"
-        sigma = str(self.sigma).replace(".", "_")
-        return f"pendulum/q1_{self.feature}_sigma_{sigma}"
+        return f"pendulum/q1_{self.feature}_sigma_{_sigma_label(self.sigma or 0.0)}"
 
 
 def _sigma_label(s: float) -> str:
