@@ -21,6 +21,10 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--out", required=True, help="directory for <experiment>.json and .md")
     a = p.parse_args(argv)
     names = list(EXPERIMENTS) if a.experiment == "all" else [a.experiment]
+
+    def progress(message: str) -> None:
+        print(f"{a.experiment}: {message}", file=sys.stderr, flush=True)
+
     try:
         for name in names:
             report = run_experiment(
@@ -31,7 +35,7 @@ def main(argv: list[str] | None = None) -> int:
                 test_episodes=a.test_episodes,
                 evaluations=a.evaluations,
                 ray=a.ray,
-                progress=lambda m, n=name: print(f"{n}: {m}", file=sys.stderr, flush=True),
+                progress=progress,
             )
             for path in write_report(report, a.out):
                 print(path)

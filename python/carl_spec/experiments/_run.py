@@ -80,22 +80,15 @@ def trials(
     if unknown or not features:
         raise ValueError(f"features must be some of {', '.join(FEATURES)}, got {list(features)}")
     steps = max(1_000, round(budget * PAPER_STEPS))
-    common = dict(steps=steps, evaluations=evaluations, test_episodes=test_episodes)
+
+    def trial(seed: int, visible: bool, feature: str | None = None, sigma: float | None = None) -> Trial:
+        return Trial(experiment, seed, steps, visible, feature, sigma, test_episodes, evaluations)
+
     if experiment == "q1":
-        return [
-            Trial("q1", s, visible=False, feature=f, sigma=sig, **common)  # type: ignore[arg-type]
-            for f in features
-            for sig in SIGMAS
-            for s in range(seeds)
-        ]
+        return [trial(s, False, f, sig) for f in features for sig in SIGMAS for s in range(seeds)]
     if experiment == "q2":
-        return [
-            Trial("q2", s, visible=v, feature=f, sigma=0.5, **common)  # type: ignore[arg-type]
-            for f in features
-            for v in (False, True)
-            for s in range(seeds)
-        ]
-    return [Trial("q3", s, visible=v, **common) for v in (False, True) for s in range(seeds)]  # type: ignore[arg-type]
+        return [trial(s, v, f, 0.5) for f in features for v in (False, True) for s in range(seeds)]
+    return [trial(s, v) for v in (False, True) for s in range(seeds)]
 
 
 def run_trial(trial: Trial) -> dict[str, Any]:
@@ -134,7 +127,7 @@ def run_trial(trial: Trial) -> dict[str, Any]:
             }
         return {"trial": asdict(trial), "train_seconds": train_seconds, "planets": planets}
 
-    obs_context = [trial.feature] if trial.visible else None
+    obs_context = [trial.feature] if trial.visible and trial.feature else None
     env = cs.make("pendulum", instances=trial.train_set, obs_context=obs_context)
     model = DDPG("MlpPolicy", env, seed=trial.seed, verbose=0)
     curve = []
@@ -238,7 +231,7 @@ def _summarize(experiment: str, results: list[dict[str, Any]]) -> dict[str, Any]
             table.setdefault(t["feature"], {}).setdefault("visible" if t["visible"] else "hidden", []).append(_final(r))
         agg = {f: {k: _mean_std(v) for k, v in by.items()} for f, by in table.items()}
         gain = {f: by["visible"]["mean"] - by["hidden"]["mean"] for f, by in agg.items() if {"visible", "hidden"} <= set(by)}
-        top = sorted(gain, key=gain.get, reverse=True)[: min(3, len(gain))]  # type: ignore[arg-type]
+        top = sorted(gain, key=lambda f: gain[f], reverse=True)[:3]
         findings = [
             {
                 "claim": "visible context helps most for g, l and m (σ_rel = 0.5)",
