@@ -1,0 +1,52 @@
+//! carl-spec's column of the dm_control comparison (`scripts/dmc_compare.py`, the Fidelity
+//! section of each page `crates/carl-envs-dmc/docs/<id>.md`): the deterministic metrics computed
+//! here through the environment with the script's definitions, at dm_control's values (the
+//! `dm_control` instance set), and pinned to dm_control 1.0.50's numbers. A model change re-runs
+//! the script and updates the pins with the page.
+
+use carl_env::api::{Action, Env};
+use carl_envs_dmc::point_mass::{Params, PointMass, Variant};
+
+/// The ball's coordinate `axis` after `steps` control steps of `ctrl` from rest at the centre.
+fn push(p: Params, ctrl: [f32; 2], steps: usize, axis: usize) -> f64 {
+    let mut e = PointMass::new(p, Variant::default()).unwrap();
+    e.reset(Some(0));
+    e.set_state(&[0.0; 4]).unwrap();
+    for _ in 0..steps {
+        e.step(&Action::Continuous(ctrl.to_vec())).unwrap();
+    }
+    e.state()[axis]
+}
+
+/// dm_control's values (specs/instances/dmc_point_mass/dm_control.json).
+fn dm_control() -> Params {
+    Params {
+        joint_stiffness: 1.0,
+        starting_x: 0.0,
+        starting_y: 0.0,
+        ..Params::default()
+    }
+}
+
+#[test]
+fn point_mass_pushes_as_dm_control() {
+    // (metric, carl-spec, dm_control 1.0.50) as the script printed them.
+    let medium = Params {
+        viscosity: 2.0,
+        density: 1000.0,
+        wind_x: 0.05,
+        ..dm_control()
+    };
+    let rows = [
+        ("push_x_0.2s", push(dm_control(), [1.0, 0.0], 10, 0), 0.0057338),
+        ("push_x_1s", push(dm_control(), [1.0, 0.0], 50, 0), 0.07119),
+        ("push_y_1s", push(dm_control(), [0.3, -1.0], 50, 1), -0.07119),
+        ("medium_push_x_1s", push(medium, [1.0, 0.0], 50, 0), 0.06878),
+    ];
+    for (name, ours, theirs) in rows {
+        assert!(
+            (ours / theirs - 1.0).abs() < 1e-4,
+            "{name}: carl-spec {ours}, dm_control {theirs}"
+        );
+    }
+}
