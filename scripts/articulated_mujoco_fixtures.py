@@ -241,6 +241,20 @@ def fixtures():
     return out
 
 
+def write_or_check(path, text, check):
+    """Write `text` to `path`, or with `check` compare it with the file; False if it differs."""
+    if check:
+        with open(path) as f:
+            if f.read() != text:
+                print(f"{path}: differs")
+                return False
+        return True
+    with open(path, "w") as f:
+        f.write(text)
+    print(f"wrote {path} ({len(text)} bytes)")
+    return True
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--check", action="store_true", help="compare with the committed fixtures")
@@ -253,15 +267,7 @@ def main():
         path = os.path.join(OUT, f"mujoco_{name}.json")
         text = json.dumps(dict(source="MuJoCo 4.0.0 via scripts/articulated_mujoco_fixtures.py", **data),
                           separators=(",", ":")) + "\n"
-        if args.check:
-            with open(path) as f:
-                if f.read() != text:
-                    print(f"{path}: differs")
-                    bad += 1
-        else:
-            with open(path, "w") as f:
-                f.write(text)
-            print(f"wrote {path} ({len(text)} bytes)")
+        bad += not write_or_check(path, text, args.check)
     sys.exit(1 if bad else 0)
 
 

@@ -24,7 +24,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from articulated_mujoco_fixtures import model_json  # noqa: E402
+from articulated_mujoco_fixtures import model_json, write_or_check  # noqa: E402
 
 OUT = "crates/carl-envs-dmc/models"
 DOMAINS = ["point_mass"]
@@ -68,15 +68,7 @@ def main():
     for domain in args.domains:
         path = os.path.join(OUT, f"{domain}.json")
         text = json.dumps(convert(domain), indent=1) + "\n"
-        if args.check:
-            with open(path) as f:
-                if f.read() != text:
-                    print(f"{path}: differs")
-                    bad += 1
-        else:
-            with open(path, "w") as f:
-                f.write(text)
-            print(f"wrote {path} ({len(text)} bytes)")
+        bad += not write_or_check(path, text, args.check)
     sys.exit(1 if bad else 0)
 
 

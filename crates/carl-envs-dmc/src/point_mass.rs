@@ -169,14 +169,14 @@ impl PointMass {
     pub fn new(params: Params, variant: Variant) -> Result<PointMass, String> {
         let desc = Desc::parse(MODEL)?;
         let r = params.half_range();
-        if !(r > 0.0) {
+        if r.is_nan() || r <= 0.0 {
             return Err(format!(
                 "area_size = {} leaves the ball no room (it needs more than twice the ball's radius, {})",
                 params.area_size,
                 2.0 * BALL_RADIUS
             ));
         }
-        if !(params.mass > 0.0) {
+        if params.mass.is_nan() || params.mass <= 0.0 {
             return Err(format!("mass = {} must be positive", params.mass));
         }
         let desc = Arc::new(desc);
@@ -317,10 +317,8 @@ impl Env for PointMass {
         }
         if self.variant.hard {
             let dirs = self.random_directions();
-            let model = Self::model(&self.desc, &self.params, Some(dirs)).map_err(|message| EnvError::Context {
-                env: ID,
-                message,
-            })?;
+            let model = Self::model(&self.desc, &self.params, Some(dirs))
+                .map_err(|message| EnvError::Context { env: ID, message })?;
             self.data = Data::new(Arc::new(model));
         }
         let d = &mut self.data;

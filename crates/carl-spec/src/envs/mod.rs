@@ -15,8 +15,8 @@
 pub use carl_env::{api, cancel, context, policy, rng, runtime};
 pub use carl_envs_box2d as box2d;
 pub use carl_envs_brax as brax;
-pub use carl_envs_dmc as dmc;
 pub use carl_envs_classic_control as classic_control;
+pub use carl_envs_dmc as dmc;
 pub use carl_envs_mario as mario;
 pub use carl_envs_rna_design as rna_design;
 
