@@ -9,7 +9,8 @@ options (time step, integrator, gravity, medium density, viscosity and wind). Th
 those of scripts/articulated_mujoco_fixtures.py (`model_json`, which carl-articulated's parity
 tests read) plus the names of bodies, joints, geoms, actuators and tendons and the option flags
 the engine reads from the model (`contact` false: `<flag contact="disable"/>`; gravity is
-written as MuJoCo holds it, zero when disabled). The Rust loader
+written as MuJoCo holds it, zero when disabled), and which bodies take their mass from their
+geoms' density (`body_mass_from_density`: no geom of theirs states a mass). The Rust loader
 (crates/carl-envs-dmc/src/mjcf.rs) builds carl-articulated's model from them and applies the
 context.
 
@@ -27,11 +28,20 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from articulated_mujoco_fixtures import model_json, write_or_check  # noqa: E402
 
 OUT = "crates/carl-envs-dmc/models"
-DOMAINS = ["point_mass"]
+DOMAINS = ["point_mass", "walker"]
 
 
 def names(mujoco, m, obj, n):
     return [mujoco.mj_id2name(m, obj, i) or "" for i in range(n)]
+
+
+def bodies_with_given_mass(xml):
+    """Names of the bodies one of whose geoms states its mass (the others' masses come from their
+    geoms' densities, which carl-bench's geom_density scales)."""
+    import xml.etree.ElementTree as ET
+
+    root = ET.fromstring(xml)
+    return {b.get("name") for b in root.iter("body") if any(g.get("mass") is not None for g in b.findall("geom"))}
 
 
 def convert(domain):
@@ -50,6 +60,8 @@ def convert(domain):
                         geoms=names(mujoco, m, o.mjOBJ_GEOM, m.ngeom),
                         actuators=names(mujoco, m, o.mjOBJ_ACTUATOR, m.nu),
                         tendons=names(mujoco, m, o.mjOBJ_TENDON, m.ntendon))
+    given = bodies_with_given_mass(xml)
+    out["body_mass_from_density"] = [i > 0 and out["names"]["bodies"][i] not in given for i in range(m.nbody)]
     if m.ntendon and "tendons" not in out:
         out["tendons"] = [[[int(m.wrap_objid[w]), float(m.wrap_prm[w])]
                            for w in range(m.tendon_adr[t], m.tendon_adr[t] + m.tendon_num[t])]

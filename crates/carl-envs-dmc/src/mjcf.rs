@@ -11,6 +11,8 @@
 //! * `friction_tangential`, `friction_torsional`, `friction_rolling`: multiply every geom's
 //!   sliding, torsional and rolling friction (only the sliding one acts under condim 3);
 //! * `density`, `viscosity`, `wind_x/y/z`: MuJoCo's medium (its inertia-box fluid model);
+//! * `geom_density`: multiplies the mass and inertia of every body whose mass comes from its
+//!   geoms' density (MuJoCo's 1000 kg/m³ unless the XML says otherwise);
 //! * gravity: the domain decides (its XML may disable it).
 
 use carl_articulated::model::{
@@ -115,6 +117,9 @@ pub struct Desc {
     #[serde(default)]
     pub tendons: Vec<Vec<(usize, f64)>>,
     pub names: Names,
+    /// Whether each body's mass comes from its geoms' density (no geom of it states a mass).
+    #[serde(default)]
+    pub body_mass_from_density: Vec<bool>,
 }
 
 impl Desc {
@@ -144,6 +149,86 @@ impl Desc {
     }
 }
 
+/// carl-bench's 14 physics features of every dm_control environment (the `dmc_physics` spec
+/// fragment), in its order: each environment's `Params` holds them and its own.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Common {
+    pub gravity: f64,
+    pub friction_torsional: f64,
+    pub friction_rolling: f64,
+    pub friction_tangential: f64,
+    pub timestep: f64,
+    pub joint_damping: f64,
+    pub joint_stiffness: f64,
+    pub actuator_strength: f64,
+    pub density: f64,
+    pub viscosity: f64,
+    pub geom_density: f64,
+    pub wind_x: f64,
+    pub wind_y: f64,
+    pub wind_z: f64,
+}
+
+impl Common {
+    /// dm_control's model values with the physics step `timestep` (gravity 9.81 down).
+    pub const fn dm_control(timestep: f64) -> Common {
+        Common {
+            gravity: 9.81,
+            friction_torsional: 1.0,
+            friction_rolling: 1.0,
+            friction_tangential: 1.0,
+            timestep,
+            joint_damping: 1.0,
+            joint_stiffness: 1.0,
+            actuator_strength: 1.0,
+            density: 0.0,
+            viscosity: 0.0,
+            geom_density: 1.0,
+            wind_x: 0.0,
+            wind_y: 0.0,
+            wind_z: 0.0,
+        }
+    }
+
+    /// The feature called `name`, if it is one of these.
+    pub fn slot(&mut self, name: &str) -> Option<&mut f64> {
+        Some(match name {
+            "gravity" => &mut self.gravity,
+            "friction_torsional" => &mut self.friction_torsional,
+            "friction_rolling" => &mut self.friction_rolling,
+            "friction_tangential" => &mut self.friction_tangential,
+            "timestep" => &mut self.timestep,
+            "joint_damping" => &mut self.joint_damping,
+            "joint_stiffness" => &mut self.joint_stiffness,
+            "actuator_strength" => &mut self.actuator_strength,
+            "density" => &mut self.density,
+            "viscosity" => &mut self.viscosity,
+            "geom_density" => &mut self.geom_density,
+            "wind_x" => &mut self.wind_x,
+            "wind_y" => &mut self.wind_y,
+            "wind_z" => &mut self.wind_z,
+            _ => return None,
+        })
+    }
+
+    /// The engine's options and multipliers for a control step of `control` s, with gravity
+    /// `gravity` (the environment decides how its `gravity` feature enters).
+    pub fn physics(&self, control: f64, gravity: [f64; 3]) -> Physics {
+        Physics {
+            gravity,
+            friction: [self.friction_tangential, self.friction_torsional, self.friction_rolling],
+            timestep: substeps(control, self.timestep).1,
+            joint_damping: self.joint_damping,
+            joint_stiffness: self.joint_stiffness,
+            actuator_strength: self.actuator_strength,
+            density: self.density,
+            viscosity: self.viscosity,
+            wind: [self.wind_x, self.wind_y, self.wind_z],
+            geom_density: self.geom_density,
+        }
+    }
+}
+
 /// The family's common physics features (see the module doc), as multipliers and absolute
 /// values over the compiled model.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -158,6 +243,8 @@ pub struct Physics {
     pub density: f64,
     pub viscosity: f64,
     pub wind: [f64; 3],
+    /// Multiplier of the mass and inertia of the bodies whose mass comes from density.
+    pub geom_density: f64,
 }
 
 /// The engine model of `desc` under `p`, or why it cannot be built.
@@ -181,15 +268,22 @@ pub fn build(desc: &Desc, p: &Physics) -> Result<Model, String> {
         .bodies
         .iter()
         .enumerate()
-        .map(|(i, b)| Body {
-            name: desc.names.bodies[i].clone(),
-            parent: b.parent,
-            pos: b.pos,
-            quat: b.quat,
-            mass: b.mass,
-            ipos: b.ipos,
-            iquat: b.iquat,
-            inertia: b.inertia,
+        .map(|(i, b)| {
+            let k = if desc.body_mass_from_density.get(i).copied().unwrap_or(false) {
+                p.geom_density
+            } else {
+                1.0
+            };
+            Body {
+                name: desc.names.bodies[i].clone(),
+                parent: b.parent,
+                pos: b.pos,
+                quat: b.quat,
+                mass: b.mass * k,
+                ipos: b.ipos,
+                iquat: b.iquat,
+                inertia: b.inertia.map(|x| x * k),
+            }
         })
         .collect();
     let mut joints = Vec::with_capacity(desc.joints.len());

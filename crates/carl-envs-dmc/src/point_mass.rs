@@ -33,7 +33,7 @@ use carl_env::rng::{EnvRng, normal, uniform};
 use carl_pixels::canvas::{Canvas, Stroke};
 use carl_pixels::color::Color;
 
-use crate::mjcf::{Desc, Physics, build, substeps};
+use crate::mjcf::{Common, Desc, build, substeps};
 use crate::rewards::{DEFAULT_VALUE_AT_MARGIN, Sigmoid, tolerance};
 
 const ID: &str = "dmc_point_mass";
@@ -44,23 +44,10 @@ pub const CONTROL_STEP: f64 = 0.02;
 const BALL_RADIUS: f64 = 0.01;
 const TARGET_RADIUS: f64 = 0.015;
 
-/// The context, in carl-bench's order.
+/// The context: the family's 14 physics features, then PointMass's own, in carl-bench's order.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Params {
-    pub gravity: f64,
-    pub friction_torsional: f64,
-    pub friction_rolling: f64,
-    pub friction_tangential: f64,
-    pub timestep: f64,
-    pub joint_damping: f64,
-    pub joint_stiffness: f64,
-    pub actuator_strength: f64,
-    pub density: f64,
-    pub viscosity: f64,
-    pub geom_density: f64,
-    pub wind_x: f64,
-    pub wind_y: f64,
-    pub wind_z: f64,
+    pub common: Common,
     pub mass: f64,
     pub starting_x: f64,
     pub starting_y: f64,
@@ -72,23 +59,13 @@ pub struct Params {
 impl Default for Params {
     /// carl-bench's defaults, except where they are not dm_control's model: `timestep` 0.02
     /// (carl-bench: 0.004) and `density` 0 (carl-bench: 5000), both copied from its Fish, and
-    /// `joint_stiffness` 1 (a multiplier; carl-bench's 0).
+    /// `joint_stiffness` 1 (a multiplier; carl-bench's 0). `gravity` is the vertical component.
     fn default() -> Params {
         Params {
-            gravity: -9.81,
-            friction_torsional: 1.0,
-            friction_rolling: 1.0,
-            friction_tangential: 1.0,
-            timestep: 0.02,
-            joint_damping: 1.0,
-            joint_stiffness: 1.0,
-            actuator_strength: 1.0,
-            density: 0.0,
-            viscosity: 0.0,
-            geom_density: 1.0,
-            wind_x: 0.0,
-            wind_y: 0.0,
-            wind_z: 0.0,
+            common: Common {
+                gravity: -9.81,
+                ..Common::dm_control(CONTROL_STEP)
+            },
             mass: 0.3,
             starting_x: 0.14,
             starting_y: 0.14,
@@ -102,27 +79,13 @@ impl Default for Params {
 impl Params {
     fn slot(&mut self, name: &str) -> Option<&mut f64> {
         Some(match name {
-            "gravity" => &mut self.gravity,
-            "friction_torsional" => &mut self.friction_torsional,
-            "friction_rolling" => &mut self.friction_rolling,
-            "friction_tangential" => &mut self.friction_tangential,
-            "timestep" => &mut self.timestep,
-            "joint_damping" => &mut self.joint_damping,
-            "joint_stiffness" => &mut self.joint_stiffness,
-            "actuator_strength" => &mut self.actuator_strength,
-            "density" => &mut self.density,
-            "viscosity" => &mut self.viscosity,
-            "geom_density" => &mut self.geom_density,
-            "wind_x" => &mut self.wind_x,
-            "wind_y" => &mut self.wind_y,
-            "wind_z" => &mut self.wind_z,
             "mass" => &mut self.mass,
             "starting_x" => &mut self.starting_x,
             "starting_y" => &mut self.starting_y,
             "target_x" => &mut self.target_x,
             "target_y" => &mut self.target_y,
             "area_size" => &mut self.area_size,
-            _ => return None,
+            _ => return self.common.slot(name),
         })
     }
     pub fn set(&mut self, name: &str, value: f64) -> Result<(), UnknownFeature> {
@@ -180,7 +143,7 @@ impl PointMass {
             return Err(format!("mass = {} must be positive", params.mass));
         }
         let desc = Arc::new(desc);
-        let (n, _) = substeps(CONTROL_STEP, params.timestep);
+        let (n, _) = substeps(CONTROL_STEP, params.common.timestep);
         let model = Self::model(&desc, &params, None)?;
         let data = Data::new(Arc::new(model));
         Ok(PointMass {
@@ -213,20 +176,9 @@ impl PointMass {
                 }
             }
         }
-        let (_, h) = substeps(CONTROL_STEP, p.timestep);
-        let physics = Physics {
-            // The vertical component (carl-bench writes −gravity, pointing its default up); the
-            // ball moves in the horizontal plane, so it does nothing either way.
-            gravity: [0.0, 0.0, p.gravity],
-            friction: [p.friction_tangential, p.friction_torsional, p.friction_rolling],
-            timestep: h,
-            joint_damping: p.joint_damping,
-            joint_stiffness: p.joint_stiffness,
-            actuator_strength: p.actuator_strength,
-            density: p.density,
-            viscosity: p.viscosity,
-            wind: [p.wind_x, p.wind_y, p.wind_z],
-        };
+        // The vertical component (carl-bench writes −gravity, pointing its default up); the
+        // ball moves in the horizontal plane, so it does nothing either way.
+        let physics = p.common.physics(CONTROL_STEP, [0.0, 0.0, p.common.gravity]);
         build(&d, &physics)
     }
 
