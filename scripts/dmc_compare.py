@@ -5,6 +5,10 @@ Both sides are driven the same way and measured from their observations (dm_cont
 observation layout is carl-spec's): dm_control's suite task (`suite.load(domain, task)`, MuJoCo)
 and `carl-spec rollout <env> --instance-set <env>/dm_control --actions -` (JSON Lines).
 
+Metrics (dmc_walker): fall_height_<t>, fall_torso_zz_<t>: the torso's height and the xz entry of
+its rotation (the sine of its pitch) <t> s after standing straight at rest (every joint at 0) under
+zero action; medium_fall_height_1s: the same in the medium below; random_return as below.
+
 Metrics (dmc_point_mass):
 * push_<axis>_<t>s: the ball's displacement <t> s after a constant control from rest at the
   centre (the passive response of the damped slides to one motor: terminal speed gear / damping);
@@ -38,6 +42,7 @@ from robot_speed_compare import carl_steps_per_sec, write_report  # noqa: E402
 # carl-spec env -> (dm_control domain, task, carl-spec options reproducing the task's reset)
 ENVS = {
     "dmc_point_mass": ("point_mass", "easy", ["random_start=true"]),
+    "dmc_walker": ("walker", "walk", []),
 }
 MEDIUM = dict(viscosity=2.0, density=1000.0, wind_x=0.05)
 
@@ -117,7 +122,22 @@ def point_mass_metrics(side, medium_side, episodes):
     return out
 
 
-METRICS = {"dmc_point_mass": point_mass_metrics}
+def walker_metrics(side, medium_side, episodes):
+    """The passive fall from standing straight (every joint at 0, at rest, zero action): the torso's
+    height and pitch; the same in a medium; random-policy returns."""
+    out = {}
+    rest = ([0.0] * 18, ([0.0] * 9, [0.0] * 9))
+    obs, _ = side.run(0, [[0.0] * 6] * 80, init=rest)
+    for k, t in ((20, "0.5s"), (40, "1s"), (80, "2s")):
+        out[f"fall_height_{t}"] = obs[k][14]
+        out[f"fall_torso_zz_{t}"] = obs[k][1]  # torso xz entry: sine of its pitch
+    obs, _ = medium_side.run(0, [[0.0] * 6] * 40, init=rest)
+    out["medium_fall_height_1s"] = obs[40][14]
+    out["random_return"] = [side.random_episode(seed)[1] for seed in range(episodes)]
+    return out
+
+
+METRICS = {"dmc_point_mass": point_mass_metrics, "dmc_walker": walker_metrics}
 
 
 def carl_sides(exe, env):

@@ -7,6 +7,7 @@
 //! * [`rewards`]: dm_control's `rewards.tolerance` and its sigmoids;
 //! * [`point_mass`]: `dmc_point_mass` (dm_control's `point_mass` domain, tasks `easy` and
 //!   `hard`);
+//! * [`walker`]: `dmc_walker` (dm_control's `walker` domain, tasks `walk`, `stand`, `run`);
 //! * [`registry`]: the family's registrations.
 //!
 //! Each environment steps dm_control's control step (the physics step times dm_control's
@@ -17,5 +18,6 @@ pub mod mjcf;
 pub mod point_mass;
 pub mod registry;
 pub mod rewards;
+pub mod walker;
 
 pub use registry::REGISTRATIONS;
