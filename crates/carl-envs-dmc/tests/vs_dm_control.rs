@@ -6,6 +6,7 @@
 
 use carl_env::api::{Action, Env};
 use carl_envs_dmc::point_mass::{Params, PointMass, Variant};
+use carl_envs_dmc::walker::{self, Walker};
 
 /// The ball's coordinate `axis` after `steps` control steps of `ctrl` from rest at the centre.
 fn push(p: Params, ctrl: [f32; 2], steps: usize, axis: usize) -> f64 {
@@ -43,6 +44,40 @@ fn point_mass_pushes_as_dm_control() {
     for (name, ours, theirs) in rows {
         assert!(
             (ours / theirs - 1.0).abs() < 1e-4,
+            "{name}: carl-spec {ours}, dm_control {theirs}"
+        );
+    }
+}
+
+#[test]
+fn walker_falls_as_dm_control() {
+    // Standing straight at rest (every joint at 0), zero action: (step, height, torso xz).
+    let fall = |p: walker::Params, steps: usize| {
+        let mut e = Walker::new(p, walker::WALK_SPEED).unwrap();
+        e.reset(Some(0));
+        e.set_state(&[0.0; 18]).unwrap();
+        let mut obs = Vec::new();
+        for _ in 0..steps {
+            obs = e.step(&Action::Continuous(vec![0.0; 6])).unwrap().obs;
+        }
+        (f64::from(obs[14]), f64::from(obs[1]))
+    };
+    let dm = walker::Params::default();
+    let mut medium = dm;
+    medium.common.viscosity = 2.0;
+    medium.common.density = 1000.0;
+    medium.common.wind_x = 0.05;
+    // (metric, carl-spec, dm_control 1.0.50); float32 observations.
+    let rows = [
+        ("fall_height_1s", fall(dm, 40).0, 1.0463),
+        ("fall_torso_zz_1s", fall(dm, 40).1, 0.24289),
+        ("fall_height_2s", fall(dm, 80).0, 0.18239),
+        ("fall_torso_zz_2s", fall(dm, 80).1, -0.92714),
+        ("medium_fall_height_1s", fall(medium, 40).0, 0.609),
+    ];
+    for (name, ours, theirs) in rows {
+        assert!(
+            (ours / theirs - 1.0).abs() < 1e-3,
             "{name}: carl-spec {ours}, dm_control {theirs}"
         );
     }

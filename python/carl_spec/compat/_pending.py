@@ -23,7 +23,6 @@ PENDING: dict[str, tuple[str, int]] = {
     "CARLDmcFingerEnv": ("dmc_finger", 27),
     "CARLDmcFishEnv": ("dmc_fish", 27),
     "CARLDmcQuadrupedEnv": ("dmc_quadruped", 27),
-    "CARLDmcWalkerEnv": ("dmc_walker", 27),
 }
 
 #: carl-bench classes of the pending families that are not environments of their own

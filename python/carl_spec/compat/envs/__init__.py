@@ -32,7 +32,7 @@ from .gymnasium import (
     CARLPendulum,
     CARLVehicleRacing,
 )
-from .dmc import CARLDmcPointMassEnv
+from .dmc import CARLDmcPointMassEnv, CARLDmcWalkerEnv
 from .mario import CARLMarioEnv
 from .rna import CARLRnaDesignEnv
 
@@ -54,6 +54,7 @@ __all__ = [
     "CARLBraxInvertedDoublePendulum",
     "CARLBraxReacher",
     "CARLDmcPointMassEnv",
+    "CARLDmcWalkerEnv",
     "CARLMarioEnv",
     "CARLRnaDesignEnv",
 ]

@@ -258,6 +258,12 @@ class CARLBraxReacher(_Robot):
     bench_names = ("gravity", "friction", "elasticity", "ang_damping", "viscosity", "mass_body0", "mass_body1")
 
 
+_DMC_PHYSICS = (
+    "gravity", "friction_torsional", "friction_rolling", "friction_tangential", "timestep", "joint_damping",
+    "joint_stiffness", "actuator_strength", "density", "viscosity", "geom_density", "wind_x", "wind_y", "wind_z",
+)
+
+
 class _Dmc(CARLEnv):
     """carl-bench's dm_control classes (`CARLDmcEnv`): its `task` argument names the dm_control task
     (`tasks`: carl-bench's task name -> carl-spec's runtime options)."""
@@ -282,11 +288,15 @@ class CARLDmcPointMassEnv(_Dmc):
     domain = "pointmass"
     task = "easy_pointmass"
     tasks = {"easy_pointmass": {}, "hard_pointmass": {"hard": True}}
-    bench_names = (
-        "gravity", "friction_torsional", "friction_rolling", "friction_tangential", "timestep", "joint_damping",
-        "joint_stiffness", "actuator_strength", "density", "viscosity", "geom_density", "wind_x", "wind_y", "wind_z",
-        "mass", "starting_x", "starting_y", "target_x", "target_y", "area_size",
-    )
+    bench_names = (*_DMC_PHYSICS, "mass", "starting_x", "starting_y", "target_x", "target_y", "area_size")
+
+
+class CARLDmcWalkerEnv(_Dmc):
+    env_id = "dmc_walker"
+    domain = "walker"
+    task = "walk_context"
+    tasks = {"walk_context": {}, "stand_context": {"move_speed": 0.0}, "run_context": {"move_speed": 8.0}}
+    bench_names = _DMC_PHYSICS
 
 
 class CARLMarioEnv(CARLEnv):
@@ -304,7 +314,7 @@ CLASSES: dict[str, type[CARLEnv]] = {
     for c in (
         CARLCartPole, CARLPendulum, CARLAcrobot, CARLMountainCar, CARLMountainCarContinuous, CARLLunarLander,
         CARLBipedalWalker, CARLVehicleRacing, CARLBraxAnt, CARLBraxHalfcheetah, CARLBraxHumanoid, CARLBraxHopper,
-        CARLBraxWalker2d, CARLBraxInvertedPendulum, CARLBraxInvertedDoublePendulum, CARLBraxReacher, CARLDmcPointMassEnv,
+        CARLBraxWalker2d, CARLBraxInvertedPendulum, CARLBraxInvertedDoublePendulum, CARLBraxReacher, CARLDmcPointMassEnv, CARLDmcWalkerEnv,
         CARLMarioEnv,
         CARLRnaDesignEnv,
     )
