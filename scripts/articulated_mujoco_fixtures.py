@@ -9,7 +9,8 @@ acceleration) and a trajectory (`qpos`, `qvel` every `every` steps) under a fixe
 sequence. The Rust tests build the same model from these fields, so the comparison is of the
 dynamics alone.
 
-Models: a damped double pendulum with armature and joint limits (Euler and RK4), a free box
+Models: a tumbling body and a tendon-driven point mass in a medium with density, viscosity and
+wind (MuJoCo's inertia-box fluid model, fixed tendons), a damped double pendulum with armature and joint limits (Euler and RK4), a free box
 and a free capsule dropped on the floor (Euler), a pile of two capsules and a sphere falling on
 each other and the floor (capsule–capsule, sphere–capsule contacts), and Gymnasium's ant.xml
 and humanoid.xml (RK4, their own options) under a fixed open-loop control. The humanoid has
@@ -91,6 +92,35 @@ PILE = """
 </mujoco>
 """
 
+# MuJoCo's inertia-box fluid model (density, viscosity, wind) on a tumbling free body whose
+# principal axes are not its frame's (two boxes), and a point mass on two slides driven through
+# fixed tendons mixing both joints (dm_control's point_mass `hard` task), in the same medium.
+FLUID = """
+<mujoco model="fluid">
+  <option timestep="0.002" density="1.3" viscosity="0.2" wind="1.5 -0.7 0.4"/>
+  <worldbody>
+    <body name="tumbler" pos="0 0 2" euler="10 20 30">
+      <freejoint/>
+      <geom type="box" size="0.3 0.1 0.05" density="300" contype="0" conaffinity="0"/>
+      <geom type="box" pos="0.1 0.1 0" euler="0 0 40" size="0.1 0.2 0.04" density="600" contype="0" conaffinity="0"/>
+    </body>
+    <body name="pointmass" pos="0 0 0.01">
+      <joint name="root_x" type="slide" axis="1 0 0" damping="1" limited="true" range="-0.29 0.29"/>
+      <joint name="root_y" type="slide" axis="0 1 0" damping="1" limited="true" range="-0.29 0.29"/>
+      <geom type="sphere" size="0.05" mass="0.3" contype="0" conaffinity="0"/>
+    </body>
+  </worldbody>
+  <tendon>
+    <fixed name="t1"><joint joint="root_x" coef="0.6"/><joint joint="root_y" coef="0.8"/></fixed>
+    <fixed name="t2"><joint joint="root_x" coef="-0.28"/><joint joint="root_y" coef="0.96"/></fixed>
+  </tendon>
+  <actuator>
+    <motor tendon="t1" gear="0.1" ctrllimited="true" ctrlrange="-1 1"/>
+    <motor tendon="t2" gear="0.1" ctrllimited="true" ctrlrange="-1 1"/>
+  </actuator>
+</mujoco>
+"""
+
 
 def gym_xml(name):
     import gymnasium
@@ -139,13 +169,27 @@ def model_json(mujoco, m):
                   friction=r(m.geom_friction[g]), solmix=r(m.geom_solmix[g]), solref=r(m.geom_solref[g]),
                   solimp=r(m.geom_solimp[g]), margin=r(m.geom_margin[g]), gap=r(m.geom_gap[g]))
              for g in range(m.ngeom)]
-    actuators = [dict(joint=int(m.actuator_trnid[a][0]), gear=r(m.actuator_gear[a][0]),
-                      ctrlrange=r(m.actuator_ctrlrange[a]) if m.actuator_ctrllimited[a] else None)
-                 for a in range(m.nu)]
+    tendon_trn = int(mujoco.mjtTrn.mjTRN_TENDON)
+    actuators = []
+    for a in range(m.nu):
+        act = dict(joint=int(m.actuator_trnid[a][0]), gear=r(m.actuator_gear[a][0]),
+                   ctrlrange=r(m.actuator_ctrlrange[a]) if m.actuator_ctrllimited[a] else None)
+        if m.actuator_trntype[a] == tendon_trn:
+            # the engine's Actuator names a joint even when a tendon drives: its tendon's first
+            t = int(m.actuator_trnid[a][0])
+            act.update(joint=int(m.wrap_objid[m.tendon_adr[t]]), tendon=t)
+        actuators.append(act)
     opt = dict(timestep=r(m.opt.timestep), gravity=r(m.opt.gravity), integrator=integ[int(m.opt.integrator)],
                impratio=r(m.opt.impratio), viscosity=r(m.opt.viscosity))
-    return dict(opt=opt, bodies=bodies, joints=joints, geoms=geoms, actuators=actuators,
-                body_invweight0=r(m.body_invweight0), dof_invweight0=r(m.dof_invweight0), qpos0=r(m.qpos0))
+    out = dict(opt=opt, bodies=bodies, joints=joints, geoms=geoms, actuators=actuators,
+               body_invweight0=r(m.body_invweight0), dof_invweight0=r(m.dof_invweight0), qpos0=r(m.qpos0))
+    if m.opt.density > 0 or any(m.opt.wind):
+        opt.update(density=r(m.opt.density), wind=r(m.opt.wind))
+    if any(m.actuator_trntype[a] == tendon_trn for a in range(m.nu)):
+        out["tendons"] = [[[int(m.wrap_objid[w]), r(m.wrap_prm[w])]
+                           for w in range(m.tendon_adr[t], m.tendon_adr[t] + m.tendon_num[t])]
+                          for t in range(m.ntendon)]
+    return out
 
 
 def control(t, nu):
@@ -186,12 +230,29 @@ def fixtures():
                        **run(mujoco, m, 600, 10, qvel0=[0.5, 0, 0, 1.0, -2.0, 0.5, 0, 0.3, 0, 0, 0, 0]))
     m = mujoco.MjModel.from_xml_string(PILE)
     out["pile"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 500, 10))
+    m = mujoco.MjModel.from_xml_string(FLUID)
+    out["fluid"] = dict(model=model_json(mujoco, m),
+                        **run(mujoco, m, 500, 10, qvel0=[0.5, -1.0, 2.0, 3.0, -2.0, 1.0, 0.4, -0.2]))
     m = mujoco.MjModel.from_xml_path(gym_xml("ant.xml"))
     out["ant"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 300, 5))
     m = mujoco.MjModel.from_xml_path(gym_xml("humanoid.xml"))
     assert inert_tendons(m), "humanoid.xml's tendons act"
     out["humanoid"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 400, 5))
     return out
+
+
+def write_or_check(path, text, check):
+    """Write `text` to `path`, or with `check` compare it with the file; False if it differs."""
+    if check:
+        with open(path) as f:
+            if f.read() != text:
+                print(f"{path}: differs")
+                return False
+        return True
+    with open(path, "w") as f:
+        f.write(text)
+    print(f"wrote {path} ({len(text)} bytes)")
+    return True
 
 
 def main():
@@ -206,15 +267,7 @@ def main():
         path = os.path.join(OUT, f"mujoco_{name}.json")
         text = json.dumps(dict(source="MuJoCo 4.0.0 via scripts/articulated_mujoco_fixtures.py", **data),
                           separators=(",", ":")) + "\n"
-        if args.check:
-            with open(path) as f:
-                if f.read() != text:
-                    print(f"{path}: differs")
-                    bad += 1
-        else:
-            with open(path, "w") as f:
-                f.write(text)
-            print(f"wrote {path} ({len(text)} bytes)")
+        bad += not write_or_check(path, text, args.check)
     sys.exit(1 if bad else 0)
 
 

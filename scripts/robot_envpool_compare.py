@@ -11,7 +11,8 @@ load), this times
   (random actions from a pre-drawn table, auto-reset),
 and prints the median environment steps per second of each side, their ratio (carl-spec /
 envpool) and the load average before and after (compare ratios, not absolute rates: the machine
-may be shared). The robots are those of `robot_speed_compare.py` (its `GYM_IDS`).
+may be shared). The robots are those of `robot_speed_compare.py` (its `GYM_IDS`) and the dm_control
+family's environments (envpool's dm_control tasks of the same name, `ENVPOOL_IDS`).
 
 Usage (from the repository root, in a venv with envpool from PyPI, e.g.
 `python3 -m venv ~/venvs/envpool && ~/venvs/envpool/bin/pip install envpool==1.2.5`):
@@ -30,6 +31,9 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from robot_speed_compare import GYM_IDS, write_report  # noqa: E402
 
 ACTION_TABLE = 256
+# envpool's id of each environment: the MuJoCo robots' Gymnasium ids, and envpool's dm_control
+# tasks (its `<Domain><Task>-v1`) for the dm_control family.
+ENVPOOL_IDS = {**GYM_IDS, "dmc_point_mass": "PointMassEasy-v1", "dmc_walker": "WalkerWalk-v1"}
 
 
 def envpool_steps_per_sec(env, actions, batch_steps):
@@ -53,7 +57,7 @@ def carl_steps_per_sec(exe, robot, num_envs, threads, steps):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--carl-spec", default="target/release/carl-spec")
-    ap.add_argument("--robots", default=",".join(GYM_IDS))
+    ap.add_argument("--robots", default=",".join(GYM_IDS))  # or any of ENVPOOL_IDS
     ap.add_argument("--num-envs", type=int, default=16)
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--runs", type=int, default=5)
@@ -65,8 +69,8 @@ def main():
         sys.exit("--runs, --steps, --num-envs and --threads must be at least 1")
     robots = [r.strip() for r in args.robots.split(",") if r.strip()]
     for r in robots:
-        if r not in GYM_IDS:
-            sys.exit(f"unknown robot {r!r}; choose from {', '.join(GYM_IDS)}")
+        if r not in ENVPOOL_IDS:
+            sys.exit(f"unknown robot {r!r}; choose from {', '.join(ENVPOOL_IDS)}")
     import envpool
     import numpy as np
 
@@ -75,7 +79,7 @@ def main():
     results = {}
     for robot in robots:
         env = envpool.make_gymnasium(
-            GYM_IDS[robot], num_envs=args.num_envs, batch_size=args.num_envs, num_threads=args.threads, seed=0
+            ENVPOOL_IDS[robot], num_envs=args.num_envs, batch_size=args.num_envs, num_threads=args.threads, seed=0
         )
         space = env.action_space
         rng = np.random.default_rng(0)
@@ -109,7 +113,7 @@ def main():
         "load_after": [round(x, 2) for x in load_after],
     }
     lines = [
-        f"| robot | envpool v5 ×{args.num_envs} steps/s (median) | carl-spec ×{args.num_envs} steps/s (median) "
+        f"| robot | envpool ×{args.num_envs} steps/s (median) | carl-spec ×{args.num_envs} steps/s (median) "
         "| carl-spec / envpool |",
         "|---|---|---|---|",
     ]

@@ -28,7 +28,7 @@ BEGIN = "<!-- generated: environment table (scripts/docs/readme_table.py --write
 END = "<!-- end of the generated environment table -->"
 # Registry order of the families (crates/carl-spec/src/envs/registry.rs); a family not listed
 # here follows, alphabetically.
-FAMILY_ORDER = ("classic_control", "box2d", "brax", "rna_design", "mario")
+FAMILY_ORDER = ("classic_control", "box2d", "brax", "dmc", "rna_design", "mario")
 
 
 def specs(bin_: Path | None = None) -> list[dict[str, Any]]:

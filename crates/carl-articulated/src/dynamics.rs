@@ -9,7 +9,7 @@
 use crate::data::Data;
 use crate::math::{
     IDENTITY, Inertia, QUAT_IDENTITY, ZERO3, add, add6, col, cross, cross_force, cross_motion, dot6, join, mat_mul,
-    mat_vec, quat_axis_angle, quat_mul, quat_normalize, quat_to_mat, rotate_diag, scale,
+    mat_t_vec, mat_vec, quat_axis_angle, quat_mul, quat_normalize, quat_to_mat, rotate_diag, scale,
 };
 use crate::model::{JointKind, Model};
 
@@ -185,23 +185,14 @@ impl Data {
                 self.qfrc_passive[da] -= jt.stiffness * (self.qpos[qa] - jt.springref);
             }
         }
-        let mu = m.opt.viscosity;
-        if mu > 0.0 {
+        let (mu, rho) = (m.opt.viscosity, m.opt.density);
+        if mu > 0.0 || rho > 0.0 {
             for b in 1..m.bodies.len() {
                 let body = &m.bodies[b];
                 if body.mass <= 0.0 || m.body_last_dof[b] == usize::MAX {
                     continue;
                 }
-                // MuJoCo's inertia box: sides √(6 (I_j + I_k − I_i) / m), diameter their mean.
-                let i = body.inertia;
-                let side = |a: f64, b2: f64, c: f64| (6.0 * (a + b2 - c).max(0.0) / body.mass).sqrt();
-                let d = (side(i[1], i[2], i[0]) + side(i[0], i[2], i[1]) + side(i[0], i[1], i[2])) / 3.0;
-                let c = self.xipos[b];
-                let (w, v0) = crate::math::split(&self.cvel[b]);
-                let vc = add(v0, cross(w, c));
-                let f = scale(vc, -3.0 * std::f64::consts::PI * mu * d);
-                let t = scale(w, -std::f64::consts::PI * mu * d * d * d);
-                let wrench = join(add(t, cross(c, f)), f);
+                let wrench = self.fluid_wrench(b);
                 let mut k = m.body_last_dof[b];
                 while k != usize::MAX {
                     self.qfrc_passive[k] += dot6(&self.cdof[k], &wrench);
@@ -209,6 +200,45 @@ impl Data {
                 }
             }
         }
+    }
+
+    /// MuJoCo's inertia-box fluid model (`mj_inertiaBoxFluidModel`) on body `b`, as a world
+    /// spatial force about the origin: the body is the box of its principal inertia (sides
+    /// `sᵢ = √(6 (I_j + I_k − I_i) / m)`), moving with velocity `v − wind` at its centre of mass
+    /// and angular velocity `ω`, both in the inertia frame. Viscosity: Stokes drag
+    /// `−3π μ d v` and torque `−π μ d³ ω`, `d` the sides' mean; density: quadratic drag
+    /// `−½ ρ s_j s_k |vᵢ| vᵢ` on each face pair and torque `−ρ sᵢ (s_j⁴ + s_k⁴) |ωᵢ| ωᵢ / 64`.
+    fn fluid_wrench(&self, b: usize) -> [f64; 6] {
+        let m = &*self.model;
+        let body = &m.bodies[b];
+        let (mu, rho) = (m.opt.viscosity, m.opt.density);
+        let i = body.inertia;
+        let side = |a: f64, b2: f64, c: f64| (6.0 * (a + b2 - c).max(1e-15) / body.mass).sqrt();
+        let s = [side(i[1], i[2], i[0]), side(i[0], i[2], i[1]), side(i[0], i[1], i[2])];
+        let c = self.xipos[b];
+        let r = mat_mul(&self.xmat[b], &m.body_imat[b]);
+        let (w, v0) = crate::math::split(&self.cvel[b]);
+        let vc = crate::math::sub(add(v0, cross(w, c)), m.opt.wind);
+        let lw = mat_t_vec(&r, w);
+        let lv = mat_t_vec(&r, vc);
+        let mut lt = [0.0; 3];
+        let mut lf = [0.0; 3];
+        if mu > 0.0 {
+            let d = (s[0] + s[1] + s[2]) / 3.0;
+            let pi = std::f64::consts::PI;
+            lt = scale(lw, -pi * d * d * d * mu);
+            lf = scale(lv, -3.0 * pi * d * mu);
+        }
+        if rho > 0.0 {
+            for k in 0..3 {
+                let (a, b2) = ((k + 1) % 3, (k + 2) % 3);
+                lf[k] -= 0.5 * rho * s[a] * s[b2] * lv[k].abs() * lv[k];
+                lt[k] -= rho * s[k] * (s[a].powi(4) + s[b2].powi(4)) * lw[k].abs() * lw[k] / 64.0;
+            }
+        }
+        let f = mat_vec(&r, lf);
+        let t = mat_vec(&r, lt);
+        join(add(t, cross(c, f)), f)
     }
 
     /// Actuator forces from `ctrl` (clipped to each actuator's `ctrlrange`; NaN acts as 0).
@@ -223,7 +253,14 @@ impl Data {
             if let Some([lo, hi]) = act.ctrlrange {
                 u = u.clamp(lo, hi);
             }
-            self.qfrc_actuator[m.jnt_dofadr[act.joint]] += act.gear * u;
+            match m.actuator_tendon[a] {
+                None => self.qfrc_actuator[m.jnt_dofadr[act.joint]] += act.gear * u,
+                Some(t) => {
+                    for &(j, coef) in &m.tendons[t].joints {
+                        self.qfrc_actuator[m.jnt_dofadr[j]] += coef * act.gear * u;
+                    }
+                }
+            }
         }
     }
 }
@@ -316,7 +353,10 @@ pub(crate) fn set_invweight0(model: &mut Model) {
             jac[k] = join(lin, w);
             k = model.dof_parent[k];
         }
-        let (mut tr, mut rot) = (0.0, 0.0);
+        // MuJoCo averages the three diagonal entries of each block, except for a body that
+        // cannot rotate (slides alone): its translational weight is the mean of the entries
+        // that are not zero (1/mass on one, two or three slides), its rotational weight 0.
+        let (mut tr, mut rot, mut ntr) = (0.0, 0.0, 0usize);
         for r in 0..6 {
             let mut s = 0.0;
             for (i, ji) in jac.iter().enumerate() {
@@ -327,9 +367,18 @@ pub(crate) fn set_invweight0(model: &mut Model) {
                     s += ji[r] * minv[i * nv + j] * jj[r];
                 }
             }
-            if r < 3 { tr += s } else { rot += s }
+            if r < 3 {
+                tr += s;
+                ntr += usize::from(s > MINVAL);
+            } else {
+                rot += s;
+            }
         }
-        model.body_invweight0[b] = [(tr / 3.0).max(MINVAL), (rot / 3.0).max(MINVAL)];
+        model.body_invweight0[b] = if rot > MINVAL {
+            [(tr / 3.0).max(MINVAL), rot / 3.0]
+        } else {
+            [if ntr > 0 { tr / ntr as f64 } else { MINVAL }, MINVAL]
+        };
     }
     for (j, jt) in model.joints.iter().enumerate() {
         let da = model.jnt_dofadr[j];

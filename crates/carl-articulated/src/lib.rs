@@ -23,4 +23,4 @@ pub mod model;
 
 pub use collision::Contact;
 pub use data::Data;
-pub use model::{Actuator, Body, Geom, Integrator, Joint, JointKind, Model, ModelError, Options, Shape};
+pub use model::{Actuator, Body, Geom, Integrator, Joint, JointKind, Model, ModelError, Options, Shape, Tendon};

@@ -218,6 +218,15 @@ pub struct Actuator {
     pub ctrlrange: Option<[f64; 2]>,
 }
 
+/// A fixed tendon (MuJoCo's `<fixed>`): length `Σ coef · q` over hinge and slide joints. An
+/// actuator driving it ([`Model::with_tendons`]) exerts `coef · gear · ctrl` on each joint.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tendon {
+    pub name: String,
+    /// `(joint, coef)` pairs.
+    pub joints: Vec<(usize, f64)>,
+}
+
 /// Time integration.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Integrator {
@@ -236,8 +245,13 @@ pub struct Options {
     pub integrator: Integrator,
     /// Ratio of frictional to normal constraint impedance.
     pub impratio: f64,
-    /// Medium viscosity (MuJoCo's inertia-box Stokes drag, density 0).
+    /// Medium viscosity (MuJoCo's inertia-box Stokes drag).
     pub viscosity: f64,
+    /// Medium density (MuJoCo's inertia-box quadratic drag).
+    pub density: f64,
+    /// Velocity of the medium (world frame): the fluid forces act on each body's velocity
+    /// relative to it.
+    pub wind: V3,
     /// Projected Gauss–Seidel sweeps at most.
     pub iterations: usize,
     /// Sweeps stop once no force changes by more than this (relative to the largest force).
@@ -252,6 +266,8 @@ impl Default for Options {
             integrator: Integrator::Euler,
             impratio: 1.0,
             viscosity: 0.0,
+            density: 0.0,
+            wind: [0.0; 3],
             iterations: 200,
             tolerance: 1e-8,
         }
@@ -285,6 +301,12 @@ pub enum ModelError {
         name: String,
         message: String,
     },
+    #[error("tendon {index} ({name}): {message}")]
+    Tendon {
+        index: usize,
+        name: String,
+        message: String,
+    },
     #[error("options: {0}")]
     Options(String),
 }
@@ -314,6 +336,10 @@ pub struct Model {
     pub joints: Vec<Joint>,
     pub geoms: Vec<Geom>,
     pub actuators: Vec<Actuator>,
+    /// Fixed tendons ([`Model::with_tendons`]; none unless set).
+    pub tendons: Vec<Tendon>,
+    /// The tendon each actuator drives instead of its joint (`None`: its joint).
+    pub actuator_tendon: Vec<Option<usize>>,
     pub nq: usize,
     pub nv: usize,
     /// First position / velocity coordinate of each joint.
@@ -368,6 +394,12 @@ impl Model {
         }
         if !(opt.viscosity.is_finite() && opt.viscosity >= 0.0) {
             return oerr("viscosity must be finite and non-negative");
+        }
+        if !(opt.density.is_finite() && opt.density >= 0.0) {
+            return oerr("density must be finite and non-negative");
+        }
+        if !finite3(opt.wind) {
+            return oerr("wind must be finite");
         }
         if opt.iterations == 0 || !(opt.tolerance.is_finite() && opt.tolerance >= 0.0) {
             return oerr("iterations must be positive and tolerance finite and non-negative");
@@ -555,6 +587,7 @@ impl Model {
                 return Err(e("ctrlrange must be finite with lo ≤ hi"));
             }
         }
+        let nact = actuators.len();
         let pairs = collision_pairs(&bodies, &body_weld, &geoms);
         let max_contacts: usize = pairs.iter().map(|p| p.max_contacts).sum();
         let contact_rows: usize = pairs
@@ -569,6 +602,8 @@ impl Model {
             bodies,
             joints,
             geoms,
+            tendons: Vec::new(),
+            actuator_tendon: vec![None; nact],
             actuators,
             nq,
             nv,
@@ -591,6 +626,47 @@ impl Model {
         };
         crate::dynamics::set_invweight0(&mut model);
         Ok(model)
+    }
+
+    /// The model with fixed tendons, and the tendon (if any) each actuator drives instead of
+    /// its joint (MuJoCo's `actuator_trntype` tendon: the actuator's `joint` is then unused).
+    pub fn with_tendons(
+        mut self,
+        tendons: Vec<Tendon>,
+        actuator_tendon: Vec<Option<usize>>,
+    ) -> Result<Model, ModelError> {
+        for (i, t) in tendons.iter().enumerate() {
+            for &(j, coef) in &t.joints {
+                if j >= self.joints.len() || self.joints[j].kind == JointKind::Free || !coef.is_finite() {
+                    return Err(ModelError::Tendon {
+                        index: i,
+                        name: t.name.clone(),
+                        message: format!("joint {j} must be a hinge or slide joint with a finite coefficient"),
+                    });
+                }
+            }
+        }
+        if actuator_tendon.len() != self.actuators.len() {
+            return Err(ModelError::Options(format!(
+                "{} actuator transmissions for {} actuators",
+                actuator_tendon.len(),
+                self.actuators.len()
+            )));
+        }
+        for (a, t) in actuator_tendon.iter().enumerate() {
+            if let Some(t) = *t
+                && t >= tendons.len()
+            {
+                return Err(ModelError::Actuator {
+                    index: a,
+                    name: self.actuators[a].name.clone(),
+                    message: format!("tendon {t} does not exist"),
+                });
+            }
+        }
+        self.tendons = tendons;
+        self.actuator_tendon = actuator_tendon;
+        Ok(self)
     }
 
     pub fn body_index(&self, name: &str) -> Option<usize> {

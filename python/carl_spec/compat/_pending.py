@@ -22,9 +22,7 @@ PENDING: dict[str, tuple[str, int]] = {
     "CARLBraxPusher": ("pusher", 26),
     "CARLDmcFingerEnv": ("dmc_finger", 27),
     "CARLDmcFishEnv": ("dmc_fish", 27),
-    "CARLDmcPointMassEnv": ("dmc_point_mass", 27),
     "CARLDmcQuadrupedEnv": ("dmc_quadruped", 27),
-    "CARLDmcWalkerEnv": ("dmc_walker", 27),
 }
 
 #: carl-bench classes of the pending families that are not environments of their own

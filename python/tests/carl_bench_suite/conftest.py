@@ -40,23 +40,18 @@ PENDING_TESTS: dict[str, str] = {
     "test_brax_env.py::TestBraxEnvs::test_envs": "builds every class of carl.envs.brax; "
     + "; ".join(reason(c) for c in BRAX_PENDING)
     + " (the eight Brax classes carl-spec has are checked by python/tests/test_compat_suite.py)",
-    "test_dmc.py::TestDMCLoader::test_load_classic_dmc_env": _dmc("CARLDmcWalkerEnv"),
-    "test_dmc.py::TestDMCLoader::test_load_context_dmc_env": _dmc("CARLDmcWalkerEnv"),
-    "test_dmc.py::TestDMCLoader::test_load_unknowntask_dmc_env": _dmc("CARLDmcWalkerEnv"),
-    "test_dmc.py::TestDMCLoader::test_load_unknowndomain_dmc_env": message("load_dmc_env", "dm_control family", 27),
     "test_dmc.py::TestFinger::test_finger_constraints": _dmc("CARLDmcFingerEnv"),
     "test_dmc.py::TestFinger::test_finger_tasks": _dmc("CARLDmcFingerEnv"),
     "test_dmc.py::TestDmcUtils::test_adapt_context_no_context": _dmc("CARLDmcFingerEnv"),
     "test_dmc.py::TestDmcUtils::test_adapt_context_partialcontext": _dmc("CARLDmcFingerEnv"),
     "test_dmc.py::TestDmcUtils::test_adapt_context_fullcontext": _dmc("CARLDmcFingerEnv"),
-    "test_dmc.py::TestDmcUtils::test_adapt_context_friction": _dmc("CARLDmcWalkerEnv"),
+    "test_dmc.py::TestDmcUtils::test_adapt_context_friction": message(
+        "carl.envs.dmc.dmc_tasks.utils.adapt_context (dm_control XML editing)", "dm_control family", 27
+    ),
     "test_dmc.py::TestQuadruped::test_make_model": _dmc("CARLDmcQuadrupedEnv"),
     "test_dmc.py::TestQuadruped::test_instantiate_env_with_context": _dmc("CARLDmcQuadrupedEnv"),
     "test_dmc.py::TestFish::test_make_model": _dmc("CARLDmcQuadrupedEnv"),  # carl-bench's fish test builds the quadruped
     "test_dmc.py::TestFish::test_instantiate_env_with_context": _dmc("CARLDmcFishEnv"),
-    "test_dmc.py::TestPointmass::test_make_model": _dmc("CARLDmcPointMassEnv"),
-    "test_dmc.py::TestPointmass::test_instantiate_env_with_context": _dmc("CARLDmcPointMassEnv"),
-    "test_dmc.py::TestPointmass::test_constraints": _dmc("CARLDmcPointMassEnv"),
 }
 
 _DEAD_GRAVITY = (

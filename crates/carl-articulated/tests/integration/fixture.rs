@@ -1,7 +1,7 @@
 //! Builds a [`Model`] from a MuJoCo fixture's compiled-model fields (as
 //! `scripts/articulated_mujoco_fixtures.py` writes them).
 
-use carl_articulated::model::{Actuator, Body, Geom, Integrator, Joint, JointKind, Model, Options, Shape};
+use carl_articulated::model::{Actuator, Body, Geom, Integrator, Joint, JointKind, Model, Options, Shape, Tendon};
 use serde_json::Value;
 
 pub fn load(name: &str) -> Value {
@@ -41,6 +41,8 @@ pub fn model(fx: &Value) -> Model {
         },
         impratio: f(&o["impratio"]),
         viscosity: f(&o["viscosity"]),
+        density: o.get("density").map_or(0.0, f),
+        wind: o.get("wind").map_or([0.0; 3], v3),
         ..Options::default()
     };
     let bodies = m["bodies"]
@@ -138,7 +140,33 @@ pub fn model(fx: &Value) -> Model {
             ctrlrange: (!a["ctrlrange"].is_null()).then(|| arr::<2>(&a["ctrlrange"])),
         })
         .collect();
-    Model::new(opt, bodies, joints, geoms, actuators).expect("fixture model")
+    let actuator_tendon = m["actuators"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|a| a.get("tendon").map(|t| t.as_u64().unwrap() as usize))
+        .collect();
+    let tendons = m
+        .get("tendons")
+        .and_then(Value::as_array)
+        .map(|ts| {
+            ts.iter()
+                .enumerate()
+                .map(|(i, t)| Tendon {
+                    name: format!("tendon{i}"),
+                    joints: t
+                        .as_array()
+                        .unwrap()
+                        .iter()
+                        .map(|jc| (jc[0].as_u64().unwrap() as usize, f(&jc[1])))
+                        .collect(),
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    Model::new(opt, bodies, joints, geoms, actuators)
+        .and_then(|m| m.with_tendons(tendons, actuator_tendon))
+        .expect("fixture model")
 }
 
 /// The fixtures' open-loop control (as the script's `control`).

@@ -1,5 +1,5 @@
 //! Parity with MuJoCo 4.0.0 on the fixtures of `scripts/articulated_mujoco_fixtures.py`
-//! (double pendulum, dropped box and capsule, a pile of capsules and a sphere, Gymnasium's Ant
+//! (double pendulum, a tumbling body and a tendon-driven point mass in a medium, dropped box and capsule, a pile of capsules and a sphere, Gymnasium's Ant
 //! and Humanoid):
 //! the compiled constants (`body_invweight0`, `dof_invweight0`), the first forward pass (mass
 //! matrix, bias forces, accelerations) and trajectories under the fixtures' control.
@@ -189,6 +189,18 @@ fn double_pendulum_rk4_matches_mujoco() {
     check_first(&fx, 1e-7);
     // Observed: 8e-13 in qpos and qvel.
     let (dq, dv) = trajectory(&fx, 1000);
+    assert!(dq < 1e-9 && dv < 1e-8, "qpos off by {dq}, qvel by {dv}");
+}
+
+#[test]
+fn fluid_and_tendons_match_mujoco() {
+    let fx = load("fluid");
+    check_constants(&fx);
+    check_first(&fx, 1e-7);
+    // Contact-free: 1 s of a tumbling body in a medium with density, viscosity and wind, and a
+    // point mass driven through fixed tendons into its soft joint limits.
+    let (dq, dv) = trajectory(&fx, 500);
+    eprintln!("fluid: qpos {dq:.2e} qvel {dv:.2e}");
     assert!(dq < 1e-9 && dv < 1e-8, "qpos off by {dq}, qvel by {dv}");
 }
 

@@ -4,7 +4,7 @@
 //! * [`api`], [`runtime`], [`context`], [`policy`], [`rng`]: the environment API
 //!   ([`carl_env`]), re-exported here.
 //! * The families, one crate each, each registering its own environments:
-//!   [`classic_control`], [`box2d`], [`brax`], [`rna_design`], [`mario`].
+//!   [`classic_control`], [`box2d`], [`brax`], [`dmc`], [`rna_design`], [`mario`].
 //! * [`registry`]: the families' registrations in one table, and `make`.
 //! * [`contextual`]: CARL's contextual wrapper (instance selection, context in observation/info).
 //!   Its vocabulary (sources, selection, visibility, noise, errors) is [`contextual_options`]; its
@@ -17,6 +17,7 @@ pub use carl_env::{api, cancel, context, policy, rng, runtime};
 pub use carl_envs_box2d as box2d;
 pub use carl_envs_brax as brax;
 pub use carl_envs_classic_control as classic_control;
+pub use carl_envs_dmc as dmc;
 pub use carl_envs_mario as mario;
 pub use carl_envs_rna_design as rna_design;
 

@@ -28,6 +28,7 @@ const FAMILIES: &[&[Registration]] = &[
     carl_envs_classic_control::REGISTRATIONS,
     carl_envs_box2d::REGISTRATIONS,
     carl_envs_brax::REGISTRATIONS,
+    carl_envs_dmc::REGISTRATIONS,
     carl_envs_rna_design::REGISTRATIONS,
     carl_envs_mario::REGISTRATIONS,
 ];

@@ -1,8 +1,9 @@
 """carl-bench 1.1.1's `carl.envs`: its environment classes over carl-spec's runtimes.
 
 As in carl-bench, `carl.envs` holds the environments that are available: here every one carl-spec
-has (Box2D, Mario and RNA need no extra package). The pending ones (two Brax classes and the
-dm_control family, `carl_spec.compat._pending`) are importable from their own modules
+has (Box2D, Mario and RNA need no extra package), the dm_control ones among them as each is
+built. The pending ones (two Brax classes and the rest of the dm_control family,
+`carl_spec.compat._pending`) are importable from their own modules
 (`carl_spec.compat.envs.brax`, `carl_spec.compat.envs.dmc`) but not listed here, as carl-bench
 leaves out the families whose package is missing. Submodules mirror carl-bench's tree
 (`carl_spec.compat.envs.gymnasium.classic_control.carl_pendulum`, ...).
@@ -31,6 +32,7 @@ from .gymnasium import (
     CARLPendulum,
     CARLVehicleRacing,
 )
+from .dmc import CARLDmcPointMassEnv, CARLDmcWalkerEnv
 from .mario import CARLMarioEnv
 from .rna import CARLRnaDesignEnv
 
@@ -51,6 +53,8 @@ __all__ = [
     "CARLBraxInvertedPendulum",
     "CARLBraxInvertedDoublePendulum",
     "CARLBraxReacher",
+    "CARLDmcPointMassEnv",
+    "CARLDmcWalkerEnv",
     "CARLMarioEnv",
     "CARLRnaDesignEnv",
 ]

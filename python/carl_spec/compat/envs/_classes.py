@@ -258,6 +258,47 @@ class CARLBraxReacher(_Robot):
     bench_names = ("gravity", "friction", "elasticity", "ang_damping", "viscosity", "mass_body0", "mass_body1")
 
 
+_DMC_PHYSICS = (
+    "gravity", "friction_torsional", "friction_rolling", "friction_tangential", "timestep", "joint_damping",
+    "joint_stiffness", "actuator_strength", "density", "viscosity", "geom_density", "wind_x", "wind_y", "wind_z",
+)
+
+
+class _Dmc(CARLEnv):
+    """carl-bench's dm_control classes (`CARLDmcEnv`): its `task` argument names the dm_control task
+    (`tasks`: carl-bench's task name -> carl-spec's runtime options)."""
+
+    tasks: dict[str, dict[str, Any]] = {}
+    task: str = ""
+
+    def __init__(self, *args: Any, task: str | None = None, **kwargs: Any) -> None:
+        task = type(self).task if task is None else task
+        if task not in self.tasks:
+            raise ValueError(f"{type(self).__name__}: task {task!r} is not one of {', '.join(self.tasks)}")
+        self.task = task
+        super().__init__(*args, **kwargs)
+        self._ctor["task"] = task
+
+    def _env_options(self, canonical_contexts: list[dict[str, Any]]) -> dict[str, Any] | None:
+        return self.tasks[self.task] or None
+
+
+class CARLDmcPointMassEnv(_Dmc):
+    env_id = "dmc_point_mass"
+    domain = "pointmass"
+    task = "easy_pointmass"
+    tasks = {"easy_pointmass": {}, "hard_pointmass": {"hard": True}}
+    bench_names = (*_DMC_PHYSICS, "mass", "starting_x", "starting_y", "target_x", "target_y", "area_size")
+
+
+class CARLDmcWalkerEnv(_Dmc):
+    env_id = "dmc_walker"
+    domain = "walker"
+    task = "walk_context"
+    tasks = {"walk_context": {}, "stand_context": {"move_speed": 0.0}, "run_context": {"move_speed": 8.0}}
+    bench_names = _DMC_PHYSICS
+
+
 class CARLMarioEnv(CARLEnv):
     env_id = "mario"
     bench_names = ("level_width", "level_index", "noise_seed", "mario_state", "mario_inertia")
@@ -273,7 +314,8 @@ CLASSES: dict[str, type[CARLEnv]] = {
     for c in (
         CARLCartPole, CARLPendulum, CARLAcrobot, CARLMountainCar, CARLMountainCarContinuous, CARLLunarLander,
         CARLBipedalWalker, CARLVehicleRacing, CARLBraxAnt, CARLBraxHalfcheetah, CARLBraxHumanoid, CARLBraxHopper,
-        CARLBraxWalker2d, CARLBraxInvertedPendulum, CARLBraxInvertedDoublePendulum, CARLBraxReacher, CARLMarioEnv,
+        CARLBraxWalker2d, CARLBraxInvertedPendulum, CARLBraxInvertedDoublePendulum, CARLBraxReacher, CARLDmcPointMassEnv, CARLDmcWalkerEnv,
+        CARLMarioEnv,
         CARLRnaDesignEnv,
     )
 }

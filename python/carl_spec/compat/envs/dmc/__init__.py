@@ -1,5 +1,7 @@
-"""carl-bench's `carl.envs.dmc`: the dm_control family is pending (issue 27); building one of
-these classes raises `PendingEnvironmentError` naming the missing environment."""
+"""carl-bench's `carl.envs.dmc`: CARLDmcPointMassEnv and CARLDmcWalkerEnv run carl-spec's
+dmc_point_mass and dmc_walker; the rest of
+the family is pending (issue 27): building one of those classes raises `PendingEnvironmentError`
+naming the missing environment."""
 
 from .carl_dm_finger import CARLDmcFingerEnv
 from .carl_dm_fish import CARLDmcFishEnv

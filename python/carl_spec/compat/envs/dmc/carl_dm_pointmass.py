@@ -1,7 +1,5 @@
-"""carl-bench's `carl.envs.dmc.carl_dm_pointmass`: pending (see `carl_spec.compat._pending`)."""
+"""carl-bench's `carl.envs.dmc.carl_dm_pointmass`."""
 
-from ..._pending import pending_class
-
-CARLDmcPointMassEnv = pending_class("CARLDmcPointMassEnv", __name__)
+from .._classes import CARLDmcPointMassEnv
 
 __all__ = ["CARLDmcPointMassEnv"]

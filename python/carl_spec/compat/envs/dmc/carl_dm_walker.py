@@ -1,7 +1,5 @@
-"""carl-bench's `carl.envs.dmc.carl_dm_walker`: pending (see `carl_spec.compat._pending`)."""
+"""carl-bench's `carl.envs.dmc.carl_dm_walker`."""
 
-from ..._pending import pending_class
-
-CARLDmcWalkerEnv = pending_class("CARLDmcWalkerEnv", __name__)
+from .._classes import CARLDmcWalkerEnv
 
 __all__ = ["CARLDmcWalkerEnv"]

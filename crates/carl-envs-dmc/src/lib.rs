@@ -1,0 +1,23 @@
+//! CARL's dm_control family: domains of the DeepMind Control Suite (dm_control 1.0.50) with
+//! carl-bench 1.1.1's context features, on the articulated-body engine ([`carl_articulated`]).
+//!
+//! * [`mjcf`]: the models, converted from dm_control's own XML by `scripts/dmc_models.py`
+//!   (MuJoCo compiles them; `models/<domain>.json` holds the compiled fields), loaded into a
+//!   [`carl_articulated::Model`] with the family's context features applied;
+//! * [`rewards`]: dm_control's `rewards.tolerance` and its sigmoids;
+//! * [`point_mass`]: `dmc_point_mass` (dm_control's `point_mass` domain, tasks `easy` and
+//!   `hard`);
+//! * [`walker`]: `dmc_walker` (dm_control's `walker` domain, tasks `walk`, `stand`, `run`);
+//! * [`registry`]: the family's registrations.
+//!
+//! Each environment steps dm_control's control step (the physics step times dm_control's
+//! substeps) for dm_control's 1000-step episodes; its observation is dm_control's flat
+//! observation (the task's dict in order), float64.
+
+pub mod mjcf;
+pub mod point_mass;
+pub mod registry;
+pub mod rewards;
+pub mod walker;
+
+pub use registry::REGISTRATIONS;

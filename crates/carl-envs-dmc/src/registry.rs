@@ -1,0 +1,96 @@
+//! The dm_control family's registrations.
+
+use carl_env::context::{MakeError, OptionKind, OptionSpec, OptionValues};
+use carl_env::registration::{AuditProfile, Registration, StepCost};
+use carl_env::runtime::AnyEnv;
+
+use crate::point_mass::{self, PointMass};
+use crate::walker::{self, Walker};
+
+/// The environments of this family, in registry order.
+pub const REGISTRATIONS: &[Registration] = &[
+    Registration {
+        id: "dmc_point_mass",
+        build: build_point_mass,
+        runtime_default: |n| point_mass::Params::default().get(n),
+        options: &[
+            OptionSpec {
+                name: "hard",
+                help: "dm_control's point_mass `hard` task: each episode the two motors push along random directions (the second not within |cos| > 0.9 of the first) instead of along x and y",
+                kind: OptionKind::Bool { default: false },
+            },
+            OptionSpec {
+                name: "random_start",
+                help: "dm_control's reset: each slide uniform over its range (starting_x/y unused); false: the ball starts at starting_x/y (carl-bench)",
+                kind: OptionKind::Bool { default: false },
+            },
+        ],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        // Two slides within ±0.29 (the limits, where the soft walls act), rates of a few cm/s.
+        audit: AuditProfile {
+            trajectory_seeds: 3,
+            trajectory_steps: 16,
+            random_states: 32,
+            reset_seeds: 4,
+            state_hint: &[(-0.3, 0.3), (-0.3, 0.3), (-0.5, 0.5), (-0.5, 0.5)],
+        },
+        vector_kernel: None,
+    },
+    Registration {
+        id: "dmc_walker",
+        build: build_walker,
+        runtime_default: |n| walker::Params::default().get(n),
+        options: &[OptionSpec {
+            name: "move_speed",
+            help: "the horizontal speed (m/s) above which the move reward is 1: dm_control's walker walk 1 (default), run 8; 0 is stand (the standing reward alone)",
+            kind: OptionKind::Number {
+                default: walker::WALK_SPEED,
+                min: 0.0,
+                max: 20.0,
+            },
+        }],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        // Ten physics steps per transition with floor contacts. State: rootz rootx rooty, the six
+        // leg joints, then rates; heights that put the feet into the floor.
+        audit: AuditProfile {
+            trajectory_seeds: 2,
+            trajectory_steps: 16,
+            random_states: 8,
+            reset_seeds: 4,
+            state_hint: &[(-1.0, 0.2), (0.0, 0.0), (-0.5, 0.5)],
+        },
+        vector_kernel: None,
+    },
+];
+
+fn build_point_mass(values: &[(String, f64)], o: &OptionValues) -> Result<AnyEnv, MakeError> {
+    const ID: &str = "dmc_point_mass";
+    let mut p = point_mass::Params::default();
+    carl_env::context::apply(ID, values, |name, x| p.set(name, x))?;
+    let variant = point_mass::Variant {
+        hard: o.flag("hard"),
+        random_start: o.flag("random_start"),
+    };
+    PointMass::new(p, variant)
+        .map(AnyEnv::new)
+        .map_err(|message| MakeError::Runtime {
+            env: ID.into(),
+            message,
+        })
+}
+
+fn build_walker(values: &[(String, f64)], o: &OptionValues) -> Result<AnyEnv, MakeError> {
+    const ID: &str = "dmc_walker";
+    let mut p = walker::Params::default();
+    carl_env::context::apply(ID, values, |name, x| p.set(name, x))?;
+    Walker::new(p, o.get("move_speed"))
+        .map(AnyEnv::new)
+        .map_err(|message| MakeError::Runtime {
+            env: ID.into(),
+            message,
+        })
+}

@@ -1,0 +1,84 @@
+//! carl-spec's column of the dm_control comparison (`scripts/dmc_compare.py`, the Fidelity
+//! section of each page `crates/carl-envs-dmc/docs/<id>.md`): the deterministic metrics computed
+//! here through the environment with the script's definitions, at dm_control's values (the
+//! `dm_control` instance set), and pinned to dm_control 1.0.50's numbers. A model change re-runs
+//! the script and updates the pins with the page.
+
+use carl_env::api::{Action, Env};
+use carl_envs_dmc::point_mass::{Params, PointMass, Variant};
+use carl_envs_dmc::walker::{self, Walker};
+
+/// The ball's coordinate `axis` after `steps` control steps of `ctrl` from rest at the centre.
+fn push(p: Params, ctrl: [f32; 2], steps: usize, axis: usize) -> f64 {
+    let mut e = PointMass::new(p, Variant::default()).unwrap();
+    e.reset(Some(0));
+    e.set_state(&[0.0; 4]).unwrap();
+    for _ in 0..steps {
+        e.step(&Action::Continuous(ctrl.to_vec())).unwrap();
+    }
+    e.state()[axis]
+}
+
+/// dm_control's values (specs/instances/dmc_point_mass/dm_control.json).
+fn dm_control() -> Params {
+    Params {
+        starting_x: 0.0,
+        starting_y: 0.0,
+        ..Params::default()
+    }
+}
+
+#[test]
+fn point_mass_pushes_as_dm_control() {
+    // (metric, carl-spec, dm_control 1.0.50) as the script printed them.
+    let mut medium = dm_control();
+    medium.common.viscosity = 2.0;
+    medium.common.density = 1000.0;
+    medium.common.wind_x = 0.05;
+    let rows = [
+        ("push_x_0.2s", push(dm_control(), [1.0, 0.0], 10, 0), 0.0057338),
+        ("push_x_1s", push(dm_control(), [1.0, 0.0], 50, 0), 0.07119),
+        ("push_y_1s", push(dm_control(), [0.3, -1.0], 50, 1), -0.07119),
+        ("medium_push_x_1s", push(medium, [1.0, 0.0], 50, 0), 0.06878),
+    ];
+    for (name, ours, theirs) in rows {
+        assert!(
+            (ours / theirs - 1.0).abs() < 1e-4,
+            "{name}: carl-spec {ours}, dm_control {theirs}"
+        );
+    }
+}
+
+#[test]
+fn walker_falls_as_dm_control() {
+    // Standing straight at rest (every joint at 0), zero action: (step, height, torso xz).
+    let fall = |p: walker::Params, steps: usize| {
+        let mut e = Walker::new(p, walker::WALK_SPEED).unwrap();
+        e.reset(Some(0));
+        e.set_state(&[0.0; 18]).unwrap();
+        let mut obs = Vec::new();
+        for _ in 0..steps {
+            obs = e.step(&Action::Continuous(vec![0.0; 6])).unwrap().obs;
+        }
+        (f64::from(obs[14]), f64::from(obs[1]))
+    };
+    let dm = walker::Params::default();
+    let mut medium = dm;
+    medium.common.viscosity = 2.0;
+    medium.common.density = 1000.0;
+    medium.common.wind_x = 0.05;
+    // (metric, carl-spec, dm_control 1.0.50); float32 observations.
+    let rows = [
+        ("fall_height_1s", fall(dm, 40).0, 1.0463),
+        ("fall_torso_zz_1s", fall(dm, 40).1, 0.24289),
+        ("fall_height_2s", fall(dm, 80).0, 0.18239),
+        ("fall_torso_zz_2s", fall(dm, 80).1, -0.92714),
+        ("medium_fall_height_1s", fall(medium, 40).0, 0.609),
+    ];
+    for (name, ours, theirs) in rows {
+        assert!(
+            (ours / theirs - 1.0).abs() < 1e-3,
+            "{name}: carl-spec {ours}, dm_control {theirs}"
+        );
+    }
+}
