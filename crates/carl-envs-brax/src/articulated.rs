@@ -131,12 +131,29 @@ impl ArticulatedSystem {
             None => (carl_articulated::model::SOLREF_DEFAULT, SOLIMP_DEFAULT, 0.0),
         };
         let floor_margin = side.floor_margin.clamp(0.0, margin);
+        let elasticity = finite_or(params.elasticity, 0.0).max(0.0);
+        let g = finite_or(params.gravity, 0.0);
         let mut bodies = vec![Body::new("world", 0, [0.0; 3], 0.0, [0.0; 3], [0.0; 3])];
         let mut joints = Vec::new();
         let mut geoms = Vec::new();
         let mut link_body = vec![0; nl];
         let mut urdf_joint_model: Vec<Option<usize>> = vec![None; urdf.joints.len()];
-        let carrier: Vec<bool> = (0..nl).map(|i| super::model::is_carrier(urdf, i)).collect();
+        // A planar root's slides are carried by stand-in links (their small mass keeps rapier's
+        // multibody well posed): MuJoCo puts all three root joints on the torso, so do we.
+        let root_joint = |j: Option<usize>| j.is_some_and(|j| side.root_joints.contains(&urdf.joints[j].name));
+        let carrier: Vec<bool> = (0..nl)
+            .map(|i| {
+                let children: Vec<usize> = (0..urdf.joints.len())
+                    .filter(|&j| urdf.joints[j].parent.link == urdf.links[i].name)
+                    .collect();
+                let root_carrier = root_joint(parent_joint[i])
+                    && urdf.links[i].collision.is_empty()
+                    && matches!(children[..], [c] if root_joint(Some(c))
+                        && urdf.joints[c].origin.xyz.0 == [0.0; 3]
+                        && urdf.joints[c].origin.rpy.0 == [0.0; 3]);
+                super::model::is_carrier(urdf, i) || root_carrier
+            })
+            .collect();
         for &li in &order {
             let l = &urdf.links[li];
             // The child of a carrier shares the carrier's body (one body, several joints).
@@ -146,7 +163,10 @@ impl ArticulatedSystem {
             let b = merged.map_or(bodies.len(), |p| link_body[p]);
             link_body[li] = b;
             let (parent, pos, quat) = match parent_joint[li] {
-                None => (0, [0.0, 0.0, side.root_height], math::QUAT_IDENTITY),
+                // A free root starts at `root_height`; a fixed one is the world's frame (a planar
+                // root's joints place the torso).
+                None if side.root == RootKind::Free => (0, [0.0, 0.0, side.root_height], math::QUAT_IDENTITY),
+                None => (0, [0.0; 3], math::QUAT_IDENTITY),
                 Some(j) => {
                     let jt = &urdf.joints[j];
                     let p = link_body[link_index(&jt.parent.link).expect("checked")];
@@ -238,8 +258,14 @@ impl ArticulatedSystem {
                         .iter()
                         .find(|s| s.joint == *name)
                         .map_or(0.0, |s| s.stiffness);
-                    if !matches!(jt.joint_type, urdf_rs::JointType::Continuous) && jt.limit.lower < jt.limit.upper {
+                    if !root
+                        && !matches!(jt.joint_type, urdf_rs::JointType::Continuous)
+                        && jt.limit.lower < jt.limit.upper
+                    {
                         joint.range = Some([jt.limit.lower, jt.limit.upper]);
+                    }
+                    if side.bouncing_limits.contains(name) {
+                        joint.restitution = elasticity;
                     }
                     match &side.limit_model {
                         Some(lm) => {
@@ -273,6 +299,7 @@ impl ArticulatedSystem {
                 g.solimp = solimp;
                 g.margin = margin - floor_margin;
                 g.condim = side.contact_condim.unwrap_or(3);
+                g.restitution = elasticity;
                 // Bit 1: the floor (contype = conaffinity = 1); bit 2: other robot geoms.
                 let selfc = if side.self_collisions { 2 } else { 0 };
                 g.contype = u32::from(ground) | selfc;
@@ -286,6 +313,7 @@ impl ArticulatedSystem {
             floor.solref = solref;
             floor.solimp = solimp;
             floor.margin = floor_margin;
+            floor.restitution = elasticity;
             floor.contype = 1;
             floor.conaffinity = 1;
             geoms.push(floor);
@@ -304,9 +332,54 @@ impl ArticulatedSystem {
                 ctrlrange: Some(side.ctrl_range),
             });
         }
+        // Dry friction of the rails and tables that carry a robot welded to the world: a rail
+        // joint's `frictionloss` is `friction · |g| ·` the mass it carries (its body's subtree);
+        // on a table normal to gravity each moving body slides with `friction · |g| · m`.
+        let mut subtree: Vec<f64> = bodies.iter().map(|b| b.mass).collect();
+        for b in (1..bodies.len()).rev() {
+            let p = bodies[b].parent;
+            if p != 0 {
+                subtree[p] += subtree[b];
+            }
+        }
+        for name in &side.rail_joints {
+            let joint = joints
+                .iter_mut()
+                .find(|j| j.name == *name)
+                .ok_or_else(|| format!("rail joint {name} is not a movable joint"))?;
+            if joint.kind != JointKind::Slide {
+                return Err(format!("rail joint {name} is a hinge, not a slide"));
+            }
+            joint.frictionloss = friction * g.abs() * subtree[joint.body];
+        }
+        for name in &side.bouncing_limits {
+            if !joints.iter().any(|j| j.name == *name) {
+                return Err(format!("bouncing limit {name} is not a movable joint"));
+            }
+        }
+        if side.gravity_normal_to_plane {
+            let moving: Vec<usize> = joints.iter().map(|j| j.body).collect();
+            for (b, body) in bodies.iter_mut().enumerate() {
+                // Bodies below a moving one move too (bodies are parent-first).
+                if moving.contains(&b) {
+                    body.dryfriction = friction * g.abs() * body.mass;
+                }
+            }
+            for b in 1..bodies.len() {
+                if bodies[b].dryfriction == 0.0 && bodies[bodies[b].parent].dryfriction > 0.0 {
+                    bodies[b].dryfriction = friction * g.abs() * bodies[b].mass;
+                }
+            }
+        }
         let opt = Options {
             timestep: h,
-            gravity: [0.0, 0.0, finite_or(params.gravity, 0.0)],
+            // A robot moving in a horizontal plane is modelled turned by +90° about x (MuJoCo's
+            // (x, y, z) is the URDF's (x, −z, y)): gravity is along the URDF's y.
+            gravity: if side.gravity_normal_to_plane {
+                [0.0, -g, 0.0]
+            } else {
+                [0.0, 0.0, g]
+            },
             integrator: match side.integrator {
                 super::model::Integrator::Euler => Integrator::Euler,
                 super::model::Integrator::Rk4 => Integrator::Rk4,
