@@ -88,7 +88,7 @@ STEP_TIMES = {"ant": [2, 5], "half_cheetah": [2, 5], "humanoid": [7, 17], "hoppe
 MUJOCO_CONTEXT = {
     # half_cheetah.xml: torso 6.2502 kg (settotalmass 14), damping 6/4.5/3/4.5/3/1.5 (mean 3.75),
     # friction 0.4.
-    "half_cheetah": {"torso_mass": 6.2502, "joint_angular_damping": 3.75, "friction": 0.4},
+    "half_cheetah": {"torso_mass": 6.2502, "joint_angular_damping": 3.75, "joint_stiffness": 2500.0, "friction": 0.4},
 }
 # Robots whose spec freezes MuJoCo's values as the instance set `mujoco_v5` (read from the spec).
 INSTANCE_SET_ROBOTS = ("ant", "humanoid", "hopper", "walker2d", "inverted_pendulum", "inverted_double_pendulum", "reacher")

@@ -196,6 +196,10 @@ pub struct SideFile {
     /// (kg·m²) gives the limit constraint's natural frequency.
     pub limit_reference_inertia: f64,
     pub limit_damping_ratio: f64,
+    /// The impedance (`solimplimit`) of the `joint_stiffness` limits on the articulated engine
+    /// (default MuJoCo's `[0.9, 0.95, 0.001, 0.5, 2]`).
+    #[serde(default)]
+    pub limit_solimp: Option<[f64; 5]>,
     pub restitution: f64,
     /// Whether links of the robot collide with each other.
     pub self_collisions: bool,
