@@ -25,15 +25,12 @@ pub enum Engine {
     /// rapier3d multibodies ([`super::world::RobotWorld`]).
     #[default]
     Rapier,
-    /// The planar reduced-coordinate engine ([`super::planar`]); only for robots whose links
-    /// all move in the x-z plane (checked when a task is built: `PhysicsBuilder::for_model`).
-    Planar,
     /// The 3-D articulated-body engine with MuJoCo's semantics ([`super::articulated`],
     /// crate `carl-articulated`).
     Articulated,
 }
 
-/// Time integration (MuJoCo's `integrator`), for the planar and the articulated engine.
+/// Time integration (MuJoCo's `integrator`) of the articulated engine.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Integrator {
@@ -41,8 +38,7 @@ pub enum Integrator {
     #[default]
     Euler,
     /// Fourth-order Runge–Kutta (MuJoCo's `RK4`): every stage's acceleration with its
-    /// constraint forces (the articulated engine: with contacts in every stage; the planar
-    /// engine: damping explicit).
+    /// constraint forces (contacts in every stage), damping explicit.
     Rk4,
 }
 
@@ -114,13 +110,12 @@ pub struct Site {
 pub struct SideFile {
     pub robot: String,
     pub source: String,
-    /// The physics engine (default rapier). `"planar"` needs a planar robot (checked when a task
-    /// is built).
+    /// The physics engine (default rapier).
     #[serde(default)]
     pub engine: Engine,
     /// Physics time step (s).
     pub timestep: f64,
-    /// Time integration of the planar and articulated engines (default semi-implicit Euler).
+    /// Time integration of the articulated engine (default semi-implicit Euler).
     #[serde(default)]
     pub integrator: Integrator,
     /// Physics steps per environment step.
