@@ -484,11 +484,25 @@ impl ArticulatedWorld {
 
     /// One physics step with motor controls `ctrl` (clipped to the control range).
     pub fn step(&mut self, ctrl: &[f32]) {
+        self.steps(ctrl, 1);
+    }
+
+    /// `n` physics steps with motor controls `ctrl` (an environment step's frame skip); the
+    /// contact wrenches are the last step's, positions and velocities the final state's (one
+    /// kinematics pass at the end: each step's forward pass makes its own).
+    pub fn steps(&mut self, ctrl: &[f32], n: usize) {
         for (c, u) in self.data.ctrl.iter_mut().zip(ctrl) {
             *c = f64::from(*u);
         }
-        self.data.step();
+        for _ in 0..n {
+            self.physics_step();
+        }
         self.data.contact_wrenches(&mut self.wrench);
+        self.data.update_kinematics();
+    }
+
+    fn physics_step(&mut self) {
+        self.data.step();
         let decay = self.sys.angular_decay;
         if decay != 1.0 {
             let m = &*self.sys.model;
@@ -501,7 +515,6 @@ impl ArticulatedWorld {
                 }
             }
         }
-        self.data.update_kinematics();
     }
 
     /// Whether every coordinate and rate is finite and no rate exceeds `max_speed`.

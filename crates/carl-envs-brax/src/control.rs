@@ -370,9 +370,7 @@ impl Env for Control {
         }
         let before = self.state_vec();
         let world = self.world.as_mut().expect("checked");
-        for _ in 0..self.model.side.frame_skip {
-            world.step(ctrl);
-        }
+        world.steps(ctrl, self.model.side.frame_skip);
         let diverged = !world.is_sane(self.model.side.max_speed);
         if diverged {
             self.load(&before);

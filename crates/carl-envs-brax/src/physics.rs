@@ -56,10 +56,11 @@ impl Physics {
         }
     }
 
-    pub fn step(&mut self, ctrl: &[f32]) {
+    /// `n` physics steps under the same controls (an environment step's frame skip).
+    pub fn steps(&mut self, ctrl: &[f32], n: usize) {
         match self {
-            Physics::Rapier(w) => w.step(ctrl),
-            Physics::Articulated(w) => w.step(ctrl),
+            Physics::Rapier(w) => (0..n).for_each(|_| w.step(ctrl)),
+            Physics::Articulated(w) => w.steps(ctrl, n),
         }
     }
 
