@@ -23,7 +23,17 @@
 //! * `torso_mass`, `mass_<link>` → link masses (the inertia scales with the mass);
 //! * `angular_damping` → after each step every hinge rate and the free root's angular velocity
 //!   are scaled by `exp(angular_damping · h)` (Brax's global angular damping; 0 in MuJoCo);
-//! * `viscosity` → MuJoCo's medium viscosity.
+//! * `viscosity` → MuJoCo's medium viscosity;
+//! * `elasticity` → the restitution of every contact and of the side file's `bouncing_limits`
+//!   (a carl extension; 0 is MuJoCo's);
+//! * robots welded to the world: a `rail_joints` slide gets MuJoCo's `frictionloss`
+//!   `friction · |gravity| ·` the mass it carries; with `gravity_normal_to_plane` (an arm on a
+//!   horizontal table, modelled turned by +90° about x) gravity points along the URDF's y and
+//!   each moving body slides on the table with dry friction `friction · |gravity| · m`.
+//!
+//! Roots: `free` (a free joint, the root link at `root_height`) or `fixed` (welded at the world
+//! frame); a planar root's `root_joints` (two slides and a hinge on stand-in links) fold into
+//! the torso as MuJoCo's three joints of one body.
 //!
 //! Contacts use the side file's `contact_model` (`solref`, `solimp`, and the robot–floor pair's
 //! `margin`, of which the floor has `floor_margin`, default 0, and each robot geom the rest) or
@@ -363,15 +373,11 @@ impl ArticulatedSystem {
             }
         }
         if side.gravity_normal_to_plane {
-            let moving: Vec<usize> = joints.iter().map(|j| j.body).collect();
-            for (b, body) in bodies.iter_mut().enumerate() {
-                // Bodies below a moving one move too (bodies are parent-first).
-                if moving.contains(&b) {
-                    body.dryfriction = friction * g.abs() * body.mass;
-                }
-            }
+            // A body moves if it or an ancestor has a joint (bodies are parent-first).
+            let mut moves = vec![false; bodies.len()];
             for b in 1..bodies.len() {
-                if bodies[b].dryfriction == 0.0 && bodies[bodies[b].parent].dryfriction > 0.0 {
+                moves[b] = moves[bodies[b].parent] || joints.iter().any(|j| j.body == b);
+                if moves[b] {
                     bodies[b].dryfriction = friction * g.abs() * bodies[b].mass;
                 }
             }

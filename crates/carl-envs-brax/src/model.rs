@@ -142,8 +142,8 @@ pub struct SideFile {
     #[serde(default)]
     pub bodies: Vec<String>,
     /// Per-joint viscous damping from the model (MuJoCo's joint `damping`); a joint listed here
-    /// is not damped by the context's `joint_angular_damping` (planar engine), unless
-    /// `damping_reference` is given.
+    /// is not damped by the context's `joint_angular_damping`, unless `damping_reference` is
+    /// given.
     #[serde(default)]
     pub joint_dampings: Vec<JointDamping>,
     /// With `joint_dampings`, the articulated engine scales them by the context's
@@ -163,14 +163,12 @@ pub struct SideFile {
     /// noise is drawn.
     #[serde(default)]
     pub initial_joints: Vec<InitialJoint>,
-    /// MuJoCo's contact parameters (planar engine; default: `solref` 0.02/1 with the linear
-    /// `solimp` ramp 0.9–0.95 over 1 mm, no margin; articulated engine: every robot geom's,
-    /// the margin being the robot–floor pair's, default MuJoCo's).
+    /// MuJoCo's contact parameters of every robot geom, the margin being the robot–floor
+    /// pair's (default MuJoCo's: `solref` 0.02/1, `solimp` 0.9–0.95 over 1 mm, no margin).
     #[serde(default)]
     pub contact_model: Option<SoftConstraint>,
-    /// Joint limits as MuJoCo's soft limits with these parameters (planar and articulated
-    /// engines); default: the context's `joint_stiffness` spring (`limit_reference_inertia`,
-    /// `limit_damping_ratio`; on the articulated engine a MuJoCo limit of that stiffness).
+    /// Joint limits as MuJoCo's soft limits with these parameters; default: a MuJoCo limit of
+    /// the context's `joint_stiffness` (`limit_reference_inertia`, `limit_damping_ratio`).
     #[serde(default)]
     pub limit_model: Option<SoftConstraint>,
     /// Passive joint springs towards 0 (MuJoCo's joint `stiffness`), N·m/rad.
@@ -208,18 +206,18 @@ pub struct SideFile {
     pub ground_links: Vec<String>,
     /// Any link faster than this (m/s or rad/s) counts as a diverged simulation.
     pub max_speed: f64,
-    /// Planar engine: gravity is normal to the plane of motion (an arm moving on a horizontal
-    /// table, Reacher): no gravity force acts in the plane; each link's weight presses it onto
-    /// the table, where it slides with the context's friction (default: gravity along −z, in
-    /// the plane).
+    /// Gravity is normal to the plane of motion (an arm moving on a horizontal table, Reacher,
+    /// modelled turned by +90° about x): gravity points along the URDF's y; each link's weight
+    /// presses it onto the table, where it slides with the context's friction (default: gravity
+    /// along −z).
     #[serde(default)]
     pub gravity_normal_to_plane: bool,
-    /// Planar engine: slides running on a rail that carries the weight of everything they move;
+    /// Slides running on a rail that carries the weight of everything they move;
     /// their dry friction is the context's friction times that weight (MuJoCo's joint
     /// `frictionloss`).
     #[serde(default)]
     pub rail_joints: Vec<String>,
-    /// Planar engine: joints whose limits restitute with the context's elasticity (end stops).
+    /// Joints whose limits restitute with the context's elasticity (end stops).
     #[serde(default)]
     pub bouncing_limits: Vec<String>,
     /// Named points on links (MuJoCo's sites).
