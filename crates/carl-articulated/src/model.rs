@@ -478,7 +478,11 @@ impl Model {
             {
                 return Err(e("parameters must be finite".into()));
             }
-            if jt.armature < 0.0 || jt.damping < 0.0 || jt.stiffness < 0.0 || jt.frictionloss < 0.0 || jt.restitution < 0.0
+            if jt.armature < 0.0
+                || jt.damping < 0.0
+                || jt.stiffness < 0.0
+                || jt.frictionloss < 0.0
+                || jt.restitution < 0.0
             {
                 return Err(e(
                     "armature, damping, stiffness, frictionloss and restitution must be non-negative".into(),

@@ -590,7 +590,13 @@ fn half_cheetah_engines_and_state_round_trip() {
     for (a, b) in articulated.state().iter().zip(rapier.state()) {
         assert!((a - b).abs() < 1e-6, "{a} vs {b}");
     }
-    let loco = |e: &SpecEnv| e.inner().downcast_ref::<Locomotion>().unwrap().articulated_world().is_some();
+    let loco = |e: &SpecEnv| {
+        e.inner()
+            .downcast_ref::<Locomotion>()
+            .unwrap()
+            .articulated_world()
+            .is_some()
+    };
     assert!(loco(&articulated) && !loco(&rapier));
     for e in [&mut articulated, &mut rapier] {
         let actions = random_actions(6, 60, 9);
