@@ -122,6 +122,34 @@ FLUID = """
 """
 
 
+# A cart on a rail with dry friction (MuJoCo's joint frictionloss) and a pole, RK4 and Euler.
+RAIL = """
+<mujoco model="rail">
+  <option timestep="0.01" integrator="{integrator}" gravity="0 0 -9.81"/>
+  <worldbody>
+    <body name="cart">
+      <joint name="slider" type="slide" axis="1 0 0" frictionloss="{frictionloss}" damping="0.05" limited="true"
+             range="-1 1" margin="0.01"/>
+      <geom type="capsule" fromto="-0.1 0 0 0.1 0 0" size="0.1" density="1000" contype="0" conaffinity="0"/>
+      <body name="pole">
+        <joint name="hinge" type="hinge" axis="0 1 0" frictionloss="0.02" damping="0.05"/>
+        <geom type="capsule" fromto="0 0 0 0 0 0.6" size="0.045" density="1000" contype="0" conaffinity="0"/>
+      </body>
+    </body>
+  </worldbody>
+  <actuator>
+    <motor joint="slider" gear="50" ctrllimited="true" ctrlrange="-1 1"/>
+  </actuator>
+</mujoco>
+"""
+
+# Gymnasium's MuJoCo robots whose fixtures check the planar roots (slide x, slide z, hinge y on
+# one body), rails, RK4 and the control tasks' models.
+GYM_ROBOTS = [("half_cheetah", "half_cheetah.xml", 300), ("hopper", "hopper.xml", 400),
+              ("walker2d", "walker2d_v5.xml", 400), ("inverted_pendulum", "inverted_pendulum.xml", 100),
+              ("inverted_double_pendulum", "inverted_double_pendulum.xml", 100), ("reacher", "reacher.xml", 200)]
+
+
 def gym_xml(name):
     import gymnasium
     return os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets", name)
@@ -163,12 +191,17 @@ def model_json(mujoco, m):
                            qpos0=r(m.qpos0[m.jnt_qposadr[j]]) if m.jnt_type[j] > 1 else 0.0,
                            range=r(m.jnt_range[j]) if m.jnt_limited[j] else None, margin=r(m.jnt_margin[j]),
                            solref=r(m.jnt_solref[j]), solimp=r(m.jnt_solimp[j])))
+        if m.dof_frictionloss[d] > 0:
+            joints[-1].update(frictionloss=r(m.dof_frictionloss[d]), solreffriction=r(m.dof_solref[d]),
+                              solimpfriction=r(m.dof_solimp[d]))
+    # Geoms of shapes the engine lacks that collide with nothing (Reacher's cylinder) are left out.
     geoms = [dict(body=int(m.geom_bodyid[g]), shape=shape[int(m.geom_type[g])], size=r(m.geom_size[g]),
                   pos=r(m.geom_pos[g]), quat=r(m.geom_quat[g]), contype=int(m.geom_contype[g]),
                   conaffinity=int(m.geom_conaffinity[g]), condim=int(m.geom_condim[g]),
                   friction=r(m.geom_friction[g]), solmix=r(m.geom_solmix[g]), solref=r(m.geom_solref[g]),
                   solimp=r(m.geom_solimp[g]), margin=r(m.geom_margin[g]), gap=r(m.geom_gap[g]))
-             for g in range(m.ngeom)]
+             for g in range(m.ngeom)
+             if int(m.geom_type[g]) in shape or m.geom_contype[g] or m.geom_conaffinity[g]]
     tendon_trn = int(mujoco.mjtTrn.mjTRN_TENDON)
     actuators = []
     for a in range(m.nu):
@@ -181,7 +214,8 @@ def model_json(mujoco, m):
         actuators.append(act)
     opt = dict(timestep=r(m.opt.timestep), gravity=r(m.opt.gravity), integrator=integ[int(m.opt.integrator)],
                impratio=r(m.opt.impratio), viscosity=r(m.opt.viscosity))
-    out = dict(opt=opt, bodies=bodies, joints=joints, geoms=geoms, actuators=actuators,
+    names = [mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j) for j in range(m.njnt)]
+    out = dict(opt=opt, joint_names=names, bodies=bodies, joints=joints, geoms=geoms, actuators=actuators,
                body_invweight0=r(m.body_invweight0), dof_invweight0=r(m.dof_invweight0), qpos0=r(m.qpos0))
     if m.opt.density > 0 or any(m.opt.wind):
         opt.update(density=r(m.opt.density), wind=r(m.opt.wind))
@@ -238,6 +272,12 @@ def fixtures():
     m = mujoco.MjModel.from_xml_path(gym_xml("humanoid.xml"))
     assert inert_tendons(m), "humanoid.xml's tendons act"
     out["humanoid"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 400, 5))
+    for integ in ("RK4", "Euler"):
+        m = mujoco.MjModel.from_xml_string(RAIL.format(integrator=integ, frictionloss=3.0))
+        out[f"rail_{integ.lower()}"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 300, 5, qvel0=[0.8, -1.0]))
+    for name, xml, steps in GYM_ROBOTS:
+        m = mujoco.MjModel.from_xml_path(gym_xml(xml))
+        out[name] = dict(model=model_json(mujoco, m), **run(mujoco, m, steps, 5))
     return out
 
 

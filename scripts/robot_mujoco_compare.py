@@ -41,8 +41,8 @@ Usage (from the repository root, with Gymnasium 1.4 and mujoco installed):
     python3 scripts/robot_mujoco_compare.py --carl-spec target/release/carl-spec \\
         --json robot_mujoco_compare.json --markdown robot_mujoco_compare.md
 `--carl-only` skips Gymnasium (prints carl-spec's side only, e.g. to refresh the test pins);
-`--carl-option rapier=true` runs HalfCheetah on its former rapier3d engine (the planar engine is
-its default).
+`--carl-option rapier=true` runs HalfCheetah on its former rapier3d engine (the articulated engine
+is its default).
 """
 import argparse
 import json
@@ -87,8 +87,8 @@ STEP_TIMES = {"ant": [2, 5], "half_cheetah": [2, 5], "humanoid": [7, 17], "hoppe
 # MuJoCo's XML values expressed as carl-spec context features (where a feature exists).
 MUJOCO_CONTEXT = {
     # half_cheetah.xml: torso 6.2502 kg (settotalmass 14), damping 6/4.5/3/4.5/3/1.5 (mean 3.75),
-    # friction 0.4.
-    "half_cheetah": {"torso_mass": 6.2502, "joint_angular_damping": 3.75, "friction": 0.4},
+    # solreflimit (0.02, 1) (joint_stiffness 2500), friction 0.4.
+    "half_cheetah": {"torso_mass": 6.2502, "joint_angular_damping": 3.75, "joint_stiffness": 2500.0, "friction": 0.4},
 }
 # Robots whose spec freezes MuJoCo's values as the instance set `mujoco_v5` (read from the spec).
 INSTANCE_SET_ROBOTS = ("ant", "humanoid", "hopper", "walker2d", "inverted_pendulum", "inverted_double_pendulum", "reacher")

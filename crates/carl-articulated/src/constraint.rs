@@ -18,6 +18,15 @@
 //! MuJoCo's default solver is Newton on the primal; both converge to the minimizer of the same
 //! strictly convex problem, so the results agree up to the solvers' tolerances.
 //!
+//! Dry friction (MuJoCo's `frictionloss`): one row per coordinate that has it, before the limits
+//! and contacts as in MuJoCo, `Jᵢ` the unit row, violation 0, `Â = dof_invweight0`, the force
+//! bounded by `±frictionloss` (the projection clamps it, where the other rows are only kept
+//! non-negative). A body's dry friction on a table normal to gravity (a carl extension) is two
+//! such rows on its centre of mass's velocity, `Â = body_invweight0` (translation).
+//!
+//! Restitution (a carl extension, 0 in MuJoCo): a contact or limit row with restitution `e`
+//! approached at speed `vₙ < 0` gets `aref ← max(aref, −(1 + e) vₙ / h)`.
+//!
 //! Joint limits: one row per violated side (`q − lo` or `hi − q` below the joint's margin),
 //! `Â = dof_invweight0`. Forces are warm-started from the previous solve (matched by contact
 //! pair, contact and row, or by joint and side).
@@ -39,6 +48,10 @@ pub enum RowKind {
     },
     /// A joint limit of `joint` (`upper`: the upper one).
     Limit { joint: usize, upper: bool },
+    /// The dry friction (`frictionloss`) of `joint`'s coordinate.
+    Friction { joint: usize },
+    /// The dry friction of `body` on its table along the plane's axis `axis` (0 or 1).
+    DryFriction { body: usize, axis: u8 },
     #[default]
     None,
 }
@@ -136,6 +149,36 @@ impl Data {
         let nv = m.nv;
         let h = m.opt.timestep;
         self.nefc = 0;
+        for (j, jt) in m.joints.iter().enumerate() {
+            if jt.frictionloss <= 0.0 {
+                continue;
+            }
+            let d = m.jnt_dofadr[j];
+            let Some(r) = self.new_row() else { return };
+            self.efc_j[r * nv + d] = 1.0;
+            let imp = impedance(&jt.solimp_friction, 0.0);
+            let (_, bb) = stiffness_damping(&jt.solref_friction, &jt.solimp_friction, h);
+            self.efc_kind[r] = RowKind::Friction { joint: j };
+            self.set_row(r, 0.0, imp, 0.0, bb, m.dof_invweight0[d]);
+            self.efc_bound[r] = jt.frictionloss;
+        }
+        if m.bodies.iter().any(|b| b.dryfriction > 0.0) {
+            let axes = crate::math::plane_axes(m.opt.gravity);
+            for (b, body) in m.bodies.iter().enumerate() {
+                if body.dryfriction <= 0.0 || m.body_last_dof[b] == usize::MAX {
+                    continue;
+                }
+                for (k, u) in axes.iter().enumerate() {
+                    let Some(r) = self.new_row() else { return };
+                    self.add_point_row(r, b, self.xipos[b], *u, 1.0);
+                    let imp = impedance(&crate::model::SOLIMP_DEFAULT, 0.0);
+                    let (_, bb) = stiffness_damping(&crate::model::SOLREF_DEFAULT, &crate::model::SOLIMP_DEFAULT, h);
+                    self.efc_kind[r] = RowKind::DryFriction { body: b, axis: k as u8 };
+                    self.set_row(r, 0.0, imp, 0.0, bb, m.body_invweight0[b][0]);
+                    self.efc_bound[r] = body.dryfriction;
+                }
+            }
+        }
         for ci in 0..self.ncon {
             let c = self.contacts[ci];
             let pair = &m.pairs[c.pair];
@@ -151,13 +194,18 @@ impl Data {
                 &[(1.0, 1), (-1.0, 1), (1.0, 2), (-1.0, 2)]
             };
             let mu = pair.friction;
+            // The normal approach speed (restitution only).
+            let vn = if pair.restitution > 0.0 {
+                let Some(r) = self.new_row() else { return };
+                self.add_point_row(r, b2, c.pos, c.frame[0], 1.0);
+                self.add_point_row(r, b1, c.pos, c.frame[0], -1.0);
+                self.nefc -= 1;
+                self.row_velocity(r)
+            } else {
+                0.0
+            };
             for (e, &(sign, t)) in rows.iter().enumerate() {
-                let r = self.nefc;
-                if r >= self.efc_kind.len() {
-                    return;
-                }
-                self.nefc += 1;
-                self.efc_j[r * nv..(r + 1) * nv].fill(0.0);
+                let Some(r) = self.new_row() else { return };
                 let mut u = c.frame[0];
                 if t > 0 {
                     u = add(u, scale(c.frame[t], sign * mu));
@@ -175,6 +223,7 @@ impl Data {
                     frictionless: pair.condim == 1,
                 };
                 self.set_row(r, r_viol, imp, kk, bb, diag);
+                self.restitute(r, pair.restitution, vn, h);
             }
         }
         for (j, jt) in m.joints.iter().enumerate() {
@@ -186,30 +235,51 @@ impl Data {
                 if dist >= jt.margin {
                     continue;
                 }
-                let r = self.nefc;
-                if r >= self.efc_kind.len() {
-                    return;
-                }
-                self.nefc += 1;
-                self.efc_j[r * nv..(r + 1) * nv].fill(0.0);
+                let Some(r) = self.new_row() else { return };
                 self.efc_j[r * nv + d] = sign;
                 let viol = dist - jt.margin;
                 let imp = impedance(&jt.solimp_limit, viol.abs());
                 let (kk, bb) = stiffness_damping(&jt.solref_limit, &jt.solimp_limit, h);
                 self.efc_kind[r] = RowKind::Limit { joint: j, upper };
                 self.set_row(r, viol, imp, kk, bb, m.dof_invweight0[d]);
+                self.restitute(r, jt.restitution, sign * self.qvel[d], h);
             }
+        }
+    }
+
+    /// The next row, its Jacobian cleared and unbounded above (`None` when all are in use).
+    fn new_row(&mut self) -> Option<usize> {
+        let r = self.nefc;
+        if r >= self.efc_kind.len() {
+            return None;
+        }
+        self.nefc += 1;
+        let nv = self.model.nv;
+        self.efc_j[r * nv..(r + 1) * nv].fill(0.0);
+        self.efc_bound[r] = f64::INFINITY;
+        Some(r)
+    }
+
+    /// `Jᵣ v`.
+    fn row_velocity(&self, r: usize) -> f64 {
+        let nv = self.model.nv;
+        self.efc_j[r * nv..(r + 1) * nv]
+            .iter()
+            .zip(&self.qvel)
+            .map(|(a, v)| a * v)
+            .sum()
+    }
+
+    /// Restitution `e` of row `r` approached at normal speed `vn`.
+    fn restitute(&mut self, r: usize, e: f64, vn: f64, h: f64) {
+        if e > 0.0 && vn < 0.0 {
+            self.efc_aref[r] = self.efc_aref[r].max(-(1.0 + e) * vn / h);
         }
     }
 
     /// Reference acceleration and regularizer of row `r`.
     fn set_row(&mut self, r: usize, viol: f64, imp: f64, k: f64, b: f64, diag: f64) {
-        let nv = self.model.nv;
-        let vel: f64 = self.efc_j[r * nv..(r + 1) * nv]
-            .iter()
-            .zip(&self.qvel)
-            .map(|(a, v)| a * v)
-            .sum();
+        let vel = self.row_velocity(r);
         self.efc_aref[r] = -b * vel - k * imp * viol;
         self.efc_r[r] = ((1.0 - imp) / imp * diag).max(1e-15);
     }
@@ -276,7 +346,12 @@ impl Data {
             for r in 0..n {
                 let old = self.efc_force[r];
                 let grad = self.efc_g[r] + self.efc_r[r] * old;
-                let new = (old - grad * self.efc_inv[r]).max(0.0);
+                let bound = self.efc_bound[r];
+                let new = if bound.is_finite() {
+                    (old - grad * self.efc_inv[r]).clamp(-bound, bound)
+                } else {
+                    (old - grad * self.efc_inv[r]).max(0.0)
+                };
                 let d = new - old;
                 if d != 0.0 {
                     self.efc_force[r] = new;
@@ -286,7 +361,7 @@ impl Data {
                     }
                     change = change.max(d.abs());
                 }
-                scale_f = scale_f.max(new);
+                scale_f = scale_f.max(new.abs());
             }
             if change <= m.opt.tolerance * scale_f.max(1.0) {
                 break;
@@ -317,6 +392,8 @@ impl Data {
                 ((c.pair as u64) << 8) | ((c.sub as u64) << 3) | edge as u64
             }
             RowKind::Limit { joint, upper } => (1u64 << 63) | ((joint as u64) << 1) | upper as u64,
+            RowKind::Friction { joint } => (1u64 << 62) | joint as u64,
+            RowKind::DryFriction { body, axis } => (3u64 << 61) | ((body as u64) << 1) | axis as u64,
             RowKind::None => u64::MAX,
         }
     }

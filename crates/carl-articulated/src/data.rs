@@ -70,6 +70,8 @@ pub struct Data {
     pub(crate) efc_r: Vec<f64>,
     pub(crate) efc_aref: Vec<f64>,
     pub(crate) efc_force: Vec<f64>,
+    /// `|f| ≤ bound` for dry-friction rows; infinite (`f ≥ 0`) for the others.
+    pub(crate) efc_bound: Vec<f64>,
     pub(crate) efc_kind: Vec<RowKind>,
     pub(crate) warm: Vec<(u64, f64)>,
     pub(crate) warm_count: usize,
@@ -126,6 +128,7 @@ impl Data {
             efc_r: vec![0.0; rows],
             efc_aref: vec![0.0; rows],
             efc_force: vec![0.0; rows],
+            efc_bound: vec![f64::INFINITY; rows],
             efc_kind: vec![RowKind::None; rows],
             warm: vec![(0, 0.0); rows],
             warm_count: 0,

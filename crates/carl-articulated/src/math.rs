@@ -41,6 +41,19 @@ pub fn cross(a: V3, b: V3) -> V3 {
 pub fn norm(a: V3) -> f64 {
     dot(a, a).sqrt()
 }
+/// Two orthonormal axes of the plane normal to `g` (x and y when `g` is zero or along z).
+pub fn plane_axes(g: V3) -> [V3; 2] {
+    let Some(n) = normalize(g) else {
+        return [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    };
+    // Start from the world axis least aligned with the normal.
+    let k = (0..3).min_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs())).unwrap_or(0);
+    let mut e = [0.0; 3];
+    e[k] = 1.0;
+    let u = normalize(sub(e, scale(n, dot(e, n)))).unwrap_or([1.0, 0.0, 0.0]);
+    [u, cross(n, u)]
+}
+
 /// `a / |a|`, or `None` for a (near) zero vector.
 pub fn normalize(a: V3) -> Option<V3> {
     let n = norm(a);

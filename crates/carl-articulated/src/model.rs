@@ -58,6 +58,10 @@ pub struct Body {
     pub iquat: Quat,
     /// Principal moments of inertia about the centre of mass.
     pub inertia: V3,
+    /// Dry friction (N) of the body sliding on a plane normal to gravity that carries its
+    /// weight: two bounded rows on its centre of mass's velocity along the plane (a carl
+    /// extension for a table under an arm; 0, MuJoCo's, has none).
+    pub dryfriction: f64,
 }
 
 impl Body {
@@ -72,6 +76,7 @@ impl Body {
             ipos,
             iquat: crate::math::QUAT_IDENTITY,
             inertia,
+            dryfriction: 0.0,
         }
     }
 }
@@ -101,6 +106,15 @@ pub struct Joint {
     pub margin: f64,
     pub solref_limit: SolRef,
     pub solimp_limit: SolImp,
+    /// MuJoCo's `frictionloss`: dry friction (N or N·m) of the coordinate, a row bounded by it
+    /// with `solreffriction`/`solimpfriction`.
+    pub frictionloss: f64,
+    pub solref_friction: SolRef,
+    pub solimp_friction: SolImp,
+    /// Restitution of the limit rows (a carl extension; 0, MuJoCo's, is inelastic): an
+    /// approaching limit's reference acceleration asks for at least this fraction of the
+    /// approach speed back as separation speed within the step.
+    pub restitution: f64,
 }
 
 impl Joint {
@@ -121,6 +135,10 @@ impl Joint {
             margin: 0.0,
             solref_limit: SOLREF_DEFAULT,
             solimp_limit: SOLIMP_DEFAULT,
+            frictionloss: 0.0,
+            solref_friction: SOLREF_DEFAULT,
+            solimp_friction: SOLIMP_DEFAULT,
+            restitution: 0.0,
         }
     }
 }
@@ -184,6 +202,9 @@ pub struct Geom {
     pub solimp: SolImp,
     pub margin: f64,
     pub gap: f64,
+    /// Restitution of its contacts (a carl extension; 0, MuJoCo's, is inelastic; a pair takes
+    /// the larger), as a joint's [`Joint::restitution`].
+    pub restitution: f64,
 }
 
 impl Geom {
@@ -204,6 +225,7 @@ impl Geom {
             solimp: SOLIMP_DEFAULT,
             margin: 0.0,
             gap: 0.0,
+            restitution: 0.0,
         }
     }
 }
@@ -323,6 +345,7 @@ pub struct GeomPair {
     pub gap: f64,
     pub solref: SolRef,
     pub solimp: SolImp,
+    pub restitution: f64,
     /// Contacts this pair can produce at most.
     pub max_contacts: usize,
 }
@@ -430,6 +453,9 @@ impl Model {
             if !(b.inertia.iter().all(|x| x.is_finite() && *x >= 0.0) && b.iquat.iter().all(|x| x.is_finite())) {
                 return Err(e("inertia must be finite and non-negative"));
             }
+            if !(b.dryfriction.is_finite() && b.dryfriction >= 0.0) {
+                return Err(e("dryfriction must be finite and non-negative"));
+            }
             b.quat = quat_normalize(b.quat);
             b.iquat = quat_normalize(b.iquat);
         }
@@ -473,13 +499,29 @@ impl Model {
                 jt.margin,
                 jt.solref_limit[0],
                 jt.solref_limit[1],
+                jt.frictionloss,
+                jt.solref_friction[0],
+                jt.solref_friction[1],
+                jt.restitution,
             ];
-            if !nums.iter().all(|x| x.is_finite()) || !finite3(jt.pos) || !jt.solimp_limit.iter().all(|x| x.is_finite())
+            if !nums.iter().all(|x| x.is_finite())
+                || !finite3(jt.pos)
+                || !jt.solimp_limit.iter().chain(&jt.solimp_friction).all(|x| x.is_finite())
             {
                 return Err(e("parameters must be finite".into()));
             }
-            if jt.armature < 0.0 || jt.damping < 0.0 || jt.stiffness < 0.0 {
-                return Err(e("armature, damping and stiffness must be non-negative".into()));
+            if jt.armature < 0.0
+                || jt.damping < 0.0
+                || jt.stiffness < 0.0
+                || jt.frictionloss < 0.0
+                || jt.restitution < 0.0
+            {
+                return Err(e(
+                    "armature, damping, stiffness, frictionloss and restitution must be non-negative".into(),
+                ));
+            }
+            if jt.kind == JointKind::Free && jt.frictionloss > 0.0 {
+                return Err(e("a free joint cannot have frictionloss".into()));
             }
             if let Some([lo, hi]) = jt.range {
                 if jt.kind == JointKind::Free {
@@ -555,8 +597,9 @@ impl Model {
             if g.condim != 1 && g.condim != 3 {
                 return Err(e("condim must be 1 or 3"));
             }
-            let nums = [g.solmix, g.margin, g.gap, g.solref[0], g.solref[1]];
+            let nums = [g.solmix, g.margin, g.gap, g.solref[0], g.solref[1], g.restitution];
             if !nums.iter().all(|x| x.is_finite())
+                || g.restitution < 0.0
                 || !g.friction.iter().all(|x| x.is_finite() && *x >= 0.0)
                 || !g.solimp.iter().all(|x| x.is_finite())
                 || !finite3(g.pos)
@@ -595,6 +638,8 @@ impl Model {
             .map(|p| p.max_contacts * if p.condim == 1 { 1 } else { 4 })
             .sum();
         let limit_rows = 2 * joints.iter().filter(|j| j.range.is_some()).count();
+        let friction_rows = joints.iter().filter(|j| j.frictionloss > 0.0).count()
+            + 2 * bodies.iter().filter(|b| b.dryfriction > 0.0).count();
         let bodies_imat = bodies.iter().map(|b| crate::math::quat_to_mat(b.iquat)).collect();
         let geom_mat = geoms.iter().map(|g| crate::math::quat_to_mat(g.quat)).collect();
         let mut model = Model {
@@ -620,7 +665,7 @@ impl Model {
             dof_invweight0: vec![0.0; nv],
             qpos0,
             max_contacts,
-            max_rows: contact_rows + limit_rows,
+            max_rows: contact_rows + limit_rows + friction_rows,
             body_imat: bodies_imat,
             geom_mat,
         };
@@ -753,6 +798,7 @@ fn collision_pairs(bodies: &[Body], weld: &[usize], geoms: &[Geom]) -> Vec<GeomP
                 gap: a.gap + b.gap,
                 solref,
                 solimp: mix(a.solimp, b.solimp, w),
+                restitution: a.restitution.max(b.restitution),
                 max_contacts,
             });
         }

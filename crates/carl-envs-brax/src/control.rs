@@ -3,7 +3,7 @@
 //!
 //! As Gymnasium 1.4's: observation layout, reward terms and weights, termination, reset
 //! noise and frame skip (the time step is the side file's, MuJoCo's). The physics is the side
-//! file's engine through [`Physics`] (the planar engine for all three); the task reads
+//! file's engine through [`Physics`] (the articulated engine for all three); the task reads
 //! coordinates, rates, sites and constraint forces only.
 //!
 //! * InvertedPendulum: observation `qpos ++ qvel` (cart x, pole angle, their rates); reward 1
@@ -90,7 +90,7 @@ pub struct Control {
 }
 
 impl Clone for Control {
-    /// A planar world is copied exactly; a rapier one is rebuilt from the state.
+    /// An articulated world is copied exactly; a rapier one is rebuilt from the state.
     fn clone(&self) -> Self {
         let mut c = Control {
             world: None,
@@ -102,7 +102,6 @@ impl Clone for Control {
             ..*self
         };
         match &self.world {
-            Some(Physics::Planar(w)) => c.world = Some(Physics::Planar(w.clone())),
             Some(Physics::Articulated(w)) => c.world = Some(Physics::Articulated(w.clone())),
             Some(Physics::Rapier(_)) => c.load(&self.state_vec()),
             None => {}
@@ -132,7 +131,7 @@ impl Control {
             })?),
             None => None,
         };
-        let builder = PhysicsBuilder::for_model(&model, &params, true)?;
+        let builder = PhysicsBuilder::for_model(&model, &params)?;
         let n = model.joint_names.len();
         Ok(Control {
             id,
@@ -371,9 +370,7 @@ impl Env for Control {
         }
         let before = self.state_vec();
         let world = self.world.as_mut().expect("checked");
-        for _ in 0..self.model.side.frame_skip {
-            world.step(ctrl);
-        }
+        world.steps(ctrl, self.model.side.frame_skip);
         let diverged = !world.is_sane(self.model.side.max_speed);
         if diverged {
             self.load(&before);

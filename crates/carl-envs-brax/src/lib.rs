@@ -1,7 +1,7 @@
-//! Articulated robots from URDF: Ant and Humanoid on the articulated-body engine with MuJoCo's
-//! semantics (crate `carl-articulated`, [`articulated`]), the manipulation tasks on rapier3d
-//! (reduced-coordinate multibody joints), and planar ones (HalfCheetah, Hopper, Walker2d, the
-//! inverted pendulums, Reacher) on a reduced-coordinate engine of their own ([`planar`]).
+//! Articulated robots from URDF: the MuJoCo family (Ant, HalfCheetah, Humanoid, Hopper,
+//! Walker2d, the inverted pendulums, Reacher) on the articulated-body engine with MuJoCo's
+//! semantics (crate `carl-articulated`, [`articulated`]), the Brax-2021 manipulation tasks on
+//! rapier3d (reduced-coordinate multibody joints).
 //!
 //! * [`model`]: the embedded robot descriptions: `robots/<name>.urdf` (links, collision
 //!   shapes, masses, joints; authored for this project from the published geometry or converted
@@ -9,15 +9,15 @@
 //!   `robots/<name>.actuators.json` (motors, control range, time step, contact and solver
 //!   settings that URDF cannot express).
 //! * [`params`]: the context (Brax's physics parameters as CARL sets them, per-link masses).
-//! * [`articulated`]: the loader from URDF + side file + context to a `carl_articulated::Model`,
-//!   and one instance's world on that engine (Ant's, Humanoid's).
-//! * [`planar`]: a reduced-coordinate engine for planar robots (HalfCheetah's default).
-//! * [`physics`]: a task's physics, any of the three engines.
+//! * [`articulated`]: the loader from URDF + side file + context to a `carl_articulated::Model`
+//!   (free, planar and fixed roots, rails and tables, MuJoCo's contact and limit models), and
+//!   one instance's world on that engine.
+//! * [`physics`]: a task's physics, either engine.
 //! * [`world`]: one instance's rapier3d physics world, built from model + context; nothing is shared
 //!   between instances.
 //! * [`locomotion`]: Gymnasium v5 tasks (Ant, HalfCheetah, Humanoid, Hopper, Walker2d).
 //! * [`control`]: Gymnasium v5 control tasks (InvertedPendulum, InvertedDoublePendulum,
-//!   Reacher) on the planar engine.
+//!   Reacher) on the articulated engine.
 //! * [`com`]: MuJoCo's centre-of-mass based body quantities (`cinert`, `cvel`, `cfrc_ext`).
 //! * [`goal`]: carl-bench's goal-directed variant of the locomotion tasks (the `goal` option).
 //! * [`fetch`]: Brax's fetch task (a dog runs to random targets).
@@ -34,7 +34,6 @@ pub mod locomotion;
 pub mod model;
 pub mod params;
 pub mod physics;
-pub mod planar;
 pub mod reach;
 mod registry;
 pub mod render;
@@ -53,7 +52,7 @@ pub use registry::REGISTRATIONS;
 pub use world::RobotWorld;
 
 /// The physics engine behind the rapier-based environments, pinned exactly in `Cargo.toml`
-/// (HalfCheetah runs on [`planar`] unless its `rapier` option is set).
+/// (HalfCheetah runs on [`articulated`] unless its `rapier` option is set).
 pub const PHYSICS_ENGINE: &str =
     "rapier3d =0.36.1 + rapier3d-urdf =0.36.1 (features: enhanced-determinism; f32, dim3, multibody joints)";
 
@@ -211,8 +210,8 @@ pub fn make_robot_with_termination(
     Locomotion::new(id, model, params, task).ok()
 }
 
-/// [`make_robot`] on the rapier3d engine whatever the side file's `engine` (the planar
-/// robots' `--option rapier=true`, for comparison).
+/// [`make_robot`] on the rapier3d engine whatever the side file's `engine` (HalfCheetah's
+/// `--option rapier=true`, for comparison).
 pub fn make_robot_on_rapier(id: &str, params: RobotParams) -> Option<Locomotion> {
     let mut model = (*RobotModel::load(robot_of(id)?).ok()?).clone();
     model.side.engine = model::Engine::Rapier;

@@ -47,7 +47,6 @@ use carl_env::rng::{EnvRng, normal, uniform};
 use super::model::{ModelError, RobotModel, RootKind};
 use super::params::RobotParams;
 use super::physics::{Physics, PhysicsBuilder};
-use super::planar::PlanarWorld;
 use super::world::{Configuration, RobotWorld};
 
 /// Task constants of a Gymnasium v5 locomotion environment.
@@ -254,7 +253,7 @@ pub struct Locomotion {
 impl Clone for Locomotion {
     /// A rapier clone gets a world rebuilt from the full [`Env::state`]: positions, velocities
     /// and contact wrenches are equal, rapier's solver caches (warm-start impulses) start
-    /// empty. A planar or articulated world is copied exactly.
+    /// empty. An articulated world is copied exactly.
     fn clone(&self) -> Self {
         let mut c = Locomotion {
             world: None,
@@ -270,7 +269,6 @@ impl Clone for Locomotion {
             ..*self
         };
         match &self.world {
-            Some(Physics::Planar(w)) => c.world = Some(Physics::Planar(w.clone())),
             Some(Physics::Articulated(w)) => c.world = Some(Physics::Articulated(w.clone())),
             Some(Physics::Rapier(_)) => c.load(&self.state_vec()),
             None => {}
@@ -280,8 +278,8 @@ impl Clone for Locomotion {
 }
 
 impl Locomotion {
-    /// The task `task` of `model` under context `params`; refused if the side file asks for the
-    /// planar engine on a robot that is not planar.
+    /// The task `task` of `model` under context `params`; refused if the side file asks for an
+    /// engine that cannot take the model.
     pub fn new(
         id: &'static str,
         model: Arc<RobotModel>,
@@ -308,11 +306,7 @@ impl Locomotion {
         let nv = if free { 6 } else { 0 } + nj;
         let cfrc = vec![0.0; 6 * model.link_names.len()];
         let act = vec![0.0; if task.include_com_terms { nj } else { 0 }];
-        // The planar engine has no com-based body terms (`cinert`, `cvel`, com-based
-        // `cfrc_ext`): tasks that observe them run on rapier.
-        let planar_task =
-            !task.include_com_terms && !task.com_based_cfrc && task.forward_velocity == ForwardVelocity::Root;
-        let builder = PhysicsBuilder::for_model(&model, &params, planar_task)?;
+        let builder = PhysicsBuilder::for_model(&model, &params)?;
         Ok(Locomotion {
             builder,
             id,
@@ -344,9 +338,9 @@ impl Locomotion {
     pub fn world(&self) -> Option<&RobotWorld> {
         self.world.as_ref().and_then(Physics::rapier)
     }
-    /// The planar engine's world (`None` before the first reset and on rapier).
-    pub fn planar_world(&self) -> Option<&PlanarWorld> {
-        self.world.as_ref().and_then(Physics::planar)
+    /// The articulated engine's world (`None` before the first reset and on rapier).
+    pub fn articulated_world(&self) -> Option<&super::articulated::ArticulatedWorld> {
+        self.world.as_ref().and_then(Physics::articulated)
     }
     /// The physics of the current episode.
     pub fn physics(&self) -> Option<&Physics> {
@@ -615,9 +609,7 @@ impl Env for Locomotion {
         let before = self.state_vec();
         let x_before = self.forward_x();
         let world = self.world.as_mut().expect("checked");
-        for _ in 0..self.model.side.frame_skip {
-            world.step(ctrl);
-        }
+        world.steps(ctrl, self.model.side.frame_skip);
         let diverged = !world.is_sane(self.model.side.max_speed);
         if diverged {
             self.load(&before);

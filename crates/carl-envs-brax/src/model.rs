@@ -25,15 +25,12 @@ pub enum Engine {
     /// rapier3d multibodies ([`super::world::RobotWorld`]).
     #[default]
     Rapier,
-    /// The planar reduced-coordinate engine ([`super::planar`]); only for robots whose links
-    /// all move in the x-z plane (checked when a task is built: `PhysicsBuilder::for_model`).
-    Planar,
     /// The 3-D articulated-body engine with MuJoCo's semantics ([`super::articulated`],
     /// crate `carl-articulated`).
     Articulated,
 }
 
-/// Time integration (MuJoCo's `integrator`), for the planar and the articulated engine.
+/// Time integration (MuJoCo's `integrator`) of the articulated engine.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Integrator {
@@ -41,8 +38,7 @@ pub enum Integrator {
     #[default]
     Euler,
     /// Fourth-order Runge–Kutta (MuJoCo's `RK4`): every stage's acceleration with its
-    /// constraint forces (the articulated engine: with contacts in every stage; the planar
-    /// engine: damping explicit).
+    /// constraint forces (contacts in every stage), damping explicit.
     Rk4,
 }
 
@@ -114,13 +110,12 @@ pub struct Site {
 pub struct SideFile {
     pub robot: String,
     pub source: String,
-    /// The physics engine (default rapier). `"planar"` needs a planar robot (checked when a task
-    /// is built).
+    /// The physics engine (default rapier).
     #[serde(default)]
     pub engine: Engine,
     /// Physics time step (s).
     pub timestep: f64,
-    /// Time integration of the planar and articulated engines (default semi-implicit Euler).
+    /// Time integration of the articulated engine (default semi-implicit Euler).
     #[serde(default)]
     pub integrator: Integrator,
     /// Physics steps per environment step.
@@ -147,8 +142,8 @@ pub struct SideFile {
     #[serde(default)]
     pub bodies: Vec<String>,
     /// Per-joint viscous damping from the model (MuJoCo's joint `damping`); a joint listed here
-    /// is not damped by the context's `joint_angular_damping` (planar engine), unless
-    /// `damping_reference` is given.
+    /// is not damped by the context's `joint_angular_damping`, unless `damping_reference` is
+    /// given.
     #[serde(default)]
     pub joint_dampings: Vec<JointDamping>,
     /// With `joint_dampings`, the articulated engine scales them by the context's
@@ -168,14 +163,12 @@ pub struct SideFile {
     /// noise is drawn.
     #[serde(default)]
     pub initial_joints: Vec<InitialJoint>,
-    /// MuJoCo's contact parameters (planar engine; default: `solref` 0.02/1 with the linear
-    /// `solimp` ramp 0.9–0.95 over 1 mm, no margin; articulated engine: every robot geom's,
-    /// the margin being the robot–floor pair's, default MuJoCo's).
+    /// MuJoCo's contact parameters of every robot geom, the margin being the robot–floor
+    /// pair's (default MuJoCo's: `solref` 0.02/1, `solimp` 0.9–0.95 over 1 mm, no margin).
     #[serde(default)]
     pub contact_model: Option<SoftConstraint>,
-    /// Joint limits as MuJoCo's soft limits with these parameters (planar and articulated
-    /// engines); default: the context's `joint_stiffness` spring (`limit_reference_inertia`,
-    /// `limit_damping_ratio`; on the articulated engine a MuJoCo limit of that stiffness).
+    /// Joint limits as MuJoCo's soft limits with these parameters; default: a MuJoCo limit of
+    /// the context's `joint_stiffness` (`limit_reference_inertia`, `limit_damping_ratio`).
     #[serde(default)]
     pub limit_model: Option<SoftConstraint>,
     /// Passive joint springs towards 0 (MuJoCo's joint `stiffness`), N·m/rad.
@@ -196,6 +189,10 @@ pub struct SideFile {
     /// (kg·m²) gives the limit constraint's natural frequency.
     pub limit_reference_inertia: f64,
     pub limit_damping_ratio: f64,
+    /// The impedance (`solimplimit`) of the `joint_stiffness` limits on the articulated engine
+    /// (default MuJoCo's `[0.9, 0.95, 0.001, 0.5, 2]`).
+    #[serde(default)]
+    pub limit_solimp: Option<[f64; 5]>,
     pub restitution: f64,
     /// Whether links of the robot collide with each other.
     pub self_collisions: bool,
@@ -209,18 +206,18 @@ pub struct SideFile {
     pub ground_links: Vec<String>,
     /// Any link faster than this (m/s or rad/s) counts as a diverged simulation.
     pub max_speed: f64,
-    /// Planar engine: gravity is normal to the plane of motion (an arm moving on a horizontal
-    /// table, Reacher): no gravity force acts in the plane; each link's weight presses it onto
-    /// the table, where it slides with the context's friction (default: gravity along −z, in
-    /// the plane).
+    /// Gravity is normal to the plane of motion (an arm moving on a horizontal table, Reacher,
+    /// modelled turned by +90° about x): gravity points along the URDF's y; each link's weight
+    /// presses it onto the table, where it slides with the context's friction (default: gravity
+    /// along −z).
     #[serde(default)]
     pub gravity_normal_to_plane: bool,
-    /// Planar engine: slides running on a rail that carries the weight of everything they move;
+    /// Slides running on a rail that carries the weight of everything they move;
     /// their dry friction is the context's friction times that weight (MuJoCo's joint
     /// `frictionloss`).
     #[serde(default)]
     pub rail_joints: Vec<String>,
-    /// Planar engine: joints whose limits restitute with the context's elasticity (end stops).
+    /// Joints whose limits restitute with the context's elasticity (end stops).
     #[serde(default)]
     pub bouncing_limits: Vec<String>,
     /// Named points on links (MuJoCo's sites).

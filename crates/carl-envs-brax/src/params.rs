@@ -21,9 +21,9 @@ pub struct RobotParams {
     pub actuator_strength: Option<f64>,
     /// Mass of the first URDF link (kg).
     pub torso_mass: Option<f64>,
-    /// Restitution of ground contacts (0: inelastic, as MuJoCo's soft contacts), planar engine.
+    /// Restitution of contacts and end stops (0: inelastic, as MuJoCo's soft contacts).
     pub elasticity: f64,
-    /// Viscosity of the surrounding medium (Pa·s, MuJoCo's `option viscosity`), planar engine.
+    /// Viscosity of the surrounding medium (Pa·s, MuJoCo's `option viscosity`).
     pub viscosity: f64,
     pub target_distance: f64,
     pub target_radius: f64,

@@ -1,37 +1,33 @@
-//! The physics behind a locomotion task: a rapier3d world, the planar engine or the
-//! articulated-body engine, chosen by the side file's `engine` (and the `rapier` option of
-//! planar robots). The task calls the same operations on each.
+//! The physics behind a robot task: a rapier3d world or the articulated-body engine, chosen by
+//! the side file's `engine` (and HalfCheetah's `rapier` option). The task calls the same
+//! operations on each.
 
 use std::sync::Arc;
 
 use super::articulated::{ArticulatedSystem, ArticulatedWorld};
 use super::model::{Engine, ModelError, RobotModel};
 use super::params::RobotParams;
-use super::planar::{PlanarSystem, PlanarWorld};
 use super::world::{Configuration, RobotWorld};
 
 /// One instance's physics.
 #[derive(Debug)]
 pub enum Physics {
     Rapier(Box<RobotWorld>),
-    Planar(Box<PlanarWorld>),
     Articulated(Box<ArticulatedWorld>),
 }
 
 /// What a task builds its worlds from: the rapier world is rebuilt from model and context,
-/// the planar one from its prepared system (shared by all of the task's worlds).
+/// the articulated one from its prepared system (shared by all of the task's worlds).
 #[derive(Debug, Clone)]
 pub enum PhysicsBuilder {
     Rapier,
-    Planar(Arc<PlanarSystem>),
     Articulated(Arc<ArticulatedSystem>),
 }
 
 impl PhysicsBuilder {
-    /// The builder for `model` under `params`: the planar engine when the side file asks for it
-    /// and the task observes nothing that engine lacks (`planar_task`), rapier otherwise. A side
-    /// file asking for the planar engine on a robot that is not planar is refused either way.
-    pub fn for_model(model: &RobotModel, params: &RobotParams, planar_task: bool) -> Result<Self, ModelError> {
+    /// The builder for `model` under `params`, on the side file's engine (a model the
+    /// articulated engine cannot take is refused with the reason).
+    pub fn for_model(model: &RobotModel, params: &RobotParams) -> Result<Self, ModelError> {
         match model.side.engine {
             Engine::Rapier => Ok(PhysicsBuilder::Rapier),
             Engine::Articulated => {
@@ -41,24 +37,12 @@ impl PhysicsBuilder {
                 })?;
                 Ok(PhysicsBuilder::Articulated(Arc::new(sys)))
             }
-            Engine::Planar => {
-                let sys = PlanarSystem::new(model, params).map_err(|e| ModelError::Side {
-                    robot: model.name,
-                    message: format!("\"engine\": \"planar\" needs a planar robot: {e}"),
-                })?;
-                Ok(if planar_task {
-                    PhysicsBuilder::Planar(Arc::new(sys))
-                } else {
-                    PhysicsBuilder::Rapier
-                })
-            }
         }
     }
 
     pub fn build(&self, model: &RobotModel, params: &RobotParams, q: &Configuration) -> Physics {
         match self {
             PhysicsBuilder::Rapier => Physics::Rapier(Box::new(RobotWorld::build(model, params, q))),
-            PhysicsBuilder::Planar(sys) => Physics::Planar(Box::new(PlanarWorld::new(sys.clone(), q))),
             PhysicsBuilder::Articulated(sys) => Physics::Articulated(Box::new(ArticulatedWorld::new(sys.clone(), q))),
         }
     }
@@ -68,23 +52,21 @@ impl Physics {
     pub fn configuration(&self) -> Configuration {
         match self {
             Physics::Rapier(w) => w.configuration(),
-            Physics::Planar(w) => w.configuration(),
             Physics::Articulated(w) => w.configuration(),
         }
     }
 
-    pub fn step(&mut self, ctrl: &[f32]) {
+    /// `n` physics steps under the same controls (an environment step's frame skip).
+    pub fn steps(&mut self, ctrl: &[f32], n: usize) {
         match self {
-            Physics::Rapier(w) => w.step(ctrl),
-            Physics::Planar(w) => w.step(ctrl),
-            Physics::Articulated(w) => w.step(ctrl),
+            Physics::Rapier(w) => (0..n).for_each(|_| w.step(ctrl)),
+            Physics::Articulated(w) => w.steps(ctrl, n),
         }
     }
 
     pub fn is_sane(&self, max_speed: f64) -> bool {
         match self {
             Physics::Rapier(w) => w.is_sane(max_speed),
-            Physics::Planar(w) => w.is_sane(max_speed),
             Physics::Articulated(w) => w.is_sane(max_speed),
         }
     }
@@ -92,7 +74,6 @@ impl Physics {
     pub fn contact_wrenches(&self, out: &mut [f64]) {
         match self {
             Physics::Rapier(w) => w.contact_wrenches(out),
-            Physics::Planar(w) => w.contact_wrenches(out),
             Physics::Articulated(w) => w.contact_wrenches(out),
         }
     }
@@ -100,7 +81,6 @@ impl Physics {
     pub fn actuator_forces(&self, ctrl: &[f32], out: &mut [f64]) {
         match self {
             Physics::Rapier(w) => w.actuator_forces(ctrl, out),
-            Physics::Planar(w) => w.actuator_forces(ctrl, out),
             Physics::Articulated(w) => w.actuator_forces(ctrl, out),
         }
     }
@@ -108,17 +88,15 @@ impl Physics {
     pub fn center_of_mass(&self) -> [f64; 3] {
         match self {
             Physics::Rapier(w) => w.center_of_mass(),
-            Physics::Planar(w) => w.center_of_mass(),
             Physics::Articulated(w) => w.center_of_mass(),
         }
     }
 
     /// Generalized constraint forces of the last step (MuJoCo's `qfrc_constraint`), one per
-    /// coordinate; the planar and articulated engines' (zeros on rapier, whose impulses are not exposed).
+    /// coordinate; the articulated engine's (zeros on rapier, whose impulses are not exposed).
     pub fn constraint_forces(&self, out: &mut [f64]) {
         match self {
             Physics::Rapier(_) => out.fill(0.0),
-            Physics::Planar(w) => w.constraint_forces(out),
             Physics::Articulated(w) => w.constraint_forces(out),
         }
     }
@@ -134,7 +112,6 @@ impl Physics {
                 ));
                 [f64::from(p.x), f64::from(p.y), f64::from(p.z)]
             }
-            Physics::Planar(w) => w.link_point(i, local),
             Physics::Articulated(w) => w.link_point(i, local),
         }
     }
@@ -143,7 +120,7 @@ impl Physics {
     pub fn rapier(&self) -> Option<&RobotWorld> {
         match self {
             Physics::Rapier(w) => Some(w),
-            Physics::Planar(_) | Physics::Articulated(_) => None,
+            Physics::Articulated(_) => None,
         }
     }
 
@@ -154,17 +131,9 @@ impl Physics {
         }
     }
 
-    pub fn planar(&self) -> Option<&PlanarWorld> {
-        match self {
-            Physics::Planar(w) => Some(w),
-            _ => None,
-        }
-    }
-
     pub fn render(&self) -> carl_pixels::Frame {
         match self {
             Physics::Rapier(w) => super::render::render_world(w),
-            Physics::Planar(w) => super::render::render_planar(w),
             Physics::Articulated(w) => super::render::render_articulated(w),
         }
     }

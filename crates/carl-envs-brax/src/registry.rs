@@ -58,7 +58,7 @@ pub const REGISTRATIONS: &[Registration] = &[
         options: &[
             OptionSpec {
                 name: "rapier",
-                help: "the rapier3d multibody engine instead of the planar reduced-coordinate engine (crates/carl-envs-brax/src/planar)",
+                help: "the rapier3d multibody engine instead of the articulated engine (crates/carl-articulated), for comparison",
                 kind: OptionKind::Bool { default: false },
             },
             GOAL,

@@ -7,7 +7,6 @@ use rapier3d::prelude::*;
 use carl_pixels::{Canvas, Color, Frame};
 
 use super::articulated::ArticulatedWorld;
-use super::planar::PlanarWorld;
 use super::world::RobotWorld;
 
 pub const WIDTH: u32 = 480;
@@ -299,23 +298,6 @@ fn ground_canvas(cam: &Camera) -> Canvas {
         }
     }
     canvas
-}
-
-/// Render a planar robot world (its capsules and the ground) from [`Camera::following_point`].
-pub fn render_planar(world: &PlanarWorld) -> Frame {
-    let cam = Camera::following_point(world.link_pose(world.torso()).translation);
-    let capsules: Vec<(usize, Capsule)> = world
-        .capsules()
-        .map(|(li, a, b, r)| {
-            let v = |p: [f64; 3]| Vector::new(p[0] as f32, p[1] as f32, p[2] as f32);
-            (li, Capsule::new(v(a), v(b), r as f32))
-        })
-        .collect();
-    let shapes: Vec<(usize, &dyn Shape, Pose)> = capsules
-        .iter()
-        .map(|(li, c)| (*li, c as &dyn Shape, Pose::IDENTITY))
-        .collect();
-    render_scene(ground_canvas(&cam), &cam, &shapes, &[])
 }
 
 /// A robot on the articulated engine: its spheres, capsules and boxes.

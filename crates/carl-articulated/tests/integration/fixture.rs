@@ -59,6 +59,7 @@ pub fn model(fx: &Value) -> Model {
             ipos: v3(&b["ipos"]),
             iquat: q4(&b["iquat"]),
             inertia: v3(&b["inertia"]),
+            dryfriction: 0.0,
         })
         .collect();
     let joints = m["joints"]
@@ -88,6 +89,11 @@ pub fn model(fx: &Value) -> Model {
             jt.margin = f(&j["margin"]);
             jt.solref_limit = arr(&j["solref"]);
             jt.solimp_limit = arr(&j["solimp"]);
+            if !j["frictionloss"].is_null() {
+                jt.frictionloss = f(&j["frictionloss"]);
+                jt.solref_friction = arr(&j["solreffriction"]);
+                jt.solimp_friction = arr(&j["solimpfriction"]);
+            }
             jt
         })
         .collect();

@@ -39,7 +39,7 @@ pub struct RawEnvSpec {
     /// `carl_spec/<id>-v<version>`.
     #[serde(default)]
     pub version: u32,
-    /// What steps the environment, e.g. `physics2d`, `rapier3d`, `planar`, `closed-form`;
+    /// What steps the environment, e.g. `physics2d`, `rapier3d`, `articulated`, `closed-form`;
     /// absent for a spec without a runtime.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(length(min = 1))]
