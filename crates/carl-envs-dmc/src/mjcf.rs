@@ -283,6 +283,7 @@ pub fn build(desc: &Desc, p: &Physics) -> Result<Model, String> {
                 ipos: b.ipos,
                 iquat: b.iquat,
                 inertia: b.inertia.map(|x| x * k),
+                dryfriction: 0.0,
             }
         })
         .collect();
