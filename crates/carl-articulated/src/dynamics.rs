@@ -339,6 +339,20 @@ pub(crate) fn set_invweight0(model: &mut Model) {
         }
     }
     const MINVAL: f64 = 1e-15;
+    // Bodies some other body's degrees of freedom hang below (their mass matrix block is not
+    // diagonal: MuJoCo's `body_simple` is 0 for them).
+    let nb = model.bodies.len();
+    let mut carries = vec![false; nb];
+    for c in 1..nb {
+        if model.body_last_dof[c] == usize::MAX {
+            continue;
+        }
+        let mut a = model.bodies[c].parent;
+        while a != usize::MAX && a != 0 {
+            carries[a] = true;
+            a = model.bodies[a].parent;
+        }
+    }
     let mut jac = vec![[0.0; 6]; nv];
     for b in 1..model.bodies.len() {
         if model.body_last_dof[b] == usize::MAX {
@@ -354,8 +368,10 @@ pub(crate) fn set_invweight0(model: &mut Model) {
             k = model.dof_parent[k];
         }
         // MuJoCo averages the three diagonal entries of each block, except for a body that
-        // cannot rotate (slides alone): its translational weight is the mean of the entries
-        // that are not zero (1/mass on one, two or three slides), its rotational weight 0.
+        // cannot rotate (slides alone) and carries no other body's degrees of freedom (MuJoCo's
+        // `body_simple` 2): its translational weight is the mean of the entries that are not
+        // zero (1/mass on one, two or three slides), its rotational weight 0. (A cart with a
+        // pole hinged on it averages all three, as any other body.)
         let (mut tr, mut rot, mut ntr) = (0.0, 0.0, 0usize);
         for r in 0..6 {
             let mut s = 0.0;
@@ -374,7 +390,7 @@ pub(crate) fn set_invweight0(model: &mut Model) {
                 rot += s;
             }
         }
-        model.body_invweight0[b] = if rot > MINVAL {
+        model.body_invweight0[b] = if rot > MINVAL || carries[b] {
             [(tr / 3.0).max(MINVAL), rot / 3.0]
         } else {
             [if ntr > 0 { tr / ntr as f64 } else { MINVAL }, MINVAL]
