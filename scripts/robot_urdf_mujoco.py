@@ -50,7 +50,8 @@ ROBOTS = {
     "humanoid_standup": ("humanoidstandup.xml", 5, "HumanoidStandup-v5"),
 }
 # Free robots whose joint dampings are the XML's, not scaled by a joint_angular_damping feature
-# (their specs have none): HumanoidStandup (the humanoid lying on its back: body frames, the feet
+# (their specs have none), and whose mass_<link> features are Brax's links (with the bodies welded
+# to them, `welded_masses`): HumanoidStandup (the humanoid lying on its back: body frames, the feet
 # and the left hip's range differ from humanoid.xml, so it is a robot of its own).
 ABSOLUTE_DAMPING = {"humanoid_standup"}
 
@@ -701,6 +702,9 @@ def convert_free(name, m, mujoco, floor, jname, bname, root):
         "self_collisions": bool(self_coll),
         "max_speed": 1000.0,
     }
+    if name in ABSOLUTE_DAMPING:
+        # Its spec's mass features are carl-bench's (Brax's links: a shin with its foot).
+        side["welded_masses"] = True
     if not uniform:
         side["bodies"] = [bname(b) for b in range(1, m.nbody)]
         side["joint_dampings"] = [{"joint": jname(j), "damping": dmp} for j, dmp in zip(hinge_j, dampings)]
@@ -870,6 +874,7 @@ def convert_arm(name):
     assert len({float(m.geom_margin[g]) for g in geoms}) == 1 and len({int(m.geom_condim[g]) for g in geoms}) == 1
     margin = float(m.geom_margin[table])
     condim = int(m.geom_condim[table])
+    assert condim == 1, "frictionless contacts (friction 0 in the mujoco_v5 instance set)"
     lim_j = [j for j in range(m.njnt) if m.jnt_limited[j]]
     assert len({tuple(m.jnt_solref[j]) for j in lim_j}) == 1 and len({tuple(m.jnt_solimp[j]) for j in lim_j}) == 1
     ranges = {tuple(float(x) for x in r) for r in m.actuator_ctrlrange}
@@ -885,7 +890,9 @@ def convert_arm(name):
             f"geoms at the XML's densities), joint anchors, axes, ranges, damping and armature, spheres, capsules "
             f"and cylinders, gears {sorted(gears)}, control range, time step ({float(m.opt.timestep)} s) and "
             f"integrator ({integrator}), frame_skip {frame_skip} (Gymnasium's), the joint limits' and contacts' "
-            f"solref/solimp, the pair margin {2 * margin} (each geom's {margin}), condim {condim} (frictionless). "
+            f"solref/solimp, the pair margin {2 * margin} (each geom's {margin}). The XML's condim {condim} "
+            f"(frictionless contacts) is friction 0 here (the articulated engine's contacts are frictionless, condim "
+            f"1, at friction 0); the side file's condim 3 lets the context's friction act otherwise. "
             f"The table (the XML's plane at z = {float(m.geom_pos[table][2])}) is the floor at that height. "
             f"Colliding as in the XML (contype/conaffinity): {opt['ground']} with the table, "
             f"{' and '.join(opt['contact'])} with each other; every other geom is drawn only. "
@@ -915,7 +922,7 @@ def convert_arm(name):
         "contact_model": {"solref": [float(x) for x in m.geom_solref[table]],
                           "solimp": [float(x) for x in m.geom_solimp[table]], "margin": 2 * margin},
         "floor_margin": margin,
-        "contact_condim": condim,
+        "contact_condim": 3,
         "limit_model": {"solref": [float(x) for x in m.jnt_solref[lim_j[0]]],
                         "solimp": [float(x) for x in m.jnt_solimp[lim_j[0]]], "margin": float(m.jnt_margin[lim_j[0]])},
         "limit_reference_inertia": 1.0,

@@ -175,6 +175,17 @@ impl Data {
                     frictionless: pair.condim == 1,
                 };
                 self.set_row(r, r_viol, imp, kk, bb, diag);
+                let e = m.opt.elasticity;
+                if e > 0.0 {
+                    let vel: f64 = self.efc_j[r * nv..(r + 1) * nv]
+                        .iter()
+                        .zip(&self.qvel)
+                        .map(|(a, v)| a * v)
+                        .sum();
+                    if vel < 0.0 {
+                        self.efc_aref[r] = self.efc_aref[r].max(-(1.0 + e) * vel / h);
+                    }
+                }
             }
         }
         for (j, jt) in m.joints.iter().enumerate() {

@@ -138,6 +138,11 @@ pub enum Shape {
         radius: f64,
         half_length: f64,
     },
+    /// A solid cylinder along the geom's local z of radius `radius` and half-height `half_length`.
+    Cylinder {
+        radius: f64,
+        half_length: f64,
+    },
     /// Half-sizes along the geom's local axes.
     Box {
         half: V3,
@@ -151,6 +156,7 @@ impl Shape {
             Shape::Plane => 0,
             Shape::Sphere { .. } => 2,
             Shape::Capsule { .. } => 3,
+            Shape::Cylinder { .. } => 5,
             Shape::Box { .. } => 6,
         }
     }
@@ -160,6 +166,7 @@ impl Shape {
             Shape::Plane => f64::INFINITY,
             Shape::Sphere { radius } => radius,
             Shape::Capsule { radius, half_length } => radius + half_length,
+            Shape::Cylinder { radius, half_length } => radius.hypot(half_length),
             Shape::Box { half } => crate::math::norm(half),
         }
     }
@@ -238,6 +245,10 @@ pub struct Options {
     pub impratio: f64,
     /// Medium viscosity (MuJoCo's inertia-box Stokes drag, density 0).
     pub viscosity: f64,
+    /// Restitution of contacts (not MuJoCo's, whose soft contacts are inelastic: 0): an
+    /// approaching contact row's reference acceleration is at least `−(1 + elasticity)·(J v)/h`,
+    /// so that it separates at `elasticity` times its approach speed or faster.
+    pub elasticity: f64,
     /// Projected Gauss–Seidel sweeps at most.
     pub iterations: usize,
     /// Sweeps stop once no force changes by more than this (relative to the largest force).
@@ -252,6 +263,7 @@ impl Default for Options {
             integrator: Integrator::Euler,
             impratio: 1.0,
             viscosity: 0.0,
+            elasticity: 0.0,
             iterations: 200,
             tolerance: 1e-8,
         }
@@ -368,6 +380,9 @@ impl Model {
         }
         if !(opt.viscosity.is_finite() && opt.viscosity >= 0.0) {
             return oerr("viscosity must be finite and non-negative");
+        }
+        if !(opt.elasticity.is_finite() && opt.elasticity >= 0.0) {
+            return oerr("elasticity must be finite and non-negative");
         }
         if opt.iterations == 0 || !(opt.tolerance.is_finite() && opt.tolerance >= 0.0) {
             return oerr("iterations must be positive and tolerance finite and non-negative");
@@ -512,6 +527,9 @@ impl Model {
                 Shape::Capsule { radius, half_length } => {
                     radius.is_finite() && radius > 0.0 && half_length.is_finite() && half_length >= 0.0
                 }
+                Shape::Cylinder { radius, half_length } => {
+                    radius.is_finite() && radius > 0.0 && half_length.is_finite() && half_length > 0.0
+                }
                 Shape::Box { half } => half.iter().all(|x| x.is_finite() && *x > 0.0),
             };
             if !size_ok {
@@ -647,6 +665,7 @@ fn collision_pairs(bodies: &[Body], weld: &[usize], geoms: &[Geom]) -> Vec<GeomP
                     Shape::Sphere { .. } | Shape::Capsule { .. } | Shape::Box { .. }
                 ) | (Shape::Sphere { .. }, Shape::Sphere { .. } | Shape::Capsule { .. })
                     | (Shape::Capsule { .. }, Shape::Capsule { .. })
+                    | (Shape::Sphere { .. } | Shape::Capsule { .. }, Shape::Cylinder { .. })
             );
             if !supported {
                 continue;
