@@ -826,7 +826,8 @@ def convert_arm(name):
                     inertia[i][j] += sum(R[i][k] * d[k] * R[j][k] for k in range(3)) + mf * (
                         (rr if i == j else 0.0) - r[i] * r[j])
             if f != b or bname(f) in ("object",):
-                sites.append({"name": bname(f), "link": bname(b), "pos": coms[f]})
+                # Gymnasium's get_body_com reads a body's xpos: its frame's origin.
+                sites.append({"name": bname(f), "link": bname(b), "pos": offset[f]})
         out = [f'  <link name="{bname(b)}">', "    <inertial>",
                f'      <origin xyz="{vec(c)}" rpy="0 0 0"/>',
                f'      <mass value="{fmt(mass)}"/>',
@@ -896,8 +897,8 @@ def convert_arm(name):
             f"The table (the XML's plane at z = {float(m.geom_pos[table][2])}) is the floor at that height. "
             f"Colliding as in the XML (contype/conaffinity): {opt['ground']} with the table, "
             f"{' and '.join(opt['contact'])} with each other; every other geom is drawn only. "
-            f"Bodies without joints are welded into their parent link (as Brax; sites mark their centres of "
-            f"mass): {[bname(b) for b in bodies if link_of[b] != b]}; the fingertip spheres, drawn only and inside "
+            f"Bodies without joints are welded into their parent link (as Brax; sites mark their frames' "
+            f"origins, which Gymnasium's get_body_com reads): {[bname(b) for b in bodies if link_of[b] != b]}; the fingertip spheres, drawn only and inside "
             f"the end caps of the wrist's colliding capsules, are left out. "
             f"Bodies {opt['skip']} are task state, not robot (no force moves them). The XML's gravity "
             f"{[float(x) for x in m.opt.gravity]} and the geoms' friction {float(m.geom_friction[table][0])} "
