@@ -1,9 +1,9 @@
 """carl-bench 1.1.1's `carl.envs`: its environment classes over carl-spec's runtimes.
 
 As in carl-bench, `carl.envs` holds the environments that are available: here every one carl-spec
-has (Box2D, Mario and RNA need no extra package). The pending ones (two Brax classes and the
-dm_control family, `carl_spec.compat._pending`) are importable from their own modules
-(`carl_spec.compat.envs.brax`, `carl_spec.compat.envs.dmc`) but not listed here, as carl-bench
+has (Box2D, Mario and RNA need no extra package). The pending ones (the dm_control family,
+`carl_spec.compat._pending`) are importable from their own modules (`carl_spec.compat.envs.dmc`)
+but not listed here, as carl-bench
 leaves out the families whose package is missing. Submodules mirror carl-bench's tree
 (`carl_spec.compat.envs.gymnasium.classic_control.carl_pendulum`, ...).
 """
@@ -16,8 +16,10 @@ from .brax import (
     CARLBraxHalfcheetah,
     CARLBraxHopper,
     CARLBraxHumanoid,
+    CARLBraxHumanoidStandup,
     CARLBraxInvertedDoublePendulum,
     CARLBraxInvertedPendulum,
+    CARLBraxPusher,
     CARLBraxReacher,
     CARLBraxWalker2d,
 )
@@ -51,6 +53,8 @@ __all__ = [
     "CARLBraxInvertedPendulum",
     "CARLBraxInvertedDoublePendulum",
     "CARLBraxReacher",
+    "CARLBraxPusher",
+    "CARLBraxHumanoidStandup",
     "CARLMarioEnv",
     "CARLRnaDesignEnv",
 ]
