@@ -320,8 +320,17 @@ pub fn render_planar(world: &PlanarWorld) -> Frame {
 
 /// A robot on the articulated engine: its spheres, capsules, cylinders and boxes.
 pub fn render_articulated(world: &ArticulatedWorld) -> Frame {
+    // The picture's ground is z = 0: everything is drawn relative to the floor's height
+    // (Pusher's table lies 0.325 m below its shoulder).
+    let floor = world
+        .system()
+        .model
+        .geoms
+        .iter()
+        .find(|g| matches!(g.shape, carl_articulated::Shape::Plane))
+        .map_or(0.0, |g| g.pos[2]);
     let t = world.torso_position();
-    let cam = Camera::following_point(Vector::new(t[0] as f32, t[1] as f32, t[2] as f32));
+    let cam = Camera::following_point(Vector::new(t[0] as f32, t[1] as f32, (t[2] - floor) as f32));
     let mut owned: Vec<(usize, SharedShape, Pose)> = Vec::new();
     for (body, shape, p, m) in world.geoms() {
         let q = carl_articulated::math::mat_to_quat(&m);
@@ -330,7 +339,7 @@ pub fn render_articulated(world: &ArticulatedWorld) -> Frame {
             // rapier's cylinders stand along y, the engine's along z.
             rot = rot * Rotation::from_rotation_x(std::f32::consts::FRAC_PI_2);
         }
-        let pose = Pose::from_parts(Vector::new(p[0] as f32, p[1] as f32, p[2] as f32), rot);
+        let pose = Pose::from_parts(Vector::new(p[0] as f32, p[1] as f32, (p[2] - floor) as f32), rot);
         let s = match shape {
             carl_articulated::Shape::Sphere { radius } => SharedShape::ball(radius as f32),
             carl_articulated::Shape::Capsule { radius, half_length } => {
