@@ -540,6 +540,33 @@ mod tests {
         }
     }
 
+    /// Pusher-v5's reset: the arm at 0 with small rates, the object's slides in
+    /// `[-0.3, 0] x [-0.2, 0.2]` more than 0.17 m from the goal, at rest; the observation ends
+    /// with the fingertip (the wrist's origin, 0.821 m out), the object and the goal.
+    #[test]
+    fn pusher_resets_as_gymnasium() {
+        let mut p = default_params("pusher").unwrap();
+        for (name, v) in [
+            ("goal_position_x", 0.45),
+            ("goal_position_y", -0.05),
+            ("goal_position_z", 0.002),
+        ] {
+            p.set(name, v).unwrap();
+        }
+        for seed in 0..20 {
+            let mut e = make_control("pusher", p.clone()).unwrap();
+            let (obs, _) = e.reset(Some(seed));
+            let s = e.state();
+            assert!(s[..7].iter().all(|x| *x == 0.0) && s[9..16].iter().all(|v| v.abs() <= 0.005));
+            assert!((-0.3..=0.0).contains(&s[7]) && (-0.2..=0.2).contains(&s[8]) && s[16] == 0.0 && s[17] == 0.0);
+            assert!(s[7].hypot(s[8]) > 0.17, "{s:?}");
+            let o: Vec<f64> = obs.iter().map(|x| f64::from(*x)).collect();
+            assert!((o[14] - 0.821).abs() < 1e-5 && (o[15] + 0.6).abs() < 1e-5 && o[16].abs() < 1e-5);
+            assert!((o[17] - (0.45 + s[8])).abs() < 1e-5 && (o[18] - (-0.05 + s[7])).abs() < 1e-5);
+            assert!((o[19] + 0.275).abs() < 1e-6 && (o[22] + 0.323).abs() < 1e-6);
+        }
+    }
+
     /// The upright double pendulum's tip is at 1.2 m: healthy (z > 1) with reward
     /// 10 − (1.2 − 2)² − small terms; tipped over it terminates.
     #[test]
