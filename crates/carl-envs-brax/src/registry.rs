@@ -15,6 +15,17 @@ const ROBOT: AuditProfile = AuditProfile {
     state_hint: &[],
 };
 
+/// Humanoid: transitions cost ~5x an Ant's (20 links, 23 DoFs): fewer base states, one
+/// trajectory long enough for the feet to land (~10 steps); root heights down to 0.9 m put the
+/// feet in contact, where friction acts.
+const HUMANOID_AUDIT: AuditProfile = AuditProfile {
+    trajectory_seeds: 1,
+    trajectory_steps: 12,
+    random_states: 4,
+    reset_seeds: 3,
+    state_hint: &[(-0.5, 0.5), (-0.5, 0.5), (0.9, 1.45)],
+};
+
 /// Gymnasium's `terminate_when_unhealthy` of Hopper-v5 and Walker2d-v5.
 const TERMINATE_WHEN_UNHEALTHY: OptionSpec = OptionSpec {
     name: "terminate_when_unhealthy",
@@ -304,16 +315,7 @@ pub const REGISTRATIONS: &[Registration] = &[
         heuristic: None,
         renders: true,
         cost: StepCost::Heavy,
-        // Transitions cost ~5x an Ant's (20 links, 23 DoFs): fewer base states, one trajectory
-        // long enough for the feet to land (~10 steps); root heights down to 0.9 m put the feet
-        // in contact, where friction acts.
-        audit: AuditProfile {
-            trajectory_seeds: 1,
-            trajectory_steps: 12,
-            random_states: 4,
-            reset_seeds: 3,
-            state_hint: &[(-0.5, 0.5), (-0.5, 0.5), (0.9, 1.45)],
-        },
+        audit: HUMANOID_AUDIT,
         vector_kernel: None,
     },
     Registration {
@@ -327,11 +329,8 @@ pub const REGISTRATIONS: &[Registration] = &[
         // As Humanoid's; the body lies on the floor at reset (torso at 0.105 m), so every step
         // has contacts: root heights from lying to sitting.
         audit: AuditProfile {
-            trajectory_seeds: 1,
-            trajectory_steps: 12,
-            random_states: 4,
-            reset_seeds: 3,
             state_hint: &[(-0.5, 0.5), (-0.5, 0.5), (0.09, 0.6)],
+            ..HUMANOID_AUDIT
         },
         vector_kernel: None,
     },
