@@ -260,59 +260,6 @@ fn closest_points(a0: V3, a1: V3, b0: V3, b1: V3) -> (V3, V3) {
     (lerp(a0, a1, s), lerp(b0, b1, t))
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::math::IDENTITY;
-
-    fn placed(shape: Shape, pos: V3) -> Placed {
-        Placed {
-            shape,
-            pos,
-            mat: IDENTITY,
-        }
-    }
-
-    #[test]
-    fn sphere_on_plane_contact_is_midway() {
-        let mut out = [Contact::default(); 4];
-        let n = collide(
-            &placed(Shape::Plane, [0.0; 3]),
-            &placed(Shape::Sphere { radius: 0.1 }, [0.0, 0.0, 0.09]),
-            0.0,
-            &mut out,
-        );
-        assert_eq!(n, 1);
-        assert!((out[0].dist + 0.01).abs() < 1e-12);
-        assert!((out[0].pos[2] + 0.005).abs() < 1e-12);
-    }
-
-    #[test]
-    fn crossing_and_parallel_capsules() {
-        let mut out = [Contact::default(); 4];
-        let cap = Shape::Capsule {
-            radius: 0.1,
-            half_length: 0.1,
-        };
-        // Parallel capsules side by side along z: two contacts.
-        let a = placed(cap, [0.0; 3]);
-        let b = placed(cap, [0.15, 0.0, 0.0]);
-        let n = collide(&a, &b, 0.0, &mut out);
-        assert_eq!(n, 2);
-        assert!(
-            out[..2]
-                .iter()
-                .all(|c| (c.dist + 0.05).abs() < 1e-12 && (c.frame[0][0] - 1.0).abs() < 1e-12)
-        );
-        // Crossed capsules: one contact on the common perpendicular.
-        let mut b = placed(cap, [0.15, 0.0, 0.0]);
-        b.mat = [[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]];
-        let n = collide(&a, &b, 0.0, &mut out);
-        assert_eq!(n, 1);
-        assert!((out[0].dist + 0.05).abs() < 1e-12);
-    }
-}
-
 /// Signed distance from local point `q` to the cylinder of radius `r` and half-height `h` along
 /// z (negative inside), and the outward unit normal of its nearest surface point.
 fn cylinder_distance(q: V3, r: f64, h: f64) -> (f64, V3) {
@@ -394,4 +341,57 @@ fn segment_cylinder(p0: V3, p1: V3, rc: f64, cyl: &Placed, r: f64, h: f64, margi
         sub: 0,
     };
     1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::IDENTITY;
+
+    fn placed(shape: Shape, pos: V3) -> Placed {
+        Placed {
+            shape,
+            pos,
+            mat: IDENTITY,
+        }
+    }
+
+    #[test]
+    fn sphere_on_plane_contact_is_midway() {
+        let mut out = [Contact::default(); 4];
+        let n = collide(
+            &placed(Shape::Plane, [0.0; 3]),
+            &placed(Shape::Sphere { radius: 0.1 }, [0.0, 0.0, 0.09]),
+            0.0,
+            &mut out,
+        );
+        assert_eq!(n, 1);
+        assert!((out[0].dist + 0.01).abs() < 1e-12);
+        assert!((out[0].pos[2] + 0.005).abs() < 1e-12);
+    }
+
+    #[test]
+    fn crossing_and_parallel_capsules() {
+        let mut out = [Contact::default(); 4];
+        let cap = Shape::Capsule {
+            radius: 0.1,
+            half_length: 0.1,
+        };
+        // Parallel capsules side by side along z: two contacts.
+        let a = placed(cap, [0.0; 3]);
+        let b = placed(cap, [0.15, 0.0, 0.0]);
+        let n = collide(&a, &b, 0.0, &mut out);
+        assert_eq!(n, 2);
+        assert!(
+            out[..2]
+                .iter()
+                .all(|c| (c.dist + 0.05).abs() < 1e-12 && (c.frame[0][0] - 1.0).abs() < 1e-12)
+        );
+        // Crossed capsules: one contact on the common perpendicular.
+        let mut b = placed(cap, [0.15, 0.0, 0.0]);
+        b.mat = [[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]];
+        let n = collide(&a, &b, 0.0, &mut out);
+        assert_eq!(n, 1);
+        assert!((out[0].dist + 0.05).abs() < 1e-12);
+    }
 }

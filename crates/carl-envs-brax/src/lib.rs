@@ -107,6 +107,8 @@ pub fn default_params(id: &str) -> Option<RobotParams> {
             p.goal_position = [0.45, 0.05, 0.05];
             p.link_masses = [
                 ("r_shoulder_pan_link", 7.2935214),
+                // carl-bench's literal (Brax's mass of a capsule at density 300), not π.
+                #[allow(clippy::approx_constant)]
                 ("r_shoulder_lift_link", 3.1415926535898),
                 ("r_upper_arm_roll_link", 1.7140529),
                 ("r_elbow_flex_link", 0.40715042),

@@ -337,7 +337,7 @@ pub fn render_articulated(world: &ArticulatedWorld) -> Frame {
         let mut rot = Rotation::from_xyzw(q[1] as f32, q[2] as f32, q[3] as f32, q[0] as f32);
         if matches!(shape, carl_articulated::Shape::Cylinder { .. }) {
             // rapier's cylinders stand along y, the engine's along z.
-            rot = rot * Rotation::from_rotation_x(std::f32::consts::FRAC_PI_2);
+            rot *= Rotation::from_rotation_x(std::f32::consts::FRAC_PI_2);
         }
         let pose = Pose::from_parts(Vector::new(p[0] as f32, p[1] as f32, (p[2] - floor) as f32), rot);
         let s = match shape {
