@@ -12,7 +12,8 @@ dynamics alone.
 Models: a tumbling body and a tendon-driven point mass in a medium with density, viscosity and
 wind (MuJoCo's inertia-box fluid model, fixed tendons), a damped double pendulum with armature and joint limits (Euler and RK4), a free box
 and a free capsule dropped on the floor (Euler), a pile of two capsules and a sphere falling on
-each other and the floor (capsule–capsule, sphere–capsule contacts), and Gymnasium's ant.xml
+each other and the floor (capsule–capsule, sphere–capsule contacts), a claw pushing a cylinder on
+two slides (capsule–cylinder, sphere–cylinder contacts, as Pusher's), and Gymnasium's ant.xml
 and humanoid.xml (RK4, their own options) under a fixed open-loop control. The humanoid has
 multi-hinge bodies, joint springs, frictionless (condim 1) contacts and capsule self-collisions;
 its two fixed tendons carry no stiffness, damping or limit, so they exert nothing and are not
@@ -150,6 +151,42 @@ GYM_ROBOTS = [("half_cheetah", "half_cheetah.xml", 300), ("hopper", "hopper.xml"
               ("inverted_double_pendulum", "inverted_double_pendulum.xml", 100), ("reacher", "reacher.xml", 200)]
 
 
+# A claw (two capsules and a sphere on x, y, z slides and a tilt hinge) pushing a cylinder that
+# rides on two horizontal slides, as Pusher's wrist and object: frictionless (condim 1)
+# capsule–cylinder and sphere–cylinder contacts.
+PUSH = """
+<mujoco model="push">
+  <option timestep="0.01" gravity="0 0 -9.81"/>
+  <default>
+    <joint armature="0.04" damping="0.5"/>
+    <geom margin="0.002" condim="1" density="300"/>
+  </default>
+  <worldbody>
+    <geom name="table" type="plane" size="1 1 0.1" pos="0 0 -0.05" contype="0" conaffinity="0"/>
+    <body name="claw" pos="0 0 0.04">
+      <joint name="cx" type="slide" axis="1 0 0"/>
+      <joint name="cy" type="slide" axis="0 1 0"/>
+      <joint name="cz" type="slide" axis="0 0 1" stiffness="40"/>
+      <joint name="tilt" type="hinge" axis="0 1 0" stiffness="2"/>
+      <geom type="capsule" fromto="0 -0.1 0 0 0.1 0" size="0.02" contype="1" conaffinity="1"/>
+      <geom type="capsule" fromto="0 -0.1 0 0.1 -0.1 0" size="0.02" contype="1" conaffinity="1"/>
+      <geom type="sphere" pos="0.1 0.1 0.03" size="0.025" contype="1" conaffinity="1"/>
+    </body>
+    <body name="object" pos="0.2 0.03 0">
+      <joint name="oy" type="slide" axis="0 1 0"/>
+      <joint name="ox" type="slide" axis="1 0 0"/>
+      <geom type="cylinder" size="0.05 0.05" contype="1" conaffinity="0"/>
+    </body>
+  </worldbody>
+  <actuator>
+    <motor joint="cx" ctrllimited="true" ctrlrange="-1 1"/>
+    <motor joint="cy" ctrllimited="true" ctrlrange="-1 1"/>
+    <motor joint="cz" ctrllimited="true" ctrlrange="-1 1"/>
+    <motor joint="tilt" gear="0.2" ctrllimited="true" ctrlrange="-1 1"/>
+  </actuator>
+</mujoco>
+"""
+
 def gym_xml(name):
     import gymnasium
     return os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets", name)
@@ -173,7 +210,8 @@ def r(x):
 
 def model_json(mujoco, m):
     shape = {int(mujoco.mjtGeom.mjGEOM_PLANE): "plane", int(mujoco.mjtGeom.mjGEOM_SPHERE): "sphere",
-             int(mujoco.mjtGeom.mjGEOM_CAPSULE): "capsule", int(mujoco.mjtGeom.mjGEOM_BOX): "box"}
+             int(mujoco.mjtGeom.mjGEOM_CAPSULE): "capsule", int(mujoco.mjtGeom.mjGEOM_BOX): "box",
+             int(mujoco.mjtGeom.mjGEOM_CYLINDER): "cylinder"}
     kind = {int(mujoco.mjtJoint.mjJNT_FREE): "free", int(mujoco.mjtJoint.mjJNT_HINGE): "hinge",
             int(mujoco.mjtJoint.mjJNT_SLIDE): "slide"}
     integ = {int(mujoco.mjtIntegrator.mjINT_EULER): "euler", int(mujoco.mjtIntegrator.mjINT_RK4): "rk4"}
@@ -267,6 +305,8 @@ def fixtures():
     m = mujoco.MjModel.from_xml_string(FLUID)
     out["fluid"] = dict(model=model_json(mujoco, m),
                         **run(mujoco, m, 500, 10, qvel0=[0.5, -1.0, 2.0, 3.0, -2.0, 1.0, 0.4, -0.2]))
+    m = mujoco.MjModel.from_xml_string(PUSH)
+    out["push"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 300, 1, qvel0=[0.6, 0.05, 0, 0, 0, 0]))
     m = mujoco.MjModel.from_xml_path(gym_xml("ant.xml"))
     out["ant"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 300, 5))
     m = mujoco.MjModel.from_xml_path(gym_xml("humanoid.xml"))

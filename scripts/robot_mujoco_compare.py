@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Compare carl-spec's Ant, HalfCheetah, Humanoid, Hopper, Walker2d, InvertedPendulum, InvertedDoublePendulum and Reacher with Gymnasium's MuJoCo v5 versions.
+"""Compare carl-spec's Ant, HalfCheetah, Humanoid, HumanoidStandup, Hopper, Walker2d, InvertedPendulum, InvertedDoublePendulum, Reacher and Pusher with Gymnasium's MuJoCo v5 versions.
 
 Both sides are driven the same way and measured from their observations (the v5 layout is the
 same on both): each metric below runs on Gymnasium 1.4 (`gymnasium.make("Ant-v5")`, MuJoCo) and on
@@ -10,10 +10,11 @@ Metrics (per robot):
   `qpos[1]`) after `REST_STEPS` steps of zero action (Humanoid: after the initial drop, before
   it collapses; Hopper and Walker2d: 0.2 s, after the foot landed), mean over seeds;
 * fall_time: seconds of zero action until the episode terminates (Humanoid, Hopper, Walker2d;
-  Ant and HalfCheetah do not fall, reported as the time limit);
+  Ant, HalfCheetah and HumanoidStandup do not fall, reported as the time limit; HumanoidStandup
+  runs 200 steps: its rest height is the lying torso's);
 * step_response: change of one joint's angle 0.1 s and 0.25 s after a full-scale constant
   control on its motor (towards the inside of its range), minus the same seed's zero-action run
-  (so passive motion cancels); Hopper and Walker2d: every actuated joint;
+  (so passive motion cancels); Hopper, Walker2d and HumanoidStandup: every actuated joint;
 * gait_velocity: mean forward velocity (`qvel[0]`) under a fixed open-loop sinusoidal gait
   (`GAITS`), until termination or 1000 steps, mean over `--gait-seeds` seeds (default 3), with
   its standard deviation and, with more than 3 seeds, the Mann-Whitney p-value as below;
@@ -22,11 +23,14 @@ Metrics (per robot):
   of a Mann-Whitney U test (normal approximation) of each carl-spec column against MuJoCo's
   episodes (the criterion where MuJoCo's spread exceeds its mean).
 
-The control tasks (inverted_pendulum, inverted_double_pendulum, reacher: `CONTROL`) have their own
-metrics, from explicit initial states set on both sides (`--initial-state`, `set_state`):
+The control tasks (inverted_pendulum, inverted_double_pendulum, reacher, pusher: `CONTROL`) have
+their own metrics, from explicit initial states set on both sides (`--initial-state`, `set_state`):
 * fall_time_<tilt>: seconds of zero action from the pole (IDP: the lower pole) tilted by <tilt> rad,
   at rest, until the episode terminates;
-* step_<joint>_<t>s: change of a coordinate (the cart's x, the pole angle; Reacher's arm angles)
+* coast_<joint>_<t>s (Pusher, no gravity: its passive behaviour): a joint's angle <t> s after it
+  starts at 1 rad/s with zero action (damping and armature slow it);
+* step_<joint>_<t>s: change of a coordinate (the cart's x, the pole angle; Reacher's and Pusher's
+  arm angles)
   <t> s after a constant control on one actuator from the rest state (the pendulums: a fraction of
   full scale small enough that the pole stays up past 0.25 s), minus the zero-action run's;
 * random_length / random_return as above.
@@ -59,8 +63,11 @@ ROBOTS = {
     "humanoid": dict(gym="Humanoid-v5", na=17, ctrl=0.4, z=2, skip=2, nq=24, dt=0.015, base_z=0.0),
     "hopper": dict(gym="Hopper-v5", na=3, ctrl=1.0, z=1, skip=1, nq=6, dt=0.008, base_z=0.0),
     "walker2d": dict(gym="Walker2d-v5", na=6, ctrl=1.0, z=1, skip=1, nq=9, dt=0.008, base_z=0.0),
+    "humanoid_standup": dict(gym="HumanoidStandup-v5", na=17, ctrl=0.4, z=2, skip=2, nq=24, dt=0.015, base_z=0.0),
 }
-REST_STEPS = {"ant": 100, "half_cheetah": 100, "humanoid": 10, "hopper": 25, "walker2d": 25}
+REST_STEPS = {"ant": 100, "half_cheetah": 100, "humanoid": 10, "hopper": 25, "walker2d": 25, "humanoid_standup": 20}
+# Zero-action steps of the fall-time run (robots that never terminate: shorter than the limit).
+FALL_STEPS = {"humanoid_standup": 200}
 SEEDS_SHORT = [0, 1, 2, 3, 4]
 # (actuator index, qpos index of its joint, name[, sign of the control]) of the joints whose
 # torque-step response is measured (Hopper's and Walker2d's thighs and legs start at the upper
@@ -78,11 +85,22 @@ STEP_JOINTS = {
         (4, 7, "leg_left", -1),
         (5, 8, "foot_left", 1),
     ],
+    # Every motor, towards the inside of its range from the lying pose (the knees' ranges end at -2°).
+    "humanoid_standup": [
+        (0, 8, "abdomen_y"), (1, 7, "abdomen_z"), (2, 9, "abdomen_x"), (3, 10, "right_hip_x", -1),
+        (4, 11, "right_hip_z"), (5, 12, "right_hip_y"), (6, 13, "right_knee", -1), (7, 14, "left_hip_x", -1),
+        (8, 15, "left_hip_z"), (9, 16, "left_hip_y"), (10, 17, "left_knee", -1), (11, 18, "right_shoulder1"),
+        (12, 19, "right_shoulder2"), (13, 20, "right_elbow"), (14, 21, "left_shoulder1"),
+        (15, 22, "left_shoulder2"), (16, 23, "left_elbow"),
+    ],
 }
 # Robots whose step responses run with terminate_when_unhealthy=False (both sides).
 NO_TERMINATION_STEP = ("hopper", "walker2d")
 # Env steps after which the step response is read (about 0.1 s and 0.25 s).
-STEP_TIMES = {"ant": [2, 5], "half_cheetah": [2, 5], "humanoid": [7, 17], "hopper": [12, 31], "walker2d": [12, 31]}
+STEP_TIMES = {
+    "ant": [2, 5], "half_cheetah": [2, 5], "humanoid": [7, 17], "hopper": [12, 31], "walker2d": [12, 31],
+    "humanoid_standup": [7, 17],
+}
 
 # MuJoCo's XML values expressed as carl-spec context features (where a feature exists).
 MUJOCO_CONTEXT = {
@@ -91,7 +109,10 @@ MUJOCO_CONTEXT = {
     "half_cheetah": {"torso_mass": 6.2502, "joint_angular_damping": 3.75, "joint_stiffness": 2500.0, "friction": 0.4},
 }
 # Robots whose spec freezes MuJoCo's values as the instance set `mujoco_v5` (read from the spec).
-INSTANCE_SET_ROBOTS = ("ant", "humanoid", "hopper", "walker2d", "inverted_pendulum", "inverted_double_pendulum", "reacher")
+INSTANCE_SET_ROBOTS = (
+    "ant", "humanoid", "hopper", "walker2d", "inverted_pendulum", "inverted_double_pendulum", "reacher", "pusher",
+    "humanoid_standup",
+)
 
 
 # The control tasks: gym id, action dim, env-step dt, rest state (qpos ++ qvel; Reacher: arm
@@ -112,6 +133,15 @@ CONTROL = {
         gym="Reacher-v5", na=2, dt=0.02, nq=4, tilt=None, tilts=[],
         steps=[(0, 1.0, "joint0", ("angle", 2, 0)), (1, 1.0, "joint1", ("angle", 3, 1))], at=[5, 12],
     ),
+    # Full-scale torque on each of the seven motors, towards the inside of its range (the elbow's
+    # and the wrist flex's end at 0); the object parked out of the arm's way; no gravity.
+    "pusher": dict(
+        gym="Pusher-v5", na=7, dt=0.05, nq=9, tilt=None, tilts=[],
+        steps=[(k, 2.0 * sgn, name, ("obs", k)) for k, (name, sgn) in enumerate(
+            [("shoulder_pan", 1), ("shoulder_lift", 1), ("upper_arm_roll", 1), ("elbow_flex", -1),
+             ("forearm_roll", 1), ("wrist_flex", -1), ("wrist_roll", 1)])],
+        at=[2, 5], coast=[(0, "shoulder_pan"), (3, "elbow_flex")],
+    ),
 }
 for _r in CONTROL:
     ROBOTS.setdefault(_r, dict(gym=CONTROL[_r]["gym"]))
@@ -123,6 +153,13 @@ def control_state(robot, tilt=0.0):
     if robot == "reacher":
         qpos = [0.0, 0.0, 0.1, 0.1]
         return qpos + [0.0, 0.0], (qpos, [0.0] * 4)
+    if robot == "pusher":
+        # The object's slides (y, x) at (-0.3, 0.2): behind the arm's reach at rest.
+        qpos = [0.0] * 7 + [-0.3, 0.2]
+        qvel = [0.0] * 9
+        if tilt:
+            qvel[int(tilt[0])] = tilt[1]
+        return qpos + qvel, (qpos + [0.0, 0.0], qvel + [0.0, 0.0])
     qpos = [0.0] * c["nq"]
     if c["tilt"] is not None:
         qpos[c["tilt"]] = tilt
@@ -154,6 +191,10 @@ def measure_control(side, robot, episodes):
         _, rewards = side.run(0, [zero] * 1000, init=control_state(robot, tilt))
         res[f"fall_time_{tilt:g}"] = len(rewards) * c["dt"]
     horizon = max(c["at"])
+    for j, name in c.get("coast", []):
+        obs, _ = side.run(0, [zero] * horizon, init=control_state(robot, (j, 1.0)))
+        for n in c["at"]:
+            res[f"coast_{name}_{n * c['dt']:.3g}s"] = obs[n][j]
     base, _ = side.run(0, [zero] * horizon, init=control_state(robot))
     for act, u, name, how in c["steps"]:
         a = [0.0] * c["na"]
@@ -339,7 +380,7 @@ def measure(side, robot, episodes, gait_seeds=3):
 
     falls = []
     for s in SEEDS_SHORT:
-        _, rewards = side.run(s, [zero] * 1000)
+        _, rewards = side.run(s, [zero] * FALL_STEPS.get(robot, 1000))
         falls.append(len(rewards) * dt)
     res["fall_time"] = statistics.mean(falls)
 

@@ -8,7 +8,7 @@ load), this times
   whenever an episode ends (resets are part of the time), and
 * `carl-spec bench <robot> --num-envs 1 --threads 1 --steps N`: its `single_steps_per_sec`
   (one environment, random actions from a pre-drawn table, auto-reset; the same frame skip:
-  5, Hopper and Walker2d 4, InvertedPendulum and Reacher 2),
+  5, Hopper and Walker2d 4, InvertedPendulum and Reacher 2; Pusher and HumanoidStandup 5),
 and prints the median steps per second of each side, their ratio (carl-spec / MuJoCo) and the
 load average before and after (the machine may be shared: compare ratios, not absolute rates).
 
@@ -33,6 +33,8 @@ GYM_IDS = {
     "inverted_pendulum": "InvertedPendulum-v5",
     "inverted_double_pendulum": "InvertedDoublePendulum-v5",
     "reacher": "Reacher-v5",
+    "pusher": "Pusher-v5",
+    "humanoid_standup": "HumanoidStandup-v5",
 }
 ACTION_TABLE = 4096
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Convert Gymnasium's MuJoCo v5 XML of a robot (Hopper, Walker2d, Ant, Humanoid: `convert`; InvertedPendulum,
-InvertedDoublePendulum, Reacher: `convert_fixed`) into
+InvertedDoublePendulum, Reacher: `convert_fixed`; Pusher: `convert_arm`) into
 crates/carl-envs-brax/robots/<name>.urdf and <name>.actuators.json.
 
 MuJoCo itself compiles the XML (`mujoco.MjModel.from_xml_path`), so every number is MuJoCo's
@@ -47,6 +47,21 @@ ROBOTS = {
     "walker2d": ("walker2d_v5.xml", 4, "Walker2d-v5"),
     "ant": ("ant.xml", 5, "Ant-v5"),
     "humanoid": ("humanoid.xml", 5, "Humanoid-v5"),
+    "humanoid_standup": ("humanoidstandup.xml", 5, "HumanoidStandup-v5"),
+}
+# Free robots whose joint dampings are the XML's, not scaled by a joint_angular_damping feature
+# (their specs have none), and whose mass_<link> features are Brax's links (with the bodies welded
+# to them, `welded_masses`): HumanoidStandup (the humanoid lying on its back: body frames, the feet
+# and the left hip's range differ from humanoid.xml, so it is a robot of its own).
+ABSOLUTE_DAMPING = {"humanoid_standup"}
+
+# Arms welded to the world on the articulated engine (3-D, `convert_arm`): name -> (XML file,
+# frame_skip, Gymnasium id, options). `skip`: bodies that are task state (Pusher's goal, which
+# no force moves); `contact`: the bodies whose geoms collide in the XML (contype/conaffinity),
+# `ground`: those of them that touch the table (the XML's plane, the floor here at its height).
+ARMS = {
+    "pusher": ("pusher_v5.xml", 5, "Pusher-v5", {"skip": ["goal"], "contact": ["r_wrist_roll_link", "object"],
+                                                 "ground": ["r_wrist_roll_link"]}),
 }
 ROOT_JOINTS = ["rootx", "rootz", "rooty"]
 
@@ -653,12 +668,15 @@ def convert_free(name, m, mujoco, floor, jname, bname, root):
                 f"{float(m.body_mass[1]):.6g} kg, and the joint limits' solreflimit (0.02, 1) (joint_stiffness 2500 "
                 f"on limit_reference_inertia 1).")
     else:
-        left = (f"Kept from the XML: each motor's gear, each joint's damping pattern (joint_angular_damping scales "
-                f"it: a joint's damping is its XML damping x joint_angular_damping / damping_reference "
-                f"{max(dampings)}), joint springs, condim {condims.copy().pop()} on the robot's geoms (the floor's 3 "
+        left = ("Kept from the XML: each motor's gear, "
+                + (f"each joint's damping pattern (joint_angular_damping scales it: a joint's damping is its XML "
+                   f"damping x joint_angular_damping / damping_reference {max(dampings)})"
+                   if name not in ABSOLUTE_DAMPING else "each joint's damping")
+                + f", joint springs, condim {condims.copy().pop()} on the robot's geoms (the floor's 3 "
                 f"wins robot-floor pairs), self-collisions with MuJoCo's parent-child filter, and the joint limits "
                 f"(solreflimit (0.02, 1), limit_model). Left to the context (the spec's mujoco_v5 instance set has "
-                f"the XML's values): friction {frictions.pop()}, gravity, joint damping, torso mass "
+                f"the XML's values): friction {frictions.pop()}, gravity"
+                + (", joint damping" if name not in ABSOLUTE_DAMPING else "") + f", torso mass "
                 f"{float(m.body_mass[1]):.6g} kg and the other link masses. Its fixed tendons exert nothing and are "
                 f"not converted.")
     side = {
@@ -692,10 +710,14 @@ def convert_free(name, m, mujoco, floor, jname, bname, root):
         "self_collisions": bool(self_coll),
         "max_speed": 1000.0,
     }
+    if name in ABSOLUTE_DAMPING:
+        # Its spec's mass features are carl-bench's (Brax's links: a shin with its foot).
+        side["welded_masses"] = True
     if not uniform:
         side["bodies"] = [bname(b) for b in range(1, m.nbody)]
         side["joint_dampings"] = [{"joint": jname(j), "damping": dmp} for j, dmp in zip(hinge_j, dampings)]
-        side["damping_reference"] = max(dampings)
+        if name not in ABSOLUTE_DAMPING:
+            side["damping_reference"] = max(dampings)
         side["joint_springs"] = [{"joint": jname(j), "stiffness": k} for j, k in springs]
         side["contact_condim"] = condims.pop()
         side["floor_margin"] = floor_margin
@@ -713,16 +735,236 @@ def convert_free(name, m, mujoco, floor, jname, bname, root):
     return urdf, json.dumps(side, indent=2) + "\n"
 
 
+def convert_arm(name):
+    """A 3-D arm welded to the world (Pusher) on the articulated engine: MuJoCo's bodies under a
+    `world` link welded at the origin; bodies without joints welded into their parent link, a body's
+    several slides (Pusher's object) through massless carrier links; spheres, capsules and cylinders;
+    the XML's plane (the table) is the floor at its height (`floor_height`). Only the geoms whose
+    contype/conaffinity let them collide in the XML collide here (`contact_links`, `ground_links`)."""
+    import gymnasium
+    import mujoco
+
+    xml_file, frame_skip, gym_id, opt = ARMS[name]
+    path = os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets", xml_file)
+    m = mujoco.MjModel.from_xml_path(path)
+
+    def jname(j):
+        return mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j)
+
+    def bname(b):
+        return mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b)
+
+    GT = mujoco.mjtGeom
+    planes = [g for g in range(m.ngeom) if m.geom_type[g] == GT.mjGEOM_PLANE]
+    assert len(planes) == 1 and m.geom_bodyid[planes[0]] == 0, "one plane on the world body (the table)"
+    table = planes[0]
+    assert list(m.geom_quat[table]) == [1, 0, 0, 0], "the table is horizontal"
+    skip = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, n) for n in opt["skip"]]
+    bodies = [b for b in range(1, m.nbody) if b not in skip and int(m.body_parentid[b]) not in skip]
+
+    # Which geoms collide in the XML: check that the side file's contact and ground links say the same.
+    def collide(g, h):
+        return bool(m.geom_contype[g] & m.geom_conaffinity[h] or m.geom_contype[h] & m.geom_conaffinity[g])
+
+    live = [g for g in range(m.ngeom) if m.geom_bodyid[g] in bodies]
+    for g in live:
+        b = bname(m.geom_bodyid[g])
+        assert collide(g, table) == (b in opt["ground"]) or (b not in opt["ground"] and b in opt["contact"]), \
+            f"geom {g} of {b}: table contact"
+    pairs = {(bname(m.geom_bodyid[g]), bname(m.geom_bodyid[h])) for g in live for h in live
+             if m.geom_bodyid[g] != m.geom_bodyid[h] and collide(g, h)}
+    assert pairs == {(a, b) for a in opt["contact"] for b in opt["contact"] if a != b}, pairs
+    # Geoms of a contact link that collide with nothing (drawn only) are not allowed: every geom of
+    # the link collides.
+    for g in live:
+        b = bname(m.geom_bodyid[g])
+        if b in opt["contact"]:
+            assert m.geom_contype[g] or m.geom_conaffinity[g], f"{b} has a geom that collides with nothing"
+
+    links, joints = [], []
+
+    def carrier(jn):
+        return (f'  <link name="{jn}_link">\n    <inertial>\n      <origin xyz="0 0 0" rpy="0 0 0"/>\n'
+                f'      <mass value="0"/>\n      <inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/>\n'
+                f'    </inertial>\n  </link>')
+
+    def joint_xml(j, parent, child, xyz):
+        kind = "prismatic" if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_SLIDE else "revolute"
+        assert m.jnt_limited[j], f"joint {jname(j)} is not limited"
+        lim = (f'\n    <limit lower="{fmt(float(m.jnt_range[j][0]))}" upper="{fmt(float(m.jnt_range[j][1]))}" '
+               f'effort="0" velocity="0"/>')
+        return (f'  <joint name="{jname(j)}" type="{kind}">\n    <parent link="{parent}"/>\n'
+                f'    <child link="{child}"/>\n    <origin xyz="{vec(xyz)}" rpy="0 0 0"/>\n'
+                f'    <axis xyz="{vec(m.jnt_axis[j])}"/>{lim}\n  </joint>')
+
+    links.append('  <link name="world">\n    <inertial>\n      <origin xyz="0 0 0" rpy="0 0 0"/>\n'
+                 '      <mass value="1"/>\n      <inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/>\n'
+                 '    </inertial>\n  </link>')
+    # Joint-less bodies are welded into their parent link (as Brax, whose link masses carl-bench's
+    # mass_<link> features name): `offset` is a body's origin in its link's frame.
+    has_joint = {b: any(m.jnt_bodyid[j] == b for j in range(m.njnt)) for b in bodies}
+    link_of, offset = {}, {}
+    for b in bodies:
+        assert list(m.body_quat[b]) == [1, 0, 0, 0], f"body {bname(b)} is rotated"
+        p = int(m.body_parentid[b])
+        if has_joint[b] or p == 0:
+            link_of[b], offset[b] = b, [0.0, 0.0, 0.0]
+        else:
+            link_of[b] = link_of[p]
+            offset[b] = [offset[p][i] + float(m.body_pos[b][i]) for i in range(3)]
+    sites = []
+    for b in bodies:
+        if link_of[b] != b:
+            continue
+        js = [j for j in range(m.njnt) if m.jnt_bodyid[j] == b]
+        assert all(list(m.jnt_pos[j]) == [0, 0, 0] for j in js), f"body {bname(b)}: joints at the body origin"
+        members = [f for f in bodies if link_of[f] == b]
+        mass = sum(float(m.body_mass[f]) for f in members)
+        coms = {f: [offset[f][i] + float(m.body_ipos[f][i]) for i in range(3)] for f in members}
+        c = [sum(float(m.body_mass[f]) * coms[f][i] for f in members) / mass for i in range(3)]
+        inertia = [[0.0] * 3 for _ in range(3)]
+        for f in members:
+            R = quat_mat(m.body_iquat[f])
+            d = m.body_inertia[f]
+            mf = float(m.body_mass[f])
+            r = [coms[f][i] - c[i] for i in range(3)]
+            rr = sum(x * x for x in r)
+            for i in range(3):
+                for j in range(3):
+                    inertia[i][j] += sum(R[i][k] * d[k] * R[j][k] for k in range(3)) + mf * (
+                        (rr if i == j else 0.0) - r[i] * r[j])
+            if f != b or bname(f) in ("object",):
+                # Gymnasium's get_body_com reads a body's xpos: its frame's origin.
+                sites.append({"name": bname(f), "link": bname(b), "pos": offset[f]})
+        out = [f'  <link name="{bname(b)}">', "    <inertial>",
+               f'      <origin xyz="{vec(c)}" rpy="0 0 0"/>',
+               f'      <mass value="{fmt(mass)}"/>',
+               f'      <inertia ixx="{fmt(inertia[0][0])}" ixy="{fmt(inertia[0][1])}" ixz="{fmt(inertia[0][2])}" '
+               f'iyy="{fmt(inertia[1][1])}" iyz="{fmt(inertia[1][2])}" izz="{fmt(inertia[2][2])}"/>', "    </inertial>"]
+        for g in range(m.ngeom):
+            f = int(m.geom_bodyid[g])
+            if f not in members:
+                continue
+            if bname(b) in opt["contact"] and not (m.geom_contype[g] or m.geom_conaffinity[g]):
+                # A drawn-only geom welded into a colliding link: Pusher's fingertip spheres, each
+                # inside the end cap of a colliding capsule (checked), so nothing is lost.
+                assert any(m.geom_bodyid[h] in members and m.geom_type[h] == GT.mjGEOM_CAPSULE and
+                           (m.geom_contype[h] or m.geom_conaffinity[h]) for h in range(m.ngeom))
+                continue
+            G = quat_mat(m.geom_quat[g])
+            rpy = capsule_rpy([G[0][2], G[1][2], G[2][2]])
+            size = [float(x) for x in m.geom_size[g]]
+            pos = [offset[f][i] + float(m.geom_pos[g][i]) for i in range(3)]
+            if m.geom_type[g] == GT.mjGEOM_SPHERE:
+                geom, rpy = f'<sphere radius="{fmt(size[0])}"/>', (0.0, 0.0, 0.0)
+            elif m.geom_type[g] == GT.mjGEOM_CAPSULE:
+                geom = f'<capsule radius="{fmt(size[0])}" length="{fmt(2 * size[1])}"/>'
+            else:
+                assert m.geom_type[g] == GT.mjGEOM_CYLINDER, "spheres, capsules and cylinders only"
+                geom = f'<cylinder radius="{fmt(size[0])}" length="{fmt(2 * size[1])}"/>'
+            out += ["    <collision>", f'      <origin xyz="{vec(pos)}" rpy="{vec(rpy)}"/>',
+                    f"      <geometry>{geom}</geometry>", "    </collision>"]
+        out.append("  </link>")
+        parent = int(m.body_parentid[b])
+        up = "world" if parent == 0 else bname(link_of[parent])
+        xyz = [float(m.body_pos[b][i]) + (offset[parent][i] if parent else 0.0) for i in range(3)]
+        assert js, f"body {bname(b)} on the world without a joint"
+        for j in js[:-1]:
+            links.append(carrier(jname(j)))
+            joints.append(joint_xml(j, up, f"{jname(j)}_link", xyz))
+            up, xyz = f"{jname(j)}_link", [0.0, 0.0, 0.0]
+        links.append("\n".join(out))
+        joints.append(joint_xml(js[-1], up, bname(b), xyz))
+    movable = [jname(j) for j in range(m.njnt) if m.jnt_bodyid[j] in bodies]
+    assert [s.split('"')[1] for s in joints if 'type="fixed"' not in s] == movable, "URDF joint order = qpos order"
+    # Contacts: one solref/solimp for all geoms, margins add up (MuJoCo's pair margin), condim 1.
+    geoms = live + [table]
+    assert len({tuple(m.geom_solref[g]) for g in geoms}) == 1 and len({tuple(m.geom_solimp[g]) for g in geoms}) == 1
+    assert len({float(m.geom_margin[g]) for g in geoms}) == 1 and len({int(m.geom_condim[g]) for g in geoms}) == 1
+    margin = float(m.geom_margin[table])
+    condim = int(m.geom_condim[table])
+    assert condim == 1, "frictionless contacts (friction 0 in the mujoco_v5 instance set)"
+    lim_j = [j for j in range(m.njnt) if m.jnt_limited[j]]
+    assert len({tuple(m.jnt_solref[j]) for j in lim_j}) == 1 and len({tuple(m.jnt_solimp[j]) for j in lim_j}) == 1
+    ranges = {tuple(float(x) for x in r) for r in m.actuator_ctrlrange}
+    assert len(ranges) == 1
+    gears = {float(m.actuator_gear[k][0]) for k in range(m.nu)}
+    assert gears == {1.0}, "motors of gear 1"
+    integrator = {0: "euler", 1: "rk4"}[int(m.opt.integrator)]
+    side = {
+        "robot": name,
+        "source": (
+            f"Gymnasium {gym_id} ({xml_file}), compiled by MuJoCo {mujoco.__version__} and converted by "
+            f"scripts/robot_urdf_mujoco.py: bodies under a world link (masses and inertias from the "
+            f"geoms at the XML's densities), joint anchors, axes, ranges, damping and armature, spheres, capsules "
+            f"and cylinders, gears {sorted(gears)}, control range, time step ({float(m.opt.timestep)} s) and "
+            f"integrator ({integrator}), frame_skip {frame_skip} (Gymnasium's), the joint limits' and contacts' "
+            f"solref/solimp, the pair margin {2 * margin} (each geom's {margin}). The XML's condim {condim} "
+            f"(frictionless contacts) is friction 0 here (the articulated engine's contacts are frictionless, condim "
+            f"1, at friction 0); the side file's condim 3 lets the context's friction act otherwise. "
+            f"The table (the XML's plane at z = {float(m.geom_pos[table][2])}) is the floor at that height. "
+            f"Colliding as in the XML (contype/conaffinity): {opt['ground']} with the table, "
+            f"{' and '.join(opt['contact'])} with each other; every other geom is drawn only. "
+            f"Bodies without joints are welded into their parent link (as Brax; sites mark their frames' "
+            f"origins, which Gymnasium's get_body_com reads): {[bname(b) for b in bodies if link_of[b] != b]}; the fingertip spheres, drawn only and inside "
+            f"the end caps of the wrist's colliding capsules, are left out. "
+            f"Bodies {opt['skip']} are task state, not robot (no force moves them). The XML's gravity "
+            f"{[float(x) for x in m.opt.gravity]} and the geoms' friction {float(m.geom_friction[table][0])} "
+            f"(which condim 1 ignores) are the context's gravity and friction features."
+        ),
+        "engine": "articulated",
+        "integrator": integrator,
+        "timestep": float(m.opt.timestep),
+        "frame_skip": frame_skip,
+        "solver_iterations": 1,
+        "root": "fixed",
+        "torso_link": bname(bodies[0]),
+        "root_height": 0.0,
+        "floor_height": float(m.geom_pos[table][2]),
+        "ctrl_range": list(ranges.pop()),
+        "strength_reference": 1.0,
+        "actuators": [{"joint": jname(int(m.actuator_trnid[k][0])), "gear": 1.0} for k in range(m.nu)],
+        "joint_armatures": [{"joint": jn, "armature": float(m.dof_armature[m.jnt_dofadr[j]])}
+                            for j, jn in ((j, jname(j)) for j in range(m.njnt)) if jn in movable],
+        "joint_dampings": [{"joint": jn, "damping": float(m.dof_damping[m.jnt_dofadr[j]])}
+                           for j, jn in ((j, jname(j)) for j in range(m.njnt)) if jn in movable],
+        "contact_model": {"solref": [float(x) for x in m.geom_solref[table]],
+                          "solimp": [float(x) for x in m.geom_solimp[table]], "margin": 2 * margin},
+        "floor_margin": margin,
+        "contact_condim": 3,
+        "limit_model": {"solref": [float(x) for x in m.jnt_solref[lim_j[0]]],
+                        "solimp": [float(x) for x in m.jnt_solimp[lim_j[0]]], "margin": float(m.jnt_margin[lim_j[0]])},
+        "limit_reference_inertia": 1.0,
+        "limit_damping_ratio": 1.0,
+        "restitution": 0.0,
+        "self_collisions": True,
+        "contact_links": opt["contact"],
+        "ground_links": opt["ground"],
+        "sites": sites,
+        "max_speed": 1000.0,
+    }
+    doc = (
+        f"carl-spec robot description, generated by scripts/robot_urdf_mujoco.py from Gymnasium {gym_id}'s "
+        f"{xml_file} as compiled by MuJoCo {mujoco.__version__}: links are the XML's bodies under a world link "
+        f"(bodies without joints welded into their parent; a body's several slides through massless carrier "
+        f"links), each link frame at its body's frame."
+    )
+    urdf = (f'<?xml version="1.0"?>\n<!-- {doc} -->\n<robot name="{name}">\n' + "\n".join(links) + "\n"
+            + "\n".join(joints) + "\n</robot>\n")
+    return urdf, json.dumps(side, indent=2) + "\n"
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("robots", nargs="*", default=list(ROBOTS) + list(FIXED))
+    ap.add_argument("robots", nargs="*", default=list(ROBOTS) + list(FIXED) + list(ARMS))
     ap.add_argument("--check", action="store_true", help="compare with the committed files instead of writing")
     args = ap.parse_args()
     stale = []
     for name in args.robots:
-        if name not in ROBOTS and name not in FIXED:
-            sys.exit(f"unknown robot {name!r}; choose from {', '.join(list(ROBOTS) + list(FIXED))}")
-        urdf, side = convert(name) if name in ROBOTS else convert_fixed(name)
+        if name not in ROBOTS and name not in FIXED and name not in ARMS:
+            sys.exit(f"unknown robot {name!r}; choose from {', '.join(list(ROBOTS) + list(FIXED) + list(ARMS))}")
+        convert_fn = convert if name in ROBOTS else convert_fixed if name in FIXED else convert_arm
+        urdf, side = convert_fn(name)
         for ext, text in (("urdf", urdf), ("actuators.json", side)):
             path = os.path.join(ROBOTS_DIR, f"{name}.{ext}")
             if args.check:

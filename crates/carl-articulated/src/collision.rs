@@ -3,7 +3,9 @@
 //! signed distance (negative when penetrating); it is kept while the distance is below the
 //! pair's margin. Pairs: plane–sphere, plane–capsule (one contact per end, tangent along the
 //! capsule), plane–box (the deepest corners, at most four), sphere–sphere, sphere–capsule and
-//! capsule–capsule (two contacts for parallel overlapping capsules).
+//! capsule–capsule (two contacts for parallel overlapping capsules), sphere–cylinder and
+//! capsule–cylinder (one contact at the closest points, as MuJoCo's convex collider gives; the
+//! plane–cylinder pair has no routine).
 
 use crate::math::{M3, V3, add, col, cross, dot, mat_vec, norm, normalize, scale, sub};
 use crate::model::Shape;
@@ -115,6 +117,10 @@ pub fn collide(a: &Placed, b: &Placed, margin: f64, out: &mut [Contact]) -> usiz
             let (a0, a1, ra) = a.segment();
             let (b0, b1, rb) = b.segment();
             segments(a0, a1, ra, b0, b1, rb, margin, out)
+        }
+        (Shape::Sphere { .. } | Shape::Capsule { .. }, Shape::Cylinder { radius, half_length }) => {
+            let (a0, a1, ra) = a.segment();
+            segment_cylinder(a0, a1, ra, b, radius, half_length, margin, out)
         }
         _ => 0,
     }
@@ -252,6 +258,89 @@ fn closest_points(a0: V3, a1: V3, b0: V3, b1: V3) -> (V3, V3) {
         }
     }
     (lerp(a0, a1, s), lerp(b0, b1, t))
+}
+
+/// Signed distance from local point `q` to the cylinder of radius `r` and half-height `h` along
+/// z (negative inside), and the outward unit normal of its nearest surface point.
+fn cylinder_distance(q: V3, r: f64, h: f64) -> (f64, V3) {
+    let rho = q[0].hypot(q[1]);
+    let radial = if rho > 0.0 {
+        [q[0] / rho, q[1] / rho, 0.0]
+    } else {
+        [1.0, 0.0, 0.0]
+    };
+    let axial = [0.0, 0.0, if q[2] < 0.0 { -1.0 } else { 1.0 }];
+    let (dr, dz) = (rho - r, q[2].abs() - h);
+    if dr > 0.0 && dz > 0.0 {
+        let d = dr.hypot(dz);
+        (d, add(scale(radial, dr / d), scale(axial, dz / d)))
+    } else if dr > dz {
+        (dr, radial)
+    } else {
+        (dz, axial)
+    }
+}
+
+/// A sphere or capsule (segment `p0`–`p1` inflated by `rc`) against the cylinder `cyl`: one
+/// contact at the segment point nearest the cylinder (the signed distance is convex along the
+/// segment; golden-section search), normal from the capsule to the cylinder, the position
+/// midway between the two surfaces.
+#[allow(clippy::too_many_arguments)]
+fn segment_cylinder(p0: V3, p1: V3, rc: f64, cyl: &Placed, r: f64, h: f64, margin: f64, out: &mut [Contact]) -> usize {
+    let local = |p: V3| {
+        let d = sub(p, cyl.pos);
+        [
+            dot(col(&cyl.mat, 0), d),
+            dot(col(&cyl.mat, 1), d),
+            dot(col(&cyl.mat, 2), d),
+        ]
+    };
+    let (q0, q1) = (local(p0), local(p1));
+    let at = |t: f64| lerp(q0, q1, t);
+    let f = |t: f64| cylinder_distance(at(t), r, h).0;
+    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+    if q0 != q1 {
+        const G: f64 = 0.618_033_988_749_894_8;
+        let (mut x1, mut x2) = (hi - G * (hi - lo), lo + G * (hi - lo));
+        let (mut f1, mut f2) = (f(x1), f(x2));
+        for _ in 0..80 {
+            if f1 <= f2 {
+                hi = x2;
+                x2 = x1;
+                f2 = f1;
+                x1 = hi - G * (hi - lo);
+                f1 = f(x1);
+            } else {
+                lo = x1;
+                x1 = x2;
+                f1 = f2;
+                x2 = lo + G * (hi - lo);
+                f2 = f(x2);
+            }
+        }
+    }
+    let mut t = 0.5 * (lo + hi);
+    for end in [0.0, 1.0] {
+        if f(end) < f(t) {
+            t = end;
+        }
+    }
+    let q = at(t);
+    let (sd, n_out) = cylinder_distance(q, r, h);
+    let dist = sd - rc;
+    if dist >= margin || out.is_empty() {
+        return 0;
+    }
+    let mid = sub(q, scale(n_out, 0.5 * (rc + sd)));
+    let n = scale(mat_vec(&cyl.mat, n_out), -1.0);
+    out[0] = Contact {
+        pos: add(cyl.pos, mat_vec(&cyl.mat, mid)),
+        frame: make_frame(n),
+        dist,
+        pair: 0,
+        sub: 0,
+    };
+    1
 }
 
 #[cfg(test)]

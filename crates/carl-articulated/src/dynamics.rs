@@ -313,9 +313,42 @@ pub fn cholesky_solve_from(l: &[f64], n: usize, x: &mut [f64], first: usize) {
     }
 }
 
+/// MuJoCo's "simple, sliders only" bodies (`body_simple` 2): only slide joints with orthogonal
+/// axes, the centre of mass at the body frame's origin on its axes, no child body, attached to
+/// (a body welded to) the world. MuJoCo gives them `body_invweight0 = [1/mass, 0]` and
+/// `dof_invweight0 = 1/mass` (armature left out), not the `J M⁻¹ Jᵀ` means.
+fn sliders_only_bodies(model: &Model) -> Vec<bool> {
+    let nb = model.bodies.len();
+    let mut has_child = vec![false; nb];
+    for b in 1..nb {
+        has_child[model.bodies[b].parent] = true;
+    }
+    (0..nb)
+        .map(|b| {
+            let joints = &model.joints[model.body_joints[b].clone()];
+            let body = &model.bodies[b];
+            let orthogonal = joints.iter().enumerate().all(|(i, a)| {
+                joints[i + 1..]
+                    .iter()
+                    .all(|c| crate::math::dot(a.axis, c.axis).abs() < 1e-10)
+            });
+            b != 0
+                && !joints.is_empty()
+                && joints.iter().all(|j| j.kind == JointKind::Slide)
+                && orthogonal
+                && !has_child[b]
+                && model.body_weld[body.parent] == 0
+                && body.ipos == [0.0; 3]
+                && body.iquat == crate::math::QUAT_IDENTITY
+                && body.mass > 0.0
+        })
+        .collect()
+}
+
 /// MuJoCo's `body_invweight0` and `dof_invweight0` at `qpos0`: the mean diagonal of the
 /// translational and rotational blocks of `J M⁻¹ Jᵀ` at each body's centre of mass, and the
-/// diagonal of `M⁻¹` (averaged over a free joint's translations and rotations).
+/// diagonal of `M⁻¹` (averaged over a free joint's translations and rotations); sliders-only
+/// bodies as MuJoCo's ([`sliders_only_bodies`]).
 pub(crate) fn set_invweight0(model: &mut Model) {
     let nv = model.nv;
     if nv == 0 {
@@ -396,8 +429,16 @@ pub(crate) fn set_invweight0(model: &mut Model) {
             [if ntr > 0 { tr / ntr as f64 } else { MINVAL }, MINVAL]
         };
     }
+    for (b, _) in sliders_only_bodies(model).iter().enumerate().filter(|(_, s)| **s) {
+        model.body_invweight0[b] = [(1.0 / model.bodies[b].mass).max(MINVAL), 0.0];
+    }
+    let sliders = sliders_only_bodies(model);
     for (j, jt) in model.joints.iter().enumerate() {
         let da = model.jnt_dofadr[j];
+        if sliders[jt.body] {
+            model.dof_invweight0[da] = (1.0 / model.bodies[jt.body].mass).max(MINVAL);
+            continue;
+        }
         match jt.kind {
             JointKind::Free => {
                 for (lo, hi) in [(da, da + 3), (da + 3, da + 6)] {

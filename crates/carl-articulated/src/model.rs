@@ -156,6 +156,11 @@ pub enum Shape {
         radius: f64,
         half_length: f64,
     },
+    /// A solid cylinder along the geom's local z of radius `radius` and half-height `half_length`.
+    Cylinder {
+        radius: f64,
+        half_length: f64,
+    },
     /// Half-sizes along the geom's local axes.
     Box {
         half: V3,
@@ -169,6 +174,7 @@ impl Shape {
             Shape::Plane => 0,
             Shape::Sphere { .. } => 2,
             Shape::Capsule { .. } => 3,
+            Shape::Cylinder { .. } => 5,
             Shape::Box { .. } => 6,
         }
     }
@@ -178,6 +184,7 @@ impl Shape {
             Shape::Plane => f64::INFINITY,
             Shape::Sphere { radius } => radius,
             Shape::Capsule { radius, half_length } => radius + half_length,
+            Shape::Cylinder { radius, half_length } => radius.hypot(half_length),
             Shape::Box { half } => crate::math::norm(half),
         }
     }
@@ -586,6 +593,9 @@ impl Model {
                 Shape::Capsule { radius, half_length } => {
                     radius.is_finite() && radius > 0.0 && half_length.is_finite() && half_length >= 0.0
                 }
+                Shape::Cylinder { radius, half_length } => {
+                    radius.is_finite() && radius > 0.0 && half_length.is_finite() && half_length > 0.0
+                }
                 Shape::Box { half } => half.iter().all(|x| x.is_finite() && *x > 0.0),
             };
             if !size_ok {
@@ -768,6 +778,7 @@ fn collision_pairs(bodies: &[Body], weld: &[usize], geoms: &[Geom]) -> Vec<GeomP
                     Shape::Sphere { .. } | Shape::Capsule { .. } | Shape::Box { .. }
                 ) | (Shape::Sphere { .. }, Shape::Sphere { .. } | Shape::Capsule { .. })
                     | (Shape::Capsule { .. }, Shape::Capsule { .. })
+                    | (Shape::Sphere { .. } | Shape::Capsule { .. }, Shape::Cylinder { .. })
             );
             if !supported {
                 continue;

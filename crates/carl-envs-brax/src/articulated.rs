@@ -9,9 +9,11 @@
 //! child on a hinge or slide at its own frame: [`super::model::is_carrier`]) and its child are
 //! one body with both joints, in order (MuJoCo's several hinges of one body, e.g. Humanoid's
 //! hips). Inertials: the URDF tensor's principal axes.
-//! Colliders: spheres, capsules and boxes; the floor is a plane. How the context enters:
+//! Colliders: spheres, capsules, cylinders and boxes; the floor is a plane at the side file's
+//! `floor_height`. How the context enters:
 //! * `gravity` → the gravity vector's z; `friction` → every geom's sliding friction (MuJoCo
-//!   takes the pair's larger, so every contact has it);
+//!   takes the pair's larger, so every contact has it; at 0 every contact is frictionless,
+//!   condim 1);
 //! * `joint_angular_damping` → MuJoCo's joint damping of every robot joint the side file's
 //!   `joint_dampings` does not list (implicit under Euler, explicit under RK4, as MuJoCo); with
 //!   a `damping_reference`, the listed dampings scaled by `joint_angular_damping / reference`;
@@ -20,7 +22,9 @@
 //!   feature, `I` the side file's `limit_reference_inertia`, `ζ` its `limit_damping_ratio`
 //!   (`k = 2500`, `I = 1`, `ζ = 1` are MuJoCo's default `solreflimit` (0.02, 1));
 //! * `actuator_strength` → the motors' gear (`gear · strength / strength_reference`);
-//! * `torso_mass`, `mass_<link>` → link masses (the inertia scales with the mass);
+//! * `torso_mass`, `mass_<link>` → link masses (the inertia scales with the mass); with the side
+//!   file's `welded_masses`, the mass of the link together with the links welded to it, each
+//!   scaled by one factor (Brax's links, which carl-bench's features name);
 //! * `angular_damping` → after each step every hinge rate and the free root's angular velocity
 //!   are scaled by `exp(angular_damping · h)` (Brax's global angular damping; 0 in MuJoCo);
 //! * `viscosity` → MuJoCo's medium viscosity;
@@ -39,8 +43,9 @@
 //! `margin`, of which the floor has `floor_margin`, default 0, and each robot geom the rest) or
 //! MuJoCo's defaults, the robot geoms' `condim` the side file's `contact_condim` (default 3; the
 //! floor's is 3, a pair takes the larger); robot geoms collide with the floor, with
-//! each other only under `self_collisions` (MuJoCo's parent–child filter applies), and only the
-//! side file's `ground_links` touch the floor when it names any.
+//! each other only under `self_collisions` (MuJoCo's parent–child filter applies; only the side
+//! file's `contact_links` when it names any), and only the side file's `ground_links` touch the
+//! floor when it names any.
 //!
 //! Velocities are MuJoCo's: a free root's linear velocity in the world frame, its angular
 //! velocity in the root body's frame. [`ArticulatedWorld::com_inertia`] and
@@ -143,6 +148,32 @@ impl ArticulatedSystem {
         let floor_margin = side.floor_margin.clamp(0.0, margin);
         let elasticity = finite_or(params.elasticity, 0.0).max(0.0);
         let g = finite_or(params.gravity, 0.0);
+        // At friction 0 every contact is frictionless (condim 1, MuJoCo's frictionless contact;
+        // a pyramid of zero friction would be four copies of the normal).
+        let condim = if friction > 0.0 {
+            side.contact_condim.unwrap_or(3)
+        } else {
+            1
+        };
+        // With the side file's `welded_masses`, `mass_<link>` is the mass of the link with the
+        // links welded to it (Brax's links, which carl-bench's features name): each link's group
+        // head and each head's total URDF mass.
+        let group_head: Vec<usize> = (0..nl)
+            .map(|li| {
+                let mut h = li;
+                while side.welded_masses
+                    && let Some(j) = parent_joint[h]
+                    && urdf.joints[j].joint_type == urdf_rs::JointType::Fixed
+                {
+                    h = link_index(&urdf.joints[j].parent.link).expect("checked");
+                }
+                h
+            })
+            .collect();
+        let mut group_mass = vec![0.0; nl];
+        for (li, &h) in group_head.iter().enumerate() {
+            group_mass[h] += urdf.links[li].inertial.mass.value;
+        }
         let mut bodies = vec![Body::new("world", 0, [0.0; 3], 0.0, [0.0; 3], [0.0; 3])];
         let mut joints = Vec::new();
         let mut geoms = Vec::new();
@@ -185,15 +216,21 @@ impl ArticulatedSystem {
             };
             // Mass with the context's overrides; the inertia scales with it.
             let base = l.inertial.mass.value;
-            let mut m = base;
-            if li == robot.torso
-                && let Some(t) = params.torso_mass
-            {
-                m = t;
+            let head = group_head[li];
+            let mut target = None;
+            if head == robot.torso {
+                target = params.torso_mass;
             }
-            if let Some((_, v)) = params.link_masses.iter().find(|(n, _)| *n == l.name) {
-                m = *v;
+            if let Some((_, v)) = params.link_masses.iter().find(|(n, _)| *n == urdf.links[head].name) {
+                target = Some(*v);
             }
+            // A welded group (`welded_masses`): the override is the group's mass, every member
+            // scaled by one factor.
+            let m = match target {
+                Some(t) if group_mass[head] != base => base * t / group_mass[head],
+                Some(t) => t,
+                None => base,
+            };
             let ine = &l.inertial.inertia;
             let tensor = [
                 [ine.ixx, ine.ixy, ine.ixz],
@@ -302,6 +339,10 @@ impl ArticulatedSystem {
                         radius,
                         half_length: length / 2.0,
                     },
+                    urdf_rs::Geometry::Cylinder { radius, length } => Shape::Cylinder {
+                        radius,
+                        half_length: length / 2.0,
+                    },
                     urdf_rs::Geometry::Box { size } => Shape::Box {
                         half: math::scale(size.0, 0.5),
                     },
@@ -313,18 +354,20 @@ impl ArticulatedSystem {
                 g.solref = solref;
                 g.solimp = solimp;
                 g.margin = margin - floor_margin;
-                g.condim = side.contact_condim.unwrap_or(3);
+                g.condim = condim;
                 g.restitution = elasticity;
                 // Bit 1: the floor (contype = conaffinity = 1); bit 2: other robot geoms.
-                let selfc = if side.self_collisions { 2 } else { 0 };
+                let contact = side.contact_links.is_empty() || side.contact_links.contains(&l.name);
+                let selfc = if side.self_collisions && contact { 2 } else { 0 };
                 g.contype = u32::from(ground) | selfc;
                 g.conaffinity = selfc;
                 geoms.push(g);
             }
         }
         if side.ground_contacts {
-            let mut floor = Geom::new("floor", 0, Shape::Plane, [0.0; 3]);
+            let mut floor = Geom::new("floor", 0, Shape::Plane, [0.0, 0.0, side.floor_height]);
             floor.friction[0] = friction;
+            floor.condim = condim.max(if friction > 0.0 { 3 } else { 1 });
             floor.solref = solref;
             floor.solimp = solimp;
             floor.margin = floor_margin;

@@ -1,9 +1,9 @@
 //! Gymnasium MuJoCo v5's small control tasks on a robot welded to the world:
-//! InvertedPendulum-v5, InvertedDoublePendulum-v5 and Reacher-v5 ([`ControlTask`]).
+//! InvertedPendulum-v5, InvertedDoublePendulum-v5, Reacher-v5 and Pusher-v5 ([`ControlTask`]).
 //!
 //! As Gymnasium 1.4's: observation layout, reward terms and weights, termination, reset
 //! noise and frame skip (the time step is the side file's, MuJoCo's). The physics is the side
-//! file's engine through [`Physics`] (the articulated engine for all three); the task reads
+//! file's engine through [`Physics`] (the articulated engine for all four); the task reads
 //! coordinates, rates, sites and constraint forces only.
 //!
 //! * InvertedPendulum: observation `qpos ++ qvel` (cart x, pole angle, their rates); reward 1
@@ -18,6 +18,14 @@
 //!   θ̇, (fingertip − target)[:2]`; reward `−|fingertip − target| − Σa²`; never terminates;
 //!   reset: arm angles uniform ±0.1, the target uniform in the disc of radius 0.2 (rejection
 //!   from the square, as Gymnasium), arm rates uniform ±0.005; frame skip 2.
+//! * Pusher: `qpos` is the seven arm angles and the object's two slides (`obj_slidey`,
+//!   `obj_slidex`, MuJoCo's order); Gymnasium's goal slides, which no force moves, are the
+//!   context's goal position here; observation `qpos[:7], qvel[:7]`, the fingertip's, the
+//!   object's and the goal's positions (centres of mass, world frame); reward
+//!   `−|object − goal| − 0.1·Σa² − 0.5·|object − fingertip|`; never terminates; reset: the arm
+//!   at rest at 0 with rates uniform ±0.005, the object's slides (y, x) uniform in
+//!   `[−0.3, 0] × [−0.2, 0.2]` drawn until the object is more than 0.17 m from the goal (in x-y),
+//!   the object at rest; frame skip 5.
 //!
 //! A simulation that diverges (non-finite or faster than the side file's `max_speed`) is rolled
 //! back to the state before the step and the step terminates with `info["diverged"] = 1`.
@@ -28,7 +36,7 @@ use carl_env::api::{Action, DType, Env, EnvError, Info, Space, StepOutcome, chec
 use carl_env::rng::{EnvRng, normal, uniform};
 
 use super::model::{ModelError, RobotModel};
-use super::params::RobotParams;
+use super::params::{RobotParams, finite_or};
 use super::physics::{Physics, PhysicsBuilder};
 use super::world::Configuration;
 
@@ -38,6 +46,7 @@ pub enum ControlTask {
     InvertedPendulum,
     InvertedDoublePendulum,
     Reacher,
+    Pusher,
 }
 
 impl ControlTask {
@@ -47,13 +56,14 @@ impl ControlTask {
             ControlTask::InvertedPendulum => 4,
             ControlTask::InvertedDoublePendulum => 9,
             ControlTask::Reacher => 10,
+            ControlTask::Pusher => 23,
         }
     }
     /// Entries of the state after `q ++ v` (IDP: the slider's constraint force; Reacher: the
     /// target, which sits between the arm's angles and rates as in MuJoCo's `qpos`).
     fn extra(self) -> usize {
         match self {
-            ControlTask::InvertedPendulum => 0,
+            ControlTask::InvertedPendulum | ControlTask::Pusher => 0,
             ControlTask::InvertedDoublePendulum => 1,
             ControlTask::Reacher => 2,
         }
@@ -68,6 +78,7 @@ struct Terms {
     velocity: f64,
     dist: f64,
     ctrl: f64,
+    near: f64,
     diverged: bool,
 }
 
@@ -82,8 +93,12 @@ pub struct Control {
     world: Option<Physics>,
     /// IDP: `qfrc_constraint[0]` of the last step; Reacher: the target (x, y).
     extra: Vec<f64>,
-    /// The site whose position the task reads (IDP's tip, Reacher's fingertip).
-    site: Option<(usize, [f64; 3])>,
+    /// The sites whose positions the task reads (IDP's tip, Reacher's fingertip, Pusher's
+    /// fingertip and object).
+    sites: Vec<(usize, [f64; 3])>,
+    /// Pusher: the goal's position (world) and the object's x-y at slides 0.
+    goal: [f64; 3],
+    object_origin: [f64; 2],
     rng: EnvRng,
     terms: Terms,
     n: usize,
@@ -98,6 +113,7 @@ impl Clone for Control {
             params: self.params.clone(),
             builder: self.builder.clone(),
             extra: self.extra.clone(),
+            sites: self.sites.clone(),
             rng: self.rng.clone(),
             ..*self
         };
@@ -119,27 +135,51 @@ impl Control {
         params: RobotParams,
         task: ControlTask,
     ) -> Result<Self, ModelError> {
-        let site_name = match task {
-            ControlTask::InvertedPendulum => None,
-            ControlTask::InvertedDoublePendulum => Some("tip"),
-            ControlTask::Reacher => Some("fingertip"),
+        let site_names: &[&str] = match task {
+            ControlTask::InvertedPendulum => &[],
+            ControlTask::InvertedDoublePendulum => &["tip"],
+            ControlTask::Reacher => &["fingertip"],
+            ControlTask::Pusher => &["tips_arm", "object"],
         };
-        let site = match site_name {
-            Some(s) => Some(model.site(s).ok_or_else(|| ModelError::Side {
-                robot: model.name,
-                message: format!("the task needs a site named {s}"),
-            })?),
-            None => None,
-        };
+        let sites = site_names
+            .iter()
+            .map(|s| {
+                model.site(s).ok_or_else(|| ModelError::Side {
+                    robot: model.name,
+                    message: format!("the task needs a site named {s}"),
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
         let builder = PhysicsBuilder::for_model(&model, &params)?;
         let n = model.joint_names.len();
+        // The goal: x, y in the world, z above the table (the floor).
+        let goal = [
+            finite_or(params.goal_position[0], 0.0),
+            finite_or(params.goal_position[1], 0.0),
+            model.side.floor_height + finite_or(params.goal_position[2], 0.0),
+        ];
+        let object_origin = match (task, sites.get(1)) {
+            (ControlTask::Pusher, Some(&(link, p))) => {
+                let zero = Configuration {
+                    root: Vec::new(),
+                    joints: vec![0.0; n],
+                    vel: vec![0.0; n],
+                };
+                let rest = builder.build(&model, &params, &zero);
+                let o = rest.link_point(link, p);
+                [o[0], o[1]]
+            }
+            _ => [0.0; 2],
+        };
         Ok(Control {
             id,
             task,
             builder,
             world: None,
             extra: vec![0.0; task.extra()],
-            site,
+            sites,
+            goal,
+            object_origin,
             rng: EnvRng::from_seed(carl_env::rng::DEFAULT_SEED),
             terms: Terms::default(),
             n,
@@ -205,10 +245,10 @@ impl Control {
         self.extra.copy_from_slice(extra);
     }
 
-    /// World position of the task's site (MuJoCo coordinates: Reacher's URDF z is MuJoCo's y).
-    fn site_pos(&self) -> [f64; 3] {
-        match (&self.world, self.site) {
-            (Some(w), Some((link, p))) => w.link_point(link, p),
+    /// World position of the task's site `k` (MuJoCo coordinates: Reacher's URDF z is MuJoCo's y).
+    fn site_pos(&self, k: usize) -> [f64; 3] {
+        match (&self.world, self.sites.get(k)) {
+            (Some(w), Some(&(link, p))) => w.link_point(link, p),
             _ => [0.0; 3],
         }
     }
@@ -234,9 +274,16 @@ impl Control {
                 q.iter().for_each(|a| push(a.sin()));
                 self.extra.iter().for_each(|x| push(*x));
                 v.iter().for_each(|x| push(*x));
-                let tip = self.site_pos();
+                let tip = self.site_pos(0);
                 push(tip[0] - self.extra[0]);
                 push(tip[2] - self.extra[1]);
+            }
+            ControlTask::Pusher => {
+                q[..7].iter().chain(&v[..7]).for_each(|x| push(*x));
+                [self.site_pos(0), self.site_pos(1), self.goal]
+                    .iter()
+                    .flatten()
+                    .for_each(|x| push(*x));
             }
         }
     }
@@ -264,7 +311,7 @@ impl Control {
                 (t.survive, terminated)
             }
             ControlTask::InvertedDoublePendulum => {
-                let tip = self.site_pos();
+                let tip = self.site_pos(0);
                 let (x, y) = (tip[0], tip[2]);
                 let (_, v) = self.q_v();
                 let terminated = diverged || y <= 1.0;
@@ -274,11 +321,19 @@ impl Control {
                 (t.survive + t.distance + t.velocity, terminated)
             }
             ControlTask::Reacher => {
-                let tip = self.site_pos();
+                let tip = self.site_pos(0);
                 let (dx, dy) = (tip[0] - self.extra[0], tip[2] - self.extra[1]);
                 t.dist = -(dx * dx + dy * dy).sqrt();
                 t.ctrl = -ctrl.iter().map(|a| f64::from(*a).powi(2)).sum::<f64>();
                 (t.dist + t.ctrl, diverged)
+            }
+            ControlTask::Pusher => {
+                let (tip, object) = (self.site_pos(0), self.site_pos(1));
+                let dist = |a: [f64; 3], b: [f64; 3]| (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt();
+                t.near = -0.5 * dist(object, tip);
+                t.dist = -dist(object, self.goal);
+                t.ctrl = -0.1 * ctrl.iter().map(|a| f64::from(*a).powi(2)).sum::<f64>();
+                (t.dist + t.ctrl + t.near, diverged)
             }
         };
         self.terms = t;
@@ -355,6 +410,26 @@ impl Env for Control {
                 }
                 let _ = (uniform(rng, -0.005, 0.005), uniform(rng, -0.005, 0.005));
             }
+            ControlTask::Pusher => {
+                // Gymnasium: slides (y, x) = (U(-0.3, 0), U(-0.2, 0.2)) until the object is
+                // more than 0.17 m from the goal; the arm at 0; rates uniform ±0.005 but the
+                // object's (Gymnasium's four object and goal rates are drawn, then zeroed).
+                let (o, g) = (self.object_origin, self.goal);
+                let mut slides = [0.0; 2];
+                for _ in 0..10_000 {
+                    slides = [uniform(rng, -0.3, 0.0), uniform(rng, -0.2, 0.2)];
+                    if (o[0] + slides[1] - g[0]).hypot(o[1] + slides[0] - g[1]) > 0.17 {
+                        break;
+                    }
+                }
+                s[n - 2..n].copy_from_slice(&slides);
+                for x in &mut s[n..2 * n - 2] {
+                    *x = uniform(rng, -0.005, 0.005);
+                }
+                for _ in 0..4 {
+                    uniform(rng, -0.005, 0.005);
+                }
+            }
         }
         self.load(&s);
         self.terms = Terms::default();
@@ -425,6 +500,11 @@ impl Env for Control {
                 m.insert("reward_dist".into(), t.dist);
                 m.insert("reward_ctrl".into(), t.ctrl);
             }
+            ControlTask::Pusher => {
+                m.insert("reward_dist".into(), t.dist);
+                m.insert("reward_ctrl".into(), t.ctrl);
+                m.insert("reward_near".into(), t.near);
+            }
         }
         m.insert("diverged".into(), f64::from(u8::from(t.diverged)));
         m
@@ -453,6 +533,33 @@ mod tests {
             r.reset(Some(seed));
             let s = r.state();
             assert!(s[2].hypot(s[3]) < 0.2 && s[0].abs() <= 0.1 && s[4].abs() <= 0.005);
+        }
+    }
+
+    /// Pusher-v5's reset: the arm at 0 with small rates, the object's slides in
+    /// `[-0.3, 0] x [-0.2, 0.2]` more than 0.17 m from the goal, at rest; the observation ends
+    /// with the fingertip (the wrist's origin, 0.821 m out), the object and the goal.
+    #[test]
+    fn pusher_resets_as_gymnasium() {
+        let mut p = default_params("pusher").unwrap();
+        for (name, v) in [
+            ("goal_position_x", 0.45),
+            ("goal_position_y", -0.05),
+            ("goal_position_z", 0.002),
+        ] {
+            p.set(name, v).unwrap();
+        }
+        for seed in 0..20 {
+            let mut e = make_control("pusher", p.clone()).unwrap();
+            let (obs, _) = e.reset(Some(seed));
+            let s = e.state();
+            assert!(s[..7].iter().all(|x| *x == 0.0) && s[9..16].iter().all(|v| v.abs() <= 0.005));
+            assert!((-0.3..=0.0).contains(&s[7]) && (-0.2..=0.2).contains(&s[8]) && s[16] == 0.0 && s[17] == 0.0);
+            assert!(s[7].hypot(s[8]) > 0.17, "{s:?}");
+            let o: Vec<f64> = obs.iter().map(|x| f64::from(*x)).collect();
+            assert!((o[14] - 0.821).abs() < 1e-5 && (o[15] + 0.6).abs() < 1e-5 && o[16].abs() < 1e-5);
+            assert!((o[17] - (0.45 + s[8])).abs() < 1e-5 && (o[18] - (-0.05 + s[7])).abs() < 1e-5);
+            assert!((o[19] + 0.275).abs() < 1e-6 && (o[22] + 0.323).abs() < 1e-6);
         }
     }
 

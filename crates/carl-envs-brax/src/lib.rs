@@ -99,6 +99,46 @@ pub fn default_params(id: &str) -> Option<RobotParams> {
             p.friction = 1.0;
             p.link_masses = vec![("body0".to_string(), 0.03560472), ("body1".to_string(), 0.03979351)];
         }
+        // carl-bench 1.1.1's CARLBraxPusher / CARLBraxHumanoidStandup defaults (Brax's masses,
+        // which equal the models' but for Pusher's object and HumanoidStandup's torso).
+        "pusher" => {
+            p.friction = 1.0;
+            p.goal_position = [0.45, 0.05, 0.05];
+            p.link_masses = [
+                ("r_shoulder_pan_link", 7.2935214),
+                // carl-bench's literal (Brax's mass of a capsule at density 300), not π.
+                #[allow(clippy::approx_constant)]
+                ("r_shoulder_lift_link", 3.1415926535898),
+                ("r_upper_arm_roll_link", 1.7140529),
+                ("r_elbow_flex_link", 0.40715042),
+                ("r_forearm_roll_link", 0.92818356),
+                ("r_wrist_flex_link", 0.0050265482),
+                ("r_wrist_roll_link", 0.18346901),
+                ("object", 0.0018325957),
+            ]
+            .into_iter()
+            .map(|(l, m)| (l.to_string(), m))
+            .collect();
+        }
+        "humanoid_standup" => {
+            p.friction = 1.0;
+            p.torso_mass = Some(10.0);
+            p.link_masses = [
+                ("lwaist", 2.2619467),
+                ("pelvis", 6.6161942),
+                ("right_thigh", 4.751751),
+                ("right_shin", 4.522842),
+                ("left_thigh", 4.751751),
+                ("left_shin", 4.522842),
+                ("right_upper_arm", 1.6610805),
+                ("right_lower_arm", 1.2295402),
+                ("left_upper_arm", 1.6610805),
+                ("left_lower_arm", 1.2295402),
+            ]
+            .into_iter()
+            .map(|(l, m)| (l.to_string(), m))
+            .collect();
+        }
         "ur5e" => {
             p.gravity = -9.81;
             p.joint_angular_damping = 50.0;
@@ -154,6 +194,8 @@ fn robot_of(id: &str) -> Option<&'static str> {
         "inverted_pendulum" => Some("inverted_pendulum"),
         "inverted_double_pendulum" => Some("inverted_double_pendulum"),
         "reacher" => Some("reacher"),
+        "pusher" => Some("pusher"),
+        "humanoid_standup" => Some("humanoid_standup"),
         "ur5e" => Some("ur5e"),
         "fetch" => Some("fetch"),
         "grasp" => Some("grasp"),
@@ -166,13 +208,15 @@ pub fn make_fetch(params: RobotParams) -> Option<Fetch> {
     Some(Fetch::new(RobotModel::load("fetch").ok()?, params))
 }
 
-/// Build Gymnasium's control task `id` (inverted_pendulum, inverted_double_pendulum, reacher)
+/// Build Gymnasium's control task `id` (inverted_pendulum, inverted_double_pendulum, reacher,
+/// pusher)
 /// with context `params`, or `None` if `id` is none of them.
 pub fn make_control(id: &str, params: RobotParams) -> Option<Control> {
     let (id, task) = match id {
         "inverted_pendulum" => ("inverted_pendulum", ControlTask::InvertedPendulum),
         "inverted_double_pendulum" => ("inverted_double_pendulum", ControlTask::InvertedDoublePendulum),
         "reacher" => ("reacher", ControlTask::Reacher),
+        "pusher" => ("pusher", ControlTask::Pusher),
         _ => return None,
     };
     Control::new(id, RobotModel::load(robot_of(id)?).ok()?, params, task).ok()
@@ -223,6 +267,7 @@ fn make_robot_with_model(id: &str, model: std::sync::Arc<RobotModel>, params: Ro
         "ant" => Locomotion::new("ant", model, params, TaskConfig::ANT).ok(),
         "half_cheetah" => Locomotion::new("half_cheetah", model, params, TaskConfig::HALF_CHEETAH).ok(),
         "humanoid" => Locomotion::new("humanoid", model, params, TaskConfig::HUMANOID).ok(),
+        "humanoid_standup" => Locomotion::new("humanoid_standup", model, params, TaskConfig::HUMANOID_STANDUP).ok(),
         "hopper" => Locomotion::new("hopper", model, params, TaskConfig::HOPPER).ok(),
         "walker2d" => Locomotion::new("walker2d", model, params, TaskConfig::WALKER2D).ok(),
         _ => None,

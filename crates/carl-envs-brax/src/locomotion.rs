@@ -27,6 +27,11 @@
 //! A simulation that diverges (non-finite or faster than the side file's `max_speed`) is rolled
 //! back to the state before the step and the step terminates with `info["diverged"] = 1`.
 //!
+//! HumanoidStandup-v5 ([`TaskConfig::HUMANOID_STANDUP`]) is Humanoid-v5's observation and
+//! contact cost on the humanoid lying on its back (its own robot, humanoidstandup.xml), rewarded
+//! for the torso's height `qpos[2] / timestep` (the physics step, as Gymnasium) plus 1 per step,
+//! never terminated.
+//!
 //! Humanoid-v5 ([`TaskConfig::HUMANOID`]) differs from Ant in the ways Gymnasium's does: the
 //! forward velocity is that of the mass-weighted centre of mass of all bodies (so the masses of
 //! the context enter the reward), the velocity reset noise is uniform, the contact cost is
@@ -85,6 +90,10 @@ pub struct TaskConfig {
     /// `cfrc_ext` as MuJoCo's: torques about the robot's centre of mass (otherwise about each
     /// link's own centre of mass).
     pub com_based_cfrc: bool,
+    /// Reward the root's height over the physics time step, `qpos[2] / timestep`, instead of
+    /// forward progress (HumanoidStandup-v5's `uph_cost`; `info` with Gymnasium's names
+    /// `reward_linup`, `reward_quadctrl`, `reward_impact`).
+    pub height_reward: bool,
 }
 
 /// How contact forces enter the cost and the observation.
@@ -137,6 +146,7 @@ impl TaskConfig {
         z_distance_info: false,
         include_com_terms: false,
         com_based_cfrc: true,
+        height_reward: false,
     };
     /// Gymnasium `HalfCheetah-v5` defaults.
     pub const HALF_CHEETAH: TaskConfig = TaskConfig {
@@ -159,6 +169,7 @@ impl TaskConfig {
         z_distance_info: false,
         include_com_terms: false,
         com_based_cfrc: false,
+        height_reward: false,
     };
     /// Gymnasium `Humanoid-v5` defaults.
     pub const HUMANOID: TaskConfig = TaskConfig {
@@ -181,6 +192,20 @@ impl TaskConfig {
         z_distance_info: false,
         include_com_terms: true,
         com_based_cfrc: true,
+        height_reward: false,
+    };
+    /// Gymnasium `HumanoidStandup-v5` defaults: Humanoid's observation and contact cost
+    /// (weight 0.5e-6, clipped at 10), reward `qpos[2] / timestep − 0.1·Σa² − impact + 1`, never
+    /// terminated (no healthy range).
+    pub const HUMANOID_STANDUP: TaskConfig = TaskConfig {
+        forward_reward_weight: 0.0,
+        contact_cost_weight: 0.5e-6,
+        healthy_reward: 1.0,
+        healthy_z_range: None,
+        terminate_when_unhealthy: false,
+        z_distance_info: true,
+        height_reward: true,
+        ..TaskConfig::HUMANOID
     };
     /// Gymnasium `Hopper-v5` defaults.
     pub const HOPPER: TaskConfig = TaskConfig {
@@ -203,6 +228,7 @@ impl TaskConfig {
         z_distance_info: true,
         include_com_terms: false,
         com_based_cfrc: false,
+        height_reward: false,
     };
     /// Gymnasium `Walker2d-v5` defaults.
     pub const WALKER2D: TaskConfig = TaskConfig {
@@ -628,7 +654,11 @@ impl Env for Locomotion {
         let dt = self.dt();
         let x_velocity = (self.forward_x() - x_before) / dt;
         let y_position = if self.init_root.is_empty() { 0.0 } else { after[1] };
-        let reward_forward = self.task.forward_reward_weight * x_velocity;
+        let reward_forward = if self.task.height_reward {
+            after[self.root_z_index()] / self.model.side.timestep
+        } else {
+            self.task.forward_reward_weight * x_velocity
+        };
         let reward_ctrl = -self.task.ctrl_cost_weight * ctrl.iter().map(|a| f64::from(*a).powi(2)).sum::<f64>();
         let reward_contact = -self.contact_cost();
         let healthy = !diverged && self.is_healthy(&after);
@@ -686,6 +716,13 @@ impl Env for Locomotion {
         if self.task.z_distance_info {
             let z = self.root_z_index();
             m.insert("z_distance_from_origin".into(), self.state_vec()[z] - self.init_qpos[z]);
+        }
+        if self.task.height_reward {
+            m.insert("reward_linup".into(), i.reward_forward);
+            m.insert("reward_quadctrl".into(), i.reward_ctrl);
+            m.insert("reward_impact".into(), i.reward_contact);
+            m.insert("diverged".into(), f64::from(u8::from(i.diverged)));
+            return m;
         }
         m.insert("x_velocity".into(), i.x_velocity);
         m.insert("reward_forward".into(), i.reward_forward);

@@ -204,6 +204,20 @@ pub struct SideFile {
     /// other links pass through it.
     #[serde(default)]
     pub ground_links: Vec<String>,
+    /// If non-empty, only these links' geoms collide with other robot geoms (MuJoCo's
+    /// contype/conaffinity of Pusher: the wrist and the object); the others are drawn only
+    /// (articulated engine).
+    #[serde(default)]
+    pub contact_links: Vec<String>,
+    /// Articulated engine: `mass_<link>` (and `torso_mass`) is the mass of the link with the links
+    /// welded to it by fixed joints, each scaled by one factor (Brax fuses joint-less bodies into
+    /// their parent: carl-bench's HumanoidStandup `mass_right_shin` is shin and foot).
+    #[serde(default)]
+    pub welded_masses: bool,
+    /// Height of the floor plane (m; Pusher's table, 0.325 m below the shoulder), articulated
+    /// engine.
+    #[serde(default)]
+    pub floor_height: f64,
     /// Any link faster than this (m/s or rad/s) counts as a diverged simulation.
     pub max_speed: f64,
     /// Gravity is normal to the plane of motion (an arm moving on a horizontal table, Reacher,
@@ -321,6 +335,16 @@ pub const ROBOT_FILES: &[(&str, &str, &str)] = &[
         include_str!("../robots/reacher.actuators.json"),
     ),
     (
+        "pusher",
+        include_str!("../robots/pusher.urdf"),
+        include_str!("../robots/pusher.actuators.json"),
+    ),
+    (
+        "humanoid_standup",
+        include_str!("../robots/humanoid_standup.urdf"),
+        include_str!("../robots/humanoid_standup.actuators.json"),
+    ),
+    (
         "ur5e",
         include_str!("../robots/ur5e.urdf"),
         include_str!("../robots/ur5e.actuators.json"),
@@ -404,11 +428,16 @@ impl RobotModel {
                 });
             }
         }
-        for l in side.ground_links.iter().chain(side.sites.iter().map(|s| &s.link)) {
+        for l in side
+            .ground_links
+            .iter()
+            .chain(&side.contact_links)
+            .chain(side.sites.iter().map(|s| &s.link))
+        {
             if !link_names.contains(l) {
                 return Err(ModelError::Side {
                     robot,
-                    message: format!("ground or site link {l} is not a link of the URDF"),
+                    message: format!("ground, contact or site link {l} is not a link of the URDF"),
                 });
             }
         }
@@ -445,12 +474,13 @@ impl RobotModel {
         }
         if side.damping_reference.is_some_and(|d| !(d > 0.0 && d.is_finite()))
             || side.contact_condim.is_some_and(|c| c != 1 && c != 3)
+            || !side.floor_height.is_finite()
             || !(side.floor_margin >= 0.0 && side.floor_margin <= side.contact_model.as_ref().map_or(0.0, |c| c.margin))
         {
             return Err(ModelError::Side {
                 robot,
-                message: "damping_reference must be positive, contact_condim 1 or 3, floor_margin within the \
-                          contact margin"
+                message: "damping_reference must be positive, contact_condim 1 or 3, floor_height finite, \
+                          floor_margin within the contact margin"
                     .into(),
             });
         }

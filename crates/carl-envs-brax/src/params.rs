@@ -31,6 +31,8 @@ pub struct RobotParams {
     /// [`crate::goal`]).
     pub target_direction: f64,
     pub target_height: f64,
+    /// Pusher's goal: x, y in the world and the height above the table (m).
+    pub goal_position: [f64; 3],
     /// `mass_<link>` overrides (link name, kg).
     pub link_masses: Vec<(String, f64)>,
     /// The link names `mass_<link>` may name.
@@ -56,6 +58,9 @@ const NAMES: &[(&str, &[&str])] = &[
     ("target_radius", &[]),
     ("target_direction", &[]),
     ("target_height", &[]),
+    ("goal_position_x", &[]),
+    ("goal_position_y", &[]),
+    ("goal_position_z", &[]),
 ];
 
 /// `x`, or `fallback` where a context value is not finite (NaN, ±∞): the physics never sees one.
@@ -80,6 +85,7 @@ impl RobotParams {
             target_radius: 2.0,
             target_direction: 1.0,
             target_height: 8.0,
+            goal_position: [0.45, 0.05, 0.05],
             link_masses: Vec::new(),
             known_links,
             model_masses: Vec::new(),
@@ -131,6 +137,9 @@ impl RobotParams {
             Some("target_radius") => self.target_radius = value,
             Some("target_direction") => self.target_direction = value,
             Some("target_height") => self.target_height = value,
+            Some("goal_position_x") => self.goal_position[0] = value,
+            Some("goal_position_y") => self.goal_position[1] = value,
+            Some("goal_position_z") => self.goal_position[2] = value,
             _ => {
                 let link = name
                     .strip_prefix("mass_")
@@ -163,6 +172,9 @@ impl RobotParams {
             Some("target_radius") => self.target_radius,
             Some("target_direction") => self.target_direction,
             Some("target_height") => self.target_height,
+            Some("goal_position_x") => self.goal_position[0],
+            Some("goal_position_y") => self.goal_position[1],
+            Some("goal_position_z") => self.goal_position[2],
             _ => {
                 let link = name.strip_prefix("mass_").ok_or_else(|| self.unknown(name))?;
                 let Some(i) = self.known_links.iter().position(|k| k == link) else {

@@ -15,6 +15,17 @@ const ROBOT: AuditProfile = AuditProfile {
     state_hint: &[],
 };
 
+/// Humanoid: transitions cost ~5x an Ant's (20 links, 23 DoFs): fewer base states, one
+/// trajectory long enough for the feet to land (~10 steps); root heights down to 0.9 m put the
+/// feet in contact, where friction acts.
+const HUMANOID_AUDIT: AuditProfile = AuditProfile {
+    trajectory_seeds: 1,
+    trajectory_steps: 12,
+    random_states: 4,
+    reset_seeds: 3,
+    state_hint: &[(-0.5, 0.5), (-0.5, 0.5), (0.9, 1.45)],
+};
+
 /// Gymnasium's `terminate_when_unhealthy` of Hopper-v5 and Walker2d-v5.
 const TERMINATE_WHEN_UNHEALTHY: OptionSpec = OptionSpec {
     name: "terminate_when_unhealthy",
@@ -195,6 +206,45 @@ pub const REGISTRATIONS: &[Registration] = &[
         vector_kernel: None,
     },
     Registration {
+        id: "pusher",
+        build: |v, _| control("pusher", v),
+        runtime_default: |n| robot_default("pusher", n),
+        options: &[],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        // Arm angles up to and beyond their limits (where the wrist meets the table and the
+        // object), the object's slides around the goal. State: the seven arm joints, obj_slidey,
+        // obj_slidex, then rates.
+        audit: AuditProfile {
+            trajectory_seeds: 2,
+            trajectory_steps: 12,
+            random_states: 12,
+            reset_seeds: 4,
+            state_hint: &[
+                (-2.3, 1.8),
+                (-0.6, 1.45),
+                (-1.6, 1.8),
+                (-2.4, 0.1),
+                (-1.6, 1.6),
+                (-1.2, 0.1),
+                (-1.6, 1.6),
+                (-0.3, 0.1),
+                (-0.2, 0.2),
+                (-2.0, 2.0),
+                (-2.0, 2.0),
+                (-2.0, 2.0),
+                (-2.0, 2.0),
+                (-2.0, 2.0),
+                (-2.0, 2.0),
+                (-2.0, 2.0),
+                (-0.5, 0.5),
+                (-0.5, 0.5),
+            ],
+        },
+        vector_kernel: None,
+    },
+    Registration {
         id: "ur5e",
         build: |v, _| {
             let p = robot_params("ur5e", v)?;
@@ -265,15 +315,22 @@ pub const REGISTRATIONS: &[Registration] = &[
         heuristic: None,
         renders: true,
         cost: StepCost::Heavy,
-        // Transitions cost ~5x an Ant's (20 links, 23 DoFs): fewer base states, one trajectory
-        // long enough for the feet to land (~10 steps); root heights down to 0.9 m put the feet
-        // in contact, where friction acts.
+        audit: HUMANOID_AUDIT,
+        vector_kernel: None,
+    },
+    Registration {
+        id: "humanoid_standup",
+        build: |v, _| locomotion("humanoid_standup", v).map(AnyEnv::new),
+        runtime_default: |n| robot_default("humanoid_standup", n),
+        options: &[],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        // As Humanoid's; the body lies on the floor at reset (torso at 0.105 m), so every step
+        // has contacts: root heights from lying to sitting.
         audit: AuditProfile {
-            trajectory_seeds: 1,
-            trajectory_steps: 12,
-            random_states: 4,
-            reset_seeds: 3,
-            state_hint: &[(-0.5, 0.5), (-0.5, 0.5), (0.9, 1.45)],
+            state_hint: &[(-0.5, 0.5), (-0.5, 0.5), (0.09, 0.6)],
+            ..HUMANOID_AUDIT
         },
         vector_kernel: None,
     },

@@ -300,19 +300,35 @@ fn ground_canvas(cam: &Camera) -> Canvas {
     canvas
 }
 
-/// A robot on the articulated engine: its spheres, capsules and boxes.
+/// A robot on the articulated engine: its spheres, capsules, cylinders and boxes.
 pub fn render_articulated(world: &ArticulatedWorld) -> Frame {
+    // The picture's ground is z = 0: everything is drawn relative to the floor's height
+    // (Pusher's table lies 0.325 m below its shoulder).
+    let floor = world
+        .system()
+        .model
+        .geoms
+        .iter()
+        .find(|g| matches!(g.shape, carl_articulated::Shape::Plane))
+        .map_or(0.0, |g| g.pos[2]);
     let t = world.torso_position();
-    let cam = Camera::following_point(Vector::new(t[0] as f32, t[1] as f32, t[2] as f32));
+    let cam = Camera::following_point(Vector::new(t[0] as f32, t[1] as f32, (t[2] - floor) as f32));
     let mut owned: Vec<(usize, SharedShape, Pose)> = Vec::new();
     for (body, shape, p, m) in world.geoms() {
         let q = carl_articulated::math::mat_to_quat(&m);
-        let rot = Rotation::from_xyzw(q[1] as f32, q[2] as f32, q[3] as f32, q[0] as f32);
-        let pose = Pose::from_parts(Vector::new(p[0] as f32, p[1] as f32, p[2] as f32), rot);
+        let mut rot = Rotation::from_xyzw(q[1] as f32, q[2] as f32, q[3] as f32, q[0] as f32);
+        if matches!(shape, carl_articulated::Shape::Cylinder { .. }) {
+            // rapier's cylinders stand along y, the engine's along z.
+            rot *= Rotation::from_rotation_x(std::f32::consts::FRAC_PI_2);
+        }
+        let pose = Pose::from_parts(Vector::new(p[0] as f32, p[1] as f32, (p[2] - floor) as f32), rot);
         let s = match shape {
             carl_articulated::Shape::Sphere { radius } => SharedShape::ball(radius as f32),
             carl_articulated::Shape::Capsule { radius, half_length } => {
                 SharedShape::capsule_z(half_length as f32, radius as f32)
+            }
+            carl_articulated::Shape::Cylinder { radius, half_length } => {
+                SharedShape::cylinder(half_length as f32, radius as f32)
             }
             carl_articulated::Shape::Box { half } => {
                 SharedShape::cuboid(half[0] as f32, half[1] as f32, half[2] as f32)

@@ -12,14 +12,11 @@ from typing import Any, Callable, NoReturn
 
 #: issue number -> what it adds
 ISSUES = {
-    26: "the MuJoCo-family environments",
     27: "the dm_control family",
 }
 
 #: carl-bench class -> (the carl-spec environment it needs, the issue adding it)
 PENDING: dict[str, tuple[str, int]] = {
-    "CARLBraxHumanoidStandup": ("humanoid_standup", 26),
-    "CARLBraxPusher": ("pusher", 26),
     "CARLDmcFingerEnv": ("dmc_finger", 27),
     "CARLDmcFishEnv": ("dmc_fish", 27),
     "CARLDmcQuadrupedEnv": ("dmc_quadruped", 27),

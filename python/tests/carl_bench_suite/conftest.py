@@ -3,9 +3,9 @@
 The vendored test files are carl-bench's with only the import prefix changed; this file is ours.
 Every test passes except those listed here, each with its reason:
 
-* `PENDING`: tests of environments carl-spec does not have yet (the two Brax classes not built yet and the
-  dm_control family, `carl_spec.compat._pending`). They
-  are skipped, the skip naming the missing environment and its issue.
+* `PENDING`: tests of environments carl-spec does not have yet (the dm_control family,
+  `carl_spec.compat._pending`). They are skipped, the skip naming the missing environment and its
+  issue.
 * `CARL_BENCH_BUGS`: tests that rely on a carl-bench bug compat deliberately does not reproduce
   (docs/guides/migration.md). They are strict xfails raising the stated error: one that starts
   passing, or fails differently, fails the run.
@@ -28,7 +28,6 @@ from carl_spec._errors import UnknownNameError
 from carl_spec.compat._pending import PENDING, message, reason
 
 HERE = Path(__file__).parent
-BRAX_PENDING = [c for c, (_, issue) in PENDING.items() if issue == 26]
 
 
 def _dmc(*classes: str) -> str:
@@ -37,9 +36,6 @@ def _dmc(*classes: str) -> str:
 
 #: test id -> why it is skipped (the environment carl-spec does not have yet)
 PENDING_TESTS: dict[str, str] = {
-    "test_brax_env.py::TestBraxEnvs::test_envs": "builds every class of carl.envs.brax; "
-    + "; ".join(reason(c) for c in BRAX_PENDING)
-    + " (the eight Brax classes carl-spec has are checked by python/tests/test_compat_suite.py)",
     "test_dmc.py::TestFinger::test_finger_constraints": _dmc("CARLDmcFingerEnv"),
     "test_dmc.py::TestFinger::test_finger_tasks": _dmc("CARLDmcFingerEnv"),
     "test_dmc.py::TestDmcUtils::test_adapt_context_no_context": _dmc("CARLDmcFingerEnv"),

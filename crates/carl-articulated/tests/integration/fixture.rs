@@ -111,6 +111,10 @@ pub fn model(fx: &Value) -> Model {
                     radius: s[0],
                     half_length: s[1],
                 },
+                "cylinder" => Shape::Cylinder {
+                    radius: s[0],
+                    half_length: s[1],
+                },
                 _ => Shape::Box {
                     half: [s[0], s[1], s[2]],
                 },

@@ -1,6 +1,6 @@
-//! carl-spec's side of the InvertedPendulum, InvertedDoublePendulum and Reacher rows of the
-//! robots-versus-MuJoCo table (`scripts/robot_mujoco_compare.py --robots
-//! inverted_pendulum,inverted_double_pendulum,reacher --episodes 100`), at each spec's frozen
+//! carl-spec's side of the InvertedPendulum, InvertedDoublePendulum, Reacher and Pusher rows of
+//! the robots-versus-MuJoCo table (`scripts/robot_mujoco_compare.py --robots
+//! inverted_pendulum,inverted_double_pendulum,reacher,pusher --episodes 100`), at each spec's frozen
 //! instance set `mujoco_v5` (MuJoCo v5's own model values): the script's metrics (`CONTROL`
 //! there) computed through the library with the same initial states, actions and seeds, and
 //! pinned. The MuJoCo column beside each pin is the script's measurement of Gymnasium 1.4
@@ -33,6 +33,9 @@ struct Task {
     /// (actuator, control, how to read).
     steps: &'static [(usize, f32, Read)],
     at: [usize; 2],
+    /// Coasting joints (Pusher): (observation index of the angle, state index of its rate,
+    /// which starts at 1 rad/s).
+    coast: &'static [(usize, usize)],
 }
 
 const IP: Task = Task {
@@ -44,6 +47,7 @@ const IP: Task = Task {
     tilts: &[0.02, 0.05],
     steps: &[(0, 0.2, Read::Obs(0)), (0, 0.2, Read::Obs(1))],
     at: [3, 6],
+    coast: &[],
 };
 const IDP: Task = Task {
     id: "inverted_double_pendulum",
@@ -58,6 +62,7 @@ const IDP: Task = Task {
         (0, 0.1, Read::Angle(2, 4)),
     ],
     at: [2, 5],
+    coast: &[],
 };
 const REACHER: Task = Task {
     id: "reacher",
@@ -68,13 +73,41 @@ const REACHER: Task = Task {
     tilts: &[],
     steps: &[(0, 1.0, Read::Angle(2, 0)), (1, 1.0, Read::Angle(3, 1))],
     at: [5, 12],
+    coast: &[],
+};
+/// The arm at 0, the object's slides (y, x) at (-0.3, 0.2), out of the arm's way; every motor at
+/// full scale towards the inside of its range; the shoulder pan and the elbow coasting.
+const PUSHER: Task = Task {
+    id: "pusher",
+    na: 7,
+    dt: 0.05,
+    rest: &[
+        0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -0.3, 0.2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+    ],
+    tilt: None,
+    tilts: &[],
+    steps: &[
+        (0, 2.0, Read::Obs(0)),
+        (1, 2.0, Read::Obs(1)),
+        (2, 2.0, Read::Obs(2)),
+        (3, -2.0, Read::Obs(3)),
+        (4, 2.0, Read::Obs(4)),
+        (5, -2.0, Read::Obs(5)),
+        (6, 2.0, Read::Obs(6)),
+    ],
+    at: [2, 5],
+    coast: &[(0, 9), (3, 12)],
 };
 
 fn env(id: &str) -> SpecEnv {
     let specs = SpecSet::bundled().unwrap();
     let set = Store::new(&specs).load(&format!("{id}/mujoco_v5")).unwrap();
     let ctx: Context = set.instances[0].context.clone().into_iter().collect();
-    make_env(specs.get(id).unwrap(), &ctx, MakeOptions::default(), &EnvOptions::new()).unwrap()
+    // MuJoCo's values, Pusher's partly outside carl-bench's bounds (the set allows it).
+    let opts = MakeOptions {
+        allow_out_of_bounds: true,
+    };
+    make_env(specs.get(id).unwrap(), &ctx, opts, &EnvOptions::new()).unwrap()
 }
 
 /// Observations (from the state `init`) under `actions`, stopping when the episode ends.
@@ -131,6 +164,14 @@ fn measure(t: &Task) -> Vec<(String, f64)> {
         out.push((format!("fall_time_{tilt}"), n as f64 * t.dt));
     }
     let horizon = t.at[1];
+    for (k, &(obs_index, rate)) in t.coast.iter().enumerate() {
+        let mut s = t.rest.to_vec();
+        s[rate] = 1.0;
+        let obs = run(&e, &s, &vec![zero.clone(); horizon]);
+        for &n in &t.at {
+            out.push((format!("coast_{k}_{n}"), f64::from(obs[n][obs_index])));
+        }
+    }
     let base = run(&e, t.rest, &vec![zero.clone(); horizon]);
     for (k, &(act, u, how)) in t.steps.iter().enumerate() {
         let mut a = zero.clone();
@@ -211,6 +252,11 @@ fn reacher_side_of_the_mujoco_table() {
     check(&REACHER, PIN_REACHER);
 }
 
+#[test]
+fn pusher_side_of_the_mujoco_table() {
+    check(&PUSHER, PIN_PUSHER);
+}
+
 // Reacher's random episodes all last 50 steps (no termination).
 const PIN_IP: &[Pin] = &[
     ("fall_time_0.02", 0.6400, 0.0410, 0.6400, true),
@@ -243,4 +289,28 @@ const PIN_REACHER: &[Pin] = &[
     ("step_1_12", 3.0943, 0.0928, 3.0943, true),
     ("random_length", 50.0000, 0.5000, 50.0000, true),
     ("random_return", -43.1030, 8.6206, -42.8759, true),
+];
+
+// Pusher's random episodes all last 100 steps (no termination).
+const PIN_PUSHER: &[Pin] = &[
+    ("coast_0_2", 0.0944, 0.0028, 0.0944, true),
+    ("coast_0_5", 0.2188, 0.0066, 0.2188, true),
+    ("coast_1_2", -0.0062, 0.0005, -0.0062, true),
+    ("coast_1_5", -0.0182, 0.0005, -0.0182, true),
+    ("step_0_2", 0.0111, 0.0005, 0.0111, true),
+    ("step_0_5", 0.0625, 0.0019, 0.0625, true),
+    ("step_1_2", 0.0233, 0.0007, 0.0233, true),
+    ("step_1_5", 0.1216, 0.0036, 0.1216, true),
+    ("step_2_2", 0.2198, 0.0066, 0.2198, true),
+    ("step_2_5", 1.1739, 0.0352, 1.1739, true),
+    ("step_3_2", -0.1560, 0.0047, -0.1560, true),
+    ("step_3_5", -0.8198, 0.0246, -0.8198, true),
+    ("step_4_2", 0.2375, 0.0071, 0.2375, true),
+    ("step_4_5", 1.2579, 0.0377, 1.2579, true),
+    ("step_5_2", -0.2474, 0.0074, -0.2474, true),
+    ("step_5_5", -1.1132, 0.0334, -1.1132, true),
+    ("step_6_2", 0.2424, 0.0073, 0.2424, true),
+    ("step_6_5", 1.2815, 0.0384, 1.2815, true),
+    ("random_length", 100.0000, 0.5000, 100.0000, true),
+    ("random_return", -149.1301, 29.8260, -148.4548, true),
 ];

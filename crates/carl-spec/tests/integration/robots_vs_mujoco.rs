@@ -26,8 +26,11 @@ struct Robot {
     dt: f64,
     base_z: f64,
     rest_steps: usize,
-    /// (actuator, qpos index of its joint) of the torque-step joints.
-    step_joints: [(usize, usize); 2],
+    /// Zero-action steps of the fall-time run (the time limit for robots that never end).
+    fall_steps: usize,
+    /// (actuator, qpos index of its joint, sign of the full-scale control) of the torque-step
+    /// joints.
+    step_joints: [(usize, usize, f32); 2],
     step_times: [usize; 2],
 }
 
@@ -41,7 +44,8 @@ const ANT: Robot = Robot {
     dt: 0.05,
     base_z: 0.0,
     rest_steps: 100,
-    step_joints: [(2, 7), (3, 8)],
+    fall_steps: 1000,
+    step_joints: [(2, 7, 1.0), (3, 8, 1.0)],
     step_times: [2, 5],
 };
 const HALF_CHEETAH: Robot = Robot {
@@ -54,7 +58,8 @@ const HALF_CHEETAH: Robot = Robot {
     dt: 0.05,
     base_z: 0.7,
     rest_steps: 100,
-    step_joints: [(0, 3), (3, 6)],
+    fall_steps: 1000,
+    step_joints: [(0, 3, 1.0), (3, 6, 1.0)],
     step_times: [2, 5],
 };
 const HUMANOID: Robot = Robot {
@@ -67,8 +72,18 @@ const HUMANOID: Robot = Robot {
     dt: 0.015,
     base_z: 0.0,
     rest_steps: 10,
-    step_joints: [(5, 12), (6, 13)],
+    fall_steps: 1000,
+    step_joints: [(5, 12, 1.0), (6, 13, 1.0)],
     step_times: [7, 17],
+};
+/// Lying at reset, never terminated: the fall-time run is the script's 200 steps; the right hip
+/// and knee (towards the inside of its range, which ends at -2°) of the script's seventeen.
+const HUMANOID_STANDUP: Robot = Robot {
+    id: "humanoid_standup",
+    rest_steps: 20,
+    fall_steps: 200,
+    step_joints: [(5, 12, 1.0), (6, 13, -1.0)],
+    ..HUMANOID
 };
 
 fn env(id: &str) -> SpecEnv {
@@ -154,7 +169,7 @@ fn measure(r: &Robot) -> Metrics {
     let fall_time = mean(
         &seeds
             .iter()
-            .map(|&s| run(r, s, &vec![zero.clone(); 1000]).1.len() as f64 * r.dt)
+            .map(|&s| run(r, s, &vec![zero.clone(); r.fall_steps]).1.len() as f64 * r.dt)
             .collect::<Vec<_>>(),
     );
     let horizon = r.step_times[1];
@@ -163,9 +178,9 @@ fn measure(r: &Robot) -> Metrics {
         .map(|&s| run(r, s, &vec![zero.clone(); horizon]).0)
         .collect();
     let mut step = [[0.0; 2]; 2];
-    for (j, &(act, qi)) in r.step_joints.iter().enumerate() {
+    for (j, &(act, qi, sign)) in r.step_joints.iter().enumerate() {
         let mut u = zero.clone();
-        u[act] = r.ctrl as f32;
+        u[act] = r.ctrl as f32 * sign;
         let oi = qi - r.skip;
         let runs: Vec<Vec<Vec<f32>>> = seeds[..3]
             .iter()
@@ -228,6 +243,21 @@ struct Pins {
 fn check(r: &Robot, p: &Pins) {
     let m = measure(r);
     let id = r.id;
+    if std::env::var_os("CARL_SPEC_PRINT_PINS").is_some() {
+        let s = m.step;
+        eprintln!(
+            "{id}: [{:.4}, {:.4}, {:.4}, {:.4}, {:.4}, {:.4}, {:.4}, {:.4}, {:.4}]",
+            m.rest_height,
+            m.fall_time,
+            s[0][0],
+            s[0][1],
+            s[1][0],
+            s[1][1],
+            m.gait_velocity,
+            m.random_length.0,
+            m.random_return.0
+        );
+    }
     let misses = std::cell::RefCell::new(Vec::new());
     let close = |what: &str, got: f64, want: f64, tol: f64| {
         if (got - want).abs() > tol {
@@ -320,9 +350,31 @@ fn humanoid_side_of_the_mujoco_table() {
     );
 }
 
+#[test]
+fn humanoid_standup_side_of_the_mujoco_table() {
+    check(
+        &HUMANOID_STANDUP,
+        &Pins {
+            rest_height: PIN_HUMANOID_STANDUP[0],
+            fall_time: PIN_HUMANOID_STANDUP[1],
+            step: [
+                [PIN_HUMANOID_STANDUP[2], PIN_HUMANOID_STANDUP[3]],
+                [PIN_HUMANOID_STANDUP[4], PIN_HUMANOID_STANDUP[5]],
+            ],
+            gait_velocity: PIN_HUMANOID_STANDUP[6],
+            random_length: PIN_HUMANOID_STANDUP[7],
+            random_return: PIN_HUMANOID_STANDUP[8],
+        },
+    );
+}
+
 // rest height, fall time, step responses (joint 1 at both times, joint 2 at both times), gait
 // velocity, random-policy mean length and mean return.
 // Ant and HalfCheetah do not fall under zero control: their fall time is the 1000-step limit.
 const PIN_ANT: [f64; 9] = [0.3824, 50.0, 0.5731, 0.5468, 0.4474, 0.6330, 0.2238, 1000.0, -340.3810];
 const PIN_CHEETAH: [f64; 9] = [0.5499, 50.0, 0.2517, 0.4453, 0.3331, 0.5708, 0.5925, 1000.0, -201.6056];
+// HumanoidStandup never ends: its fall time is the 200-step run, its random episodes the limit.
+const PIN_HUMANOID_STANDUP: [f64; 9] = [
+    0.0881, 3.0, 0.4161, 0.3006, -1.4007, -2.6842, 0.0900, 1000.0, 34210.3772,
+];
 const PIN_HUMANOID: [f64; 9] = [1.2927, 1.248, 0.3778, 0.3933, 0.0263, 0.0732, 0.2686, 39.1, 188.7901];

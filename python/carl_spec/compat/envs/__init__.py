@@ -2,9 +2,8 @@
 
 As in carl-bench, `carl.envs` holds the environments that are available: here every one carl-spec
 has (Box2D, Mario and RNA need no extra package), the dm_control ones among them as each is
-built. The pending ones (two Brax classes and the rest of the dm_control family,
-`carl_spec.compat._pending`) are importable from their own modules
-(`carl_spec.compat.envs.brax`, `carl_spec.compat.envs.dmc`) but not listed here, as carl-bench
+built. The pending ones (the rest of the dm_control family, `carl_spec.compat._pending`)
+are importable from their own modules (`carl_spec.compat.envs.dmc`) but not listed here, as carl-bench
 leaves out the families whose package is missing. Submodules mirror carl-bench's tree
 (`carl_spec.compat.envs.gymnasium.classic_control.carl_pendulum`, ...).
 """
@@ -17,8 +16,10 @@ from .brax import (
     CARLBraxHalfcheetah,
     CARLBraxHopper,
     CARLBraxHumanoid,
+    CARLBraxHumanoidStandup,
     CARLBraxInvertedDoublePendulum,
     CARLBraxInvertedPendulum,
+    CARLBraxPusher,
     CARLBraxReacher,
     CARLBraxWalker2d,
 )
@@ -53,6 +54,8 @@ __all__ = [
     "CARLBraxInvertedPendulum",
     "CARLBraxInvertedDoublePendulum",
     "CARLBraxReacher",
+    "CARLBraxPusher",
+    "CARLBraxHumanoidStandup",
     "CARLDmcPointMassEnv",
     "CARLDmcWalkerEnv",
     "CARLMarioEnv",

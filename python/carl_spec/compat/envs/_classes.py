@@ -258,6 +258,25 @@ class CARLBraxReacher(_Robot):
     bench_names = ("gravity", "friction", "elasticity", "ang_damping", "viscosity", "mass_body0", "mass_body1")
 
 
+class CARLBraxPusher(_Robot):
+    env_id = "pusher"
+    bench_names = (
+        "gravity", "friction", "elasticity", "ang_damping", "viscosity", "mass_r_shoulder_pan_link",
+        "mass_r_shoulder_lift_link", "mass_r_upper_arm_roll_link", "mass_r_elbow_flex_link",
+        "mass_r_forearm_roll_link", "mass_r_wrist_flex_link", "mass_r_wrist_roll_link", "mass_object",
+        "goal_position_x", "goal_position_y", "goal_position_z",
+    )
+
+
+class CARLBraxHumanoidStandup(_Robot):
+    env_id = "humanoid_standup"
+    bench_names = (
+        "gravity", "friction", "elasticity", "ang_damping", "viscosity", "mass_torso", "mass_lwaist", "mass_pelvis",
+        "mass_right_thigh", "mass_right_shin", "mass_left_thigh", "mass_left_shin", "mass_right_upper_arm",
+        "mass_right_lower_arm", "mass_left_upper_arm", "mass_left_lower_arm",
+    )
+
+
 _DMC_PHYSICS = (
     "gravity", "friction_torsional", "friction_rolling", "friction_tangential", "timestep", "joint_damping",
     "joint_stiffness", "actuator_strength", "density", "viscosity", "geom_density", "wind_x", "wind_y", "wind_z",
@@ -314,9 +333,8 @@ CLASSES: dict[str, type[CARLEnv]] = {
     for c in (
         CARLCartPole, CARLPendulum, CARLAcrobot, CARLMountainCar, CARLMountainCarContinuous, CARLLunarLander,
         CARLBipedalWalker, CARLVehicleRacing, CARLBraxAnt, CARLBraxHalfcheetah, CARLBraxHumanoid, CARLBraxHopper,
-        CARLBraxWalker2d, CARLBraxInvertedPendulum, CARLBraxInvertedDoublePendulum, CARLBraxReacher, CARLDmcPointMassEnv, CARLDmcWalkerEnv,
-        CARLMarioEnv,
-        CARLRnaDesignEnv,
+        CARLBraxWalker2d, CARLBraxInvertedPendulum, CARLBraxInvertedDoublePendulum, CARLBraxReacher, CARLBraxPusher,
+        CARLBraxHumanoidStandup, CARLDmcPointMassEnv, CARLDmcWalkerEnv, CARLMarioEnv, CARLRnaDesignEnv,
     )
 }
 

@@ -1,6 +1,5 @@
-"""carl-bench's `carl.envs.brax`: Ant, HalfCheetah, Hopper, Humanoid, Walker2d, InvertedPendulum,
-InvertedDoublePendulum and Reacher run on carl-spec's robots; the other two are pending (building
-one raises `PendingEnvironmentError`, see `_pending`)."""
+"""carl-bench's `carl.envs.brax`: Ant, HalfCheetah, Hopper, Humanoid, HumanoidStandup, Walker2d,
+InvertedPendulum, InvertedDoublePendulum, Reacher and Pusher run on carl-spec's robots."""
 
 from .carl_ant import CARLBraxAnt
 from .carl_halfcheetah import CARLBraxHalfcheetah

@@ -1,7 +1,5 @@
-"""carl-bench's `carl.envs.brax.carl_humanoidstandup`: pending (see `carl_spec.compat._pending`)."""
+"""carl-bench's `carl.envs.brax.carl_humanoidstandup`."""
 
-from ..._pending import pending_class
-
-CARLBraxHumanoidStandup = pending_class("CARLBraxHumanoidStandup", __name__)
+from .._classes import CARLBraxHumanoidStandup
 
 __all__ = ["CARLBraxHumanoidStandup"]

@@ -1,7 +1,5 @@
-"""carl-bench's `carl.envs.brax.carl_pusher`: pending (see `carl_spec.compat._pending`)."""
+"""carl-bench's `carl.envs.brax.carl_pusher`."""
 
-from ..._pending import pending_class
-
-CARLBraxPusher = pending_class("CARLBraxPusher", __name__)
+from .._classes import CARLBraxPusher
 
 __all__ = ["CARLBraxPusher"]
