@@ -183,7 +183,9 @@ impl Default for CartPole {
 impl carl_env::runtime::Runtime for CartPole {
     /// The parameters are read at every step, so a schedule's new values act from the next one.
     fn set_features(&mut self, values: &[(String, f64)]) -> Option<Result<(), carl_env::context::MakeError>> {
-        Some(carl_env::context::apply("cartpole", values, |name, x| self.params.set(name, x)))
+        Some(carl_env::context::apply("cartpole", values, |name, x| {
+            self.params.set(name, x)
+        }))
     }
 }
 

@@ -192,7 +192,11 @@ impl Default for MountainCarContinuous {
 impl carl_env::runtime::Runtime for MountainCarContinuous {
     /// The parameters are read at every step, so a schedule's new values act from the next one.
     fn set_features(&mut self, values: &[(String, f64)]) -> Option<Result<(), carl_env::context::MakeError>> {
-        Some(carl_env::context::apply("mountain_car_continuous", values, |name, x| self.params.set(name, x)))
+        Some(carl_env::context::apply(
+            "mountain_car_continuous",
+            values,
+            |name, x| self.params.set(name, x),
+        ))
     }
 }
 

@@ -206,7 +206,12 @@ fn build(spec: &EnvSpec, set_name: &str, set: &crate::spec::model::InstanceSet) 
                 }
                 context.insert(k, v);
             }
-            instances.push(Instance { id, name: p.name, split: p.split, context });
+            instances.push(Instance {
+                id,
+                name: p.name,
+                split: p.split,
+                context,
+            });
         }
         region = spec.regions.get(&sp.region).cloned();
         dist = set_distribution(spec, set);

@@ -51,20 +51,29 @@ pub fn split_points(spec: &EnvSpec, split: &SplitSet) -> Result<Vec<SplitPoint>,
     let points = match (split.kind, split.grid, &split.sampled, &split.distances) {
         (SplitKind::Extrapolation, None, None, Some(d)) => extrapolation(&axes, split.factors, d)?,
         (SplitKind::Extrapolation, ..) => {
-            return Err("an extrapolation set takes `distances` (multiples of each feature's width beyond the region) \
+            return Err(
+                "an extrapolation set takes `distances` (multiples of each feature's width beyond the region) \
                         and neither `grid` nor `sampled`"
-                .into());
+                    .into(),
+            );
         }
         (kind, Some(n), None, None) => grid(&axes, split.factors, kind, n)?,
         (kind, None, Some(s), None) => {
             let per = if split.factors == Factors::Single { n_axes } else { 1 };
             if s.size == 0 || s.size.saturating_mul(per) > MAX_INSTANCES {
-                return Err(format!("size {} × {per} is not in 1..={MAX_INSTANCES} instances", s.size));
+                return Err(format!(
+                    "size {} × {per} is not in 1..={MAX_INSTANCES} instances",
+                    s.size
+                ));
             }
             sampled(spec, &axes, split.factors, kind, s.size, s.seed)?
         }
         (kind, ..) => {
-            let k = if kind == SplitKind::Train { "a train" } else { "an interpolation" };
+            let k = if kind == SplitKind::Train {
+                "a train"
+            } else {
+                "an interpolation"
+            };
             return Err(format!(
                 "{k} set takes exactly one of `grid` (points per feature, ≥ 2) or `sampled` ({{size, seed}}), \
                  and no `distances`"
@@ -73,7 +82,9 @@ pub fn split_points(spec: &EnvSpec, split: &SplitSet) -> Result<Vec<SplitPoint>,
     };
     let values: u64 = points.iter().map(|p| p.context.len() as u64).sum();
     if values > MAX_SET_VALUES {
-        return Err(format!("{values} values, more than the limit of {MAX_SET_VALUES} per set; use fewer points"));
+        return Err(format!(
+            "{values} values, more than the limit of {MAX_SET_VALUES} per set; use fewer points"
+        ));
     }
     Ok(points)
 }
@@ -96,16 +107,28 @@ fn axes(spec: &EnvSpec, region_name: &str, factors: Factors) -> Result<Vec<Axis>
         return Err(format!("region \"{}\" names no feature", region_name));
     }
     if region.features.len() > 16 {
-        return Err(format!("region \"{}\" spans {} features; at most 16", region_name, region.features.len()));
+        return Err(format!(
+            "region \"{}\" spans {} features; at most 16",
+            region_name,
+            region.features.len()
+        ));
     }
     let mut axes: Vec<Axis> = Vec::new();
     for (name, &[low, high]) in &region.features {
-        let f = spec.feature(name).ok_or_else(|| format!("region \"{}\": no feature \"{name}\"", region_name))?;
+        let f = spec
+            .feature(name)
+            .ok_or_else(|| format!("region \"{}\": no feature \"{name}\"", region_name))?;
         if f.kind != FeatureType::Float {
-            return Err(format!("region \"{}\": \"{}\" is not a float feature", region_name, f.name));
+            return Err(format!(
+                "region \"{}\": \"{}\" is not a float feature",
+                region_name, f.name
+            ));
         }
         if !(low.is_finite() && high.is_finite() && low < high) {
-            return Err(format!("region \"{}\": \"{}\" needs finite low < high, not [{low}, {high}]", region_name, f.name));
+            return Err(format!(
+                "region \"{}\": \"{}\" needs finite low < high, not [{low}, {high}]",
+                region_name, f.name
+            ));
         }
         if !(f.in_bounds(low) && f.in_bounds(high)) {
             return Err(format!(
@@ -114,7 +137,10 @@ fn axes(spec: &EnvSpec, region_name: &str, factors: Factors) -> Result<Vec<Axis>
             ));
         }
         if axes.iter().any(|a| a.name == f.name) {
-            return Err(format!("region \"{}\" names \"{}\" twice (an alias?)", region_name, f.name));
+            return Err(format!(
+                "region \"{}\" names \"{}\" twice (an alias?)",
+                region_name, f.name
+            ));
         }
         let default = match &f.default {
             Some(Value::Number(x)) => Some(*x),
@@ -127,7 +153,11 @@ fn axes(spec: &EnvSpec, region_name: &str, factors: Factors) -> Result<Vec<Axis>
                 f.name
             ));
         }
-        axes.push(Axis { name: f.name.clone(), low, high });
+        axes.push(Axis {
+            name: f.name.clone(),
+            low,
+            high,
+        });
     }
     Ok(axes)
 }
@@ -176,7 +206,10 @@ fn grid(axes: &[Axis], factors: Factors, kind: SplitKind, n: u32) -> Result<Vec<
         Factors::Combinatorial => {
             let count = lines.iter().try_fold(1u64, |acc, l| acc.checked_mul(l.len() as u64));
             if count.is_none_or(|c| c > MAX_INSTANCES) {
-                return Err(format!("a grid of {n} points per feature over {} features is more than {MAX_INSTANCES} instances", axes.len()));
+                return Err(format!(
+                    "a grid of {n} points per feature over {} features is more than {MAX_INSTANCES} instances",
+                    axes.len()
+                ));
             }
             let mut points = vec![BTreeMap::new()];
             for (a, line) in axes.iter().zip(&lines) {
@@ -191,7 +224,14 @@ fn grid(axes: &[Axis], factors: Factors, kind: SplitKind, n: u32) -> Result<Vec<
                     })
                     .collect();
             }
-            Ok(points.into_iter().map(|context| SplitPoint { name: None, split: label, context }).collect())
+            Ok(points
+                .into_iter()
+                .map(|context| SplitPoint {
+                    name: None,
+                    split: label,
+                    context,
+                })
+                .collect())
         }
     }
 }
@@ -210,11 +250,18 @@ fn sampled(
             .iter()
             .map(|a| {
                 let f = spec.feature(&a.name).expect("axes are resolved features");
-                (FeatureInfo::from_feature(f), Sampler::Uniform { low: a.low, high: a.high })
+                (
+                    FeatureInfo::from_feature(f),
+                    Sampler::Uniform {
+                        low: a.low,
+                        high: a.high,
+                    },
+                )
             })
             .collect();
         let cols: Vec<(FeatureInfo, &Sampler)> = samplers.iter().map(|(i, s)| (i.clone(), s)).collect();
-        let rows = sampling::sample_contexts(seed, size as usize, &cols, AtBounds::Reject).map_err(|e| e.to_string())?;
+        let rows =
+            sampling::sample_contexts(seed, size as usize, &cols, AtBounds::Reject).map_err(|e| e.to_string())?;
         Ok(rows
             .into_iter()
             .map(|row| {
@@ -239,7 +286,14 @@ fn sampled(
             all
         }
     };
-    Ok(contexts.into_iter().map(|context| SplitPoint { name: None, split: label, context }).collect())
+    Ok(contexts
+        .into_iter()
+        .map(|context| SplitPoint {
+            name: None,
+            split: label,
+            context,
+        })
+        .collect())
 }
 
 fn extrapolation(axes: &[Axis], factors: Factors, distances: &[f64]) -> Result<Vec<SplitPoint>, String> {
@@ -247,7 +301,9 @@ fn extrapolation(axes: &[Axis], factors: Factors, distances: &[f64]) -> Result<V
         return Err("`distances` is empty: list how far beyond the region to test, e.g. [0.25, 0.5]".into());
     }
     if let Some(d) = distances.iter().find(|d| !(d.is_finite() && **d > 0.0)) {
-        return Err(format!("distance {d} is not finite and > 0 (a multiple of each feature's width)"));
+        return Err(format!(
+            "distance {d} is not finite and > 0 (a multiple of each feature's width)"
+        ));
     }
     for (i, d) in distances.iter().enumerate() {
         if distances[..i].contains(d) {
@@ -288,7 +344,11 @@ fn extrapolation(axes: &[Axis], factors: Factors, distances: &[f64]) -> Result<V
                         names.push(name);
                         context.insert(a.name.clone(), x);
                     }
-                    points.push(SplitPoint { name: Some(names.join(",")), split: label, context });
+                    points.push(SplitPoint {
+                        name: Some(names.join(",")),
+                        split: label,
+                        context,
+                    });
                 }
             }
         }

@@ -141,7 +141,13 @@ pub fn check_env(r: &Resolved, sink: &mut Sink<'_>) {
         }
     }
     for name in spec.regions.keys() {
-        check_set_name(name, r.file, &format!("/regions/{}", escape_token(name)), "region", sink);
+        check_set_name(
+            name,
+            r.file,
+            &format!("/regions/{}", escape_token(name)),
+            "region",
+            sink,
+        );
         if let Err(e) = crate::instances::split::check_region(spec, name) {
             sink.report(
                 r.file,

@@ -26,7 +26,11 @@ fn spec(regions: &str, sets: &str) -> (Option<EnvSpec>, validate::Report) {
   "instance_sets": {sets}
 }}"#
     );
-    let inputs = [Input { name: "toy.json".into(), bytes: text.into_bytes(), library: false }];
+    let inputs = [Input {
+        name: "toy.json".into(),
+        bytes: text.into_bytes(),
+        library: false,
+    }];
     let (resolved, report) = validate::run(&inputs);
     (resolved.into_iter().next().map(|r| r.spec), report)
 }
@@ -51,7 +55,13 @@ fn points(kind: &str) -> Vec<(Option<String>, Option<Split>, Vec<(String, f64)>)
     frozen
         .instances
         .into_iter()
-        .map(|i| (i.name, i.split, i.context.iter().map(|(k, v)| (k.clone(), num(v))).collect()))
+        .map(|i| {
+            (
+                i.name,
+                i.split,
+                i.context.iter().map(|(k, v)| (k.clone(), num(v))).collect(),
+            )
+        })
         .collect()
 }
 
@@ -83,12 +93,21 @@ fn single_factor_moves_one_feature_and_keeps_the_others_at_their_defaults() {
     assert_eq!(p.iter().filter(|(_, _, c)| c[0].0 == "g").count(), 3);
     let mid = points(r#"{ "region": "gl", "kind": "interpolation", "factors": "single", "grid": 3 }"#);
     let got: Vec<(String, f64)> = mid.into_iter().map(|(_, _, mut c)| c.remove(0)).collect();
-    assert_eq!(got, [("g".into(), 9.0), ("g".into(), 11.0), ("l".into(), 0.75), ("l".into(), 1.25)]);
+    assert_eq!(
+        got,
+        [
+            ("g".into(), 9.0),
+            ("g".into(), 11.0),
+            ("l".into(), 0.75),
+            ("l".into(), 1.25)
+        ]
+    );
 }
 
 #[test]
 fn extrapolation_lies_at_the_declared_distances_beyond_the_region() {
-    let single = points(r#"{ "region": "gl", "kind": "extrapolation", "factors": "single", "distances": [0.25, 0.5] }"#);
+    let single =
+        points(r#"{ "region": "gl", "kind": "extrapolation", "factors": "single", "distances": [0.25, 0.5] }"#);
     let got: Vec<(String, f64)> = single.iter().map(|(n, _, c)| (n.clone().unwrap(), c[0].1)).collect();
     let want = [("g-0.25", 7.0), ("g+0.25", 13.0), ("g-0.5", 6.0), ("g+0.5", 14.0)]
         .into_iter()
@@ -97,7 +116,10 @@ fn extrapolation_lies_at_the_declared_distances_beyond_the_region() {
     assert!(single.iter().all(|(_, s, _)| *s == Some(Split::OutOfDistribution)));
     let joint = points(r#"{ "region": "gl", "kind": "extrapolation", "distances": [0.25] }"#);
     let names: Vec<String> = joint.iter().map(|(n, _, _)| n.clone().unwrap()).collect();
-    assert_eq!(names, ["g-0.25,l-0.25", "g+0.25,l-0.25", "g-0.25,l+0.25", "g+0.25,l+0.25"]);
+    assert_eq!(
+        names,
+        ["g-0.25,l-0.25", "g+0.25,l-0.25", "g-0.25,l+0.25", "g+0.25,l+0.25"]
+    );
     assert_eq!(joint[3].2, [("g".to_string(), 13.0), ("l".to_string(), 1.75)]);
 }
 
@@ -107,11 +129,18 @@ fn sampled_splits_are_reproducible_inside_the_region_and_differ_by_seed() {
     let b = points(r#"{ "region": "gl", "kind": "train", "sampled": { "size": 50, "seed": 7 } }"#);
     let c = points(r#"{ "region": "gl", "kind": "interpolation", "sampled": { "size": 50, "seed": 8 } }"#);
     assert_eq!(a, b);
-    assert_ne!(a.iter().map(|p| p.2.clone()).collect::<Vec<_>>(), c.iter().map(|p| p.2.clone()).collect::<Vec<_>>());
+    assert_ne!(
+        a.iter().map(|p| p.2.clone()).collect::<Vec<_>>(),
+        c.iter().map(|p| p.2.clone()).collect::<Vec<_>>()
+    );
     for (_, _, ctx) in a.iter().chain(&c) {
-        assert!((8.0..12.0).contains(&ctx[0].1) && (0.5..1.5).contains(&ctx[1].1), "{ctx:?}");
+        assert!(
+            (8.0..12.0).contains(&ctx[0].1) && (0.5..1.5).contains(&ctx[1].1),
+            "{ctx:?}"
+        );
     }
-    let single = points(r#"{ "region": "gl", "kind": "train", "factors": "single", "sampled": { "size": 5, "seed": 7 } }"#);
+    let single =
+        points(r#"{ "region": "gl", "kind": "train", "factors": "single", "sampled": { "size": 5, "seed": 7 } }"#);
     assert_eq!(single.len(), 10);
 }
 
@@ -130,22 +159,58 @@ fn the_frozen_set_records_the_region_and_its_digest_changes_with_it() {
 #[test]
 fn malformed_splits_are_refused_with_the_reason() {
     let cases: &[(&str, &str, &str)] = &[
-        (BOX, r#"{ "region": "gll", "kind": "train", "grid": 3 }"#, "did you mean \"gl\""),
-        (BOX, r#"{ "region": "gl", "kind": "train", "grid": 1 }"#, "at least 2 points"),
-        (BOX, r#"{ "region": "gl", "kind": "train", "grid": 3, "sampled": { "size": 2, "seed": 0 } }"#, "exactly one of"),
-        (BOX, r#"{ "region": "gl", "kind": "extrapolation", "distances": [] }"#, "is empty"),
-        (BOX, r#"{ "region": "gl", "kind": "extrapolation", "distances": [-1] }"#, "finite and > 0"),
+        (
+            BOX,
+            r#"{ "region": "gll", "kind": "train", "grid": 3 }"#,
+            "did you mean \"gl\"",
+        ),
+        (
+            BOX,
+            r#"{ "region": "gl", "kind": "train", "grid": 1 }"#,
+            "at least 2 points",
+        ),
+        (
+            BOX,
+            r#"{ "region": "gl", "kind": "train", "grid": 3, "sampled": { "size": 2, "seed": 0 } }"#,
+            "exactly one of",
+        ),
+        (
+            BOX,
+            r#"{ "region": "gl", "kind": "extrapolation", "distances": [] }"#,
+            "is empty",
+        ),
+        (
+            BOX,
+            r#"{ "region": "gl", "kind": "extrapolation", "distances": [-1] }"#,
+            "finite and > 0",
+        ),
         (BOX, r#"{ "region": "gl", "kind": "train", "grid": 1001 }"#, "more than"),
         // the joint extrapolation at distance 50 takes g below 0
-        (BOX, r#"{ "region": "gl", "kind": "extrapolation", "distances": [50] }"#, "outside the bounds"),
+        (
+            BOX,
+            r#"{ "region": "gl", "kind": "extrapolation", "distances": [50] }"#,
+            "outside the bounds",
+        ),
         (
             r#"{ "gl": { "description": "d", "features": { "g": [11, 12] } } }"#,
             r#"{ "region": "gl", "kind": "train", "factors": "single", "grid": 2 }"#,
             "default of \"g\" is not in",
         ),
-        (r#"{ "gl": { "description": "d", "features": { "n": [1, 4] } } }"#, r#"{ "region": "gl", "kind": "train", "grid": 2 }"#, "not a float"),
-        (r#"{ "gl": { "description": "d", "features": { "g": [1, 400] } } }"#, r#"{ "region": "gl", "kind": "train", "grid": 2 }"#, "leaves the feature's bounds"),
-        (r#"{ "gl": { "description": "d", "features": { "q": [1, 4] } } }"#, r#"{ "region": "gl", "kind": "train", "grid": 2 }"#, "no feature \"q\""),
+        (
+            r#"{ "gl": { "description": "d", "features": { "n": [1, 4] } } }"#,
+            r#"{ "region": "gl", "kind": "train", "grid": 2 }"#,
+            "not a float",
+        ),
+        (
+            r#"{ "gl": { "description": "d", "features": { "g": [1, 400] } } }"#,
+            r#"{ "region": "gl", "kind": "train", "grid": 2 }"#,
+            "leaves the feature's bounds",
+        ),
+        (
+            r#"{ "gl": { "description": "d", "features": { "q": [1, 4] } } }"#,
+            r#"{ "region": "gl", "kind": "train", "grid": 2 }"#,
+            "no feature \"q\"",
+        ),
     ];
     for (regions, kind, want) in cases {
         let (s, report) = spec(regions, &set(kind));

@@ -11,10 +11,10 @@ use crate::envs::contextual::{
     ContextNoise, ContextSource, ContextualEnv, ContextualOptions, Features, NoiseRedraw, NoiseStd, Visibility,
 };
 use crate::envs::policy::PolicyKind;
-use crate::envs::schedules::{Schedule, parse_schedules};
 use crate::envs::registry::{
     Context, EnvOptions, MakeOptions, Registration, ids_text, lookup, make_env, resolve_context,
 };
+use crate::envs::schedules::{Schedule, parse_schedules};
 use crate::episode::jsonl::quote_input;
 use crate::instances::Store;
 use crate::spec::SpecSet;

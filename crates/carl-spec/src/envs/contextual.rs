@@ -91,8 +91,8 @@
 use super::api::{Action, Env, EnvError, Info, Space, Step, StepOutcome, check_obs_len};
 use super::context_schedule::{ContextSchedule, ObservationNoise, Pick, ScheduleKind, drawn_context};
 use super::registry::{Context, EnvOptions, MakeError, MakeOptions, SpecEnv, make_env, resolve_context};
-use super::schedules::Schedules;
 use super::rng::DEFAULT_SEED;
+use super::schedules::Schedules;
 use crate::instances::derive::sample_distribution;
 use crate::spec::model::{Distribution, EnvSpec, FeatureType, Value};
 use crate::suggest::did_you_mean;
@@ -382,8 +382,15 @@ impl ContextualEnv {
             fill_visible(spec, slot, &visible, who)?;
         }
         let noise = ObservationNoise::new(spec, &visible, &options.noise)?;
-        let (schedules, schedule_bases, schedule_visible) =
-            schedules_for(spec, &options, &mut slots, &labels, &visible, &noise, matches!(mode, Mode::Distribution { .. }))?;
+        let (schedules, schedule_bases, schedule_visible) = schedules_for(
+            spec,
+            &options,
+            &mut slots,
+            &labels,
+            &visible,
+            &noise,
+            matches!(mode, Mode::Distribution { .. }),
+        )?;
 
         // The space of every source alike (module docs). Where the context sets the observation's
         // length itself (rna_design's state_radius) there is no common space: the first slot's.
@@ -526,7 +533,9 @@ impl ContextualEnv {
 
     /// The scheduled features' current values (canonical names), as in the context info.
     pub fn scheduled_values(&self) -> impl Iterator<Item = (&str, f64)> + '_ {
-        self.schedules.current().map(|(i, x)| (self.spec.features[i].name.as_str(), x))
+        self.schedules
+            .current()
+            .map(|(i, x)| (self.spec.features[i].name.as_str(), x))
     }
 
     /// Number of resets so far.
@@ -610,7 +619,15 @@ impl ContextualEnv {
         let who = format!("{} next context", self.spec.id);
         let mut ctx = self.spec.default_context();
         ctx.extend(context.iter().map(|(k, v)| (k.clone(), v.clone())));
-        let mut slot = build_slot(&self.spec, &ctx, MakeOptions::default(), &self.env_options, &who, None, None)?;
+        let mut slot = build_slot(
+            &self.spec,
+            &ctx,
+            MakeOptions::default(),
+            &self.env_options,
+            &who,
+            None,
+            None,
+        )?;
         fill_visible(&self.spec, &mut slot, &self.visible, &who)?;
         if !self.schedules.is_empty() {
             self.schedules

@@ -76,7 +76,11 @@ impl Schedule {
                 }
                 Ok(())
             }
-            Schedule::Sine { amplitude, period, phase } => {
+            Schedule::Sine {
+                amplitude,
+                period,
+                phase,
+            } => {
                 finite("amplitude", amplitude)?;
                 finite("phase", phase)?;
                 if !(period.is_finite() && period > 0.0) {
@@ -116,9 +120,11 @@ impl Schedule {
                 }
             }
             Schedule::Linear { to, over } => base + (to - base) * (t.min(over) as f64 / over as f64),
-            Schedule::Sine { amplitude, period, phase } => {
-                base + amplitude * (std::f64::consts::TAU * t as f64 / period + phase).sin()
-            }
+            Schedule::Sine {
+                amplitude,
+                period,
+                phase,
+            } => base + amplitude * (std::f64::consts::TAU * t as f64 / period + phase).sin(),
             Schedule::RandomWalk { std, low, high } => reflect(previous + std * std_normal(rng), low, high),
         }
     }
@@ -171,20 +177,29 @@ impl Schedules {
                 format!("{} has no context feature \"{name}\" to schedule{hint}", spec.id)
             })?;
             if !f.is_continuous() {
-                return Err(format!("{}: only float features can be scheduled; \"{}\" is not one", spec.id, f.name));
+                return Err(format!(
+                    "{}: only float features can be scheduled; \"{}\" is not one",
+                    spec.id, f.name
+                ));
             }
             if !f.affects(Effect::Dynamics) {
                 return Err(format!(
                     "{}: \"{}\" does not act on the dynamics (it affects {}), so it cannot change within an episode",
                     spec.id,
                     f.name,
-                    f.affects.iter().map(|e| format!("{e:?}").to_lowercase()).collect::<Vec<_>>().join(", ")
+                    f.affects
+                        .iter()
+                        .map(|e| format!("{e:?}").to_lowercase())
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 ));
             }
             if items.iter().any(|(n, ..)| *n == f.name) {
                 return Err(format!("{}: \"{}\" is scheduled twice", spec.id, f.name));
             }
-            schedule.check_params().map_err(|e| format!("{}: schedule of \"{}\": {e}", spec.id, f.name))?;
+            schedule
+                .check_params()
+                .map_err(|e| format!("{}: schedule of \"{}\": {e}", spec.id, f.name))?;
             if let Schedule::RandomWalk { low, high, .. } = schedule
                 && !(f.in_bounds(*low) && f.in_bounds(*high))
             {
@@ -193,7 +208,11 @@ impl Schedules {
                     spec.id, f.name
                 ));
             }
-            let index = spec.features.iter().position(|g| g.name == f.name).expect("a spec feature");
+            let index = spec
+                .features
+                .iter()
+                .position(|g| g.name == f.name)
+                .expect("a spec feature");
             items.push((f.name.clone(), index, *schedule));
             bounds.push((f.bounds[0], f.bounds[1]));
         }
@@ -288,11 +307,22 @@ mod tests {
     fn values_follow_the_declared_shapes() {
         let mut rng = Pcg64::new(0, 1);
         let s = Schedule::Step { at: 3, to: 5.0 };
-        assert_eq!((s.start(1.0), s.value(1.0, 2, 1.0, &mut rng), s.value(1.0, 3, 1.0, &mut rng)), (1.0, 1.0, 5.0));
+        assert_eq!(
+            (
+                s.start(1.0),
+                s.value(1.0, 2, 1.0, &mut rng),
+                s.value(1.0, 3, 1.0, &mut rng)
+            ),
+            (1.0, 1.0, 5.0)
+        );
         let l = Schedule::Linear { to: 3.0, over: 4 };
         let v: Vec<f64> = (1..=6).map(|t| l.value(1.0, t, 0.0, &mut rng)).collect();
         assert_eq!(v, [1.5, 2.0, 2.5, 3.0, 3.0, 3.0]);
-        let w = Schedule::Sine { amplitude: 2.0, period: 4.0, phase: 0.0 };
+        let w = Schedule::Sine {
+            amplitude: 2.0,
+            period: 4.0,
+            phase: 0.0,
+        };
         assert!((w.value(10.0, 1, 0.0, &mut rng) - 12.0).abs() < 1e-12);
         assert!((w.value(10.0, 3, 0.0, &mut rng) - 8.0).abs() < 1e-12);
         assert_eq!(w.range(10.0), (8.0, 12.0));
@@ -303,7 +333,11 @@ mod tests {
         assert_eq!(reflect(1.5, 0.0, 1.0), 0.5);
         assert_eq!(reflect(-0.25, 0.0, 1.0), 0.25);
         assert_eq!(reflect(2.25, 0.0, 1.0), 0.25);
-        let r = Schedule::RandomWalk { std: 0.7, low: 0.0, high: 1.0 };
+        let r = Schedule::RandomWalk {
+            std: 0.7,
+            low: 0.0,
+            high: 1.0,
+        };
         let mut rng = Pcg64::new(3, 4);
         let mut x = 0.5;
         for t in 1..10_000 {
@@ -322,7 +356,11 @@ mod tests {
             let parsed = parse_schedules(json).unwrap();
             assert!(parsed[0].1.check_params().is_err(), "{json}");
         }
-        assert!(parse_schedules(r#"{"g": {"kind": "wobble"}}"#).unwrap_err().contains("kinds: step"));
+        assert!(
+            parse_schedules(r#"{"g": {"kind": "wobble"}}"#)
+                .unwrap_err()
+                .contains("kinds: step")
+        );
         assert!(parse_schedules(r#"{"g": {"kind": "step", "at": 1}}"#).is_err());
         assert!(parse_schedules("[1]").is_err());
     }

@@ -41,7 +41,9 @@ fn the_choice_plays_one_episode_then_the_fixed_context_returns() {
 
 #[test]
 fn a_distributions_draws_do_not_depend_on_the_choices() {
-    let source = || ContextSource::Distribution { name: "q1_g_sigma_0_5".into() };
+    let source = || ContextSource::Distribution {
+        name: "q1_g_sigma_0_5".into(),
+    };
     let (mut a, mut b) = (env(source()), env(source()));
     let (mut oa, mut ob) = (vec![0.0f32; 3], vec![0.0f32; 3]);
     a.reset_into(Some(3), &mut oa).unwrap();
@@ -53,7 +55,10 @@ fn a_distributions_draws_do_not_depend_on_the_choices() {
     for _ in 0..3 {
         a.reset_into(None, &mut oa).unwrap();
         b.reset_into(None, &mut ob).unwrap();
-        assert_eq!((g(&a), a.context_info().context_seed), (g(&b), b.context_info().context_seed));
+        assert_eq!(
+            (g(&a), a.context_info().context_seed),
+            (g(&b), b.context_info().context_seed)
+        );
         assert_eq!(oa, ob);
     }
 }
@@ -63,13 +68,25 @@ fn bad_choices_are_refused_and_change_nothing() {
     let mut e = env(ContextSource::Fixed(choose(9.0)));
     let mut obs = vec![0.0f32; 3];
     e.reset_into(Some(0), &mut obs).unwrap();
-    assert!(e.set_next_context(&choose(-1.0)).unwrap_err().to_string().contains("outside its bounds"));
+    assert!(
+        e.set_next_context(&choose(-1.0))
+            .unwrap_err()
+            .to_string()
+            .contains("outside its bounds")
+    );
     let unknown = [("gg".to_string(), Value::Number(1.0))].into();
     assert!(e.set_next_context(&unknown).unwrap_err().to_string().contains("gg"));
     e.reset_into(None, &mut obs).unwrap();
     assert_eq!(g(&e), 9.0);
     let specs = SpecSet::bundled().unwrap();
-    let set = carl_spec::instances::Store::new(&specs).load("pendulum/g_l_train").unwrap();
+    let set = carl_spec::instances::Store::new(&specs)
+        .load("pendulum/g_l_train")
+        .unwrap();
     let mut s = env(ContextSource::Set(set));
-    assert!(s.set_next_context(&choose(9.0)).unwrap_err().to_string().contains("instance set"));
+    assert!(
+        s.set_next_context(&choose(9.0))
+            .unwrap_err()
+            .to_string()
+            .contains("instance set")
+    );
 }

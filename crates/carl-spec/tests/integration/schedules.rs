@@ -38,8 +38,14 @@ fn g_of(env: &ContextualEnv) -> f64 {
 fn each_kind_moves_the_feature_as_declared_in_info_and_observation() {
     let cases: &[(&str, &[f64])] = &[
         (r#"{"g": {"kind": "step", "at": 2, "to": 4}}"#, &[10.0, 10.0, 4.0, 4.0]),
-        (r#"{"g": {"kind": "linear", "to": 14, "over": 2}}"#, &[10.0, 12.0, 14.0, 14.0]),
-        (r#"{"g": {"kind": "sine", "amplitude": 2, "period": 4}}"#, &[10.0, 12.0, 10.0, 8.0]),
+        (
+            r#"{"g": {"kind": "linear", "to": 14, "over": 2}}"#,
+            &[10.0, 12.0, 14.0, 14.0],
+        ),
+        (
+            r#"{"g": {"kind": "sine", "amplitude": 2, "period": 4}}"#,
+            &[10.0, 12.0, 10.0, 8.0],
+        ),
     ];
     for (json, want) in cases {
         let mut env = pendulum(fixed(10.0), json, true).unwrap();
@@ -50,7 +56,11 @@ fn each_kind_moves_the_feature_as_declared_in_info_and_observation() {
         for _ in 0..3 {
             env.step_into(&Action::Continuous(vec![0.5]), &mut obs).unwrap();
             got.push(g_of(&env));
-            assert_eq!(obs[3], *got.last().unwrap() as f32, "{json}: the visible value is the current one");
+            assert_eq!(
+                obs[3],
+                *got.last().unwrap() as f32,
+                "{json}: the visible value is the current one"
+            );
         }
         for (a, b) in got.iter().zip(*want) {
             assert!((a - b).abs() < 1e-9, "{json}: {got:?} vs {want:?}");
@@ -147,15 +157,31 @@ fn schedules_that_leave_the_bounds_or_cannot_act_are_refused() {
     let specs = SpecSet::bundled().unwrap();
     let set = Store::new(&specs).load("pendulum/g_l_train").unwrap();
     let cases: Vec<(ContextSource, &str, &str)> = vec![
-        (fixed(10.0), r#"{"g": {"kind": "linear", "to": -1, "over": 5}}"#, "outside the bounds"),
+        (
+            fixed(10.0),
+            r#"{"g": {"kind": "linear", "to": -1, "over": 5}}"#,
+            "outside the bounds",
+        ),
         (
             ContextSource::Set(set),
             r#"{"g": {"kind": "sine", "amplitude": 8, "period": 10}}"#,
             "pendulum/g_l_train instance #0",
         ),
-        (fixed(10.0), r#"{"gg": {"kind": "step", "at": 1, "to": 2}}"#, "did you mean \"g\""),
-        (fixed(10.0), r#"{"g": {"kind": "random_walk", "std": 1, "low": -5, "high": 5}}"#, "outside the feature's bounds"),
-        (fixed(10.0), r#"{"g": {"kind": "sine", "amplitude": 1, "period": -3}}"#, "period"),
+        (
+            fixed(10.0),
+            r#"{"gg": {"kind": "step", "at": 1, "to": 2}}"#,
+            "did you mean \"g\"",
+        ),
+        (
+            fixed(10.0),
+            r#"{"g": {"kind": "random_walk", "std": 1, "low": -5, "high": 5}}"#,
+            "outside the feature's bounds",
+        ),
+        (
+            fixed(10.0),
+            r#"{"g": {"kind": "sine", "amplitude": 1, "period": -3}}"#,
+            "period",
+        ),
     ];
     for (source, json, want) in cases {
         let e = pendulum(source, json, false).unwrap_err();
@@ -179,6 +205,10 @@ fn schedules_that_leave_the_bounds_or_cannot_act_are_refused() {
         schedules: vec![("GRAVITY_Y".into(), Schedule::Step { at: 1, to: -5.0 })],
         ..ContextualOptions::default()
     };
-    let ll = ContextualEnv::new(specs.get("lunar_lander").unwrap(), ContextSource::Fixed(Default::default()), opts);
+    let ll = ContextualEnv::new(
+        specs.get("lunar_lander").unwrap(),
+        ContextSource::Fixed(Default::default()),
+        opts,
+    );
     assert!(ll.unwrap_err().to_string().contains("fixes the context"));
 }
