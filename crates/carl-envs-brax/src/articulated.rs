@@ -720,40 +720,12 @@ mod tests {
         let robot = RobotModel::load("ant").unwrap();
         let sys = ArticulatedSystem::new(&robot, &mujoco_ant_params(&robot)).unwrap();
         let m = &*sys.model;
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../carl-articulated/tests/fixtures/mujoco_ant.json"
-        );
-        let fx: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-        let nums =
-            |v: &serde_json::Value| -> Vec<f64> { v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect() };
-        let dw = nums(&fx["model"]["dof_invweight0"]);
-        for (a, b) in m.dof_invweight0.iter().zip(&dw) {
-            assert!(
-                (a - b).abs() < 1e-6 * b,
-                "dof_invweight0 {:?} vs {dw:?}",
-                m.dof_invweight0
-            );
-        }
+        let fx = fixture("ant");
+        check_dof_invweight0(m, &fx);
         assert_eq!(m.nq, 15);
-        let recs = fx["trajectory"].as_array().unwrap();
-        let mut d = Data::new(Arc::clone(&sys.model));
-        let (mut dq, mut dv) = (0.0f64, 0.0f64);
-        for w in recs.windows(2) {
-            d.qpos.copy_from_slice(&nums(&w[0]["qpos"]));
-            d.qvel.copy_from_slice(&nums(&w[0]["qvel"]));
-            d.time = w[0]["time"].as_f64().unwrap();
-            for _ in 0..5 {
-                for (a, u) in d.ctrl.iter_mut().enumerate() {
-                    let t = d.time;
-                    *u = (2.0 * std::f64::consts::PI * 1.3 * t + 0.7 * a as f64).sin() * (0.6 + 0.1 * a as f64);
-                }
-                d.step();
-            }
-            let (q1, v1) = (nums(&w[1]["qpos"]), nums(&w[1]["qvel"]));
-            dq = dq.max(d.qpos.iter().zip(&q1).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max));
-            dv = dv.max(d.qvel.iter().zip(&v1).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max));
-        }
+        let devs = interval_deviations(&sys, &fx);
+        let dq = devs.iter().map(|d| d.0).fold(0.0, f64::max);
+        let dv = devs.iter().map(|d| d.1).fold(0.0, f64::max);
         assert!(
             dq < 1e-5 && dv < 2e-4,
             "ant from the URDF: qpos off by {dq}, qvel by {dv}"
@@ -780,21 +752,8 @@ mod tests {
         let sys = ArticulatedSystem::new(&robot, &p).unwrap();
         let m = &*sys.model;
         assert_eq!((m.bodies.len(), m.nq, m.nv), (14, 24, 23));
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../carl-articulated/tests/fixtures/mujoco_humanoid.json"
-        );
-        let fx: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-        let nums =
-            |v: &serde_json::Value| -> Vec<f64> { v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect() };
-        let dw = nums(&fx["model"]["dof_invweight0"]);
-        for (a, b) in m.dof_invweight0.iter().zip(&dw) {
-            assert!(
-                (a - b).abs() < 1e-6 * b,
-                "dof_invweight0 {:?} vs {dw:?}",
-                m.dof_invweight0
-            );
-        }
+        let fx = fixture("humanoid");
+        check_dof_invweight0(m, &fx);
         for (j, fj) in m.joints.iter().zip(fx["model"]["joints"].as_array().unwrap()) {
             assert_eq!(j.body, fj["body"].as_u64().unwrap() as usize, "joint {} body", j.name);
             assert!(
@@ -808,29 +767,10 @@ mod tests {
                 j.name
             );
         }
-        let recs = fx["trajectory"].as_array().unwrap();
-        let mut d = Data::new(Arc::clone(&sys.model));
-        let (mut dq, mut dv, mut loose) = (0.0f64, 0.0f64, 0);
-        for w in recs.windows(2) {
-            d.qpos.copy_from_slice(&nums(&w[0]["qpos"]));
-            d.qvel.copy_from_slice(&nums(&w[0]["qvel"]));
-            d.time = w[0]["time"].as_f64().unwrap();
-            for _ in 0..5 {
-                for (a, u) in d.ctrl.iter_mut().enumerate() {
-                    let t = d.time;
-                    *u = (2.0 * std::f64::consts::PI * 1.3 * t + 0.7 * a as f64).sin() * (0.6 + 0.1 * a as f64);
-                }
-                d.step();
-            }
-            let (q1, v1) = (nums(&w[1]["qpos"]), nums(&w[1]["qvel"]));
-            let eq = d.qpos.iter().zip(&q1).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-            let ev = d.qvel.iter().zip(&v1).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-            if eq > 2e-7 || ev > 2e-5 {
-                loose += 1;
-            }
-            dq = dq.max(eq);
-            dv = dv.max(ev);
-        }
+        let devs = interval_deviations(&sys, &fx);
+        let dq = devs.iter().map(|d| d.0).fold(0.0, f64::max);
+        let dv = devs.iter().map(|d| d.1).fold(0.0, f64::max);
+        let loose = devs.iter().filter(|(q, v)| *q > 2e-7 || *v > 2e-5).count();
         assert!(
             dq < 5e-5 && dv < 5e-3 && loose <= 6,
             "humanoid from the URDF: qpos off by {dq}, qvel by {dv}, {loose} loose intervals"
@@ -867,40 +807,62 @@ mod tests {
         p
     }
 
-    /// The deviation of `qpos` and `qvel` (MuJoCo's joints, matched by name) at the end of
-    /// every 5-step interval of carl-articulated's MuJoCo fixture `env`, each interval started
-    /// from MuJoCo's state, for `robot` loaded from its URDF and side file at its `mujoco_v5`
-    /// context.
-    fn local_deviations_from_mujoco(env: &'static str) -> Vec<(f64, f64)> {
-        let robot = RobotModel::load(env).unwrap();
-        let sys = ArticulatedSystem::new(&robot, &mujoco_v5_params(env, &robot)).unwrap();
+    /// carl-articulated's MuJoCo fixture of `env`.
+    fn fixture(env: &str) -> serde_json::Value {
         let path = format!(
             "{}/../carl-articulated/tests/fixtures/mujoco_{env}.json",
             env!("CARGO_MANIFEST_DIR")
         );
-        let fx: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-        let nums =
-            |v: &serde_json::Value| -> Vec<f64> { v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect() };
-        let names: Vec<&str> = fx["model"]["joint_names"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|n| n.as_str().unwrap())
-            .collect();
-        // (MuJoCo's coordinate, ours) of every joint of the robot (Reacher's target is task state).
-        let map: Vec<(usize, usize)> = names
-            .iter()
-            .enumerate()
-            .filter_map(|(k, n)| sys.model.joint_index(n).map(|j| (k, sys.model.jnt_qposadr[j])))
-            .collect();
-        assert_eq!(map.len(), sys.model.nq, "{env}: every joint of the model is MuJoCo's");
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+    }
+
+    fn nums(v: &serde_json::Value) -> Vec<f64> {
+        v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()
+    }
+
+    /// The compiled `dof_invweight0` equals the fixture's (relative 1e-6).
+    fn check_dof_invweight0(m: &carl_articulated::Model, fx: &serde_json::Value) {
+        let dw = nums(&fx["model"]["dof_invweight0"]);
+        for (a, b) in m.dof_invweight0.iter().zip(&dw) {
+            assert!(
+                (a - b).abs() < 1e-6 * b,
+                "dof_invweight0 {:?} vs {dw:?}",
+                m.dof_invweight0
+            );
+        }
+    }
+
+    /// The deviation of `qpos` and `qvel` at the end of every 5-step interval of fixture `fx`,
+    /// each interval started from MuJoCo's state under the fixtures' control.
+    fn interval_deviations(sys: &ArticulatedSystem, fx: &serde_json::Value) -> Vec<(f64, f64)> {
+        let m = &*sys.model;
+        // Robots of hinges and slides: (MuJoCo's coordinate, ours) of every joint, matched by name
+        // (Reacher's target is task state). A free root (Ant, Humanoid): MuJoCo's own order.
+        let by_name = !m.joints.iter().any(|j| j.kind == JointKind::Free);
+        let map: Vec<(usize, usize)> = if by_name {
+            let names = fx["model"]["joint_names"].as_array().unwrap();
+            let map: Vec<(usize, usize)> = names
+                .iter()
+                .enumerate()
+                .filter_map(|(k, n)| m.joint_index(n.as_str().unwrap()).map(|j| (k, m.jnt_qposadr[j])))
+                .collect();
+            assert_eq!(map.len(), m.nq, "every joint of the model is MuJoCo's");
+            map
+        } else {
+            Vec::new()
+        };
         let mut d = Data::new(Arc::clone(&sys.model));
         let mut out = Vec::new();
         for w in fx["trajectory"].as_array().unwrap().windows(2) {
             let (q0, v0) = (nums(&w[0]["qpos"]), nums(&w[0]["qvel"]));
-            for &(k, a) in &map {
-                d.qpos[a] = q0[k];
-                d.qvel[a] = v0[k];
+            if by_name {
+                for &(k, a) in &map {
+                    d.qpos[a] = q0[k];
+                    d.qvel[a] = v0[k];
+                }
+            } else {
+                d.qpos.copy_from_slice(&q0);
+                d.qvel.copy_from_slice(&v0);
             }
             d.time = w[0]["time"].as_f64().unwrap();
             for _ in 0..5 {
@@ -911,14 +873,24 @@ mod tests {
                 d.step();
             }
             let (q1, v1) = (nums(&w[1]["qpos"]), nums(&w[1]["qvel"]));
-            let (mut eq, mut ev) = (0.0f64, 0.0f64);
-            for &(k, a) in &map {
-                eq = eq.max((d.qpos[a] - q1[k]).abs());
-                ev = ev.max((d.qvel[a] - v1[k]).abs());
-            }
-            out.push((eq, ev));
+            let max_dev = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+            out.push(if by_name {
+                map.iter().fold((0.0f64, 0.0f64), |(eq, ev), &(k, a)| {
+                    (eq.max((d.qpos[a] - q1[k]).abs()), ev.max((d.qvel[a] - v1[k]).abs()))
+                })
+            } else {
+                (max_dev(&d.qpos, &q1), max_dev(&d.qvel, &v1))
+            });
         }
         out
+    }
+
+    /// [`interval_deviations`] of `env` loaded from its URDF and side file at its `mujoco_v5`
+    /// context.
+    fn local_deviations_from_mujoco(env: &'static str) -> Vec<(f64, f64)> {
+        let robot = RobotModel::load(env).unwrap();
+        let sys = ArticulatedSystem::new(&robot, &mujoco_v5_params(env, &robot)).unwrap();
+        interval_deviations(&sys, &fixture(env))
     }
 
     /// The planar robots and control tasks from their URDFs at `mujoco_v5` are MuJoCo's models:
