@@ -15,6 +15,15 @@ const ROBOT: AuditProfile = AuditProfile {
     state_hint: &[],
 };
 
+/// The control tasks (a few joints, cheap steps): longer trajectories, more random states.
+const CONTROL_AUDIT: AuditProfile = AuditProfile {
+    trajectory_seeds: 3,
+    trajectory_steps: 16,
+    random_states: 32,
+    reset_seeds: 4,
+    state_hint: &[],
+};
+
 /// Humanoid: transitions cost ~5x an Ant's (20 links, 23 DoFs): fewer base states, one
 /// trajectory long enough for the feet to land (~10 steps); root heights down to 0.9 m put the
 /// feet in contact, where friction acts.
@@ -146,11 +155,8 @@ pub const REGISTRATIONS: &[Registration] = &[
         // Two coordinates; cart positions beyond the rail's ends (±1, where elasticity acts),
         // pole angles up to its ±90° limits. State: slider hinge, then rates.
         audit: AuditProfile {
-            trajectory_seeds: 3,
-            trajectory_steps: 16,
-            random_states: 32,
-            reset_seeds: 4,
             state_hint: &[(-1.1, 1.1), (-1.7, 1.7), (-2.0, 2.0), (-2.0, 2.0)],
+            ..CONTROL_AUDIT
         },
         vector_kernel: None,
     },
@@ -164,10 +170,6 @@ pub const REGISTRATIONS: &[Registration] = &[
         cost: StepCost::Heavy,
         // As InvertedPendulum's; State: slider hinge hinge2, rates, the slider's constraint force.
         audit: AuditProfile {
-            trajectory_seeds: 3,
-            trajectory_steps: 16,
-            random_states: 32,
-            reset_seeds: 4,
             state_hint: &[
                 (-1.1, 1.1),
                 (-1.0, 1.0),
@@ -176,6 +178,7 @@ pub const REGISTRATIONS: &[Registration] = &[
                 (-2.0, 2.0),
                 (-2.0, 2.0),
             ],
+            ..CONTROL_AUDIT
         },
         vector_kernel: None,
     },
@@ -190,10 +193,6 @@ pub const REGISTRATIONS: &[Registration] = &[
         // Elbow angles beyond its ±3 rad limit (where elasticity acts), targets in the disc.
         // State: joint0 joint1 target_x target_y, then the arm's rates.
         audit: AuditProfile {
-            trajectory_seeds: 3,
-            trajectory_steps: 16,
-            random_states: 32,
-            reset_seeds: 4,
             state_hint: &[
                 (-3.2, 3.2),
                 (-3.2, 3.2),
@@ -202,6 +201,7 @@ pub const REGISTRATIONS: &[Registration] = &[
                 (-5.0, 5.0),
                 (-5.0, 5.0),
             ],
+            ..CONTROL_AUDIT
         },
         vector_kernel: None,
     },
