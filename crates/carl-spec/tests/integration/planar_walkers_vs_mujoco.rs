@@ -10,7 +10,7 @@
 //! (mujoco 4.0.0); the test also checks that every pinned metric the docs report as within
 //! ±15 % of MuJoCo still is. A legitimate model change re-runs the script and updates both.
 
-use carl_spec::envs::policy::{Policy, RandomPolicy};
+use crate::common;
 use carl_spec::envs::registry::{Context, EnvOptions, MakeOptions, SpecEnv, make_env};
 use carl_spec::envs::{Action, Env};
 use carl_spec::instances::Store;
@@ -146,25 +146,7 @@ fn measure(r: &Robot) -> Vec<(String, f64)> {
         })
         .collect();
     out.push(("gait_velocity".to_string(), mean(&vels)));
-    let (mut lens, mut rets) = (Vec::new(), Vec::new());
-    for seed in 0..100u64 {
-        let mut e = e.clone();
-        let mut policy = RandomPolicy::new(e.action_space(), seed);
-        let (mut obs, _) = e.reset(Some(seed));
-        let (mut n, mut ret) = (0usize, 0.0);
-        loop {
-            let a = policy.act(&obs).unwrap().unwrap();
-            let s = e.step(&a).unwrap();
-            n += 1;
-            ret += s.reward;
-            obs = s.obs;
-            if s.terminated || s.truncated {
-                break;
-            }
-        }
-        lens.push(n as f64);
-        rets.push(ret);
-    }
+    let (lens, rets) = common::random_episodes(0..100, || e.clone());
     out.push(("random_length".to_string(), mean(&lens)));
     out.push(("random_return".to_string(), mean(&rets)));
     out

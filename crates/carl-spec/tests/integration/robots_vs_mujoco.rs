@@ -9,7 +9,7 @@
 //! faster mass-matrix computation) but not for a model change. A legitimate model change
 //! re-runs the script (`--carl-only` prints this side) and updates the pins with the robot's page.
 
-use carl_spec::envs::policy::{Policy, RandomPolicy};
+use crate::common;
 use carl_spec::envs::registry::{Context, SpecEnv, make};
 use carl_spec::envs::{Action, Env};
 use carl_spec::spec::SpecSet;
@@ -201,25 +201,7 @@ fn measure(r: &Robot) -> Metrics {
             mean(&obs[1..].iter().map(|o| f64::from(o[r.nq - r.skip])).collect::<Vec<_>>())
         })
         .collect();
-    let (mut lens, mut rets) = (Vec::new(), Vec::new());
-    for seed in 0..20u64 {
-        let mut e = env(r.id);
-        let mut policy = RandomPolicy::new(e.action_space(), seed);
-        let (mut obs, _) = e.reset(Some(seed));
-        let (mut n, mut ret) = (0usize, 0.0);
-        loop {
-            let a = policy.act(&obs).unwrap().unwrap();
-            let s = e.step(&a).unwrap();
-            n += 1;
-            ret += s.reward;
-            obs = s.obs;
-            if s.terminated || s.truncated {
-                break;
-            }
-        }
-        lens.push(n as f64);
-        rets.push(ret);
-    }
+    let (lens, rets) = common::random_episodes(0..20, || env(r.id));
     Metrics {
         rest_height,
         fall_time,

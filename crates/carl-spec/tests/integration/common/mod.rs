@@ -69,3 +69,29 @@ pub fn runaway_is_flagged(spec: &EnvSpec, ctx: &[(&str, f64)], actions: &[Action
     }
     panic!("the runaway instance was never flagged");
 }
+
+/// Episode lengths and returns of the random policy seeded `seed` (the environment reset with
+/// the same seed), one episode per seed, each on a fresh environment from `make_env`.
+pub fn random_episodes<E: Env>(seeds: std::ops::Range<u64>, mut make_env: impl FnMut() -> E) -> (Vec<f64>, Vec<f64>) {
+    use carl_spec::envs::policy::{Policy, RandomPolicy};
+    let (mut lens, mut rets) = (Vec::new(), Vec::new());
+    for seed in seeds {
+        let mut e = make_env();
+        let mut policy = RandomPolicy::new(e.action_space(), seed);
+        let (mut obs, _) = e.reset(Some(seed));
+        let (mut n, mut ret) = (0usize, 0.0);
+        loop {
+            let a = policy.act(&obs).unwrap().unwrap();
+            let s = e.step(&a).unwrap();
+            n += 1;
+            ret += s.reward;
+            obs = s.obs;
+            if s.terminated || s.truncated {
+                break;
+            }
+        }
+        lens.push(n as f64);
+        rets.push(ret);
+    }
+    (lens, rets)
+}
