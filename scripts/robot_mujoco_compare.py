@@ -203,17 +203,7 @@ def measure_control(side, robot, episodes):
         for n in c["at"]:
             if n < len(obs):
                 res[f"step_{name}_{n * c['dt']:.3g}s"] = read(obs, n, how) - read(base, n, how)
-    lens, rets = [], []
-    for s in range(episodes):
-        n, ret = side.random_episode(s)
-        lens.append(n)
-        rets.append(ret)
-    res["random_length"] = statistics.mean(lens)
-    res["random_length_sd"] = statistics.pstdev(lens)
-    res["random_return"] = statistics.mean(rets)
-    res["random_return_sd"] = statistics.pstdev(rets)
-    res["random_length_samples"] = lens
-    res["random_return_samples"] = rets
+    res.update(random_episodes(side, episodes))
     return res
 
 
@@ -408,18 +398,25 @@ def measure(side, robot, episodes, gait_seeds=3):
         res["gait_velocity_sd"] = statistics.pstdev(vel)
         res["gait_velocity_samples"] = vel
 
+    res.update(random_episodes(side, episodes))
+    return res
+
+
+def random_episodes(side, episodes):
+    """Random-policy episodes with seeds 0..episodes-1: their lengths and returns, means and spreads."""
     lens, rets = [], []
     for s in range(episodes):
         n, ret = side.random_episode(s)
         lens.append(n)
         rets.append(ret)
-    res["random_length"] = statistics.mean(lens)
-    res["random_length_sd"] = statistics.pstdev(lens)
-    res["random_return"] = statistics.mean(rets)
-    res["random_return_sd"] = statistics.pstdev(rets)
-    res["random_length_samples"] = lens
-    res["random_return_samples"] = rets
-    return res
+    return {
+        "random_length": statistics.mean(lens),
+        "random_length_sd": statistics.pstdev(lens),
+        "random_return": statistics.mean(rets),
+        "random_return_sd": statistics.pstdev(rets),
+        "random_length_samples": lens,
+        "random_return_samples": rets,
+    }
 
 
 def mann_whitney_p(a, b):
