@@ -2,7 +2,7 @@
 
 use std::collections::BTreeMap;
 
-use super::frozen::{FORMAT, FrozenSet, Instance, Provenance, set_distribution, spec_digest};
+use super::frozen::{FORMAT, FrozenSet, Instance, Provenance, set_distribution, set_region, spec_digest};
 use crate::sampling::{self, FeatureInfo, SamplingError};
 use crate::spec::model::{Distribution, EnvSpec, Feature, Value};
 use crate::spec::raw::{MAX_INSTANCES, MAX_SET_VALUES};
@@ -118,8 +118,6 @@ pub fn derive_set(spec: &EnvSpec, set_name: &str) -> Result<FrozenSet, DeriveErr
 }
 
 fn build(spec: &EnvSpec, set_name: &str, set: &crate::spec::model::InstanceSet) -> Result<FrozenSet, DeriveError> {
-    let mut dist = None;
-    let mut region = None;
     let (features, instances): (Vec<String>, Vec<Instance>) = if let Some(s) = &set.sampled {
         let d = spec
             .distributions
@@ -129,7 +127,6 @@ fn build(spec: &EnvSpec, set_name: &str, set: &crate::spec::model::InstanceSet) 
                 name: s.distribution.clone(),
                 hint: hint(&s.distribution, spec.distributions.keys().map(String::as_str)),
             })?;
-        dist = Some(d.clone());
         let (names, rows) = sample_distribution(spec, &s.distribution, d, s.size, s.seed)?;
         let instances = rows
             .into_iter()
@@ -213,8 +210,6 @@ fn build(spec: &EnvSpec, set_name: &str, set: &crate::spec::model::InstanceSet) 
                 context,
             });
         }
-        region = spec.regions.get(&sp.region).cloned();
-        dist = set_distribution(spec, set);
         (names, instances)
     } else {
         return Err(DeriveError::Invalid(format!(
@@ -234,8 +229,8 @@ fn build(spec: &EnvSpec, set_name: &str, set: &crate::spec::model::InstanceSet) 
             sampler_version: sampling::SAMPLER_VERSION.to_string(),
             spec_digest: spec_digest(spec, set),
             definition: set.clone(),
-            distribution: dist,
-            region,
+            distribution: set_distribution(spec, set),
+            region: set_region(spec, set).cloned(),
         },
         features,
         instances,

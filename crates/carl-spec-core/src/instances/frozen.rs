@@ -148,7 +148,7 @@ pub fn spec_digest(spec: &EnvSpec, set: &InstanceSet) -> String {
             .collect(),
         set,
         distribution: dist.as_ref(),
-        region: set.split.as_ref().and_then(|s| spec.regions.get(&s.region)),
+        region: set_region(spec, set),
     };
     let bytes = serde_json::to_vec(&basis).unwrap_or_default();
     format!("sha256:{}", hex(&Sha256::digest(&bytes)))
@@ -164,6 +164,11 @@ pub fn set_distribution(spec: &EnvSpec, set: &InstanceSet) -> Option<Distributio
         .as_ref()
         .filter(|s| s.sampled.is_some())
         .and_then(|s| super::split::region_distribution(spec, s))
+}
+
+/// The region a `split` set derives from.
+pub fn set_region<'a>(spec: &'a EnvSpec, set: &InstanceSet) -> Option<&'a Region> {
+    set.split.as_ref().and_then(|s| spec.regions.get(&s.region))
 }
 
 fn hex(bytes: &[u8]) -> String {
