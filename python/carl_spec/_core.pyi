@@ -87,10 +87,17 @@ class VecEnv:
         self,
         act: Any,
         check: Any,
-        seeds: list[int],
-        instances: list[int] | None = None,
+        seeds: npt.NDArray[np.uint64],
+        instances: npt.NDArray[np.int64] | None = None,
         record_contexts: bool = False,
-    ) -> tuple[list[float], list[int], list[bool], list[bool], list[str | None], list[Any]]: ...
+    ) -> tuple[
+        npt.NDArray[np.float64],
+        npt.NDArray[np.uint64],
+        npt.NDArray[np.bool_],
+        npt.NDArray[np.bool_],
+        list[str | None],
+        list[Any],
+    ]: ...
     def reset_each(
         self,
         seeds: list[int | None],

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from contextlib import contextmanager
+from typing import Any
 
 #: The native module's hint for a value outside its bounds (`cs.make`'s keyword).
 OUT_OF_BOUNDS_HINT = "pass allow_out_of_bounds=True to run it anyway"
@@ -19,6 +20,15 @@ def out_of_bounds_hint(hint: str) -> Iterator[None]:
         if OUT_OF_BOUNDS_HINT not in text:
             raise
         raise type(e)(text.replace(OUT_OF_BOUNDS_HINT, hint)) from None
+
+
+def curriculum_bounds_hint(curriculum: object) -> Any:
+    """A curriculum's context outside a feature's bounds: the error names the curriculum that chose
+    it (its `select` is what must change, or `allow_out_of_bounds=True` in `make` / `make_vec`)."""
+    return out_of_bounds_hint(
+        f"the curriculum {type(curriculum).__name__} chose this context: keep its contexts within the "
+        "spec's bounds, or pass allow_out_of_bounds=True to carl_spec.make / make_vec to run them anyway"
+    )
 
 
 class UnknownNameError(KeyError, ValueError):

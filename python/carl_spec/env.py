@@ -13,7 +13,7 @@ from gymnasium.envs.registration import EnvSpec
 
 from . import _core
 from ._args import NoiseStd, check_name, check_seed, context_args, json_object
-from ._errors import InvalidActionError
+from ._errors import InvalidActionError, curriculum_bounds_hint
 from ._spaces import space_from_json
 from .curriculum import check_selector
 
@@ -250,7 +250,8 @@ class CarlEnv(gymnasium.Env[np.ndarray, Any]):
         if seed is not None:
             self._seeded = True
         if self._curriculum is not None:
-            self._core.set_next_context(json_object("curriculum context", self._curriculum.select(0)))
+            with curriculum_bounds_hint(self._curriculum):
+                self._core.set_next_context(json_object("curriculum context", self._curriculum.select(0)))
             self._return = 0.0
         obs, info = self._core.reset(seed, instance)
         self._info = _with_numpy_seed(info)

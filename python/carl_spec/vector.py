@@ -14,6 +14,7 @@ from gymnasium.vector.utils import batch_space
 
 from . import _core
 from ._args import NoiseStd, check_int, check_name, check_seed, context_args, json_object, quote
+from ._errors import curriculum_bounds_hint
 from ._spaces import space_from_json
 from .curriculum import check_selector
 from .env import instance_index, os_entropy_seed
@@ -209,7 +210,8 @@ class CarlVectorEnv(gymnasium.vector.VectorEnv[np.ndarray, np.ndarray, np.ndarra
     def _choose(self, i: int) -> None:
         """The curriculum's context for environment `i`'s next episode."""
         assert self._curriculum is not None
-        self._core.set_next_context(i, json_object("curriculum context", self._curriculum.select(i)))
+        with curriculum_bounds_hint(self._curriculum):
+            self._core.set_next_context(i, json_object("curriculum context", self._curriculum.select(i)))
 
     def _with_curriculum(self, infos: dict[str, Any]) -> dict[str, Any]:
         if self._curriculum is not None:

@@ -142,7 +142,21 @@ def test_a_selected_context_outside_the_bounds_is_refused() -> None:
         def select(self, env_index: int) -> dict[str, float]:
             return {"pole_length": -5.0}
 
-    with pytest.raises(ValueError, match="pole_length = -5 is outside its bounds"):
+    with pytest.raises(ValueError, match="pole_length = -5 is outside its bounds") as vec_error:
         cs.make_vec("cartpole", 2, curriculum=Out()).reset(seed=0)
-    with pytest.raises(ValueError, match="pole_length"):
+    with pytest.raises(ValueError, match="pole_length") as env_error:
         cs.make("cartpole", curriculum=Out()).reset(seed=0)
+    # The error names the curriculum that chose the context.
+    for e in (vec_error, env_error):
+        assert "the curriculum Out chose this context" in str(e.value)
+
+
+def test_allow_out_of_bounds_lets_a_curriculum_leave_the_bounds() -> None:
+    class Out(Recorder):
+        def select(self, env_index: int) -> dict[str, float]:
+            return {"pole_length": 7.5}
+
+    _, info = cs.make("cartpole", curriculum=Out(), allow_out_of_bounds=True).reset(seed=0)
+    assert info["context"]["pole_length"] == 7.5
+    _, infos = cs.make_vec("cartpole", 2, curriculum=Out(), allow_out_of_bounds=True).reset(seed=0)
+    assert list(infos["context"]["pole_length"]) == [7.5, 7.5]

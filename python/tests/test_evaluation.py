@@ -14,6 +14,8 @@ import pytest
 import carl_spec as cs
 from carl_spec import _core
 from carl_spec.evaluation import (
+    Episode,
+    Episodes,
     EvaluationResult,
     aggregate_iqm,
     aggregate_mean,
@@ -138,6 +140,29 @@ def test_json_round_trip(planets: EvaluationResult, tmp_path: Any) -> None:
         EvaluationResult.from_json('{"format": "other"}')
     assert "| 3 | Mars | in_distribution |" in planets.table()
     assert "Mars" not in repr(planets) and "6 instances, 18 episodes" in repr(planets)
+
+
+def test_episodes_are_columns(planets: EvaluationResult) -> None:
+    eps = planets.episodes
+    assert isinstance(eps, Episodes) and len(eps) == 18
+    assert eps.return_.dtype == np.float64 and eps.seed.dtype == np.uint64 and eps.terminated.dtype == np.bool_
+    rows = list(eps)
+    assert all(isinstance(e, Episode) for e in rows) and eps[0] == rows[0] and eps[-2:] == rows[-2:]
+    # Columns and rows agree field by field, and a result made from rows equals the columnar one.
+    assert [e.return_ for e in rows] == eps.return_.tolist() and [e.seed for e in rows] == eps.seed.tolist()
+    assert eps == rows and rows == list(eps)
+    again = EvaluationResult(provenance=planets.provenance, instances=planets.instances, episodes=rows)
+    assert again == planets and again.summary() == planets.summary()
+    # Aggregates follow the episodes whatever order they are listed in.
+    shuffled = EvaluationResult(provenance=planets.provenance, instances=planets.instances, episodes=rows[::-1])
+    assert np.array_equal(shuffled.scores, planets.scores)
+    assert np.array_equal(shuffled.returns("Mars"), planets.returns("Mars")[::-1])
+    with pytest.raises(ValueError, match="differ in length"):
+        Episodes([0, 1], [0], [1, 2], [0.0, 1.0], [1, 1], [True, True], [False, False])
+    with pytest.raises(ValueError, match="refers to instance 99"):
+        EvaluationResult(planets.provenance, planets.instances, [rows[0]._replace(instance=99), *rows[1:]])
+    with pytest.raises(ValueError, match="instance 0 has no episode"):
+        EvaluationResult(planets.provenance, planets.instances, [e for e in rows if e.instance != 0])
 
 
 def test_distribution_draws() -> None:

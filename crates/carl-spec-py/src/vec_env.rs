@@ -5,7 +5,7 @@ use std::borrow::Cow;
 use std::path::PathBuf;
 
 use numpy::{
-    PyArray1, PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyUntypedArray, PyUntypedArrayMethods,
+    IntoPyArray, PyArray1, PyArrayDescrMethods, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyUntypedArray, PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
@@ -560,15 +560,28 @@ impl VecEnv {
     /// so the batch can go on stepping (not recorded). Returns `(returns, lengths, terminated,
     /// truncated, outcomes, contexts)` per job, `contexts[j]` = `(context, context_seed)` of its
     /// episode when `record_contexts` (distributions), else None. Needs autoreset "disabled".
+    /// `seeds` (uint64) and `instances` (int64) are NumPy arrays, and the returns, lengths and
+    /// flags come back as NumPy arrays (float64, int64, bool): no Python object per job.
     #[pyo3(signature = (act, check, seeds, instances=None, record_contexts=false))]
     fn play<'py>(
         slf: &Bound<'py, Self>,
         act: &Bound<'py, PyAny>,
         check: &Bound<'py, PyAny>,
-        seeds: Vec<u64>,
-        instances: Option<Vec<usize>>,
+        seeds: PyReadonlyArray1<'py, u64>,
+        instances: Option<PyReadonlyArray1<'py, i64>>,
         record_contexts: bool,
     ) -> PyResult<Bound<'py, PyTuple>> {
+        let seeds = seeds.as_slice().map_err(value_error)?.to_vec();
+        let instances = match &instances {
+            Some(a) => Some(
+                a.as_slice()
+                    .map_err(value_error)?
+                    .iter()
+                    .map(|&k| usize::try_from(k).map_err(|_| value_error(format!("instance {k} is negative"))))
+                    .collect::<PyResult<Vec<usize>>>()?,
+            ),
+            None => None,
+        };
         let mut guard = slf.try_borrow_mut().map_err(|_| busy())?;
         let this = &mut *guard;
         let py = slf.py();
@@ -703,10 +716,10 @@ impl VecEnv {
         PyTuple::new(
             py,
             [
-                out_ret.into_pyobject(py)?.into_any(),
-                out_len.into_pyobject(py)?.into_any(),
-                out_term.into_pyobject(py)?.into_any(),
-                out_trunc.into_pyobject(py)?.into_any(),
+                out_ret.into_pyarray(py).into_any(),
+                out_len.into_pyarray(py).into_any(),
+                out_term.into_pyarray(py).into_any(),
+                out_trunc.into_pyarray(py).into_any(),
                 out_word.into_pyobject(py)?.into_any(),
                 contexts.into_pyobject(py)?.into_any(),
             ],

@@ -10,12 +10,13 @@
 from __future__ import annotations
 
 from ._report import Report, report
-from ._result import Episode, EvaluationResult, Instance, InstanceSummary
+from ._result import Episode, Episodes, EvaluationResult, Instance, InstanceSummary
 from ._run import SEED_RULE, episode_seed, evaluate
 from ._stats import aggregate_iqm, aggregate_mean, aggregate_median, score_distribution, stratified_resamples
 
 __all__ = [
     "Episode",
+    "Episodes",
     "EvaluationResult",
     "Instance",
     "InstanceSummary",

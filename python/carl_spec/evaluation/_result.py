@@ -6,6 +6,7 @@ import json
 import math
 import os
 from dataclasses import dataclass, field
+from collections.abc import Iterable, Iterator, Sequence
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -110,12 +111,113 @@ class InstanceSummary:
         }
 
 
-def _summary(instance: Instance, episodes: list[Episode]) -> InstanceSummary:
-    r = np.array([e.return_ for e in episodes], dtype=np.float64)
+class Episodes(Sequence[Episode]):
+    """A result's episodes as columns: NumPy arrays `instance`, `episode`, `seed` (int64 / uint64),
+    `return_` (float64), `length` (int64), `terminated`, `truncated` (bool) and the lists
+    `outcome` and `context_seed` (None where absent). Indexing and iterating give `Episode`
+    tuples, made on first use: `evaluate` fills the columns in one go, so producing a result
+    costs no Python object per episode. Equal to any sequence of the same episodes."""
+
+    __slots__ = ("instance", "episode", "seed", "return_", "length", "terminated", "truncated", "outcome", "context_seed", "_rows")
+
+    def __init__(
+        self,
+        instance: Any,
+        episode: Any,
+        seed: Any,
+        return_: Any,
+        length: Any,
+        terminated: Any,
+        truncated: Any,
+        outcome: list[str | None] | None = None,
+        context_seed: list[int | None] | None = None,
+    ) -> None:
+        self.instance = np.asarray(instance, dtype=np.int64)
+        n = len(self.instance)
+        self.episode = np.asarray(episode, dtype=np.int64)
+        self.seed = np.asarray(seed, dtype=np.uint64)
+        self.return_ = np.asarray(return_, dtype=np.float64)
+        self.length = np.asarray(length, dtype=np.int64)
+        self.terminated = np.asarray(terminated, dtype=np.bool_)
+        self.truncated = np.asarray(truncated, dtype=np.bool_)
+        self.outcome: list[str | None] = [None] * n if outcome is None else list(outcome)
+        self.context_seed: list[int | None] = [None] * n if context_seed is None else list(context_seed)
+        columns = (self.episode, self.seed, self.return_, self.length, self.terminated, self.truncated)
+        if any(len(c) != n for c in (*columns, self.outcome, self.context_seed)):
+            raise ValueError("the episode columns differ in length")
+        self._rows: list[Episode] | None = None
+
+    @staticmethod
+    def of(episodes: Iterable[Episode]) -> Episodes:
+        """The columns of some `Episode` tuples (returned as they are if already columns)."""
+        if isinstance(episodes, Episodes):
+            return episodes
+        rows = list(episodes)
+        cols = list(zip(*rows)) if rows else [()] * len(Episode._fields)
+        out = Episodes(*cols)
+        out._rows = rows
+        return out
+
+    def rows(self) -> list[Episode]:
+        """The episodes as `Episode` tuples (made once)."""
+        if self._rows is None:
+            self._rows = list(
+                map(
+                    Episode,
+                    self.instance.tolist(),
+                    self.episode.tolist(),
+                    self.seed.tolist(),
+                    self.return_.tolist(),
+                    self.length.tolist(),
+                    self.terminated.tolist(),
+                    self.truncated.tolist(),
+                    self.outcome,
+                    self.context_seed,
+                )
+            )
+        return self._rows
+
+    def take(self, index: np.ndarray) -> Episodes:
+        """The episodes at `index` (an integer array), as columns."""
+        ix = index.tolist()
+        return Episodes(
+            self.instance[index],
+            self.episode[index],
+            self.seed[index],
+            self.return_[index],
+            self.length[index],
+            self.terminated[index],
+            self.truncated[index],
+            [self.outcome[i] for i in ix],
+            [self.context_seed[i] for i in ix],
+        )
+
+    def __len__(self) -> int:
+        return len(self.instance)
+
+    def __getitem__(self, i: Any) -> Any:
+        return self.rows()[i]
+
+    def __iter__(self) -> Iterator[Episode]:
+        return iter(self.rows())
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Sequence) or isinstance(other, (str, bytes)):
+            return NotImplemented
+        return len(self) == len(other) and all(a == b for a, b in zip(self.rows(), other))
+
+    __hash__ = None  # type: ignore[assignment]  # mutable-looking, like a list
+
+    def __repr__(self) -> str:
+        return f"Episodes({len(self)} episodes)"
+
+
+def _summary(instance: Instance, episodes: Episodes) -> InstanceSummary:
+    r = episodes.return_
     outcomes: dict[str, int] = {}
-    for e in episodes:
-        if e.outcome is not None:
-            outcomes[e.outcome] = outcomes.get(e.outcome, 0) + 1
+    for w in episodes.outcome:
+        if w is not None:
+            outcomes[w] = outcomes.get(w, 0) + 1
     return InstanceSummary(
         instance=instance,
         episodes=len(episodes),
@@ -124,9 +226,9 @@ def _summary(instance: Instance, episodes: list[Episode]) -> InstanceSummary:
         median=float(np.median(r)),
         min=float(r.min()),
         max=float(r.max()),
-        mean_length=float(np.mean([e.length for e in episodes])),
-        terminated=sum(e.terminated for e in episodes),
-        truncated=sum(e.truncated for e in episodes),
+        mean_length=float(episodes.length.mean()),
+        terminated=int(episodes.terminated.sum()),
+        truncated=int(episodes.truncated.sum()),
         outcomes=dict(sorted(outcomes.items())),
     )
 
@@ -145,23 +247,36 @@ class EvaluationResult:
 
     provenance: dict[str, Any]
     instances: list[Instance]
-    episodes: list[Episode]
-    _by_instance: dict[int, list[Episode]] = field(init=False, repr=False, compare=False)
+    #: Any sequence of `Episode`s; kept as `Episodes` (columns).
+    episodes: Sequence[Episode]
+    _by_instance: dict[int, np.ndarray] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        by: dict[int, list[Episode]] = {i.id: [] for i in self.instances}
-        for e in self.episodes:
-            if e.instance not in by:
-                raise ValueError(f"episode {e} refers to instance {e.instance}, which this result does not list")
-            by[e.instance].append(e)
-        for k, eps in by.items():
-            if not eps:
-                raise ValueError(f"instance {k} has no episode")
+        eps = Episodes.of(self.episodes)
+        object.__setattr__(self, "episodes", eps)
+        ids = np.array([i.id for i in self.instances], dtype=np.int64)
+        known = np.isin(eps.instance, ids)
+        if not known.all():
+            e = eps[int(np.flatnonzero(~known)[0])]
+            raise ValueError(f"episode {e} refers to instance {e.instance}, which this result does not list")
+        # Each instance's episodes, in the order they are listed (a stable sort by instance).
+        order = np.argsort(eps.instance, kind="stable")
+        sorted_ids = eps.instance[order]
+        starts = np.searchsorted(sorted_ids, ids, side="left")
+        ends = np.searchsorted(sorted_ids, ids, side="right")
+        empty = np.flatnonzero(starts == ends)
+        if len(empty):
+            raise ValueError(f"instance {int(ids[empty[0]])} has no episode")
+        by = {int(k): order[a:b] for k, a, b in zip(ids.tolist(), starts.tolist(), ends.tolist())}
         object.__setattr__(self, "_by_instance", by)
 
     @property
     def env(self) -> str:
         return str(self.provenance["env"])
+
+    @property
+    def _episodes(self) -> Episodes:
+        return self.episodes  # type: ignore[return-value]  # __post_init__ made it Episodes
 
     @property
     def source_name(self) -> str:
@@ -175,12 +290,14 @@ class EvaluationResult:
 
     def summary(self) -> list[InstanceSummary]:
         """Per-instance aggregates, in instance order."""
-        return [_summary(i, self._by_instance[i.id]) for i in self.instances]
+        eps = self._episodes
+        return [_summary(i, eps.take(self._by_instance[i.id])) for i in self.instances]
 
     def returns(self, instance: int | str) -> np.ndarray:
         """The returns of one instance's episodes, by id or name, in episode order."""
         inst = self._instance(instance)
-        return np.array([e.return_ for e in self._by_instance[inst.id]], dtype=np.float64)
+        returns: np.ndarray = self._episodes.return_[self._by_instance[inst.id]]
+        return returns
 
     def _instance(self, key: int | str) -> Instance:
         for i in self.instances:
@@ -205,7 +322,8 @@ class EvaluationResult:
     @property
     def scores(self) -> np.ndarray:
         """The mean return of each instance, in instance order (the report's per-task score)."""
-        return np.array([np.mean([e.return_ for e in self._by_instance[i.id]]) for i in self.instances])
+        r = self._episodes.return_
+        return np.array([r[self._by_instance[i.id]].mean() for i in self.instances])
 
     @property
     def mean_return(self) -> float:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import operator
 import os
 from typing import Any, Mapping
 
@@ -12,7 +11,7 @@ import numpy as np
 from .. import _core
 from .._errors import UnknownNameError
 from ._policy import batch_policy, check_actions, describe
-from ._result import Episode, EvaluationResult, Instance
+from ._result import Episode, Episodes, EvaluationResult, Instance
 
 #: How each episode's seed derives from the evaluation's seed (recorded in the provenance).
 SEED_RULE = (
@@ -167,7 +166,8 @@ def evaluate(
         n = len(iset)
         inst = [Instance(k, iset.names[k], iset.splits[k], dict(iset.contexts[k])) for k in range(n)]
         per = 10 if episodes is None else episodes
-        jobs = [(k, e) for e in range(_count("episodes", per)) for k in range(n)]
+        per_n = _count("episodes", per)
+        jobs = (np.tile(np.arange(n, dtype=np.int64), per_n), np.repeat(np.arange(per_n, dtype=np.int64), n))
         make_source = dict(instances=iset.qualified_name, selection="round_robin")
         source: dict[str, Any] = {"kind": "instances", "name": iset.qualified_name, "content_hash": iset.content_hash}
         n_mod: int | None = n
@@ -184,7 +184,7 @@ def evaluate(
         n = _count("draws", 100 if draws is None else draws)
         feats = list(dists[distribution].get("features", {}))
         inst = [Instance(k, None, None, {}) for k in range(n)]  # contexts filled in as drawn
-        jobs = [(k, 0) for k in range(n)]
+        jobs = (np.arange(n, dtype=np.int64), np.zeros(n, dtype=np.int64))
         make_source = dict(distribution=distribution)
         source = {"kind": "distribution", "name": distribution, "draws": n}
         n_mod = None
@@ -196,14 +196,15 @@ def evaluate(
         ctx = _plain(dict(context)) if context is not None else {}
         inst = [Instance(0, None, None, ctx)]
         per = 10 if episodes is None else episodes
-        jobs = [(0, e) for e in range(_count("episodes", per))]
+        per_n = _count("episodes", per)
+        jobs = (np.zeros(per_n, dtype=np.int64), np.arange(per_n, dtype=np.int64))
         make_source = dict(context=ctx or None, allow_out_of_bounds=allow_out_of_bounds)
         source = {"kind": "context", "context": ctx}
         n_mod = None
     if allow_out_of_bounds and "context" not in make_source:
         raise ValueError("evaluate: allow_out_of_bounds is for a fixed context (a set declares its own)")
 
-    total = len(jobs)
+    total = len(jobs[0])
     if num_envs is None:
         num_envs = min(16, total)
     elif isinstance(num_envs, bool) or not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
@@ -221,10 +222,8 @@ def evaluate(
         specs_dir=specs_dir,
         **make_source,
     )
-    seeds = episode_seeds(
-        seed, np.fromiter((k for k, _ in jobs), np.int64, total), np.fromiter((e for _, e in jobs), np.int64, total), n_mod
-    ).tolist()
-    records: list[Episode | None] = [None] * total
+    seeds = episode_seeds(seed, jobs[0], jobs[1], n_mod)
+    records: list[Episodes | None] = [None]
     draws_seen: dict[int, tuple[dict[str, Any], int]] = {}
     try:
         with batch_policy(policy, venv.single_action_space, venv.single_observation_space, deterministic) as act:
@@ -233,13 +232,15 @@ def evaluate(
                 # The loop in Rust: Python runs only the policy, once per batch step.
                 _play_native(core, venv, act, jobs, seeds, records, draws_seen, env_id, n_mod is not None, distribution is not None)
             else:
-                _play(venv, act, jobs, seeds, records, draws_seen, env_id, distribution is not None)
+                _play(venv, act, jobs, seeds.tolist(), records, draws_seen, env_id, distribution is not None)
     finally:
         venv.close()
 
+    played = records[0]
+    assert played is not None
     if distribution is not None:
         inst = [Instance(k, None, None, {f: draws_seen[k][0][f] for f in feats}) for k in range(n)]
-        records = [None if r is None else r._replace(context_seed=draws_seen[r.instance][1]) for r in records]
+        played.context_seed = [draws_seen[k][1] for k in played.instance.tolist()]
     provenance = {
         "carl_spec_version": _core.VERSION,
         "env": env_id,
@@ -258,13 +259,9 @@ def evaluate(
         "num_envs": num_envs,
         "threads": threads,
     }
-    # Episodes in (instance, episode) order, whatever order the batch finished them in.
-    ordered = sorted((r for r in records if r is not None), key=_by_instance)
+    # Episodes in (instance, episode) order (the jobs are listed episode-major).
+    ordered = played.take(np.lexsort((played.episode, played.instance)))
     return EvaluationResult(provenance=provenance, instances=inst, episodes=ordered)
-
-
-#: An episode's (instance, episode): the results' order.
-_by_instance = operator.itemgetter(0, 1)
 
 
 def _count(what: str, n: Any) -> int:
@@ -277,36 +274,35 @@ def _play_native(
     core: Any,
     venv: Any,
     act: Any,
-    jobs: list[tuple[int, int]],
-    seeds: list[int],
-    records: list[Episode | None],
+    jobs: tuple[np.ndarray, np.ndarray],
+    seeds: np.ndarray,
+    records: list[Episodes | None],
     draws_seen: dict[int, tuple[dict[str, Any], int]],
     env_id: str,
     is_set: bool,
     drawing: bool,
 ) -> None:
-    """`_play` in the binding (`VecEnv.play`): the same jobs, seeds and records; a set's jobs
-    name their instance, which the seed's round robin would pick too."""
+    """`_play` in the binding (`VecEnv.play`): the same jobs, seeds and records (one `Episodes`
+    in job order, put in `records[0]`); a set's jobs name their instance, which the seed's round
+    robin would pick too."""
     n = venv.num_envs
 
     def check(actions: Any) -> Any:
         return check_actions(actions, venv.single_action_space, n, env_id)
 
-    instances = [k for k, _ in jobs] if is_set else None
-    rets, lens, terms, truncs, words, contexts = core.play(act, check, seeds, instances, drawing)
-    ks = [k for k, _ in jobs]
-    records[:] = map(Episode, ks, [e for _, e in jobs], seeds, rets, lens, terms, truncs, words)
+    rets, lens, terms, truncs, words, contexts = core.play(act, check, seeds, jobs[0] if is_set else None, drawing)
+    records[0] = Episodes(jobs[0], jobs[1], seeds, rets, lens, terms, truncs, words)
     if drawing:
-        for k, (ctx, context_seed) in zip(ks, contexts):
+        for k, (ctx, context_seed) in zip(jobs[0].tolist(), contexts):
             draws_seen[k] = (ctx, int(context_seed))
 
 
 def _play(
     venv: Any,
     act: Any,
-    jobs: list[tuple[int, int]],
+    job_columns: tuple[np.ndarray, np.ndarray],
     seeds: list[int],
-    records: list[Episode | None],
+    records: list[Episodes | None],
     draws_seen: dict[int, tuple[dict[str, Any], int]],
     env_id: str,
     drawing: bool,
@@ -314,9 +310,12 @@ def _play(
     """Step the batch until every job (instance, episode) has finished one episode. Environment i
     starts job i; whenever an episode ends its environment is reset (autoreset disabled) with the
     next job's seed. Once the jobs run out, finished environments replay their last seed so the
-    batch can go on stepping; those episodes are not recorded."""
+    batch can go on stepping; those episodes are not recorded. The episodes go to `records[0]`,
+    in job order."""
     n = venv.num_envs
+    jobs = list(zip(job_columns[0].tolist(), job_columns[1].tolist()))
     total = len(jobs)
+    played: list[Episode | None] = [None] * total
     job_of = list(range(n))  # the job each environment plays (-1: idle)
     next_job = n
     ret = np.zeros(n, dtype=np.float64)
@@ -359,7 +358,7 @@ def _play(
             j = job_of[i]
             if j >= 0:
                 k, e = jobs[j]
-                records[j] = Episode(k, e, seeds[j], r_i, t - s_i, te, tr, out)
+                played[j] = Episode(k, e, seeds[j], r_i, t - s_i, te, tr, out)
                 remaining -= 1
                 if next_job < total:
                     job_of[i] = next_job
@@ -380,6 +379,7 @@ def _play(
         obs, infos = venv.reset(seed=reset_seeds, options={"reset_mask": mask})
         if started:
             _check_started(venv, infos, jobs, job_of, started, draws_seen, drawing)
+    records[0] = Episodes.of(e for e in played if e is not None)
 
 
 def _check_started(

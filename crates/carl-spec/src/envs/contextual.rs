@@ -149,6 +149,8 @@ pub struct ContextualEnv {
     /// the fixed context it stood in for (put back at the reset after).
     pending: Option<Slot>,
     fixed_original: Option<Slot>,
+    /// `make`'s `allow_out_of_bounds`: a curriculum's contexts may leave the bounds too.
+    allow_out_of_bounds: bool,
 }
 
 fn make_err(who: &str) -> impl FnOnce(MakeError) -> ContextualError + '_ {
@@ -471,6 +473,7 @@ impl ContextualEnv {
             schedule_visible,
             pending: None,
             fixed_original: None,
+            allow_out_of_bounds: options.allow_out_of_bounds,
         })
     }
 
@@ -605,9 +608,10 @@ impl ContextualEnv {
     /// The next episode plays `context` (missing features at their defaults) instead of the
     /// source's own pick: a curriculum's choice. The episodes after it return to the source (the
     /// fixed context, or fresh draws of the distribution). Checked and built now, so a context
-    /// outside the bounds (or that a schedule would take out of them) is an error naming it,
-    /// and nothing changes then. Fixed contexts and distributions only: a set's instances are
-    /// chosen with [`ContextualEnv::reset_instance_into`].
+    /// outside the bounds (unless the environment was made with `allow_out_of_bounds`), or that a
+    /// schedule would take out of them, is an error naming it, and nothing changes then. Fixed
+    /// contexts and distributions only: a set's instances are chosen with
+    /// [`ContextualEnv::reset_instance_into`].
     pub fn set_next_context(&mut self, context: &Context) -> Result<(), ContextualError> {
         if let Mode::Set = self.mode {
             return Err(ContextualError::Curriculum(format!(
@@ -619,10 +623,13 @@ impl ContextualEnv {
         let who = format!("{} next context", self.spec.id);
         let mut ctx = self.spec.default_context();
         ctx.extend(context.iter().map(|(k, v)| (k.clone(), v.clone())));
+        let opts = MakeOptions {
+            allow_out_of_bounds: self.allow_out_of_bounds,
+        };
         let mut slot = build_slot(
             &self.spec,
             &ctx,
-            MakeOptions::default(),
+            opts,
             &self.env_options,
             &who,
             None,
