@@ -626,15 +626,7 @@ impl ContextualEnv {
         let opts = MakeOptions {
             allow_out_of_bounds: self.allow_out_of_bounds,
         };
-        let mut slot = build_slot(
-            &self.spec,
-            &ctx,
-            opts,
-            &self.env_options,
-            &who,
-            None,
-            None,
-        )?;
+        let mut slot = build_slot(&self.spec, &ctx, opts, &self.env_options, &who, None, None)?;
         fill_visible(&self.spec, &mut slot, &self.visible, &who)?;
         if !self.schedules.is_empty() {
             self.schedules
