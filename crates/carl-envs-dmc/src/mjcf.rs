@@ -16,6 +16,11 @@
 //! * `geom_density`: multiplies the mass and inertia of every body whose mass comes from its
 //!   geoms' density (MuJoCo's 1000 kg/m³ unless the XML says otherwise);
 //! * gravity: the domain decides (its XML may disable it).
+//!
+//! The XML's `<flag contact="disable"/>` removes contacts, `<flag constraint="disable"/>`
+//! contacts and joint limits; geoms of shapes the engine cannot collide (ellipsoids) are left
+//! out of the engine's model when nothing collides with them (find geoms by name in the
+//! built model: its indices are then not the file's).
 
 use carl_articulated::model::{
     Actuator, Body, Dynamics, Geom, Integrator, Joint, JointKind, Model, Options, Shape, SolImp, SolRef, Tendon,
@@ -40,6 +45,9 @@ pub struct OptDesc {
     pub wind: [f64; 3],
     /// `false`: the XML disables contacts.
     pub contact: bool,
+    /// `false`: the XML disables every constraint (contacts and joint limits).
+    #[serde(default = "yes")]
+    pub constraint: bool,
     pub gravity_disabled: bool,
 }
 
@@ -117,6 +125,10 @@ pub struct ActDesc {
 
 fn one() -> f64 {
     1.0
+}
+
+fn yes() -> bool {
+    true
 }
 
 /// A tendon's passive spring and damper (MuJoCo's `tendon_stiffness`, `tendon_damping`,
@@ -338,7 +350,8 @@ pub fn build(desc: &Desc, p: &Physics) -> Result<Model, String> {
         jt.stiffness = j.stiffness * p.joint_stiffness;
         jt.springref = j.springref;
         jt.qpos0 = j.qpos0;
-        jt.range = j.range;
+        // `<flag constraint="disable"/>`: no limit acts.
+        jt.range = if o.constraint { j.range } else { None };
         jt.margin = j.margin;
         jt.solref_limit = j.solref;
         jt.solimp_limit = j.solimp;
@@ -355,12 +368,19 @@ pub fn build(desc: &Desc, p: &Physics) -> Result<Model, String> {
                 half_length: s[1],
             },
             "box" => Shape::Box { half: s },
+            // A shape the engine cannot collide (fish.xml's ellipsoids) is left out of the
+            // engine's model when it collides with nothing: its mass is already in its body's.
+            _ if !(o.contact && o.constraint) || (g.contype == 0 && g.conaffinity == 0) => continue,
             other => return Err(format!("geom {}: unsupported shape {other}", desc.names.geoms[i])),
         };
         let mut geom = Geom::new(&desc.names.geoms[i], g.body, shape, g.pos);
         geom.quat = g.quat;
         // `<flag contact="disable"/>`: no geom collides.
-        (geom.contype, geom.conaffinity) = if o.contact { (g.contype, g.conaffinity) } else { (0, 0) };
+        (geom.contype, geom.conaffinity) = if o.contact && o.constraint {
+            (g.contype, g.conaffinity)
+        } else {
+            (0, 0)
+        };
         geom.condim = g.condim;
         geom.friction = [
             g.friction[0] * p.friction[0],
