@@ -20,10 +20,10 @@
 //! `target`, entries 8..11, and keeps its target at the XML's place).
 //!
 //! Context: the family's 14 physics features ([`crate::mjcf`]), fish.xml's values by default.
-//! `gravity` is its magnitude, pointing down; 0, the default, is dm_control's model (fish.xml
-//! disables gravity, so carl-bench's gravity feature does nothing); a positive value turns
-//! gravity on: MuJoCo's fluid model has no buoyancy, so the fish sinks at the terminal speed
-//! its drag sets. `joint_stiffness` multiplies tail2's spring and the fins' tendon spring
+//! `gravity` acts along −z (MuJoCo's gravity z = −gravity, carl-bench's rule); 0, the default,
+//! is dm_control's model (fish.xml disables gravity, so carl-bench's gravity feature does
+//! nothing); a non-zero value turns gravity on: MuJoCo's fluid model has no buoyancy, so the
+//! fish sinks (positive) or rises (negative) at the terminal speed its drag sets. `joint_stiffness` multiplies tail2's spring and the fins' tendon spring
 //! (carl-bench's default 0 removes them; here 1). `friction_*` do nothing (no contacts).
 
 use std::sync::Arc;
@@ -132,8 +132,8 @@ impl Fish {
     pub fn new(params: Params, upright: bool) -> Result<Fish, String> {
         let desc = Desc::parse(MODEL)?;
         let c = &params.common;
-        if !(c.gravity.is_finite() && c.gravity >= 0.0) {
-            return Err(format!("gravity = {} must be finite and non-negative", c.gravity));
+        if !c.gravity.is_finite() {
+            return Err(format!("gravity = {} must be finite", c.gravity));
         }
         let model = build(&desc, &c.physics(CONTROL_STEP, [0.0, 0.0, -c.gravity]))?;
         let torso = model.body_index("torso").ok_or("the model has no torso")?;
