@@ -9,6 +9,13 @@ Metrics (dmc_walker): fall_height_<t>, fall_torso_zz_<t>: the torso's height and
 its rotation (the sine of its pitch) <t> s after standing straight at rest (every joint at 0) under
 zero action; medium_fall_height_1s: the same in the medium below; random_return as below.
 
+Metrics (dmc_fish): coast_speed_<t>, coast_yaw_rate_<t>: the fish's forward speed and yaw rate <t> s
+after a push (level, joints at 0, 0.4 m/s forward, 3 rad/s yaw) under zero action, slowed by the
+medium alone; gravity_sink_speed_<t>: its sinking speed with gravity on (dm_control's disable flag
+cleared, 9.81 down; carl-spec's gravity 9.81); <servo>_angle_<t>: a joint's angle under a constant
+control (tail1 under tail 1, finright_roll under fins_flap 1, finleft_pitch under 0.6);
+tail_yaw_rate_1s: the yaw rate the beating tail gives; random_return as below.
+
 Metrics (dmc_point_mass):
 * push_<axis>_<t>s: the ball's displacement <t> s after a constant control from rest at the
   centre (the passive response of the damped slides to one motor: terminal speed gear / damping);
@@ -43,8 +50,12 @@ from robot_speed_compare import carl_steps_per_sec, write_report  # noqa: E402
 ENVS = {
     "dmc_point_mass": ("point_mass", "easy", ["random_start=true"]),
     "dmc_walker": ("walker", "walk", []),
+    "dmc_fish": ("fish", "swim", []),
 }
 MEDIUM = dict(viscosity=2.0, density=1000.0, wind_x=0.05)
+#: the second side's context of an environment (default MEDIUM): fish.xml disables gravity, so its
+#: second side turns gravity on (dm_control's disable flag cleared, gravity 9.81 down)
+SECOND = {"dmc_fish": dict(gravity=9.81)}
 
 
 def instance_context(env):
@@ -63,7 +74,13 @@ class DmcSide:
 
     def env(self, seed):
         env = self.suite.load(self.domain, self.task, task_kwargs={"random": seed})
-        if self.medium:
+        if self.medium and "gravity" in self.medium:
+            import mujoco
+
+            opt = env.physics.model.opt
+            opt.disableflags &= ~int(mujoco.mjtDisableBit.mjDSBL_GRAVITY)
+            opt.gravity[:] = [0.0, 0.0, -self.medium["gravity"]]
+        elif self.medium:
             opt = env.physics.model.opt
             opt.viscosity = self.medium.get("viscosity", 0.0)
             opt.density = self.medium.get("density", 0.0)
@@ -137,13 +154,40 @@ def walker_metrics(side, medium_side, episodes):
     return out
 
 
-METRICS = {"dmc_point_mass": point_mass_metrics, "dmc_walker": walker_metrics}
+def fish_metrics(side, gravity_side, episodes):
+    """The fish coasting in its medium from a push (level, every joint at 0, forward speed 0.4 m/s
+    along its body and a yaw rate of 3 rad/s, zero action): its forward speed and yaw rate; the
+    same with gravity on (sinking speed); constant-control responses of the tail and the fins;
+    random-policy returns."""
+    out = {}
+    q = [0.0, 0.0, 0.1, 1.0, 0.0, 0.0, 0.0] + [0.0] * 7
+    v = [0.0, 0.4, 0.0, 0.0, 0.0, 3.0] + [0.0] * 7
+    rest = (q + v + [0.0, 0.4, 0.1], (q, v))
+    obs, _ = side.run(0, [[0.0] * 5] * 25, init=rest)
+    for k, t in ((5, "0.2s"), (25, "1s")):
+        out[f"coast_speed_{t}"] = obs[k][12]  # qvel[1]: forward (y) speed
+        out[f"coast_yaw_rate_{t}"] = obs[k][16]  # qvel[5]: angular velocity about z (body frame)
+    obs, _ = gravity_side.run(0, [[0.0] * 5] * 50, init=rest)
+    out["gravity_sink_speed_1s"] = -obs[25][13]
+    out["gravity_sink_speed_2s"] = -obs[50][13]
+    for name, ctrl, k in (("tail", [1.0, 0.0, 0.0, 0.0, 0.0], 0), ("fins_flap", [0.0, 0.0, 1.0, 0.0, 0.0], 3),
+                          ("finleft_pitch", [0.0, 0.0, 0.0, 0.6, 0.0], 6)):
+        obs, _ = side.run(0, [ctrl] * 25, init=rest)
+        out[f"{name}_angle_0.2s"] = obs[5][k]
+        out[f"{name}_angle_1s"] = obs[25][k]
+    obs, _ = side.run(0, [[1.0, 0.0, 0.0, 0.0, 0.0]] * 25, init=rest)
+    out["tail_yaw_rate_1s"] = obs[25][16]
+    out["random_return"] = [side.random_episode(seed)[1] for seed in range(episodes)]
+    return out
+
+
+METRICS = {"dmc_point_mass": point_mass_metrics, "dmc_walker": walker_metrics, "dmc_fish": fish_metrics}
 
 
 def carl_sides(exe, env):
     ctx = instance_context(env)
     opts = ENVS[env][2]
-    return CarlSide(exe, env, ctx, opts), CarlSide(exe, env, {**ctx, **MEDIUM}, opts)
+    return CarlSide(exe, env, ctx, opts), CarlSide(exe, env, {**ctx, **SECOND.get(env, MEDIUM)}, opts)
 
 
 def dmc_speed(env, steps):
@@ -183,7 +227,7 @@ def main():
         if args.carl_only:
             print(json.dumps({env: carl}, indent=1))
             continue
-        dmc = METRICS[env](DmcSide(domain, task), DmcSide(domain, task, MEDIUM), args.episodes)
+        dmc = METRICS[env](DmcSide(domain, task), DmcSide(domain, task, SECOND.get(env, MEDIUM)), args.episodes)
         rows = {}
         for m, ref in dmc.items():
             ours = carl[m]

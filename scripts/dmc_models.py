@@ -8,7 +8,8 @@ contact parameters, fixed tendons, actuator gears, transmissions and control ran
 options (time step, integrator, gravity, medium density, viscosity and wind). The fields are
 those of scripts/articulated_mujoco_fixtures.py (`model_json`, which carl-articulated's parity
 tests read) plus the names of bodies, joints, geoms, actuators and tendons and the option flags
-the engine reads from the model (`contact` false: `<flag contact="disable"/>`; gravity is
+the engine reads from the model (`contact` false: `<flag contact="disable"/>`; `constraint`
+false: `<flag constraint="disable"/>`, no contacts and no joint limits; gravity is
 written as MuJoCo holds it, zero when disabled), and which bodies take their mass from their
 geoms' density (`body_mass_from_density`: no geom of theirs states a mass). The Rust loader
 (crates/carl-envs-dmc/src/mjcf.rs) builds carl-articulated's model from them and applies the
@@ -28,7 +29,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from articulated_mujoco_fixtures import model_json, write_or_check  # noqa: E402
 
 OUT = "crates/carl-envs-dmc/models"
-DOMAINS = ["point_mass", "walker"]
+DOMAINS = ["point_mass", "walker", "fish"]
 
 
 def names(mujoco, m, obj, n):
@@ -36,12 +37,14 @@ def names(mujoco, m, obj, n):
 
 
 def bodies_with_given_mass(xml):
-    """Names of the bodies one of whose geoms states its mass (the others' masses come from their
-    geoms' densities, which carl-bench's geom_density scales)."""
+    """Names of the bodies one of whose geoms states a non-zero mass (the others' masses come from
+    their geoms' densities, which carl-bench's geom_density scales; fish.xml's torso has massless
+    decorations and a box of the default density)."""
     import xml.etree.ElementTree as ET
 
     root = ET.fromstring(xml)
-    return {b.get("name") for b in root.iter("body") if any(g.get("mass") is not None for g in b.findall("geom"))}
+    return {b.get("name") for b in root.iter("body")
+            if any(g.get("mass") is not None and float(g.get("mass")) != 0 for g in b.findall("geom"))}
 
 
 def convert(domain):
@@ -54,6 +57,7 @@ def convert(domain):
     out["opt"]["density"] = float(m.opt.density)
     out["opt"]["wind"] = [float(x) for x in m.opt.wind]
     out["opt"]["contact"] = not (m.opt.disableflags & int(mujoco.mjtDisableBit.mjDSBL_CONTACT))
+    out["opt"]["constraint"] = not (m.opt.disableflags & int(mujoco.mjtDisableBit.mjDSBL_CONSTRAINT))
     out["opt"]["gravity_disabled"] = bool(m.opt.disableflags & int(mujoco.mjtDisableBit.mjDSBL_GRAVITY))
     o = mujoco.mjtObj
     out["names"] = dict(bodies=names(mujoco, m, o.mjOBJ_BODY, m.nbody), joints=names(mujoco, m, o.mjOBJ_JOINT, m.njnt),

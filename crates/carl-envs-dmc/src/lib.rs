@@ -8,12 +8,14 @@
 //! * [`point_mass`]: `dmc_point_mass` (dm_control's `point_mass` domain, tasks `easy` and
 //!   `hard`);
 //! * [`walker`]: `dmc_walker` (dm_control's `walker` domain, tasks `walk`, `stand`, `run`);
+//! * [`fish`]: `dmc_fish` (dm_control's `fish` domain, tasks `swim` and `upright`);
 //! * [`registry`]: the family's registrations.
 //!
 //! Each environment steps dm_control's control step (the physics step times dm_control's
 //! substeps) for dm_control's 1000-step episodes; its observation is dm_control's flat
 //! observation (the task's dict in order), float64.
 
+pub mod fish;
 pub mod mjcf;
 pub mod point_mass;
 pub mod registry;

@@ -4,6 +4,7 @@ use carl_env::context::{MakeError, OptionKind, OptionSpec, OptionValues};
 use carl_env::registration::{AuditProfile, Registration, StepCost};
 use carl_env::runtime::AnyEnv;
 
+use crate::fish::{self, Fish};
 use crate::point_mass::{self, PointMass};
 use crate::walker::{self, Walker};
 
@@ -65,6 +66,29 @@ pub const REGISTRATIONS: &[Registration] = &[
         },
         vector_kernel: None,
     },
+    Registration {
+        id: "dmc_fish",
+        build: build_fish,
+        runtime_default: |n| fish::Params::default().get(n),
+        options: &[OptionSpec {
+            name: "upright",
+            help: "dm_control's fish `upright` task (reward: the torso upright; the target stays at the XML's place) instead of `swim` (reach a random target with the mouth)",
+            kind: OptionKind::Bool { default: false },
+        }],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        // Ten physics steps per transition, no contacts. State: root position and quaternion,
+        // seven joints, then rates, then the target; a small fish near its start.
+        audit: AuditProfile {
+            trajectory_seeds: 2,
+            trajectory_steps: 16,
+            random_states: 8,
+            reset_seeds: 4,
+            state_hint: &[(-0.2, 0.2), (-0.2, 0.2), (0.0, 0.3)],
+        },
+        vector_kernel: None,
+    },
 ];
 
 fn build_point_mass(values: &[(String, f64)], o: &OptionValues) -> Result<AnyEnv, MakeError> {
@@ -88,6 +112,18 @@ fn build_walker(values: &[(String, f64)], o: &OptionValues) -> Result<AnyEnv, Ma
     let mut p = walker::Params::default();
     carl_env::context::apply(ID, values, |name, x| p.set(name, x))?;
     Walker::new(p, o.get("move_speed"))
+        .map(AnyEnv::new)
+        .map_err(|message| MakeError::Runtime {
+            env: ID.into(),
+            message,
+        })
+}
+
+fn build_fish(values: &[(String, f64)], o: &OptionValues) -> Result<AnyEnv, MakeError> {
+    const ID: &str = "dmc_fish";
+    let mut p = fish::Params::default();
+    carl_env::context::apply(ID, values, |name, x| p.set(name, x))?;
+    Fish::new(p, o.flag("upright"))
         .map(AnyEnv::new)
         .map_err(|message| MakeError::Runtime {
             env: ID.into(),

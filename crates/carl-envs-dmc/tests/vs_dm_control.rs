@@ -82,3 +82,53 @@ fn walker_falls_as_dm_control() {
         );
     }
 }
+
+#[test]
+fn fish_coasts_sinks_and_servoes_as_dm_control() {
+    use carl_envs_dmc::fish::{self, Fish};
+    // Level, joints at 0, 0.4 m/s forward (y), 3 rad/s yaw; the target where dm_control's
+    // script leaves it (the metrics do not read it). Returns the observation after `steps`.
+    let run = |p: fish::Params, ctrl: [f32; 5], steps: usize| {
+        let mut e = Fish::new(p, false).unwrap();
+        e.reset(Some(0));
+        let mut s = vec![0.0; 30];
+        s[2] = 0.1;
+        s[3] = 1.0;
+        s[15] = 0.4;
+        s[19] = 3.0;
+        s[28] = 0.4;
+        s[29] = 0.1;
+        e.set_state(&s).unwrap();
+        let mut obs = Vec::new();
+        for _ in 0..steps {
+            obs = e.step(&Action::Continuous(ctrl.to_vec())).unwrap().obs;
+        }
+        obs.iter().map(|x| f64::from(*x)).collect::<Vec<f64>>()
+    };
+    let dm = fish::Params::default();
+    let mut gravity = dm;
+    gravity.common.gravity = 9.81;
+    let zero = [0.0; 5];
+    // (metric, carl-spec, dm_control 1.0.50) as the script printed them; float32 observations.
+    let rows = [
+        ("coast_speed_0.2s", run(dm, zero, 5)[12], 0.10681),
+        ("coast_speed_1s", run(dm, zero, 25)[12], 0.027674),
+        ("coast_yaw_rate_0.2s", run(dm, zero, 5)[16], 0.0066625),
+        ("gravity_sink_speed_1s", -run(gravity, zero, 25)[13], 0.48612),
+        ("gravity_sink_speed_2s", -run(gravity, zero, 50)[13], 0.50334),
+        ("tail_angle_0.2s", run(dm, [1.0, 0.0, 0.0, 0.0, 0.0], 5)[0], 0.76544),
+        ("fins_flap_angle_1s", run(dm, [0.0, 0.0, 1.0, 0.0, 0.0], 25)[3], 1.0045),
+        (
+            "finleft_pitch_angle_1s",
+            run(dm, [0.0, 0.0, 0.0, 0.6, 0.0], 25)[6],
+            0.58794,
+        ),
+        ("tail_yaw_rate_1s", run(dm, [1.0, 0.0, 0.0, 0.0, 0.0], 25)[16], -0.13977),
+    ];
+    for (name, ours, theirs) in rows {
+        assert!(
+            (ours / theirs - 1.0).abs() < 1e-3,
+            "{name}: carl-spec {ours}, dm_control {theirs}"
+        );
+    }
+}

@@ -47,7 +47,6 @@ PENDING_TESTS: dict[str, str] = {
     "test_dmc.py::TestQuadruped::test_make_model": _dmc("CARLDmcQuadrupedEnv"),
     "test_dmc.py::TestQuadruped::test_instantiate_env_with_context": _dmc("CARLDmcQuadrupedEnv"),
     "test_dmc.py::TestFish::test_make_model": _dmc("CARLDmcQuadrupedEnv"),  # carl-bench's fish test builds the quadruped
-    "test_dmc.py::TestFish::test_instantiate_env_with_context": _dmc("CARLDmcFishEnv"),
 }
 
 _DEAD_GRAVITY = (

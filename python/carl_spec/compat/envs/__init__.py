@@ -33,7 +33,7 @@ from .gymnasium import (
     CARLPendulum,
     CARLVehicleRacing,
 )
-from .dmc import CARLDmcPointMassEnv, CARLDmcWalkerEnv
+from .dmc import CARLDmcFishEnv, CARLDmcPointMassEnv, CARLDmcWalkerEnv
 from .mario import CARLMarioEnv
 from .rna import CARLRnaDesignEnv
 
@@ -56,6 +56,7 @@ __all__ = [
     "CARLBraxReacher",
     "CARLBraxPusher",
     "CARLBraxHumanoidStandup",
+    "CARLDmcFishEnv",
     "CARLDmcPointMassEnv",
     "CARLDmcWalkerEnv",
     "CARLMarioEnv",

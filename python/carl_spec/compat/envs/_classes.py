@@ -318,6 +318,14 @@ class CARLDmcWalkerEnv(_Dmc):
     bench_names = _DMC_PHYSICS
 
 
+class CARLDmcFishEnv(_Dmc):
+    env_id = "dmc_fish"
+    domain = "fish"
+    task = "swim_context"
+    tasks = {"swim_context": {}, "upright_context": {"upright": True}}
+    bench_names = _DMC_PHYSICS
+
+
 class CARLMarioEnv(CARLEnv):
     env_id = "mario"
     bench_names = ("level_width", "level_index", "noise_seed", "mario_state", "mario_inertia")
@@ -334,7 +342,8 @@ CLASSES: dict[str, type[CARLEnv]] = {
         CARLCartPole, CARLPendulum, CARLAcrobot, CARLMountainCar, CARLMountainCarContinuous, CARLLunarLander,
         CARLBipedalWalker, CARLVehicleRacing, CARLBraxAnt, CARLBraxHalfcheetah, CARLBraxHumanoid, CARLBraxHopper,
         CARLBraxWalker2d, CARLBraxInvertedPendulum, CARLBraxInvertedDoublePendulum, CARLBraxReacher, CARLBraxPusher,
-        CARLBraxHumanoidStandup, CARLDmcPointMassEnv, CARLDmcWalkerEnv, CARLMarioEnv, CARLRnaDesignEnv,
+        CARLBraxHumanoidStandup, CARLDmcPointMassEnv, CARLDmcWalkerEnv, CARLDmcFishEnv,
+        CARLMarioEnv, CARLRnaDesignEnv,
     )
 }
 

@@ -1,7 +1,5 @@
-"""carl-bench's `carl.envs.dmc.carl_dm_fish`: pending (see `carl_spec.compat._pending`)."""
+"""carl-bench's `carl.envs.dmc.carl_dm_fish`."""
 
-from ..._pending import pending_class
-
-CARLDmcFishEnv = pending_class("CARLDmcFishEnv", __name__)
+from .._classes import CARLDmcFishEnv
 
 __all__ = ["CARLDmcFishEnv"]
