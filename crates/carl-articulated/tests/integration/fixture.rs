@@ -1,7 +1,9 @@
 //! Builds a [`Model`] from a MuJoCo fixture's compiled-model fields (as
 //! `scripts/articulated_mujoco_fixtures.py` writes them).
 
-use carl_articulated::model::{Actuator, Body, Geom, Integrator, Joint, JointKind, Model, Options, Shape, Tendon};
+use carl_articulated::model::{
+    Actuator, Body, Cone, Geom, Integrator, Joint, JointKind, Model, Options, Shape, Tendon,
+};
 use serde_json::Value;
 
 pub fn load(name: &str) -> Value {
@@ -43,6 +45,10 @@ pub fn model(fx: &Value) -> Model {
         viscosity: f(&o["viscosity"]),
         density: o.get("density").map_or(0.0, f),
         wind: o.get("wind").map_or([0.0; 3], v3),
+        cone: match o.get("cone").and_then(Value::as_str) {
+            Some("elliptic") => Cone::Elliptic,
+            _ => Cone::Pyramidal,
+        },
         ..Options::default()
     };
     let bodies = m["bodies"]
