@@ -16,7 +16,7 @@
 //! * gravity: the domain decides (its XML may disable it).
 
 use carl_articulated::model::{
-    Actuator, Body, Geom, Integrator, Joint, JointKind, Model, Options, Shape, SolImp, SolRef, Tendon,
+    Actuator, Body, Cone, Geom, Integrator, Joint, JointKind, Model, Options, Shape, SolImp, SolRef, Tendon,
 };
 use serde::Deserialize;
 
@@ -39,6 +39,9 @@ pub struct OptDesc {
     /// `false`: the XML disables contacts.
     pub contact: bool,
     pub gravity_disabled: bool,
+    /// MuJoCo's friction cone (`"elliptic"`; absent: pyramidal).
+    #[serde(default)]
+    pub cone: Option<String>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -67,6 +70,13 @@ pub struct JointDesc {
     pub margin: f64,
     pub solref: SolRef,
     pub solimp: SolImp,
+    /// MuJoCo's `frictionloss` (dry friction) and its `solreffriction` / `solimpfriction`.
+    #[serde(default)]
+    pub frictionloss: f64,
+    #[serde(default)]
+    pub solreffriction: Option<SolRef>,
+    #[serde(default)]
+    pub solimpfriction: Option<SolImp>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -262,6 +272,11 @@ pub fn build(desc: &Desc, p: &Physics) -> Result<Model, String> {
         viscosity: p.viscosity,
         density: p.density,
         wind: p.wind,
+        cone: if o.cone.as_deref() == Some("elliptic") {
+            Cone::Elliptic
+        } else {
+            Cone::Pyramidal
+        },
         ..Options::default()
     };
     let bodies = desc
@@ -306,6 +321,13 @@ pub fn build(desc: &Desc, p: &Physics) -> Result<Model, String> {
         jt.margin = j.margin;
         jt.solref_limit = j.solref;
         jt.solimp_limit = j.solimp;
+        jt.frictionloss = j.frictionloss;
+        if let Some(r) = j.solreffriction {
+            jt.solref_friction = r;
+        }
+        if let Some(r) = j.solimpfriction {
+            jt.solimp_friction = r;
+        }
         joints.push(jt);
     }
     let mut geoms = Vec::with_capacity(desc.geoms.len());
@@ -315,6 +337,10 @@ pub fn build(desc: &Desc, p: &Physics) -> Result<Model, String> {
             "plane" => Shape::Plane,
             "sphere" => Shape::Sphere { radius: s[0] },
             "capsule" => Shape::Capsule {
+                radius: s[0],
+                half_length: s[1],
+            },
+            "cylinder" => Shape::Cylinder {
                 radius: s[0],
                 half_length: s[1],
             },
