@@ -7,8 +7,8 @@
 //! MuJoCo's elliptic friction cone. Observation: `position` (the two finger angles and the
 //! spinner tip's (x, z) relative to the hinge), `velocity` (the three joint rates), `touch`
 //! (`log1p` of the `touchtop` and `touchbottom` sensors: MuJoCo's `touch`, the normal forces of
-//! the distal body's contacts whose normal ray through the contact point meets the site's
-//! ellipsoid); turn adds `target_position` (relative to the hinge) and `dist_to_target` (to the
+//! the distal body's contacts whose ray from the contact point along the normal, away from the
+//! body, meets the site's ellipsoid: here, contacts inside it); turn adds `target_position` (relative to the hinge) and `dist_to_target` (to the
 //! target's surface). Reward: spin `hinge velocity ≤ −15 rad/s`; turn `dist_to_target ≤ 0`.
 //! Reset: spin sets the hinge damping to 0.03 (as dm_control's `Spin`); turn draws the target
 //! angle uniform over ±π on the circle of radius `spinner_radius + spinner_length/2`; then the
@@ -425,7 +425,7 @@ impl Finger {
     }
 
     /// MuJoCo's `touch` of site `s`: the normal forces of the contacts of its body whose ray
-    /// from the contact point along the normal (pointing into the body) meets the ellipsoid.
+    /// from the contact point along the normal (pointing away from the body) meets the ellipsoid.
     fn touch(&self, s: &Site) -> f64 {
         let d = &self.data;
         let m = d.model();
@@ -442,8 +442,9 @@ impl Finger {
             if fnorm <= 0.0 {
                 continue;
             }
-            // The normal points from geom 1 to geom 2: into the body if it is geom 2's.
-            let sign = if b2 == s.body { 1.0 } else { -1.0 };
+            // The normal points from geom 1 to geom 2; the ray leaves the site's body towards
+            // the other one (MuJoCo flips it when the site's body is geom 2's).
+            let sign = if b2 == s.body { -1.0 } else { 1.0 };
             let dir = c.frame[0].map(|x| x * sign);
             if ray_hits_ellipsoid(centre, rot, s.size, c.pos, dir) {
                 total += fnorm;
