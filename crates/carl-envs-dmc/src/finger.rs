@@ -230,7 +230,8 @@ fn sized_model(s: &Sizes) -> Result<(Desc, Vec<(String, Site)>), String> {
         ));
     }
     let gap = (0.2 - half) - (-0.2 + s.limb_length_0 + s.limb_length_1);
-    if gap > 0.0 {
+    // (A rounding margin: the bounds' corners, e.g. 0.15 + 0.16 + 0.09, reach exactly.)
+    if gap > 1e-12 {
         return Err(format!(
             "the finger cannot reach the spinner ({gap:.4} m short): limb_length_0 + limb_length_1 + spinner_length/2 must be at least 0.4 (here {} + {} + {})",
             s.limb_length_0, s.limb_length_1, half
@@ -690,6 +691,40 @@ mod tests {
                     let tx: f64 = (0..3).map(|k| rx[a][k] * x.inertia[k] * rx[c][k]).sum();
                     let ty: f64 = (0..3).map(|k| ry[a][k] * y.inertia[k] * ry[c][k]).sum();
                     assert!((tx - ty).abs() < 1e-12, "{b}: inertia[{a}][{c}] {tx} vs {ty}");
+                }
+            }
+        }
+    }
+
+    /// At other sizes the rebuilt bodies are MuJoCo's compiling dm_control's XML with those
+    /// sizes (`scripts/dmc_finger_sizes.py`).
+    #[test]
+    fn other_sizes_match_mujocos_compiler() {
+        let text = include_str!("../tests/fixtures/finger_sizes.json");
+        let fx: serde_json::Value = serde_json::from_str(text).unwrap();
+        let f = |v: &serde_json::Value| v.as_f64().unwrap();
+        for case in fx["cases"].as_array().unwrap() {
+            let z = &case["sizes"];
+            let sizes = Sizes {
+                limb_length_0: f(&z["limb_length_0"]),
+                limb_length_1: f(&z["limb_length_1"]),
+                spinner_radius: f(&z["spinner_radius"]),
+                spinner_length: f(&z["spinner_length"]),
+            };
+            let (d, _) = sized_model(&sizes).unwrap();
+            for (name, b) in case["bodies"].as_object().unwrap() {
+                let body = &d.bodies[d.body(name).unwrap()];
+                assert!((body.mass - f(&b["mass"])).abs() < 1e-12, "{name}: mass");
+                for k in 0..3 {
+                    assert!((body.ipos[k] - f(&b["ipos"][k])).abs() < 1e-12, "{name}: ipos");
+                    for c in 0..3 {
+                        let ours = if k == c { body.inertia[k] } else { 0.0 };
+                        let theirs = f(&b["inertia"][k][c]);
+                        assert!(
+                            (ours - theirs).abs() < 1e-12,
+                            "{name}: inertia[{k}][{c}] {ours} vs {theirs} at {sizes:?}"
+                        );
+                    }
                 }
             }
         }
