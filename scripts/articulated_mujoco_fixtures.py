@@ -257,6 +257,33 @@ def r(x):
     x = float(x)
     return 0.0 if x == 0 else float(f"{x:.12g}")
 
+# MuJoCo's elliptic friction cone (cone="elliptic", impratio 3): a box thrown sliding along the
+# floor, and a motor-driven arm whose capsule falls against a capsule on a hinge with dry
+# friction (a finger against dm_control's spinner).
+ELLIPTIC = """
+<mujoco model="elliptic">
+  <option timestep="0.002" cone="elliptic" impratio="3"/>
+  <worldbody>
+    <geom name="floor" type="plane" size="5 5 0.1" friction="0.6 0.005 0.0001"/>
+    <body name="box" pos="0 0 0.0495" euler="0 0 20">
+      <freejoint/>
+      <geom type="box" size="0.1 0.08 0.05" density="800"/>
+    </body>
+    <body name="arm" pos="1 0 0.5">
+      <joint name="shoulder" type="hinge" axis="0 -1 0" damping="0.2"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03" friction="0.9"/>
+    </body>
+    <body name="spinner" pos="1.365 0 0.5">
+      <joint name="hinge" type="hinge" axis="0 -1 0" damping="0.05" frictionloss="0.01"/>
+      <geom type="capsule" size="0.04 0.1" friction="0.9"/>
+    </body>
+  </worldbody>
+  <actuator>
+    <motor joint="shoulder" gear="3" ctrllimited="true" ctrlrange="-1 1"/>
+  </actuator>
+</mujoco>
+"""
+
 
 def model_json(mujoco, m):
     shape = {int(mujoco.mjtGeom.mjGEOM_PLANE): "plane", int(mujoco.mjtGeom.mjGEOM_SPHERE): "sphere",
@@ -265,7 +292,6 @@ def model_json(mujoco, m):
     kind = {int(mujoco.mjtJoint.mjJNT_FREE): "free", int(mujoco.mjtJoint.mjJNT_HINGE): "hinge",
             int(mujoco.mjtJoint.mjJNT_SLIDE): "slide"}
     integ = {int(mujoco.mjtIntegrator.mjINT_EULER): "euler", int(mujoco.mjtIntegrator.mjINT_RK4): "rk4"}
-    assert m.opt.cone == mujoco.mjtCone.mjCONE_PYRAMIDAL
     bodies = [dict(parent=int(m.body_parentid[i]), pos=r(m.body_pos[i]), quat=r(m.body_quat[i]),
                    mass=r(m.body_mass[i]), ipos=r(m.body_ipos[i]), iquat=r(m.body_iquat[i]),
                    inertia=r(m.body_inertia[i])) for i in range(m.nbody)]
@@ -305,6 +331,8 @@ def model_json(mujoco, m):
     names = [mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j) for j in range(m.njnt)]
     out = dict(opt=opt, joint_names=names, bodies=bodies, joints=joints, geoms=geoms, actuators=actuators,
                body_invweight0=r(m.body_invweight0), dof_invweight0=r(m.dof_invweight0), qpos0=r(m.qpos0))
+    if m.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC:
+        opt.update(cone="elliptic")
     if m.opt.density > 0 or any(m.opt.wind):
         opt.update(density=r(m.opt.density), wind=r(m.opt.wind))
     for a, act in enumerate(actuators):
@@ -416,6 +444,10 @@ def fixtures(only=None):
         m = mujoco.MjModel.from_xml_string(ACTUATORS.format(integrator=integ))
         out[f"actuators_{integ.lower()}"] = dict(model=model_json(mujoco, m),
                                                  **run(mujoco, m, 500, 5, qvel0=[0.3, -1.0, 2.0, 1.5]))
+    if want("elliptic"):
+        m = mujoco.MjModel.from_xml_string(ELLIPTIC)
+        out["elliptic"] = dict(model=model_json(mujoco, m),
+                               **run(mujoco, m, 500, 5, qvel0=[1.5, 0.4, 0, 0, 0, 2.0, 0, 0]))
     for name, xml, steps in GYM_ROBOTS:
         if not want(name):
             continue
@@ -441,7 +473,7 @@ def write_or_check(path, text, check):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--check", action="store_true", help="compare with the committed fixtures")
-    ap.add_argument("--only", nargs="*", help="only these fixtures (e.g. actuators_euler)")
+    ap.add_argument("--only", nargs="*", help="write or check only these fixtures (e.g. elliptic, actuators_euler)")
     args = ap.parse_args()
     import mujoco
     if mujoco.__version__ != "4.0.0":

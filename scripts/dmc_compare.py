@@ -16,6 +16,14 @@ cleared, 9.81 down; carl-spec's gravity 9.81); <servo>_angle_<t>: a joint's angl
 control (tail1 under tail 1, finright_roll under fins_flap 1, finleft_pitch under 0.6);
 tail_yaw_rate_1s: the yaw rate the beating tail gives; random_return as below.
 
+Metrics (dmc_finger, task spin): from the finger hanging at rest (proximal at its ref −90°, distal
+at 0), under zero action the spinner started at 10 rad/s coasts down (damping 0.03 and frictionloss
+0.1): coast_speed_<t> (its hinge rate, rad/s) and coast_turned_<t> (the angle it has turned, rad,
+from the tip's unwrapped position), coast_stop_time (s, the first time |rate| < 0.05 rad/s); under
+the constant action (1, 0.5) from rest the finger swings into the spinner and turns it:
+push_proximal_<t> (rad), push_touch_<t> (the sum of the two touch observations) and push_turned_<t>;
+random_return as below.
+
 Metrics (dmc_point_mass):
 * push_<axis>_<t>s: the ball's displacement <t> s after a constant control from rest at the
   centre (the passive response of the damped slides to one motor: terminal speed gear / damping);
@@ -48,6 +56,7 @@ from robot_speed_compare import carl_steps_per_sec, write_report  # noqa: E402
 
 # carl-spec env -> (dm_control domain, task, carl-spec options reproducing the task's reset)
 ENVS = {
+    "dmc_finger": ("finger", "spin", []),
     "dmc_point_mass": ("point_mass", "easy", ["random_start=true"]),
     "dmc_walker": ("walker", "walk", []),
     "dmc_fish": ("fish", "swim", []),
@@ -181,7 +190,46 @@ def fish_metrics(side, gravity_side, episodes):
     return out
 
 
-METRICS = {"dmc_point_mass": point_mass_metrics, "dmc_walker": walker_metrics, "dmc_fish": fish_metrics}
+def finger_metrics(side, medium_side, episodes):
+    """The spinner's coast-down, the finger pushing it under a constant action, random returns."""
+    import math
+
+    out = {}
+    hang = [-math.pi / 2, 0.0, 0.0]
+
+    def turned(obs):
+        """The spinner's turned angle at each observation (the tip's unwrapped angle)."""
+        angles, total, prev = [0.0], 0.0, math.atan2(obs[0][2], obs[0][3])
+        for o in obs[1:]:
+            a = math.atan2(o[2], o[3])
+            d = (a - prev + math.pi) % (2 * math.pi) - math.pi
+            total += d
+            prev = a
+            angles.append(total)
+        return angles
+
+    start = (hang + [0.0, 0.0, 10.0], (hang, [0.0, 0.0, 10.0]))
+    obs, _ = side.run(0, [[0.0, 0.0]] * 150, init=start)
+    ang = turned(obs)
+    for k, t in ((25, "0.5s"), (50, "1s"), (100, "2s")):
+        out[f"coast_speed_{t}"] = obs[k][6]
+        out[f"coast_turned_{t}"] = abs(ang[k])
+    stop = next((k for k, o in enumerate(obs) if abs(o[6]) < 0.05), len(obs) - 1)
+    out["coast_stop_time"] = 0.02 * stop
+    rest = (hang + [0.0, 0.0, 0.0], (hang, [0.0, 0.0, 0.0]))
+    obs, _ = side.run(0, [[1.0, 0.5]] * 100, init=rest)
+    ang = turned(obs)
+    for k, t in ((10, "0.2s"), (25, "0.5s"), (100, "2s")):
+        out[f"push_proximal_{t}"] = obs[k][0]
+        out[f"push_touch_{t}"] = obs[k][7] + obs[k][8]
+        out[f"push_turned_{t}"] = abs(ang[k])
+    out["random_return"] = [side.random_episode(seed)[1] for seed in range(episodes)]
+    return out
+
+
+METRICS = {
+    "dmc_finger": finger_metrics, "dmc_fish": fish_metrics, "dmc_point_mass": point_mass_metrics, "dmc_walker": walker_metrics,
+}
 
 
 def carl_sides(exe, env):

@@ -29,7 +29,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from articulated_mujoco_fixtures import model_json, write_or_check  # noqa: E402
 
 OUT = "crates/carl-envs-dmc/models"
-DOMAINS = ["point_mass", "walker", "fish"]
+DOMAINS = ["finger", "fish", "point_mass", "walker"]
 
 
 def names(mujoco, m, obj, n):
@@ -64,6 +64,14 @@ def convert(domain):
                         geoms=names(mujoco, m, o.mjOBJ_GEOM, m.ngeom),
                         actuators=names(mujoco, m, o.mjOBJ_ACTUATOR, m.nu),
                         tendons=names(mujoco, m, o.mjOBJ_TENDON, m.ntendon))
+    if m.nsite:
+        kind = {int(mujoco.mjtGeom.mjGEOM_SPHERE): "sphere", int(mujoco.mjtGeom.mjGEOM_ELLIPSOID): "ellipsoid",
+                int(mujoco.mjtGeom.mjGEOM_BOX): "box", int(mujoco.mjtGeom.mjGEOM_CAPSULE): "capsule",
+                int(mujoco.mjtGeom.mjGEOM_CYLINDER): "cylinder"}
+        out["sites"] = [dict(name=mujoco.mj_id2name(m, o.mjOBJ_SITE, s), body=int(m.site_bodyid[s]),
+                             shape=kind[int(m.site_type[s])], size=[float(x) for x in m.site_size[s]],
+                             pos=[float(x) for x in m.site_pos[s]], quat=[float(x) for x in m.site_quat[s]])
+                        for s in range(m.nsite)]
     given = bodies_with_given_mass(xml)
     out["body_mass_from_density"] = [i > 0 and out["names"]["bodies"][i] not in given for i in range(m.nbody)]
     if m.ntendon and "tendons" not in out:

@@ -10,11 +10,19 @@
 //! `½ fᵀ (A + R) f + fᵀ (J a₀ − aref)` over the cone, `a₀` the unconstrained acceleration, and
 //! the acceleration is `a₀ + M⁻¹ Jᵀ f`.
 //!
-//! Friction cone: **pyramidal**, MuJoCo's default (`cone="pyramidal"`): a contact of condim 3
-//! has four rows `J_n ± μ J_tₖ`, each with `f ≥ 0`, so every row has the same simple bound and
-//! Gauss–Seidel projects each force independently (the elliptic cone would need a coupled
-//! projection per contact). Pyramid rows get MuJoCo's regularizer
-//! `R = 2μ²/impratio · (1 − d)/d · (1 + μ²) Â_n` (observed in MuJoCo 4.0.0's `efc_R`).
+//! Friction cone, as the model's [`Cone`] says:
+//! * **pyramidal**, MuJoCo's default (`cone="pyramidal"`): a contact of condim 3 has four rows
+//!   `J_n ± μ J_tₖ`, each with `f ≥ 0`, so every row has the same simple bound and Gauss–Seidel
+//!   projects each force independently. Pyramid rows get MuJoCo's regularizer
+//!   `R = 2μ²/impratio · (1 − d)/d · (1 + μ²) Â_n` (observed in MuJoCo 4.0.0's `efc_R`).
+//! * **elliptic** (`cone="elliptic"`): a contact of condim 3 has three rows, the normal `J_n` and
+//!   the tangents `J_t₁`, `J_t₂`, the forces in `{f_n ≥ 0, ‖f_t‖ ≤ μ f_n}`. All three share the
+//!   normal's impedance; the tangents' violation is 0 (`aref = −B J_t v`) and their regularizer
+//!   `R_t = R_n / impratio` (MuJoCo's `efc_R`; equal sliding frictions in both directions).
+//!   Gauss–Seidel updates the contact's three forces as a block, by the exact minimizer of their
+//!   3×3 quadratic over the cone (`cone_qp`: the unconstrained minimizer if inside, else the
+//!   best point of the cone's surface). Updating the normal and the friction forces one after
+//!   the other (MuJoCo's PGS) creeps along the cone's surface when a contact slides.
 //! MuJoCo's default solver is Newton on the primal; both converge to the minimizer of the same
 //! strictly convex problem, so the results agree up to the solvers' tolerances.
 //!
@@ -35,7 +43,7 @@ use crate::collision::{Placed, collide};
 use crate::data::Data;
 use crate::dynamics::cholesky_solve_from;
 use crate::math::{V3, add, cross, dot, dot6, join, scale, sub};
-use crate::model::{SolImp, SolRef};
+use crate::model::{Cone, SolImp, SolRef};
 
 /// What a row constrains (for warm starts and contact forces).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -188,8 +196,11 @@ impl Data {
             let r_viol = c.dist - imargin;
             let imp = impedance(&pair.solimp, r_viol.abs());
             let (kk, bb) = stiffness_damping(&pair.solref, &pair.solimp, h);
+            let elliptic = m.opt.cone == Cone::Elliptic && pair.condim != 1;
             let rows: &[(f64, usize)] = if pair.condim == 1 {
                 &[(0.0, 0)]
+            } else if elliptic {
+                &[(0.0, 0), (0.0, 1), (0.0, 2)]
             } else {
                 &[(1.0, 1), (-1.0, 1), (1.0, 2), (-1.0, 2)]
             };
@@ -206,6 +217,24 @@ impl Data {
             };
             for (e, &(sign, t)) in rows.iter().enumerate() {
                 let Some(r) = self.new_row() else { return };
+                if elliptic {
+                    let u = c.frame[t];
+                    self.add_point_row(r, b2, c.pos, u, 1.0);
+                    self.add_point_row(r, b1, c.pos, u, -1.0);
+                    self.efc_kind[r] = RowKind::Contact {
+                        contact: ci,
+                        edge: e as u8,
+                        frictionless: false,
+                    };
+                    if t == 0 {
+                        self.set_row(r, r_viol, imp, kk, bb, tran);
+                        self.restitute(r, pair.restitution, vn, h);
+                    } else {
+                        self.set_row(r, 0.0, imp, 0.0, bb, tran);
+                        self.efc_r[r] = self.efc_r[r - t] / m.opt.impratio;
+                    }
+                    continue;
+                }
                 let mut u = c.frame[0];
                 if t > 0 {
                     u = add(u, scale(c.frame[t], sign * mu));
@@ -339,6 +368,33 @@ impl Data {
             self.efc_g[r] = self.efc_b[r] + af;
         }
         self.solver_sweeps = 0;
+        if m.opt.cone == Cone::Elliptic {
+            self.elliptic_sweeps();
+        } else {
+            self.pyramidal_sweeps();
+        }
+        for r in 0..n {
+            let f = self.efc_force[r];
+            if f == 0.0 {
+                continue;
+            }
+            let (j, w) = (&self.efc_j[r * nv..(r + 1) * nv], &self.efc_w[r * nv..(r + 1) * nv]);
+            for k in 0..nv {
+                self.qfrc_constraint[k] += j[k] * f;
+                self.qacc[k] += w[k] * f;
+            }
+        }
+        self.warm_count = 0;
+        for r in 0..n.min(self.warm.len()) {
+            self.warm[r] = (self.row_key(r), self.efc_force[r]);
+            self.warm_count += 1;
+        }
+    }
+
+    /// The sweeps of a model whose rows all have simple bounds (pyramidal cones).
+    fn pyramidal_sweeps(&mut self) {
+        let m = &*self.model;
+        let n = self.nefc;
         for _ in 0..m.opt.iterations {
             self.solver_sweeps += 1;
             let mut change = 0.0f64;
@@ -367,21 +423,87 @@ impl Data {
                 break;
             }
         }
-        for r in 0..n {
-            let f = self.efc_force[r];
-            if f == 0.0 {
-                continue;
-            }
-            let (j, w) = (&self.efc_j[r * nv..(r + 1) * nv], &self.efc_w[r * nv..(r + 1) * nv]);
-            for k in 0..nv {
-                self.qfrc_constraint[k] += j[k] * f;
-                self.qacc[k] += w[k] * f;
+    }
+
+    /// Set row `r`'s force to `new`, keeping `g = b + A f` current; returns the change.
+    fn move_force(&mut self, r: usize, new: f64) -> f64 {
+        let n = self.nefc;
+        let d = new - self.efc_force[r];
+        if d != 0.0 {
+            self.efc_force[r] = new;
+            let col = &self.efc_a[r * n..(r + 1) * n];
+            for (g, a) in self.efc_g[..n].iter_mut().zip(col) {
+                *g += a * d;
             }
         }
-        self.warm_count = 0;
-        for r in 0..n.min(self.warm.len()) {
-            self.warm[r] = (self.row_key(r), self.efc_force[r]);
-            self.warm_count += 1;
+        d
+    }
+
+    /// The sweeps of a model with elliptic cones: the rows of a contact with friction (its
+    /// normal, then its two tangents) are updated as a block, every other row as in
+    /// [`Self::pyramidal_sweeps`].
+    fn elliptic_sweeps(&mut self) {
+        let model = std::sync::Arc::clone(&self.model);
+        let m = &*model;
+        let n = self.nefc;
+        for _ in 0..m.opt.iterations {
+            self.solver_sweeps += 1;
+            let mut change = 0.0f64;
+            let mut scale_f = 0.0f64;
+            let mut r = 0;
+            while r < n {
+                let block = matches!(
+                    self.efc_kind[r],
+                    RowKind::Contact {
+                        edge: 0,
+                        frictionless: false,
+                        ..
+                    }
+                );
+                if !block {
+                    let old = self.efc_force[r];
+                    let grad = self.efc_g[r] + self.efc_r[r] * old;
+                    let bound = self.efc_bound[r];
+                    let new = if bound.is_finite() {
+                        (old - grad * self.efc_inv[r]).clamp(-bound, bound)
+                    } else {
+                        (old - grad * self.efc_inv[r]).max(0.0)
+                    };
+                    change = change.max(self.move_force(r, new).abs());
+                    scale_f = scale_f.max(new.abs());
+                    r += 1;
+                    continue;
+                }
+                let RowKind::Contact { contact, .. } = self.efc_kind[r] else {
+                    unreachable!()
+                };
+                let mu = m.pairs[self.contacts[contact].pair].friction;
+                // ½ xᵀ H x + cᵀ x over the contact's three forces, the gradient at the current
+                // forces x0 the rows' current one.
+                let rows = [r, r + 1, r + 2];
+                let x0 = rows.map(|i| self.efc_force[i]);
+                let mut hm = [[0.0; 3]; 3];
+                for (a, &i) in rows.iter().enumerate() {
+                    for (b, &j) in rows.iter().enumerate() {
+                        hm[a][b] = self.efc_a[i * n + j];
+                    }
+                    hm[a][a] += self.efc_r[i];
+                }
+                let mut c = [0.0; 3];
+                for a in 0..3 {
+                    let g0 = self.efc_g[rows[a]] + self.efc_r[rows[a]] * x0[a];
+                    c[a] = g0 - (0..3).map(|b| hm[a][b] * x0[b]).sum::<f64>();
+                }
+                let x = cone_qp(&hm, &c, mu, x0);
+                for (k, &row) in rows.iter().enumerate() {
+                    change = change.max(self.move_force(row, x[k]).abs());
+                    scale_f = scale_f.max(x[k].abs());
+                }
+                r += 3;
+            }
+            if change <= m.opt.tolerance * scale_f.max(1.0) {
+                break;
+            }
         }
     }
 
@@ -413,6 +535,10 @@ impl Data {
                 && contact == ci
             {
                 let fr = self.efc_force[r];
+                if m.opt.cone == Cone::Elliptic {
+                    f = add(f, scale(c.frame[edge as usize], fr));
+                    continue;
+                }
                 f = add(f, scale(c.frame[0], fr));
                 if !frictionless {
                     let (t, s) = match edge {
@@ -427,5 +553,136 @@ impl Data {
         }
         let _ = dot;
         f
+    }
+}
+
+/// The minimizer of `½ fᵀ H f + cᵀ f` (`H` 3×3 symmetric positive definite) over the cone
+/// `{f₀ ≥ 0, ‖(f₁, f₂)‖ ≤ μ f₀}`: the unconstrained minimizer if it lies in the cone; else the
+/// best point of the cone's surface, `s·(1, μ cos θ, μ sin θ)` with `s ≥ 0` optimal in closed form
+/// for each direction θ, θ found by a scan of the circle (and the current force's direction)
+/// refined by golden-section search. A strictly convex problem's minimizer over the cone.
+fn cone_qp(h: &[[f64; 3]; 3], c: &[f64; 3], mu: f64, x0: [f64; 3]) -> [f64; 3] {
+    if let Some(x) = solve3(h, c)
+        && x[0] >= 0.0
+        && x[1].hypot(x[2]) <= mu * x[0]
+    {
+        return x;
+    }
+    if mu <= 0.0 {
+        let s = (-c[0] / h[0][0]).max(0.0);
+        return [s, 0.0, 0.0];
+    }
+    // The best point along direction θ and its value.
+    let along = |t: f64| {
+        let v = [1.0, mu * t.cos(), mu * t.sin()];
+        let cv = c[0] * v[0] + c[1] * v[1] + c[2] * v[2];
+        let mut vhv = 0.0;
+        for a in 0..3 {
+            for b in 0..3 {
+                vhv += v[a] * h[a][b] * v[b];
+            }
+        }
+        let s = (-cv / vhv).max(0.0);
+        (0.5 * s * s * vhv + s * cv, s, v)
+    };
+    const SCAN: usize = 32;
+    let step = std::f64::consts::TAU / SCAN as f64;
+    let mut best = (f64::INFINITY, 0.0);
+    for k in 0..SCAN {
+        let t = k as f64 * step;
+        let (q, ..) = along(t);
+        if q < best.0 {
+            best = (q, t);
+        }
+    }
+    if x0[1] != 0.0 || x0[2] != 0.0 {
+        let t = x0[2].atan2(x0[1]);
+        let (q, ..) = along(t);
+        if q < best.0 {
+            best = (q, t);
+        }
+    }
+    if best.0 >= 0.0 {
+        return [0.0; 3];
+    }
+    let (mut a, mut b) = (best.1 - step, best.1 + step);
+    let g = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut x1, mut x2) = (b - g * (b - a), a + g * (b - a));
+    let (mut f1, mut f2) = (along(x1).0, along(x2).0);
+    for _ in 0..80 {
+        if f1 < f2 {
+            b = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = b - g * (b - a);
+            f1 = along(x1).0;
+        } else {
+            a = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = a + g * (b - a);
+            f2 = along(x2).0;
+        }
+        if b - a < 1e-13 {
+            break;
+        }
+    }
+    let (_, s, v) = along(0.5 * (a + b));
+    [s * v[0], s * v[1], s * v[2]]
+}
+
+/// `−H⁻¹ c` of a 3×3 `H` (`None` if singular).
+fn solve3(h: &[[f64; 3]; 3], c: &[f64; 3]) -> Option<[f64; 3]> {
+    let det = h[0][0] * (h[1][1] * h[2][2] - h[1][2] * h[2][1]) - h[0][1] * (h[1][0] * h[2][2] - h[1][2] * h[2][0])
+        + h[0][2] * (h[1][0] * h[2][1] - h[1][1] * h[2][0]);
+    if !(det.abs() > 1e-300) {
+        return None;
+    }
+    let mut x = [0.0; 3];
+    for (k, xk) in x.iter_mut().enumerate() {
+        let mut m = *h;
+        for row in 0..3 {
+            m[row][k] = c[row];
+        }
+        let d = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+        *xk = -d / det;
+    }
+    Some(x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{cone_qp, solve3};
+
+    /// Inside the cone the unconstrained minimizer; outside, a point of the surface no better
+    /// than any other surface point nearby (checked on a fine circle of directions).
+    #[test]
+    fn cone_qp_is_the_constrained_minimizer() {
+        let h = [[2.0, 0.3, 0.1], [0.3, 1.0, 0.2], [0.1, 0.2, 1.5]];
+        let q = |f: [f64; 3], c: [f64; 3]| {
+            let mut v = 0.0;
+            for a in 0..3 {
+                v += c[a] * f[a];
+                for b in 0..3 {
+                    v += 0.5 * f[a] * h[a][b] * f[b];
+                }
+            }
+            v
+        };
+        let c = [-1.0, 0.1, -0.05];
+        let x = cone_qp(&h, &c, 1.0, [0.0; 3]);
+        assert_eq!(Some(x), solve3(&h, &c));
+        let c = [-1.0, 3.0, -2.0];
+        let x = cone_qp(&h, &c, 0.5, [0.0; 3]);
+        assert!((x[1].hypot(x[2]) - 0.5 * x[0]).abs() < 1e-12 && x[0] > 0.0);
+        for k in 0..3600 {
+            let t = k as f64 * std::f64::consts::TAU / 3600.0;
+            for s in [0.5 * x[0], x[0], 1.5 * x[0]] {
+                let f = [s, 0.5 * s * t.cos(), 0.5 * s * t.sin()];
+                assert!(q(f, c) >= q(x, c) - 1e-12);
+            }
+        }
+        assert_eq!(cone_qp(&h, &[1.0, 0.0, 0.0], 0.5, [0.0; 3]), [0.0; 3]);
     }
 }

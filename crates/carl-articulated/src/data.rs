@@ -418,6 +418,15 @@ impl Data {
         &self.contacts[..self.ncon]
     }
 
+    /// The normal force of contact `ci` in the last forward pass (MuJoCo's `mj_contactForce`'s
+    /// first component).
+    pub fn contact_normal_force(&self, ci: usize) -> f64 {
+        if ci >= self.ncon {
+            return 0.0;
+        }
+        crate::math::dot(self.contact_force(ci), self.contacts[ci].frame[0])
+    }
+
     /// External contact wrench on each body from the last forward pass, `[torque, force]` in
     /// the world frame, the torque about the body's centre of mass (the force on geom 2's body,
     /// its opposite on geom 1's).

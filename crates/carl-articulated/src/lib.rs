@@ -8,8 +8,8 @@
 //! * [`dynamics`]: forward kinematics (quaternions for free joints), composite-rigid-body mass
 //!   matrix with armature, recursive Newton–Euler bias forces, passive forces;
 //! * [`collision`]: contacts with MuJoCo's pair filters, margins and contact frames;
-//! * [`constraint`]: soft contacts and joint limits from `solref`/`solimp`, pyramidal friction,
-//!   projected Gauss–Seidel on the dual with a warm start;
+//! * [`constraint`]: soft contacts and joint limits from `solref`/`solimp`, pyramidal or elliptic
+//!   friction cones, projected Gauss–Seidel on the dual with a warm start;
 //! * [`data`]: semi-implicit Euler with implicit joint damping, or RK4.
 //!
 //! [`math`] holds the small vector, quaternion and spatial-algebra helpers.
@@ -24,5 +24,5 @@ pub mod model;
 pub use collision::Contact;
 pub use data::Data;
 pub use model::{
-    Actuator, Body, Dynamics, Geom, Integrator, Joint, JointKind, Model, ModelError, Options, Shape, Tendon,
+    Actuator, Body, Cone, Dynamics, Geom, Integrator, Joint, JointKind, Model, ModelError, Options, Shape, Tendon,
 };

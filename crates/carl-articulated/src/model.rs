@@ -369,6 +369,19 @@ pub struct Options {
     pub iterations: usize,
     /// Sweeps stop once no force changes by more than this (relative to the largest force).
     pub tolerance: f64,
+    /// The friction cone of contacts with friction (MuJoCo's `cone`).
+    pub cone: Cone,
+}
+
+/// MuJoCo's friction cone (`<option cone=...>`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Cone {
+    /// Four rows `J_n ± μ J_tₖ` per condim-3 contact, each force non-negative (MuJoCo's default).
+    #[default]
+    Pyramidal,
+    /// One normal and two friction rows per condim-3 contact, the forces in
+    /// `{f_n ≥ 0, ‖(f_t₁, f_t₂)‖ ≤ μ f_n}`.
+    Elliptic,
 }
 
 impl Default for Options {
@@ -383,6 +396,7 @@ impl Default for Options {
             wind: [0.0; 3],
             iterations: 200,
             tolerance: 1e-8,
+            cone: Cone::Pyramidal,
         }
     }
 }

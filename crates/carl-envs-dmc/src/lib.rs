@@ -5,6 +5,8 @@
 //!   (MuJoCo compiles them; `models/<domain>.json` holds the compiled fields), loaded into a
 //!   [`carl_articulated::Model`] with the family's context features applied;
 //! * [`rewards`]: dm_control's `rewards.tolerance` and its sigmoids;
+//! * [`finger`]: `dmc_finger` (dm_control's `finger` domain, tasks `spin`, `turn_easy`,
+//!   `turn_hard`);
 //! * [`point_mass`]: `dmc_point_mass` (dm_control's `point_mass` domain, tasks `easy` and
 //!   `hard`);
 //! * [`walker`]: `dmc_walker` (dm_control's `walker` domain, tasks `walk`, `stand`, `run`);
@@ -15,6 +17,7 @@
 //! substeps) for dm_control's 1000-step episodes; its observation is dm_control's flat
 //! observation (the task's dict in order), float64.
 
+pub mod finger;
 pub mod fish;
 pub mod mjcf;
 pub mod point_mass;

@@ -23,7 +23,7 @@
 //! built model: its indices are then not the file's).
 
 use carl_articulated::model::{
-    Actuator, Body, Dynamics, Geom, Integrator, Joint, JointKind, Model, Options, Shape, SolImp, SolRef, Tendon,
+    Actuator, Body, Cone, Dynamics, Geom, Integrator, Joint, JointKind, Model, Options, Shape, SolImp, SolRef, Tendon,
 };
 use serde::Deserialize;
 
@@ -49,6 +49,9 @@ pub struct OptDesc {
     #[serde(default = "yes")]
     pub constraint: bool,
     pub gravity_disabled: bool,
+    /// MuJoCo's friction cone (`"elliptic"`; absent: pyramidal).
+    #[serde(default)]
+    pub cone: Option<String>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -77,6 +80,13 @@ pub struct JointDesc {
     pub margin: f64,
     pub solref: SolRef,
     pub solimp: SolImp,
+    /// MuJoCo's `frictionloss` (dry friction) and its `solreffriction` / `solimpfriction`.
+    #[serde(default)]
+    pub frictionloss: f64,
+    #[serde(default)]
+    pub solreffriction: Option<SolRef>,
+    #[serde(default)]
+    pub solimpfriction: Option<SolImp>,
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -310,6 +320,11 @@ pub fn build(desc: &Desc, p: &Physics) -> Result<Model, String> {
         viscosity: p.viscosity,
         density: p.density,
         wind: p.wind,
+        cone: if o.cone.as_deref() == Some("elliptic") {
+            Cone::Elliptic
+        } else {
+            Cone::Pyramidal
+        },
         ..Options::default()
     };
     let bodies = desc
@@ -355,6 +370,13 @@ pub fn build(desc: &Desc, p: &Physics) -> Result<Model, String> {
         jt.margin = j.margin;
         jt.solref_limit = j.solref;
         jt.solimp_limit = j.solimp;
+        jt.frictionloss = j.frictionloss;
+        if let Some(r) = j.solreffriction {
+            jt.solref_friction = r;
+        }
+        if let Some(r) = j.solimpfriction {
+            jt.solimp_friction = r;
+        }
         joints.push(jt);
     }
     let mut geoms = Vec::with_capacity(desc.geoms.len());
@@ -364,6 +386,10 @@ pub fn build(desc: &Desc, p: &Physics) -> Result<Model, String> {
             "plane" => Shape::Plane,
             "sphere" => Shape::Sphere { radius: s[0] },
             "capsule" => Shape::Capsule {
+                radius: s[0],
+                half_length: s[1],
+            },
+            "cylinder" => Shape::Cylinder {
                 radius: s[0],
                 half_length: s[1],
             },

@@ -4,12 +4,47 @@ use carl_env::context::{MakeError, OptionKind, OptionSpec, OptionValues};
 use carl_env::registration::{AuditProfile, Registration, StepCost};
 use carl_env::runtime::AnyEnv;
 
+use crate::finger::{self, Finger};
 use crate::fish::{self, Fish};
 use crate::point_mass::{self, PointMass};
 use crate::walker::{self, Walker};
 
 /// The environments of this family, in registry order.
 pub const REGISTRATIONS: &[Registration] = &[
+    Registration {
+        id: "dmc_finger",
+        build: build_finger,
+        runtime_default: |n| finger::Params::default().get(n),
+        options: &[OptionSpec {
+            name: "target_radius",
+            help: "0: dm_control's finger spin task (default); a positive radius (m) is the turn task with a target of that radius: turn_easy 0.07, turn_hard 0.03",
+            kind: OptionKind::Number {
+                default: 0.0,
+                min: 0.0,
+                max: 0.2,
+            },
+        }],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        // Two physics steps per transition with finger–spinner contacts. State: proximal,
+        // distal (±1.92), hinge, then rates.
+        audit: AuditProfile {
+            trajectory_seeds: 2,
+            trajectory_steps: 16,
+            random_states: 16,
+            reset_seeds: 4,
+            state_hint: &[
+                (-1.9, 1.9),
+                (-1.9, 1.9),
+                (-3.1, 3.1),
+                (-5.0, 5.0),
+                (-5.0, 5.0),
+                (-10.0, 10.0),
+            ],
+        },
+        vector_kernel: None,
+    },
     Registration {
         id: "dmc_point_mass",
         build: build_point_mass,
@@ -124,6 +159,24 @@ fn build_fish(values: &[(String, f64)], o: &OptionValues) -> Result<AnyEnv, Make
     let mut p = fish::Params::default();
     carl_env::context::apply(ID, values, |name, x| p.set(name, x))?;
     Fish::new(p, o.flag("upright"))
+        .map(AnyEnv::new)
+        .map_err(|message| MakeError::Runtime {
+            env: ID.into(),
+            message,
+        })
+}
+
+fn build_finger(values: &[(String, f64)], o: &OptionValues) -> Result<AnyEnv, MakeError> {
+    const ID: &str = "dmc_finger";
+    let mut p = finger::Params::default();
+    carl_env::context::apply(ID, values, |name, x| p.set(name, x))?;
+    let r = o.get("target_radius");
+    let task = if r > 0.0 {
+        finger::Task::Turn(r)
+    } else {
+        finger::Task::Spin
+    };
+    Finger::new(p, task)
         .map(AnyEnv::new)
         .map_err(|message| MakeError::Runtime {
             env: ID.into(),

@@ -132,3 +132,83 @@ fn fish_coasts_sinks_and_servoes_as_dm_control() {
         );
     }
 }
+
+/// The finger's metrics of `scripts/dmc_compare.py` (`finger_metrics`) at dm_control's values:
+/// (name, value).
+fn finger_metrics() -> Vec<(&'static str, f64)> {
+    use carl_envs_dmc::finger::{Finger, Params, Task};
+    use std::f64::consts::PI;
+    let f64_obs = |e: &Finger| {
+        let mut o = vec![0.0; 9];
+        e.observe_f64_into(&mut o).unwrap();
+        o
+    };
+    let run = |qvel: f64, action: [f32; 2], steps: usize| {
+        let mut e = Finger::new(Params::default(), Task::Spin).unwrap();
+        e.reset(Some(0));
+        e.set_state(&[-PI / 2.0, 0.0, 0.0, 0.0, 0.0, qvel]).unwrap();
+        let mut obs = vec![f64_obs(&e)];
+        for _ in 0..steps {
+            e.step(&Action::Continuous(action.to_vec())).unwrap();
+            obs.push(f64_obs(&e));
+        }
+        obs
+    };
+    let turned = |obs: &[Vec<f64>]| {
+        let mut out = vec![0.0];
+        let (mut total, mut prev) = (0.0, obs[0][2].atan2(obs[0][3]));
+        for o in &obs[1..] {
+            let a = o[2].atan2(o[3]);
+            total += (a - prev + PI).rem_euclid(2.0 * PI) - PI;
+            prev = a;
+            out.push(total);
+        }
+        out
+    };
+    let coast = run(10.0, [0.0, 0.0], 150);
+    let ang = turned(&coast);
+    let stop = coast.iter().position(|o| o[6].abs() < 0.05).unwrap_or(coast.len() - 1);
+    let push = run(0.0, [1.0, 0.5], 100);
+    let pang = turned(&push);
+    vec![
+        ("coast_speed_0.5s", coast[25][6]),
+        ("coast_turned_0.5s", ang[25].abs()),
+        ("coast_turned_1s", ang[50].abs()),
+        ("coast_stop_time", 0.02 * stop as f64),
+        ("push_proximal_0.2s", push[10][0]),
+        ("push_touch_0.2s", push[10][7] + push[10][8]),
+        ("push_turned_0.2s", pang[10].abs()),
+        ("push_proximal_0.5s", push[25][0]),
+        ("push_touch_0.5s", push[25][7] + push[25][8]),
+        ("push_turned_0.5s", pang[25].abs()),
+        ("push_proximal_2s", push[100][0]),
+        ("push_turned_2s", pang[100].abs()),
+    ]
+}
+
+#[test]
+fn finger_coasts_and_pushes_as_dm_control() {
+    // (metric, dm_control 1.0.50) as the script printed them.
+    let dm = [
+        ("coast_speed_0.5s", 0.8174056340331062),
+        ("coast_turned_0.5s", 2.221937253706825),
+        ("coast_turned_1s", 2.254984881400471),
+        ("coast_stop_time", 0.6),
+        ("push_proximal_0.2s", -0.20326419612097316),
+        ("push_touch_0.2s", 4.412084006596887),
+        ("push_turned_0.2s", 0.6770206693666876),
+        ("push_proximal_0.5s", 0.2371301679264433),
+        ("push_touch_0.5s", 4.670808331858963),
+        ("push_turned_0.5s", 0.33216941136785705),
+        ("push_proximal_2s", 1.9672410483653677),
+        ("push_turned_2s", 4.208948179870141),
+    ];
+    for ((name, ours), (dname, theirs)) in finger_metrics().into_iter().zip(dm) {
+        assert_eq!(name, dname);
+        // Observed: every metric within 1e-10 of dm_control's.
+        assert!(
+            (ours - theirs).abs() <= 1e-7 * theirs.abs().max(1.0),
+            "{name}: carl-spec {ours}, dm_control {theirs}"
+        );
+    }
+}

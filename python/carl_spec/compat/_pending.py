@@ -17,7 +17,6 @@ ISSUES = {
 
 #: carl-bench class -> (the carl-spec environment it needs, the issue adding it)
 PENDING: dict[str, tuple[str, int]] = {
-    "CARLDmcFingerEnv": ("dmc_finger", 27),
     "CARLDmcQuadrupedEnv": ("dmc_quadruped", 27),
 }
 

@@ -2,7 +2,7 @@
 //! `scripts/articulated_mujoco_fixtures.py` writes them).
 
 use carl_articulated::model::{
-    Actuator, Body, Dynamics, Geom, Integrator, Joint, JointKind, Model, Options, Shape, Tendon,
+    Actuator, Body, Cone, Dynamics, Geom, Integrator, Joint, JointKind, Model, Options, Shape, Tendon,
 };
 use serde_json::Value;
 
@@ -45,6 +45,10 @@ pub fn model(fx: &Value) -> Model {
         viscosity: f(&o["viscosity"]),
         density: o.get("density").map_or(0.0, f),
         wind: o.get("wind").map_or([0.0; 3], v3),
+        cone: match o.get("cone").and_then(Value::as_str) {
+            Some("elliptic") => Cone::Elliptic,
+            _ => Cone::Pyramidal,
+        },
         ..Options::default()
     };
     let bodies = m["bodies"]

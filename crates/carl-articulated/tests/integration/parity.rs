@@ -333,6 +333,22 @@ fn humanoid_local_steps_match_mujoco() {
     );
 }
 
+/// MuJoCo's elliptic friction cone (impratio 3): a box thrown sliding on the floor, and an arm's
+/// capsule driven against a capsule on a hinge with dry friction (capsule–capsule with friction,
+/// as dm_control's finger against its spinner).
+#[test]
+fn elliptic_cone_matches_mujoco() {
+    let fx = load("elliptic");
+    check_constants(&fx);
+    // The box's four redundant corner contacts converge slowly under Gauss–Seidel (MuJoCo
+    // solves by Newton): its first accelerations within 5e-3.
+    check_first(&fx, 5e-3);
+    let (dq, dv) = local_errors(&fx);
+    assert!(dq < 1e-6 && dv < 1e-4, "elliptic local: qpos off by {dq}, qvel by {dv}");
+    let (dq, dv) = trajectory(&fx, 500);
+    assert!(dq < 1e-4 && dv < 1e-2, "elliptic: qpos off by {dq}, qvel by {dv}");
+}
+
 /// A cart on a rail with MuJoCo's `frictionloss` on both joints (bounded friction rows) and a
 /// limit margin, RK4 and Euler.
 #[test]

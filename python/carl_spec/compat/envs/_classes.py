@@ -318,6 +318,18 @@ class CARLDmcWalkerEnv(_Dmc):
     bench_names = _DMC_PHYSICS
 
 
+class CARLDmcFingerEnv(_Dmc):
+    env_id = "dmc_finger"
+    domain = "finger"
+    task = "spin_context"
+    tasks = {
+        "spin_context": {},
+        "turn_easy_context": {"target_radius": 0.07},
+        "turn_hard_context": {"target_radius": 0.03},
+    }
+    bench_names = (*_DMC_PHYSICS, "limb_length_0", "limb_length_1", "spinner_radius", "spinner_length")
+
+
 class CARLDmcFishEnv(_Dmc):
     env_id = "dmc_fish"
     domain = "fish"
@@ -342,7 +354,7 @@ CLASSES: dict[str, type[CARLEnv]] = {
         CARLCartPole, CARLPendulum, CARLAcrobot, CARLMountainCar, CARLMountainCarContinuous, CARLLunarLander,
         CARLBipedalWalker, CARLVehicleRacing, CARLBraxAnt, CARLBraxHalfcheetah, CARLBraxHumanoid, CARLBraxHopper,
         CARLBraxWalker2d, CARLBraxInvertedPendulum, CARLBraxInvertedDoublePendulum, CARLBraxReacher, CARLBraxPusher,
-        CARLBraxHumanoidStandup, CARLDmcPointMassEnv, CARLDmcWalkerEnv, CARLDmcFishEnv,
+        CARLBraxHumanoidStandup, CARLDmcFingerEnv, CARLDmcFishEnv, CARLDmcPointMassEnv, CARLDmcWalkerEnv,
         CARLMarioEnv, CARLRnaDesignEnv,
     )
 }

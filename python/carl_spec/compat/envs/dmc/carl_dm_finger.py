@@ -1,7 +1,5 @@
-"""carl-bench's `carl.envs.dmc.carl_dm_finger`: pending (see `carl_spec.compat._pending`)."""
+"""carl-bench's `carl.envs.dmc.carl_dm_finger`."""
 
-from ..._pending import pending_class
-
-CARLDmcFingerEnv = pending_class("CARLDmcFingerEnv", __name__)
+from .._classes import CARLDmcFingerEnv
 
 __all__ = ["CARLDmcFingerEnv"]
