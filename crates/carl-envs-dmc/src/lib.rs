@@ -7,6 +7,7 @@
 //! * [`rewards`]: dm_control's `rewards.tolerance` and its sigmoids;
 //! * [`point_mass`]: `dmc_point_mass` (dm_control's `point_mass` domain, tasks `easy` and
 //!   `hard`);
+//! * [`quadruped`]: `dmc_quadruped` (dm_control's `quadruped` domain, tasks `walk` and `run`);
 //! * [`walker`]: `dmc_walker` (dm_control's `walker` domain, tasks `walk`, `stand`, `run`);
 //! * [`registry`]: the family's registrations.
 //!
@@ -16,6 +17,7 @@
 
 pub mod mjcf;
 pub mod point_mass;
+pub mod quadruped;
 pub mod registry;
 pub mod rewards;
 pub mod walker;

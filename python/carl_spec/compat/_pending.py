@@ -19,7 +19,6 @@ ISSUES = {
 PENDING: dict[str, tuple[str, int]] = {
     "CARLDmcFingerEnv": ("dmc_finger", 27),
     "CARLDmcFishEnv": ("dmc_fish", 27),
-    "CARLDmcQuadrupedEnv": ("dmc_quadruped", 27),
 }
 
 #: carl-bench classes of the pending families that are not environments of their own

@@ -33,7 +33,7 @@ from .gymnasium import (
     CARLPendulum,
     CARLVehicleRacing,
 )
-from .dmc import CARLDmcPointMassEnv, CARLDmcWalkerEnv
+from .dmc import CARLDmcPointMassEnv, CARLDmcQuadrupedEnv, CARLDmcWalkerEnv
 from .mario import CARLMarioEnv
 from .rna import CARLRnaDesignEnv
 
@@ -58,6 +58,7 @@ __all__ = [
     "CARLBraxHumanoidStandup",
     "CARLDmcPointMassEnv",
     "CARLDmcWalkerEnv",
+    "CARLDmcQuadrupedEnv",
     "CARLMarioEnv",
     "CARLRnaDesignEnv",
 ]

@@ -1,5 +1,5 @@
-"""carl-bench's `carl.envs.dmc`: CARLDmcPointMassEnv and CARLDmcWalkerEnv run carl-spec's
-dmc_point_mass and dmc_walker; the rest of
+"""carl-bench's `carl.envs.dmc`: CARLDmcPointMassEnv, CARLDmcWalkerEnv and CARLDmcQuadrupedEnv run
+carl-spec's dmc_point_mass, dmc_walker and dmc_quadruped; the rest of
 the family is pending (issue 27): building one of those classes raises `PendingEnvironmentError`
 naming the missing environment."""
 
