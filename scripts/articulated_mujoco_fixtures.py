@@ -5,11 +5,14 @@ Runs small MJCF models in MuJoCo and writes, per model, one JSON file under
 crates/carl-articulated/tests/fixtures/: the compiled model as MuJoCo holds it (`mjModel`'s
 body, joint, geom and actuator fields, options, `body_invweight0`, `dof_invweight0`), the
 quantities of the first forward pass (mass matrix, bias forces, unconstrained and constrained
-acceleration) and a trajectory (`qpos`, `qvel` every `every` steps) under a fixed control
+acceleration) and a trajectory (`qpos`, `qvel`, and `act` when the model has activations, every
+`every` steps) under a fixed control
 sequence. The Rust tests build the same model from these fields, so the comparison is of the
 dynamics alone.
 
-Models: a tumbling body and a tendon-driven point mass in a medium with density, viscosity and
+Models: MuJoCo's general actuators (position servos, a filtered servo with affine bias on a
+fixed tendon, a filterexact motor with a force range) and a stiff, damped tendon (Euler and RK4),
+a tumbling body and a tendon-driven point mass in a medium with density, viscosity and
 wind (MuJoCo's inertia-box fluid model, fixed tendons), a damped double pendulum with armature and joint limits (Euler and RK4), a free box
 and a free capsule dropped on the floor (Euler), a pile of two capsules and a sphere falling on
 each other and the floor (capsule–capsule, sphere–capsule contacts), a claw pushing a cylinder on
@@ -187,6 +190,53 @@ PUSH = """
 </mujoco>
 """
 
+# MuJoCo's general actuators and tendon springs: a position servo on a hinge, a filtered
+# (`dyntype="filter"`) servo with affine bias on a fixed tendon (quadruped.xml's form), a
+# `filterexact` motor with a force range on a slide, and a stiff, damped tendon with a spring
+# dead band coupling two hinges (fish.xml's `fins_sym`), Euler and RK4, no gravity, no contacts.
+ACTUATORS = """
+<mujoco model="actuators">
+  <option timestep="0.004" integrator="{integrator}" gravity="0 0 -3"/>
+  <default>
+    <joint damping="0.01"/>
+    <geom contype="0" conaffinity="0" density="800"/>
+  </default>
+  <worldbody>
+    <body name="base">
+      <joint name="slider" type="slide" axis="1 0 0"/>
+      <geom type="box" size="0.1 0.05 0.05"/>
+      <body name="arm" pos="0.1 0 0">
+        <joint name="shoulder" type="hinge" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
+        <body name="fore" pos="0.3 0 0">
+          <joint name="elbow" type="hinge" axis="0 1 0.3" springref="5"/>
+          <geom type="capsule" fromto="0 0 0 0.25 0 0" size="0.025"/>
+        </body>
+      </body>
+      <body name="fin" pos="-0.1 0 0">
+        <joint name="fin" type="hinge" axis="1 0 0"/>
+        <geom type="capsule" fromto="0 0 0 0 0.2 0" size="0.02"/>
+      </body>
+    </body>
+  </worldbody>
+  <tendon>
+    <fixed name="lift"><joint joint="shoulder" coef="0.5"/><joint joint="elbow" coef="-0.7"/></fixed>
+    <fixed name="stiff" stiffness="3" damping="0.02" springlength="-0.1 0.05">
+      <joint joint="elbow" coef="0.6"/><joint joint="fin" coef="0.8"/>
+    </fixed>
+  </tendon>
+  <actuator>
+    <position name="servo" joint="shoulder" kp="4" kv="0.1" ctrllimited="true" ctrlrange="-1 1"/>
+    <general name="filtered" tendon="lift" gear="1.5" gainprm="3" biastype="affine" biasprm="0.1 -3 -0.2"
+             dyntype="filter" dynprm="0.1" ctrllimited="true" ctrlrange="-1 1"/>
+    <general name="exact" joint="slider" gear="2" dyntype="filterexact" dynprm="0.05" forcelimited="true"
+             forcerange="-0.4 0.5" ctrllimited="true" ctrlrange="-1 1"/>
+    <position name="finservo" joint="fin" kp="0.5" ctrllimited="true" ctrlrange="-1 1"/>
+  </actuator>
+</mujoco>
+"""
+
+
 def gym_xml(name):
     import gymnasium
     return os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets", name)
@@ -257,7 +307,30 @@ def model_json(mujoco, m):
                body_invweight0=r(m.body_invweight0), dof_invweight0=r(m.dof_invweight0), qpos0=r(m.qpos0))
     if m.opt.density > 0 or any(m.opt.wind):
         opt.update(density=r(m.opt.density), wind=r(m.opt.wind))
-    if any(m.actuator_trntype[a] == tendon_trn for a in range(m.nu)):
+    for a, act in enumerate(actuators):
+        gaintype, biastype = int(m.actuator_gaintype[a]), int(m.actuator_biastype[a])
+        general = (gaintype != int(mujoco.mjtGain.mjGAIN_FIXED) or m.actuator_gainprm[a][0] != 1
+                   or biastype != int(mujoco.mjtBias.mjBIAS_NONE) or m.actuator_dyntype[a] != 0
+                   or m.actuator_forcelimited[a] or m.actuator_actlimited[a])
+        if not general:
+            continue
+        assert gaintype == int(mujoco.mjtGain.mjGAIN_FIXED), "gain type must be fixed"
+        assert biastype in (int(mujoco.mjtBias.mjBIAS_NONE), int(mujoco.mjtBias.mjBIAS_AFFINE)), \
+            f"bias type {biastype} must be none or affine"
+        dyn = {int(mujoco.mjtDyn.mjDYN_NONE): "none", int(mujoco.mjtDyn.mjDYN_FILTER): "filter",
+               int(mujoco.mjtDyn.mjDYN_FILTEREXACT): "filterexact"}[int(m.actuator_dyntype[a])]
+        act.update(gain=r(m.actuator_gainprm[a][0]), bias=r(m.actuator_biasprm[a][:3]), dyntype=dyn)
+        if dyn != "none":
+            act.update(tau=r(m.actuator_dynprm[a][0]))
+        if m.actuator_forcelimited[a]:
+            act.update(forcerange=r(m.actuator_forcerange[a]))
+        if m.actuator_actlimited[a]:
+            act.update(actrange=r(m.actuator_actrange[a]))
+    passive = any(m.tendon_stiffness[t] or m.tendon_damping[t] for t in range(m.ntendon))
+    if passive:
+        out["tendon_passive"] = [dict(stiffness=r(m.tendon_stiffness[t]), damping=r(m.tendon_damping[t]),
+                                      lengthspring=r(m.tendon_lengthspring[t])) for t in range(m.ntendon)]
+    if passive or any(m.actuator_trntype[a] == tendon_trn for a in range(m.nu)):
         out["tendons"] = [[[int(m.wrap_objid[w]), r(m.wrap_prm[w])]
                            for w in range(m.tendon_adr[t], m.tendon_adr[t] + m.tendon_num[t])]
                           for t in range(m.ntendon)]
@@ -280,42 +353,72 @@ def run(mujoco, m, steps, every, qvel0=None):
     mujoco.mj_fullM(m, d, mm)
     first = dict(qM=r(mm.tolist()), qfrc_bias=r(d.qfrc_bias), qfrc_passive=r(d.qfrc_passive),
                  qacc_smooth=r(d.qacc_smooth), qacc=r(d.qacc), ncon=int(d.ncon), nefc=int(d.nefc))
-    traj = [dict(step=0, time=r(d.time), qpos=r(d.qpos), qvel=r(d.qvel))]
+    def point(s):
+        p = dict(step=s, time=r(d.time), qpos=r(d.qpos), qvel=r(d.qvel))
+        if m.na:
+            p.update(act=r(d.act))
+        return p
+    if m.na:
+        first.update(act_dot=r(d.act_dot), actuator_force=r(d.actuator_force), qfrc_actuator=r(d.qfrc_actuator))
+    traj = [point(0)]
     for s in range(1, steps + 1):
         d.ctrl[:] = control(d.time, m.nu)
         mujoco.mj_step(m, d)
         if s % every == 0:
-            traj.append(dict(step=s, time=r(d.time), qpos=r(d.qpos), qvel=r(d.qvel)))
+            traj.append(point(s))
     return dict(qvel0=r(list(qvel0)) if qvel0 is not None else None, first=first, trajectory=traj)
 
 
-def fixtures():
+def fixtures(only=None):
+    """The fixtures by name (`only`: just these)."""
     import mujoco
     out = {}
+
+    def want(name):
+        return not only or name in only
+
     for name, integ, damping, stiffness in [("double_pendulum_euler", "Euler", 0.05, 0.3),
                                             ("double_pendulum_rk4", "RK4", 0.0, 0.0)]:
+        if not want(name):
+            continue
         m = mujoco.MjModel.from_xml_string(DOUBLE_PENDULUM.format(integrator=integ, damping=damping,
                                                                   stiffness=stiffness))
         out[name] = dict(model=model_json(mujoco, m), **run(mujoco, m, 1000, 20, qvel0=[3.0, -2.0]))
-    m = mujoco.MjModel.from_xml_string(DROP)
-    out["drop"] = dict(model=model_json(mujoco, m),
-                       **run(mujoco, m, 600, 10, qvel0=[0.5, 0, 0, 1.0, -2.0, 0.5, 0, 0.3, 0, 0, 0, 0]))
-    m = mujoco.MjModel.from_xml_string(PILE)
-    out["pile"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 500, 10))
-    m = mujoco.MjModel.from_xml_string(FLUID)
-    out["fluid"] = dict(model=model_json(mujoco, m),
-                        **run(mujoco, m, 500, 10, qvel0=[0.5, -1.0, 2.0, 3.0, -2.0, 1.0, 0.4, -0.2]))
-    m = mujoco.MjModel.from_xml_string(PUSH)
-    out["push"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 300, 1, qvel0=[0.6, 0.05, 0, 0, 0, 0]))
-    m = mujoco.MjModel.from_xml_path(gym_xml("ant.xml"))
-    out["ant"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 300, 5))
-    m = mujoco.MjModel.from_xml_path(gym_xml("humanoid.xml"))
-    assert inert_tendons(m), "humanoid.xml's tendons act"
-    out["humanoid"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 400, 5))
+    if want("drop"):
+        m = mujoco.MjModel.from_xml_string(DROP)
+        out["drop"] = dict(model=model_json(mujoco, m),
+                           **run(mujoco, m, 600, 10, qvel0=[0.5, 0, 0, 1.0, -2.0, 0.5, 0, 0.3, 0, 0, 0, 0]))
+    if want("pile"):
+        m = mujoco.MjModel.from_xml_string(PILE)
+        out["pile"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 500, 10))
+    if want("fluid"):
+        m = mujoco.MjModel.from_xml_string(FLUID)
+        out["fluid"] = dict(model=model_json(mujoco, m),
+                            **run(mujoco, m, 500, 10, qvel0=[0.5, -1.0, 2.0, 3.0, -2.0, 1.0, 0.4, -0.2]))
+    if want("push"):
+        m = mujoco.MjModel.from_xml_string(PUSH)
+        out["push"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 300, 1, qvel0=[0.6, 0.05, 0, 0, 0, 0]))
+    if want("ant"):
+        m = mujoco.MjModel.from_xml_path(gym_xml("ant.xml"))
+        out["ant"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 300, 5))
+    if want("humanoid"):
+        m = mujoco.MjModel.from_xml_path(gym_xml("humanoid.xml"))
+        assert inert_tendons(m), "humanoid.xml's tendons act"
+        out["humanoid"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 400, 5))
     for integ in ("RK4", "Euler"):
+        if not want(f"rail_{integ.lower()}"):
+            continue
         m = mujoco.MjModel.from_xml_string(RAIL.format(integrator=integ, frictionloss=3.0))
         out[f"rail_{integ.lower()}"] = dict(model=model_json(mujoco, m), **run(mujoco, m, 300, 5, qvel0=[0.8, -1.0]))
+    for integ in ("Euler", "RK4"):
+        if not want(f"actuators_{integ.lower()}"):
+            continue
+        m = mujoco.MjModel.from_xml_string(ACTUATORS.format(integrator=integ))
+        out[f"actuators_{integ.lower()}"] = dict(model=model_json(mujoco, m),
+                                                 **run(mujoco, m, 500, 5, qvel0=[0.3, -1.0, 2.0, 1.5]))
     for name, xml, steps in GYM_ROBOTS:
+        if not want(name):
+            continue
         m = mujoco.MjModel.from_xml_path(gym_xml(xml))
         out[name] = dict(model=model_json(mujoco, m), **run(mujoco, m, steps, 5))
     return out
@@ -338,12 +441,13 @@ def write_or_check(path, text, check):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--check", action="store_true", help="compare with the committed fixtures")
+    ap.add_argument("--only", nargs="*", help="only these fixtures (e.g. actuators_euler)")
     args = ap.parse_args()
     import mujoco
     if mujoco.__version__ != "4.0.0":
         sys.exit(f"needs mujoco 4.0.0, found {mujoco.__version__}")
     bad = 0
-    for name, data in fixtures().items():
+    for name, data in fixtures(args.only).items():
         path = os.path.join(OUT, f"mujoco_{name}.json")
         text = json.dumps(dict(source="MuJoCo 4.0.0 via scripts/articulated_mujoco_fixtures.py", **data),
                           separators=(",", ":")) + "\n"

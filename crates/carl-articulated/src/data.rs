@@ -1,7 +1,8 @@
 //! The simulation state of one model instance and its preallocated work buffers (MuJoCo's
-//! `mjData`): `qpos`, `qvel`, `ctrl` and `time` are the state; [`Data::forward`] computes the
-//! acceleration, [`Data::step`] advances one time step with the model's integrator. No step
-//! allocates; `Clone` copies the state exactly.
+//! `mjData`): `qpos`, `qvel`, `act` (the stateful actuators' activations), `ctrl` and `time`
+//! are the state; [`Data::forward`] computes the acceleration (and the activations' rates),
+//! [`Data::step`] advances one time step with the model's integrator (activations with it, as
+//! MuJoCo's `mj_advance`). No step allocates; `Clone` copies the state exactly.
 //!
 //! Semi-implicit Euler (MuJoCo's `Euler`): after the constraint solve, the acceleration is
 //! recomputed as `(M + h D)⁻¹ (f_smooth + Jᵀ f)` when any joint has damping (`D` the diagonal
@@ -30,6 +31,17 @@ pub struct Data {
     pub qpos: Vec<f64>,
     pub qvel: Vec<f64>,
     pub ctrl: Vec<f64>,
+    /// Activations of the stateful actuators (MuJoCo's `act`, `Model::na` entries at
+    /// `Model::actuator_actadr`): part of the state with `qpos` and `qvel` (save and restore
+    /// it with them; [`Data::reset`] zeroes it).
+    pub act: Vec<f64>,
+    /// Their rates of the last forward pass.
+    pub act_dot: Vec<f64>,
+    /// Each actuator's scalar force of the last forward pass (MuJoCo's `actuator_force`).
+    pub actuator_force: Vec<f64>,
+    /// Each tendon's length and velocity of the last forward pass.
+    pub ten_length: Vec<f64>,
+    pub ten_velocity: Vec<f64>,
     pub qacc: Vec<f64>,
     pub time: f64,
     pub xpos: Vec<V3>,
@@ -86,6 +98,8 @@ pub struct Data {
     rk_v0: Vec<f64>,
     rk_vel: [Vec<f64>; 4],
     rk_acc: [Vec<f64>; 4],
+    rk_act0: Vec<f64>,
+    rk_act_dot: [Vec<f64>; 4],
 }
 
 impl Data {
@@ -97,6 +111,11 @@ impl Data {
             qpos: model.qpos0.clone(),
             qvel: vec![0.0; nv],
             ctrl: vec![0.0; model.actuators.len()],
+            act: vec![0.0; model.na],
+            act_dot: vec![0.0; model.na],
+            actuator_force: vec![0.0; model.actuators.len()],
+            ten_length: vec![0.0; model.tendons.len()],
+            ten_velocity: vec![0.0; model.tendons.len()],
             qacc: vec![0.0; nv],
             time: 0.0,
             xpos: vec![ZERO3; nb],
@@ -143,12 +162,48 @@ impl Data {
             rk_v0: vec![0.0; nv],
             rk_vel: std::array::from_fn(|_| vec![0.0; nv]),
             rk_acc: std::array::from_fn(|_| vec![0.0; nv]),
+            rk_act0: vec![0.0; model.na],
+            rk_act_dot: std::array::from_fn(|_| vec![0.0; model.na]),
             model,
         }
     }
 
     pub fn model(&self) -> &Model {
         &self.model
+    }
+
+    /// Back to `qpos0` at rest: zero velocities, activations and controls, time 0.
+    pub fn reset(&mut self) {
+        self.qpos.copy_from_slice(&self.model.qpos0);
+        self.qvel.fill(0.0);
+        self.act.fill(0.0);
+        self.ctrl.fill(0.0);
+        self.time = 0.0;
+    }
+
+    /// MuJoCo's activation update (`mj_advance`) with rates `act_dot` (RK4: its stages' weighted rates) over a step `h`:
+    /// `act += h · act_dot` (filter), `act += act_dot · tau · (1 − e^(−h/tau))` (filterexact),
+    /// then clipped to `actrange`.
+    fn advance_act(&mut self, h: f64, rk4: bool) {
+        let m = &*self.model;
+        for (a, act) in m.actuators.iter().enumerate() {
+            let Some(k) = m.actuator_actadr[a] else { continue };
+            let rate = if rk4 {
+                const B: [f64; 4] = [1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0];
+                (0..4).map(|s| B[s] * self.rk_act_dot[s][k]).sum()
+            } else {
+                self.act_dot[k]
+            };
+            let mut x = self.act[k];
+            x += match act.dynamics {
+                crate::model::Dynamics::FilterExact { tau } => rate * tau * (1.0 - (-h / tau).exp()),
+                _ => rate * h,
+            };
+            if let Some([lo, hi]) = act.actrange {
+                x = x.clamp(lo, hi);
+            }
+            self.act[k] = x;
+        }
     }
 
     /// Positions, velocities, forces and the constrained acceleration `qacc` of the current
@@ -242,6 +297,9 @@ impl Data {
         let mut q = std::mem::take(&mut self.qpos);
         integrate_pos(m, &mut q, &self.qvel, h);
         self.qpos = q;
+        if m.na > 0 {
+            self.advance_act(h, false);
+        }
         self.time += h;
     }
 
@@ -256,6 +314,8 @@ impl Data {
         self.rk_v0.copy_from_slice(&self.qvel);
         self.rk_vel[0].copy_from_slice(&self.qvel);
         self.rk_acc[0].copy_from_slice(&self.qacc);
+        self.rk_act0.copy_from_slice(&self.act);
+        self.rk_act_dot[0].copy_from_slice(&self.act_dot);
         for i in 1..4 {
             // Stage i: X₀ + h·A[i]·F[i−1] (the Butcher tableau of classic RK4 is diagonal).
             let mut w = [0.0; 4];
@@ -267,6 +327,9 @@ impl Data {
             for ((v, v0), a) in self.qvel.iter_mut().zip(&self.rk_v0).zip(acc_prev) {
                 *v = v0 + h * A[i - 1] * a;
             }
+            for k in 0..m.na {
+                self.act[k] = self.rk_act0[k] + h * A[i - 1] * self.rk_act_dot[i - 1][k];
+            }
             self.time = t0 + h * A[i - 1];
             if !self.forward() {
                 self.qvel.fill(f64::NAN);
@@ -275,6 +338,7 @@ impl Data {
             self.rk_q[i].copy_from_slice(&self.qpos);
             self.rk_vel[i].copy_from_slice(&self.qvel);
             self.rk_acc[i].copy_from_slice(&self.qacc);
+            self.rk_act_dot[i].copy_from_slice(&self.act_dot);
         }
         let mut q = std::mem::take(&mut self.qpos);
         self.rk_position(&B, h, &mut q);
@@ -282,6 +346,10 @@ impl Data {
         for d in 0..m.nv {
             let da: f64 = (0..4).map(|k| B[k] * self.rk_acc[k][d]).sum();
             self.qvel[d] = self.rk_v0[d] + h * da;
+        }
+        if m.na > 0 {
+            self.act.copy_from_slice(&self.rk_act0);
+            self.advance_act(h, true);
         }
         self.time = t0 + h;
     }

@@ -3,7 +3,8 @@
 //! subspace of every degree of freedom (`cdof`) and its time derivative (`cdof_dot`, built
 //! incrementally along each body's joints as MuJoCo's `mj_comVel`), the composite-rigid-body
 //! mass matrix (only ancestor pairs are visited), recursive Newton–Euler bias forces
-//! (Coriolis, centrifugal, gravity), passive forces (springs, damping, medium viscosity) and
+//! (Coriolis, centrifugal, gravity), passive forces (joint and tendon springs and damping,
+//! the medium's drag), actuator forces (MuJoCo's general actuators) and
 //! the dense Cholesky factorization of the small joint-space systems.
 
 use crate::data::Data;
@@ -200,6 +201,7 @@ impl Data {
                 }
             }
         }
+        self.tendon_forces();
     }
 
     /// MuJoCo's inertia-box fluid model (`mj_inertiaBoxFluidModel`) on body `b`, as a world
@@ -241,7 +243,47 @@ impl Data {
         join(add(t, cross(c, f)), f)
     }
 
-    /// Actuator forces from `ctrl` (clipped to each actuator's `ctrlrange`; NaN acts as 0).
+    /// Length and velocity of tendon `t` (`Σ coef · q`, `Σ coef · q̇`).
+    fn tendon_state(&self, t: usize) -> (f64, f64) {
+        let m = &*self.model;
+        let (mut l, mut v) = (0.0, 0.0);
+        for &(j, coef) in &m.tendons[t].joints {
+            l += coef * self.qpos[m.jnt_qposadr[j]];
+            v += coef * self.qvel[m.jnt_dofadr[j]];
+        }
+        (l, v)
+    }
+
+    /// Tendon lengths and velocities, and the tendons' passive forces (MuJoCo's dead-band
+    /// spring on `lengthspring` and damping) added to `qfrc_passive`.
+    pub(crate) fn tendon_forces(&mut self) {
+        let m = &*self.model;
+        for t in 0..m.tendons.len() {
+            let (l, v) = self.tendon_state(t);
+            self.ten_length[t] = l;
+            self.ten_velocity[t] = v;
+            let tendon = &m.tendons[t];
+            if tendon.stiffness == 0.0 && tendon.damping == 0.0 {
+                continue;
+            }
+            let [lo, hi] = m.tendon_lengthspring[t];
+            let spring = if l > hi {
+                tendon.stiffness * (hi - l)
+            } else if l < lo {
+                tendon.stiffness * (lo - l)
+            } else {
+                0.0
+            };
+            let f = spring - tendon.damping * v;
+            for &(j, coef) in &tendon.joints {
+                self.qfrc_passive[m.jnt_dofadr[j]] += coef * f;
+            }
+        }
+    }
+
+    /// Actuator forces (see [`crate::model::Actuator`]): the control clipped to each
+    /// actuator's `ctrlrange` (NaN acts as 0), the activations' rates `act_dot`, each
+    /// actuator's scalar force `actuator_force` and the generalized forces `qfrc_actuator`.
     pub(crate) fn actuation(&mut self) {
         let m = &*self.model;
         self.qfrc_actuator.fill(0.0);
@@ -253,11 +295,30 @@ impl Data {
             if let Some([lo, hi]) = act.ctrlrange {
                 u = u.clamp(lo, hi);
             }
+            let input = match (act.dynamics, m.actuator_actadr[a]) {
+                (crate::model::Dynamics::Filter { tau } | crate::model::Dynamics::FilterExact { tau }, Some(k)) => {
+                    self.act_dot[k] = (u - self.act[k]) / tau;
+                    self.act[k]
+                }
+                _ => u,
+            };
+            let mut force = act.gain * input;
+            if act.bias != [0.0; 3] {
+                let (len, vel) = match m.actuator_tendon[a] {
+                    None => (self.qpos[m.jnt_qposadr[act.joint]], self.qvel[m.jnt_dofadr[act.joint]]),
+                    Some(t) => self.tendon_state(t),
+                };
+                force += act.bias[0] + act.bias[1] * (act.gear * len) + act.bias[2] * (act.gear * vel);
+            }
+            if let Some([lo, hi]) = act.forcerange {
+                force = force.clamp(lo, hi);
+            }
+            self.actuator_force[a] = force;
             match m.actuator_tendon[a] {
-                None => self.qfrc_actuator[m.jnt_dofadr[act.joint]] += act.gear * u,
+                None => self.qfrc_actuator[m.jnt_dofadr[act.joint]] += act.gear * force,
                 Some(t) => {
                     for &(j, coef) in &m.tendons[t].joints {
-                        self.qfrc_actuator[m.jnt_dofadr[j]] += coef * act.gear * u;
+                        self.qfrc_actuator[m.jnt_dofadr[j]] += coef * act.gear * force;
                     }
                 }
             }

@@ -1,7 +1,7 @@
 //! A reduced-coordinate 3-D articulated-body engine with MuJoCo's semantics, in f64.
 //!
 //! A [`Model`] is a tree of bodies with free, hinge and slide joints, collision geoms (plane,
-//! sphere, capsule, cylinder, box, ellipsoid) and motors, read by loaders kept apart from the engine; a [`Data`]
+//! sphere, capsule, cylinder, box, ellipsoid), fixed tendons and MuJoCo's general actuators, read by loaders kept apart from the engine; a [`Data`]
 //! is one instance's state and preallocated buffers (`Clone + Send`, no global state, no
 //! allocation per step). One step is MuJoCo's pipeline:
 //!
@@ -27,6 +27,7 @@ pub mod sensors;
 pub use collision::Contact;
 pub use data::Data;
 pub use model::{
-    Actuator, Body, Geom, Integrator, Joint, JointKind, Model, ModelError, Options, Shape, Tendon, TendonEquality,
+    Actuator, Body, Dynamics, Geom, Integrator, Joint, JointKind, Model, ModelError, Options, Shape, Tendon,
+    TendonEquality,
 };
 pub use sensors::Site;

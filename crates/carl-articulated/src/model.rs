@@ -1,5 +1,6 @@
-//! The model: a tree of bodies (body 0 is the world), their joints, collision geoms and motor
-//! actuators, and the simulation options, all with MuJoCo's meaning (`mjModel`'s fields of the
+//! The model: a tree of bodies (body 0 is the world), their joints, collision geoms, fixed
+//! tendons and actuators (MuJoCo's `<general>`: joint or tendon transmission, gain, affine bias,
+//! filter activation dynamics), and the simulation options, all with MuJoCo's meaning (`mjModel`'s fields of the
 //! same names). Loaders (URDF, fixtures) fill the public description and call [`Model::new`],
 //! which checks it (a clear [`ModelError`] for bad input) and derives the layout the engine
 //! uses: coordinate addresses, the degree-of-freedom tree, candidate collision pairs with
@@ -243,7 +244,29 @@ impl Geom {
     }
 }
 
-/// A motor: generalized force `gear · ctrl` on a hinge or slide joint's coordinate.
+/// Activation dynamics of an actuator (MuJoCo's `dyntype` with `dynprm[0]` = `tau`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Dynamics {
+    /// Stateless: the force acts on the (clamped) control directly.
+    None,
+    /// A first-order filter: `act_dot = (ctrl − act) / tau`, `act` advanced by the integrator
+    /// (Euler: `act += h · act_dot`; RK4: with the stages, as qvel).
+    Filter { tau: f64 },
+    /// The same filter integrated exactly over a step at the end of it:
+    /// `act += act_dot · tau · (1 − exp(−h / tau))` (MuJoCo's `filterexact`).
+    FilterExact { tau: f64 },
+}
+
+/// MuJoCo's `<general>` actuator (`<motor>` and `<position>` are its shorthands, see
+/// [`Actuator::motor`] and [`Actuator::position`]).
+///
+/// Transmission: the hinge or slide joint `joint`, or the fixed tendon [`Model::with_tendons`]
+/// assigns it, with `gear`; MuJoCo's `actuator_length` is `gear · q` (`gear · tendon length`)
+/// and its velocity `gear · q̇`. Force: `gain · input + bias[0] + bias[1] · length + bias[2] ·
+/// velocity` (gain `fixed`, bias `affine`; all-zero `bias` is `none`), `input` the control
+/// clipped to `ctrlrange` (stateless) or the activation (filter dynamics), clipped to
+/// `forcerange`; the generalized force is `gear · force` on the joint (`gear · coef · force`
+/// on each joint of the tendon).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Actuator {
     pub name: String,
@@ -251,15 +274,76 @@ pub struct Actuator {
     pub gear: f64,
     /// Controls are clipped to it when present (MuJoCo's `ctrllimited`).
     pub ctrlrange: Option<[f64; 2]>,
+    /// The force is clipped to it when present (MuJoCo's `forcelimited`).
+    pub forcerange: Option<[f64; 2]>,
+    /// The activation is clipped to it after each update when present (`actlimited`).
+    pub actrange: Option<[f64; 2]>,
+    /// `gainprm[0]` (gain type `fixed`).
+    pub gain: f64,
+    /// `biasprm[0..3]` (bias type `affine`; zeros: `none`).
+    pub bias: [f64; 3],
+    pub dynamics: Dynamics,
+}
+
+impl Actuator {
+    /// MuJoCo's `<motor>`: force `ctrl` (gain 1, no bias, no dynamics).
+    pub fn motor(name: &str, joint: usize, gear: f64, ctrlrange: Option<[f64; 2]>) -> Actuator {
+        Actuator {
+            name: name.to_string(),
+            joint,
+            gear,
+            ctrlrange,
+            forcerange: None,
+            actrange: None,
+            gain: 1.0,
+            bias: [0.0; 3],
+            dynamics: Dynamics::None,
+        }
+    }
+
+    /// MuJoCo's `<position kp kv>` (gear 1): force `kp · ctrl − kp · length − kv · velocity`.
+    pub fn position(name: &str, joint: usize, kp: f64, kv: f64, ctrlrange: Option<[f64; 2]>) -> Actuator {
+        Actuator {
+            gain: kp,
+            bias: [0.0, -kp, -kv],
+            ..Actuator::motor(name, joint, 1.0, ctrlrange)
+        }
+    }
+
+    /// Whether it has an activation state (one entry of [`crate::Data::act`]).
+    pub fn stateful(&self) -> bool {
+        self.dynamics != Dynamics::None
+    }
 }
 
 /// A fixed tendon (MuJoCo's `<fixed>`): length `Σ coef · q` over hinge and slide joints. An
-/// actuator driving it ([`Model::with_tendons`]) exerts `coef · gear · ctrl` on each joint.
+/// actuator driving it ([`Model::with_tendons`]) exerts `coef · gear · force` on each joint.
+/// Passive (MuJoCo's tendon `stiffness` and `damping`): a spring force `stiffness · (lo − L)`
+/// below `lengthspring = [lo, hi]`, `stiffness · (hi − L)` above it, none within (a dead band;
+/// `lo = hi` is an ordinary spring), and `−damping · L̇`, each exerted as `coef ·` on the joints.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Tendon {
     pub name: String,
     /// `(joint, coef)` pairs.
     pub joints: Vec<(usize, f64)>,
+    pub stiffness: f64,
+    pub damping: f64,
+    /// MuJoCo's `tendon_lengthspring`; `None` is its default (`springlength="-1"`): the length at
+    /// the joints' spring references (`springref`), both ends.
+    pub lengthspring: Option<[f64; 2]>,
+}
+
+impl Tendon {
+    /// A fixed tendon without passive forces.
+    pub fn fixed(name: &str, joints: Vec<(usize, f64)>) -> Tendon {
+        Tendon {
+            name: name.to_string(),
+            joints,
+            stiffness: 0.0,
+            damping: 0.0,
+            lengthspring: None,
+        }
+    }
 }
 
 /// A tendon equality (MuJoCo's `<equality><tendon>`): the soft constraint
@@ -395,6 +479,12 @@ pub struct Model {
     /// Each tendon's length at `qpos0` and MuJoCo's `tendon_invweight0` (`J M⁻¹ Jᵀ` at `qpos0`).
     pub tendon_length0: Vec<f64>,
     pub tendon_invweight0: Vec<f64>,
+    /// Each actuator's entry in [`crate::Data::act`] (`None`: stateless), MuJoCo's
+    /// `actuator_actadr`; `na` entries in all, in actuator order.
+    pub actuator_actadr: Vec<Option<usize>>,
+    pub na: usize,
+    /// Each tendon's spring length band (its `lengthspring`, or the default rule's).
+    pub tendon_lengthspring: Vec<[f64; 2]>,
     pub nq: usize,
     pub nv: usize,
     /// First position / velocity coordinate of each joint.
@@ -661,13 +751,37 @@ impl Model {
             if !a.gear.is_finite() {
                 return Err(e("gear must be finite"));
             }
-            if let Some([lo, hi]) = a.ctrlrange
-                && !(lo.is_finite() && hi.is_finite() && lo <= hi)
+            for (what, r) in [
+                ("ctrlrange", a.ctrlrange),
+                ("forcerange", a.forcerange),
+                ("actrange", a.actrange),
+            ] {
+                if let Some([lo, hi]) = r
+                    && !(lo.is_finite() && hi.is_finite() && lo <= hi)
+                {
+                    return Err(e(&format!("{what} must be finite with lo ≤ hi")));
+                }
+            }
+            if !a.gain.is_finite() || !a.bias.iter().all(|x| x.is_finite()) {
+                return Err(e("gain and bias must be finite"));
+            }
+            if let Dynamics::Filter { tau } | Dynamics::FilterExact { tau } = a.dynamics
+                && !(tau.is_finite() && tau > 0.0)
             {
-                return Err(e("ctrlrange must be finite with lo ≤ hi"));
+                return Err(e("a filter's tau must be finite and positive"));
             }
         }
         let nact = actuators.len();
+        let mut na = 0;
+        let actuator_actadr = actuators
+            .iter()
+            .map(|a| {
+                a.stateful().then(|| {
+                    na += 1;
+                    na - 1
+                })
+            })
+            .collect();
         let pairs = collision_pairs(&bodies, &body_weld, &geoms);
         let max_contacts: usize = pairs.iter().map(|p| p.max_contacts).sum();
         let contact_rows: usize = pairs
@@ -689,6 +803,9 @@ impl Model {
             tendon_equalities: Vec::new(),
             tendon_length0: Vec::new(),
             tendon_invweight0: Vec::new(),
+            actuator_actadr,
+            na,
+            tendon_lengthspring: Vec::new(),
             actuators,
             nq,
             nv,
@@ -721,16 +838,36 @@ impl Model {
         actuator_tendon: Vec<Option<usize>>,
     ) -> Result<Model, ModelError> {
         for (i, t) in tendons.iter().enumerate() {
+            let e = |message: String| ModelError::Tendon {
+                index: i,
+                name: t.name.clone(),
+                message,
+            };
             for &(j, coef) in &t.joints {
                 if j >= self.joints.len() || self.joints[j].kind == JointKind::Free || !coef.is_finite() {
-                    return Err(ModelError::Tendon {
-                        index: i,
-                        name: t.name.clone(),
-                        message: format!("joint {j} must be a hinge or slide joint with a finite coefficient"),
-                    });
+                    return Err(e(format!(
+                        "joint {j} must be a hinge or slide joint with a finite coefficient"
+                    )));
                 }
             }
+            if !(t.stiffness.is_finite() && t.stiffness >= 0.0 && t.damping.is_finite() && t.damping >= 0.0) {
+                return Err(e("stiffness and damping must be finite and non-negative".into()));
+            }
+            if let Some([lo, hi]) = t.lengthspring
+                && !(lo.is_finite() && hi.is_finite() && lo <= hi)
+            {
+                return Err(e("lengthspring must be finite with lo ≤ hi".into()));
+            }
         }
+        let lengthspring = tendons
+            .iter()
+            .map(|t| {
+                t.lengthspring.unwrap_or_else(|| {
+                    let l: f64 = t.joints.iter().map(|&(j, c)| c * self.joints[j].springref).sum();
+                    [l, l]
+                })
+            })
+            .collect();
         if actuator_tendon.len() != self.actuators.len() {
             return Err(ModelError::Options(format!(
                 "{} actuator transmissions for {} actuators",
@@ -754,6 +891,7 @@ impl Model {
             .map(|t| t.joints.iter().map(|&(j, c)| c * self.qpos0[self.jnt_qposadr[j]]).sum())
             .collect();
         self.tendons = tendons;
+        self.tendon_lengthspring = lengthspring;
         self.actuator_tendon = actuator_tendon;
         self.tendon_invweight0 = crate::dynamics::tendon_invweight0(&self);
         Ok(self)

@@ -383,12 +383,7 @@ impl ArticulatedSystem {
             let Some(mj) = j.and_then(|j| urdf_joint_model[j]) else {
                 return Err(format!("actuator joint {} is not a movable joint", a.joint));
             };
-            actuators.push(Actuator {
-                name: a.joint.clone(),
-                joint: mj,
-                gear: a.gear * strength,
-                ctrlrange: Some(side.ctrl_range),
-            });
+            actuators.push(Actuator::motor(&a.joint, mj, a.gear * strength, Some(side.ctrl_range)));
         }
         // Dry friction of the rails and tables that carry a robot welded to the world: a rail
         // joint's `frictionloss` is `friction · |g| ·` the mass it carries (its body's subtree);

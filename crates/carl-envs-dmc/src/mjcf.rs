@@ -6,8 +6,10 @@
 //! [`Physics`]: each is applied to the compiled model, as carl-bench 1.1.1 applies them to the
 //! XML (`carl/envs/dmc/dmc_tasks/utils.py`, `adapt_context`), bugs fixed:
 //! * `timestep`: the physics step (see [`substeps`] for how it meets the control step);
-//! * `joint_damping`, `joint_stiffness`: multiply every joint's damping and stiffness;
-//! * `actuator_strength`: multiplies every actuator's gear;
+//! * `joint_damping`, `joint_stiffness`: multiply every joint's and tendon's damping and
+//!   stiffness;
+//! * `actuator_strength`: multiplies every actuator's force (a motor's gear, as carl-bench; a
+//!   servo's gain, bias and force range, so its target stays the control);
 //! * `friction_tangential`, `friction_torsional`, `friction_rolling`: multiply every geom's
 //!   sliding, torsional and rolling friction (only the sliding one acts under condim 3);
 //! * `density`, `viscosity`, `wind_x/y/z`: MuJoCo's medium (its inertia-box fluid model);
@@ -16,7 +18,8 @@
 //! * gravity: the domain decides (its XML may disable it).
 
 use carl_articulated::model::{
-    Actuator, Body, Geom, Integrator, Joint, JointKind, Model, Options, Shape, SolImp, SolRef, Tendon, TendonEquality,
+    Actuator, Body, Dynamics, Geom, Integrator, Joint, JointKind, Model, Options, Shape, SolImp, SolRef, Tendon,
+    TendonEquality,
 };
 use serde::Deserialize;
 
@@ -87,6 +90,8 @@ pub struct GeomDesc {
     pub gap: f64,
 }
 
+/// An actuator: MuJoCo's `<general>` fields (a plain motor's are left out of the file: gain
+/// 1, no bias, no dynamics, no force or activation range).
 #[derive(Debug, Clone, Deserialize)]
 pub struct ActDesc {
     pub joint: usize,
@@ -94,6 +99,34 @@ pub struct ActDesc {
     pub ctrlrange: Option<[f64; 2]>,
     #[serde(default)]
     pub tendon: Option<usize>,
+    /// `gainprm[0]` (gain type fixed).
+    #[serde(default = "one")]
+    pub gain: f64,
+    /// `biasprm[0..3]` (bias type affine; zeros: none).
+    #[serde(default)]
+    pub bias: [f64; 3],
+    #[serde(default)]
+    pub forcerange: Option<[f64; 2]>,
+    #[serde(default)]
+    pub actrange: Option<[f64; 2]>,
+    /// `none`, `filter` or `filterexact`, with its time constant `tau` (`dynprm[0]`).
+    #[serde(default)]
+    pub dyntype: Option<String>,
+    #[serde(default)]
+    pub tau: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// A tendon's passive spring and damper (MuJoCo's `tendon_stiffness`, `tendon_damping`,
+/// `tendon_lengthspring`).
+#[derive(Debug, Clone, Deserialize)]
+pub struct TendonPassive {
+    pub stiffness: f64,
+    pub damping: f64,
+    pub lengthspring: [f64; 2],
 }
 
 /// A tendon equality (`<equality><tendon>`).
@@ -135,6 +168,9 @@ pub struct Desc {
     /// `(joint, coef)` of each fixed tendon.
     #[serde(default)]
     pub tendons: Vec<Vec<(usize, f64)>>,
+    /// Each tendon's passive spring and damper (absent: none has any).
+    #[serde(default)]
+    pub tendon_passive: Vec<TendonPassive>,
     pub names: Names,
     /// Whether each body's mass comes from its geoms' density (no geom of it states a mass).
     #[serde(default)]
@@ -156,6 +192,7 @@ impl Desc {
             || n.geoms.len() != d.geoms.len()
             || n.actuators.len() != d.actuators.len()
             || n.tendons.len() != d.tendons.len()
+            || !(d.tendon_passive.is_empty() || d.tendon_passive.len() == d.tendons.len())
         {
             return Err("names do not match the model's elements".into());
         }
@@ -379,20 +416,49 @@ pub fn build(desc: &Desc, p: &Physics) -> Result<Model, String> {
         .actuators
         .iter()
         .enumerate()
-        .map(|(i, a)| Actuator {
-            name: desc.names.actuators[i].clone(),
-            joint: a.joint,
-            gear: a.gear * p.actuator_strength,
-            ctrlrange: a.ctrlrange,
+        .map(|(i, a)| {
+            let dynamics = match a.dyntype.as_deref() {
+                None | Some("none") => Dynamics::None,
+                Some("filter") => Dynamics::Filter { tau: a.tau },
+                Some("filterexact") => Dynamics::FilterExact { tau: a.tau },
+                Some(other) => {
+                    return Err(format!(
+                        "actuator {}: unsupported dyntype {other}",
+                        desc.names.actuators[i]
+                    ));
+                }
+            };
+            // The strength scales the force: a motor's gear (as carl-bench), a servo's gain and
+            // bias (its target stays the control; scaling its gear would move the target).
+            let s = p.actuator_strength;
+            let motor = a.bias == [0.0; 3];
+            Ok(Actuator {
+                gain: if motor { a.gain } else { a.gain * s },
+                bias: if motor { a.bias } else { a.bias.map(|b| b * s) },
+                forcerange: a.forcerange.map(|r| if motor { r } else { r.map(|x| x * s) }),
+                actrange: a.actrange,
+                dynamics,
+                ..Actuator::motor(
+                    &desc.names.actuators[i],
+                    a.joint,
+                    if motor { a.gear * s } else { a.gear },
+                    a.ctrlrange,
+                )
+            })
         })
-        .collect();
+        .collect::<Result<Vec<_>, String>>()?;
     let tendons = desc
         .tendons
         .iter()
         .enumerate()
-        .map(|(i, t)| Tendon {
-            name: desc.names.tendons[i].clone(),
-            joints: t.clone(),
+        .map(|(i, t)| {
+            let mut tendon = Tendon::fixed(&desc.names.tendons[i], t.clone());
+            if let Some(tp) = desc.tendon_passive.get(i) {
+                tendon.stiffness = tp.stiffness * p.joint_stiffness;
+                tendon.damping = tp.damping * p.joint_damping;
+                tendon.lengthspring = Some(tp.lengthspring);
+            }
+            tendon
         })
         .collect();
     let actuator_tendon = desc.actuators.iter().map(|a| a.tendon).collect();

@@ -114,8 +114,12 @@ impl Quadruped {
         let torso = desc.body("torso").ok_or("the model has no torso")?;
         let c = &params.common;
         let model = build(&desc, &c.physics(CONTROL_STEP, [0.0, 0.0, -c.gravity]))?;
-        if model.actuators.len() != NU {
-            return Err(format!("the model has {} actuators, not {NU}", model.actuators.len()));
+        if model.actuators.len() != NU || model.na != NU {
+            return Err(format!(
+                "the model has {} actuators and {} activations, not {NU}",
+                model.actuators.len(),
+                model.na
+            ));
         }
         let hinges = model
             .joints
@@ -211,7 +215,11 @@ impl Quadruped {
 
     /// The actuators' activations (MuJoCo's `act`).
     fn activations(&self) -> [f64; NU] {
-        [0.0; NU]
+        let mut a = [0.0; NU];
+        for (x, y) in a.iter_mut().zip(&self.data.act) {
+            *x = *y;
+        }
+        a
     }
 
     fn write_obs(&self, obs: &mut [f32]) {
@@ -230,7 +238,7 @@ impl Quadruped {
 
     fn nstate(&self) -> (usize, usize, usize) {
         let m = self.data.model();
-        (m.nq, m.nv, 0)
+        (m.nq, m.nv, m.na)
     }
 }
 
@@ -290,6 +298,7 @@ impl Env for Quadruped {
         let q0 = d.model().qpos0.clone();
         d.qpos.copy_from_slice(&q0);
         d.qvel.fill(0.0);
+        d.act.fill(0.0);
         d.ctrl.fill(0.0);
         d.time = 0.0;
         d.qpos[3..7].copy_from_slice(&quat);
@@ -357,10 +366,10 @@ impl Env for Quadruped {
         Ok(())
     }
 
-    /// `qpos` (23), `qvel` (22), then the actuators' activations.
+    /// `qpos` (23), `qvel` (22), then the actuators' activations (12).
     fn state(&self) -> Vec<f64> {
         let d = &self.data;
-        d.qpos.iter().chain(&d.qvel).copied().collect()
+        d.qpos.iter().chain(&d.qvel).chain(&d.act).copied().collect()
     }
 
     fn set_state(&mut self, state: &[f64]) -> Result<(), EnvError> {
@@ -369,6 +378,7 @@ impl Env for Quadruped {
         let d = &mut self.data;
         d.qpos.copy_from_slice(&state[..nq]);
         d.qvel.copy_from_slice(&state[nq..nq + nv]);
+        d.act.copy_from_slice(&state[nq + nv..nq + nv + na]);
         self.refresh();
         self.started = true;
         Ok(())

@@ -234,7 +234,38 @@ fn bad_input_is_refused_with_a_clear_error() {
     assert!(Model::new(o, vec![world()], vec![], vec![], vec![]).is_err());
     let mut j = Joint::new("j", 1, JointKind::Hinge, [0.0, 0.0, 1.0]);
     j.range = Some([1.0, -1.0]);
-    assert!(Model::new(Options::default(), vec![world(), body], vec![j], vec![], vec![]).is_err());
+    assert!(Model::new(Options::default(), vec![world(), body.clone()], vec![j], vec![], vec![]).is_err());
+    // General actuators: a filter needs a positive time constant; ranges must be ordered;
+    // tendon springs non-negative.
+    let hinge = Joint::new("j", 1, JointKind::Hinge, [0.0, 0.0, 1.0]);
+    let mut a = carl_articulated::Actuator::position("servo", 0, 2.0, 0.0, Some([-1.0, 1.0]));
+    a.dynamics = carl_articulated::Dynamics::Filter { tau: 0.0 };
+    let e = Model::new(
+        Options::default(),
+        vec![world(), body.clone()],
+        vec![hinge.clone()],
+        vec![],
+        vec![a],
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("tau"), "{e}");
+    let mut a = carl_articulated::Actuator::motor("m", 0, 1.0, None);
+    a.forcerange = Some([1.0, -1.0]);
+    let e = Model::new(
+        Options::default(),
+        vec![world(), body.clone()],
+        vec![hinge.clone()],
+        vec![],
+        vec![a],
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("forcerange"), "{e}");
+    let mut t = carl_articulated::Tendon::fixed("t", vec![(0, 1.0)]);
+    t.stiffness = -1.0;
+    let e = Model::new(Options::default(), vec![world(), body], vec![hinge], vec![], vec![])
+        .and_then(|m| m.with_tendons(vec![t], vec![]))
+        .unwrap_err();
+    assert!(e.to_string().contains("stiffness"), "{e}");
     // Non-finite state and controls do not panic; the state reports itself insane.
     let m = pendulum(0.5, Integrator::Euler, 1e-3);
     let mut d = Data::new(Arc::new(m));

@@ -2,7 +2,7 @@
 //! `scripts/articulated_mujoco_fixtures.py` writes them).
 
 use carl_articulated::model::{
-    Actuator, Body, Geom, Integrator, Joint, JointKind, Model, Options, Shape, Tendon, TendonEquality,
+    Actuator, Body, Dynamics, Geom, Integrator, Joint, JointKind, Model, Options, Shape, Tendon, TendonEquality,
 };
 use serde_json::Value;
 
@@ -148,11 +148,24 @@ pub fn model(fx: &Value) -> Model {
         .unwrap()
         .iter()
         .enumerate()
-        .map(|(i, a)| Actuator {
-            name: format!("act{i}"),
-            joint: a["joint"].as_u64().unwrap() as usize,
-            gear: f(&a["gear"]),
-            ctrlrange: (!a["ctrlrange"].is_null()).then(|| arr::<2>(&a["ctrlrange"])),
+        .map(|(i, a)| {
+            let mut act = Actuator::motor(
+                &format!("act{i}"),
+                a["joint"].as_u64().unwrap() as usize,
+                f(&a["gear"]),
+                (!a["ctrlrange"].is_null()).then(|| arr::<2>(&a["ctrlrange"])),
+            );
+            // MuJoCo's general actuators: the fields the script writes when not a plain motor.
+            act.gain = a.get("gain").map_or(1.0, f);
+            act.bias = a.get("bias").map_or([0.0; 3], arr);
+            act.forcerange = a.get("forcerange").map(arr::<2>);
+            act.actrange = a.get("actrange").map(arr::<2>);
+            act.dynamics = match a.get("dyntype").and_then(Value::as_str) {
+                Some("filter") => Dynamics::Filter { tau: f(&a["tau"]) },
+                Some("filterexact") => Dynamics::FilterExact { tau: f(&a["tau"]) },
+                _ => Dynamics::None,
+            };
+            act
         })
         .collect();
     let actuator_tendon = m["actuators"]
@@ -167,14 +180,20 @@ pub fn model(fx: &Value) -> Model {
         .map(|ts| {
             ts.iter()
                 .enumerate()
-                .map(|(i, t)| Tendon {
-                    name: format!("tendon{i}"),
-                    joints: t
+                .map(|(i, t)| {
+                    let joints = t
                         .as_array()
                         .unwrap()
                         .iter()
                         .map(|jc| (jc[0].as_u64().unwrap() as usize, f(&jc[1])))
-                        .collect(),
+                        .collect();
+                    let mut tendon = Tendon::fixed(&format!("tendon{i}"), joints);
+                    if let Some(p) = m.get("tendon_passive").map(|p| &p[i]) {
+                        tendon.stiffness = f(&p["stiffness"]);
+                        tendon.damping = f(&p["damping"]);
+                        tendon.lengthspring = Some(arr(&p["lengthspring"]));
+                    }
+                    tendon
                 })
                 .collect()
         })
