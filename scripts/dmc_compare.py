@@ -24,6 +24,18 @@ the constant action (1, 0.5) from rest the finger swings into the spinner and tu
 push_proximal_<t> (rad), push_touch_<t> (the sum of the two touch observations) and push_turned_<t>;
 random_return as below.
 
+Metrics (dmc_quadruped), from the observation (hinges 0-15, their rates 16-31, activations 32-43,
+torso velocity 44-46, torso zz 47, accelerometer 48-50, gyro 51-53, arcsinh of the toes' forces 54-65):
+* drop_*: dropped at rest from dm_control's reset pose of seed 0 (its orientation and
+  non-contacting height, joints at 0) under zero action: the torso's zz at 0.5 s and 3 s
+  (final upright), the time to rest (the first time the hinges' rates and the torso's speed all
+  stay below 0.05 to the end of the 3 s) and the toes' total force at rest (N, the part of the
+  weight the toes carry);
+* servo_*: from standing (identity orientation at the non-contacting height) under one constant
+  action (lift 0.5, extend 0.3, yaw 0 on every leg): the front left knee's angle and the torso's
+  zz after 1 s;
+* random_return as below (dm_control's reset on both sides).
+
 Metrics (dmc_point_mass):
 * push_<axis>_<t>s: the ball's displacement <t> s after a constant control from rest at the
   centre (the passive response of the damped slides to one motor: terminal speed gear / damping);
@@ -60,6 +72,7 @@ ENVS = {
     "dmc_point_mass": ("point_mass", "easy", ["random_start=true"]),
     "dmc_walker": ("walker", "walk", []),
     "dmc_fish": ("fish", "swim", []),
+    "dmc_quadruped": ("quadruped", "walk", []),
 }
 MEDIUM = dict(viscosity=2.0, density=1000.0, wind_x=0.05)
 #: the second side's context of an environment (default MEDIUM): fish.xml disables gravity, so its
@@ -227,8 +240,44 @@ def finger_metrics(side, medium_side, episodes):
     return out
 
 
+def quadruped_start(upright):
+    """dm_control's reset pose of seed 0 (or with the identity orientation): (carl-spec's state,
+    dm_control's (qpos, qvel))."""
+    import numpy as np
+    from dm_control import suite
+    from dm_control.suite import quadruped
+
+    env = suite.load("quadruped", "walk", task_kwargs={"random": 0})
+    env.reset()
+    if upright:
+        quadruped._find_non_contacting_height(env.physics, np.array([1.0, 0.0, 0.0, 0.0]))
+    qpos = env.physics.data.qpos.tolist()
+    nv, na = env.physics.model.nv, env.physics.model.na
+    return qpos + [0.0] * (nv + na), (qpos, [0.0] * nv)
+
+
+def quadruped_metrics(side, medium_side, episodes):
+    import math
+
+    out = {}
+    obs, _ = side.run(0, [[0.0] * 12] * 150, init=quadruped_start(False))
+    out["drop_upright_0.5s"] = obs[25][47]
+    out["drop_upright_3s"] = obs[150][47]
+    moving = [max(max(abs(v) for v in o[16:32]), math.hypot(*o[44:47])) >= 0.05 for o in obs]
+    last = max((k for k, m in enumerate(moving) if m), default=0)
+    out["drop_time_to_rest"] = 0.02 * (last + 1)
+    out["drop_toe_force_3s"] = sum(math.sqrt(sum(math.sinh(x) ** 2 for x in obs[150][54 + 3 * k:57 + 3 * k]))
+                                   for k in range(4))
+    obs, _ = side.run(0, [[0.0, 0.5, 0.3] * 4] * 50, init=quadruped_start(True))
+    out["servo_knee_1s"] = obs[50][2]
+    out["servo_upright_1s"] = obs[50][47]
+    out["random_return"] = [side.random_episode(seed)[1] for seed in range(episodes)]
+    return out
+
+
 METRICS = {
-    "dmc_finger": finger_metrics, "dmc_fish": fish_metrics, "dmc_point_mass": point_mass_metrics, "dmc_walker": walker_metrics,
+    "dmc_finger": finger_metrics, "dmc_fish": fish_metrics, "dmc_point_mass": point_mass_metrics,
+    "dmc_quadruped": quadruped_metrics, "dmc_walker": walker_metrics,
 }
 
 

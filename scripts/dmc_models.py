@@ -4,7 +4,7 @@
 dm_control's own XML (`dm_control.suite.<domain>.get_model_and_assets()`) is compiled by
 MuJoCo, so every number is MuJoCo's: body masses and inertias (from the geoms' densities or
 masses), joint anchors, axes, ranges, damping, armature and springs, geom shapes, poses and
-contact parameters, fixed tendons, actuator gears, transmissions and control ranges, and the
+contact parameters, fixed tendons and tendon equalities, sites, actuator gears, transmissions and control ranges, and the
 options (time step, integrator, gravity, medium density, viscosity and wind). The fields are
 those of scripts/articulated_mujoco_fixtures.py (`model_json`, which carl-articulated's parity
 tests read) plus the names of bodies, joints, geoms, actuators and tendons and the option flags
@@ -29,7 +29,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from articulated_mujoco_fixtures import model_json, write_or_check  # noqa: E402
 
 OUT = "crates/carl-envs-dmc/models"
-DOMAINS = ["finger", "fish", "point_mass", "walker"]
+DOMAINS = ["finger", "fish", "point_mass", "quadruped", "walker"]
 
 
 def names(mujoco, m, obj, n):
@@ -51,7 +51,13 @@ def convert(domain):
     import dm_control
     import mujoco
     module = importlib.import_module(f"dm_control.suite.{domain}")
-    xml, assets = module.get_model_and_assets()
+    if domain == "quadruped":
+        # walk's model: make_model strips the walls, ball, target, terrain and rangefinders (the
+        # floor's size does not matter to an infinite plane, so run's model is the same).
+        from dm_control.suite import common
+        xml, assets = module.make_model(floor_size=module._DEFAULT_TIME_LIMIT * module._WALK_SPEED), common.ASSETS
+    else:
+        xml, assets = module.get_model_and_assets()
     m = mujoco.MjModel.from_xml_string(xml, assets)
     out = model_json(mujoco, m)
     out["opt"]["density"] = float(m.opt.density)
@@ -78,6 +84,17 @@ def convert(domain):
         out["tendons"] = [[[int(m.wrap_objid[w]), float(m.wrap_prm[w])]
                            for w in range(m.tendon_adr[t], m.tendon_adr[t] + m.tendon_num[t])]
                           for t in range(m.ntendon)]
+    if m.neq:
+        assert all(int(t) == int(mujoco.mjtEq.mjEQ_TENDON) for t in m.eq_type), "only tendon equalities"
+        out["tendon_equalities"] = [dict(tendon1=int(m.eq_obj1id[e]),
+                                         tendon2=int(m.eq_obj2id[e]) if m.eq_obj2id[e] >= 0 else None,
+                                         polycoef=[float(x) for x in m.eq_data[e][:5]],
+                                         solref=[float(x) for x in m.eq_solref[e]],
+                                         solimp=[float(x) for x in m.eq_solimp[e]]) for e in range(m.neq)]
+    if m.nsite:
+        out["sites"] = [dict(name=mujoco.mj_id2name(m, o.mjOBJ_SITE, s) or "", body=int(m.site_bodyid[s]),
+                             pos=[float(x) for x in m.site_pos[s]], quat=[float(x) for x in m.site_quat[s]])
+                        for s in range(m.nsite)]
     source = (f"dm_control {dm_control.__version__ if hasattr(dm_control, '__version__') else '1.0.50'} "
               f"suite/{domain}.xml compiled by MuJoCo {mujoco.__version__} (scripts/dmc_models.py)")
     return dict(source=source, model=out)

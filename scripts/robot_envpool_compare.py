@@ -34,7 +34,8 @@ ACTION_TABLE = 256
 # envpool's id of each environment: the MuJoCo robots' Gymnasium ids, and envpool's dm_control
 # tasks (its `<Domain><Task>-v1`) for the dm_control family.
 ENVPOOL_IDS = {**GYM_IDS, "dmc_point_mass": "PointMassEasy-v1", "dmc_walker": "WalkerWalk-v1",
-               "dmc_fish": "FishSwim-v1"}
+               "dmc_fish": "FishSwim-v1", "dmc_quadruped": "QuadrupedWalk-v1",
+               "dmc_finger": "FingerSpin-v1"}
 
 
 def envpool_steps_per_sec(env, actions, batch_steps):

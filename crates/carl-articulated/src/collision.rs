@@ -5,7 +5,8 @@
 //! capsule), plane–box (the deepest corners, at most four), sphere–sphere, sphere–capsule and
 //! capsule–capsule (two contacts for parallel overlapping capsules), sphere–cylinder and
 //! capsule–cylinder (one contact at the closest points, as MuJoCo's convex collider gives; the
-//! plane–cylinder pair has no routine).
+//! plane–cylinder pair has no routine), plane–ellipsoid (one contact at the ellipsoid's support
+//! point, as MuJoCo's plane–convex collider; the ellipsoid's other pairs have no routine).
 
 use crate::math::{M3, V3, add, col, cross, dot, mat_vec, norm, normalize, scale, sub};
 use crate::model::Shape;
@@ -112,6 +113,26 @@ pub fn collide(a: &Placed, b: &Placed, margin: f64, out: &mut [Contact]) -> usiz
                 k += push_plane_point(n, p, 0.0, d, margin, frame, out, k);
             }
             k
+        }
+        (Shape::Plane, Shape::Ellipsoid { radii }) => {
+            // The ellipsoid's support point against the normal: `p = −R (r² ∘ n') / |r ∘ n'|`,
+            // `n'` the normal in the ellipsoid's frame; one contact there (MuJoCo's
+            // plane–convex collider).
+            let n = col(&a.mat, 2);
+            let nl = [dot(col(&b.mat, 0), n), dot(col(&b.mat, 1), n), dot(col(&b.mat, 2), n)];
+            let rn = [radii[0] * nl[0], radii[1] * nl[1], radii[2] * nl[2]];
+            let len = norm(rn);
+            if len < 1e-15 {
+                return 0;
+            }
+            let local = [
+                -radii[0] * rn[0] / len,
+                -radii[1] * rn[1] / len,
+                -radii[2] * rn[2] / len,
+            ];
+            let p = add(b.pos, mat_vec(&b.mat, local));
+            let d = dot(sub(p, a.pos), n);
+            push_plane_point(n, p, 0.0, d, margin, make_frame(n), out, 0)
         }
         (Shape::Sphere { .. } | Shape::Capsule { .. }, Shape::Sphere { .. } | Shape::Capsule { .. }) => {
             let (a0, a1, ra) = a.segment();

@@ -35,6 +35,10 @@
 //! Restitution (a carl extension, 0 in MuJoCo): a contact or limit row with restitution `e`
 //! approached at speed `vₙ < 0` gets `aref ← max(aref, −(1 + e) vₙ / h)`.
 //!
+//! Tendon equalities (MuJoCo's `<equality><tendon>`): one row each, first as in MuJoCo, the
+//! residual `l₁ − l₁⁰ − p(l₂ − l₂⁰)` with Jacobian `J₁ − p′ J₂`, `Â` the sum of the tendons'
+//! `tendon_invweight0`, the force of either sign (no projection).
+//!
 //! Joint limits: one row per violated side (`q − lo` or `hi − q` below the joint's margin),
 //! `Â = dof_invweight0`. Forces are warm-started from the previous solve (matched by contact
 //! pair, contact and row, or by joint and side).
@@ -60,6 +64,8 @@ pub enum RowKind {
     Friction { joint: usize },
     /// The dry friction of `body` on its table along the plane's axis `axis` (0 or 1).
     DryFriction { body: usize, axis: u8 },
+    /// Tendon equality `eq` (its force of either sign).
+    Equality { eq: usize },
     #[default]
     None,
 }
@@ -157,6 +163,44 @@ impl Data {
         let nv = m.nv;
         let h = m.opt.timestep;
         self.nefc = 0;
+        for (e, eq) in m.tendon_equalities.iter().enumerate() {
+            let Some(r) = self.new_row() else { return };
+            let len = |t: usize, q: &[f64]| -> f64 {
+                m.tendons[t]
+                    .joints
+                    .iter()
+                    .map(|&(j, c)| c * q[m.jnt_qposadr[j]])
+                    .sum::<f64>()
+                    - m.tendon_length0[t]
+            };
+            let x1 = len(eq.tendon1, &self.qpos);
+            let (pos, deriv) = match eq.tendon2 {
+                Some(t2) => {
+                    let x2 = len(t2, &self.qpos);
+                    let c = &eq.polycoef;
+                    let p = c[0] + x2 * (c[1] + x2 * (c[2] + x2 * (c[3] + x2 * c[4])));
+                    let dp = c[1] + x2 * (2.0 * c[2] + x2 * (3.0 * c[3] + x2 * 4.0 * c[4]));
+                    (x1 - p, dp)
+                }
+                None => (x1 - eq.polycoef[0], 0.0),
+            };
+            for &(j, c) in &m.tendons[eq.tendon1].joints {
+                self.efc_j[r * nv + m.jnt_dofadr[j]] += c;
+            }
+            if let Some(t2) = eq.tendon2 {
+                for &(j, c) in &m.tendons[t2].joints {
+                    self.efc_j[r * nv + m.jnt_dofadr[j]] -= deriv * c;
+                }
+            }
+            let imp = impedance(&eq.solimp, pos.abs());
+            let (kk, bb) = stiffness_damping(&eq.solref, &eq.solimp, h);
+            self.efc_kind[r] = RowKind::Equality { eq: e };
+            let mut diag = m.tendon_invweight0[eq.tendon1];
+            if let Some(t2) = eq.tendon2 {
+                diag += m.tendon_invweight0[t2];
+            }
+            self.set_row(r, pos, imp, kk, bb, diag);
+        }
         for (j, jt) in m.joints.iter().enumerate() {
             if jt.frictionloss <= 0.0 {
                 continue;
@@ -405,6 +449,8 @@ impl Data {
                 let bound = self.efc_bound[r];
                 let new = if bound.is_finite() {
                     (old - grad * self.efc_inv[r]).clamp(-bound, bound)
+                } else if let RowKind::Equality { .. } = self.efc_kind[r] {
+                    old - grad * self.efc_inv[r]
                 } else {
                     (old - grad * self.efc_inv[r]).max(0.0)
                 };
@@ -516,6 +562,7 @@ impl Data {
             RowKind::Limit { joint, upper } => (1u64 << 63) | ((joint as u64) << 1) | upper as u64,
             RowKind::Friction { joint } => (1u64 << 62) | joint as u64,
             RowKind::DryFriction { body, axis } => (3u64 << 61) | ((body as u64) << 1) | axis as u64,
+            RowKind::Equality { eq } => (5u64 << 60) | eq as u64,
             RowKind::None => u64::MAX,
         }
     }

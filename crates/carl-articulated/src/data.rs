@@ -59,6 +59,10 @@ pub struct Data {
     pub cvel: Vec<V6>,
     pub(crate) cacc: Vec<V6>,
     pub(crate) cfrc: Vec<V6>,
+    /// MuJoCo's `cacc` and `cfrc_int` after the constraint solve ([`Data::rne_post_constraint`]:
+    /// world frame, about the world origin).
+    pub(crate) post_cacc: Vec<V6>,
+    pub(crate) cfrc_int: Vec<V6>,
     /// Mass matrix (armature included), row-major.
     pub qm: Vec<f64>,
     pub(crate) qld: Vec<f64>,
@@ -127,6 +131,8 @@ impl Data {
             cvel: vec![[0.0; 6]; nb],
             cacc: vec![[0.0; 6]; nb],
             cfrc: vec![[0.0; 6]; nb],
+            post_cacc: vec![[0.0; 6]; nb],
+            cfrc_int: vec![[0.0; 6]; nb],
             qm: vec![0.0; nv * nv],
             qld: vec![0.0; nv * nv],
             qfrc_bias: vec![0.0; nv],
@@ -235,6 +241,31 @@ impl Data {
             self.qvel.fill(f64::NAN);
             return;
         }
+        self.integrate();
+    }
+
+    /// One time step that lets `read` see the state before integration with its accelerations
+    /// and interaction forces ([`Data::rne_post_constraint`]): MuJoCo's acceleration sensors
+    /// (accelerometer, force, torque), which `mj_step` computes before it integrates.
+    pub fn step_observed(&mut self, read: impl FnOnce(&Data)) {
+        let ok = self.forward();
+        if !ok {
+            self.qvel.fill(f64::NAN);
+            return;
+        }
+        self.rne_post_constraint();
+        read(self);
+        self.integrate();
+    }
+
+    /// How many contacts the current `qpos` makes (poses and collision only).
+    pub fn count_contacts(&mut self) -> usize {
+        self.kinematics();
+        self.collide();
+        self.ncon
+    }
+
+    fn integrate(&mut self) {
         match self.model.opt.integrator {
             Integrator::Euler => self.euler(),
             Integrator::Rk4 => self.rk4(),

@@ -513,3 +513,31 @@ pub(crate) fn set_invweight0(model: &mut Model) {
         }
     }
 }
+
+/// MuJoCo's `tendon_invweight0`: `J M⁻¹ Jᵀ` of each fixed tendon at `qpos0`.
+pub(crate) fn tendon_invweight0(model: &Model) -> Vec<f64> {
+    let nv = model.nv;
+    if nv == 0 || model.tendons.is_empty() {
+        return vec![0.0; model.tendons.len()];
+    }
+    let mut d = Data::new(std::sync::Arc::new(model.clone()));
+    d.kinematics();
+    d.mass_matrix();
+    let mut l = d.qm.clone();
+    if !cholesky(&mut l, nv) {
+        return vec![0.0; model.tendons.len()];
+    }
+    model
+        .tendons
+        .iter()
+        .map(|t| {
+            let mut jac = vec![0.0; nv];
+            for &(j, c) in &t.joints {
+                jac[model.jnt_dofadr[j]] += c;
+            }
+            let mut x = jac.clone();
+            cholesky_solve(&l, nv, &mut x);
+            jac.iter().zip(&x).map(|(a, b)| a * b).sum::<f64>().max(1e-15)
+        })
+        .collect()
+}

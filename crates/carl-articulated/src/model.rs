@@ -166,6 +166,10 @@ pub enum Shape {
     Box {
         half: V3,
     },
+    /// An ellipsoid of semi-axes `radii` along the geom's local axes.
+    Ellipsoid {
+        radii: V3,
+    },
 }
 
 impl Shape {
@@ -175,6 +179,7 @@ impl Shape {
             Shape::Plane => 0,
             Shape::Sphere { .. } => 2,
             Shape::Capsule { .. } => 3,
+            Shape::Ellipsoid { .. } => 4,
             Shape::Cylinder { .. } => 5,
             Shape::Box { .. } => 6,
         }
@@ -187,6 +192,7 @@ impl Shape {
             Shape::Capsule { radius, half_length } => radius + half_length,
             Shape::Cylinder { radius, half_length } => radius.hypot(half_length),
             Shape::Box { half } => crate::math::norm(half),
+            Shape::Ellipsoid { radii } => radii[0].max(radii[1]).max(radii[2]),
         }
     }
 }
@@ -340,6 +346,20 @@ impl Tendon {
     }
 }
 
+/// A tendon equality (MuJoCo's `<equality><tendon>`): the soft constraint
+/// `l₁ − l₁⁰ = p(l₂ − l₂⁰)`, `p(x) = Σₖ polycoefₖ xᵏ` (`l⁰` the tendon's length at `qpos0`), or
+/// `l₁ − l₁⁰ = polycoef₀` without a second tendon; one row with its own `solref`/`solimp`, the
+/// force of either sign.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TendonEquality {
+    pub name: String,
+    pub tendon1: usize,
+    pub tendon2: Option<usize>,
+    pub polycoef: [f64; 5],
+    pub solref: SolRef,
+    pub solimp: SolImp,
+}
+
 /// Time integration.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Integrator {
@@ -468,6 +488,11 @@ pub struct Model {
     pub tendons: Vec<Tendon>,
     /// The tendon each actuator drives instead of its joint (`None`: its joint).
     pub actuator_tendon: Vec<Option<usize>>,
+    /// Tendon equalities ([`Model::with_tendon_equalities`]; none unless set).
+    pub tendon_equalities: Vec<TendonEquality>,
+    /// Each tendon's length at `qpos0` and MuJoCo's `tendon_invweight0` (`J M⁻¹ Jᵀ` at `qpos0`).
+    pub tendon_length0: Vec<f64>,
+    pub tendon_invweight0: Vec<f64>,
     /// Each actuator's entry in [`crate::Data::act`] (`None`: stateless), MuJoCo's
     /// `actuator_actadr`; `na` entries in all, in actuator order.
     pub actuator_actadr: Vec<Option<usize>>,
@@ -700,7 +725,9 @@ impl Model {
                 Shape::Cylinder { radius, half_length } => {
                     radius.is_finite() && radius > 0.0 && half_length.is_finite() && half_length > 0.0
                 }
-                Shape::Box { half } => half.iter().all(|x| x.is_finite() && *x > 0.0),
+                Shape::Box { half } | Shape::Ellipsoid { radii: half } => {
+                    half.iter().all(|x| x.is_finite() && *x > 0.0)
+                }
             };
             if !size_ok {
                 return Err(e("sizes must be finite and positive"));
@@ -787,6 +814,9 @@ impl Model {
             geoms,
             tendons: Vec::new(),
             actuator_tendon: vec![None; nact],
+            tendon_equalities: Vec::new(),
+            tendon_length0: Vec::new(),
+            tendon_invweight0: Vec::new(),
             actuator_actadr,
             na,
             tendon_lengthspring: Vec::new(),
@@ -870,9 +900,43 @@ impl Model {
                 });
             }
         }
+        self.tendon_length0 = tendons
+            .iter()
+            .map(|t| t.joints.iter().map(|&(j, c)| c * self.qpos0[self.jnt_qposadr[j]]).sum())
+            .collect();
         self.tendons = tendons;
         self.tendon_lengthspring = lengthspring;
         self.actuator_tendon = actuator_tendon;
+        self.tendon_invweight0 = crate::dynamics::tendon_invweight0(&self);
+        Ok(self)
+    }
+
+    /// The model with tendon equalities (after [`Model::with_tendons`]: they name its tendons).
+    pub fn with_tendon_equalities(mut self, eqs: Vec<TendonEquality>) -> Result<Model, ModelError> {
+        for (i, e) in eqs.iter().enumerate() {
+            let bad = |message: String| ModelError::Tendon {
+                index: i,
+                name: e.name.clone(),
+                message,
+            };
+            let nt = self.tendons.len();
+            if e.tendon1 >= nt || e.tendon2.is_some_and(|t| t >= nt) {
+                return Err(bad(format!(
+                    "an equality names a tendon that does not exist ({nt} tendons)"
+                )));
+            }
+            if !(e
+                .polycoef
+                .iter()
+                .chain(&e.solref)
+                .chain(&e.solimp)
+                .all(|x| x.is_finite()))
+            {
+                return Err(bad("equality parameters must be finite".into()));
+            }
+        }
+        self.max_rows += eqs.len();
+        self.tendon_equalities = eqs;
         Ok(self)
     }
 
@@ -927,7 +991,7 @@ fn collision_pairs(bodies: &[Body], weld: &[usize], geoms: &[Geom]) -> Vec<GeomP
                 (s1, s2),
                 (
                     Shape::Plane,
-                    Shape::Sphere { .. } | Shape::Capsule { .. } | Shape::Box { .. }
+                    Shape::Sphere { .. } | Shape::Capsule { .. } | Shape::Box { .. } | Shape::Ellipsoid { .. }
                 ) | (Shape::Sphere { .. }, Shape::Sphere { .. } | Shape::Capsule { .. })
                     | (Shape::Capsule { .. }, Shape::Capsule { .. })
                     | (Shape::Sphere { .. } | Shape::Capsule { .. }, Shape::Cylinder { .. })

@@ -333,6 +333,25 @@ pub fn render_articulated(world: &ArticulatedWorld) -> Frame {
             carl_articulated::Shape::Box { half } => {
                 SharedShape::cuboid(half[0] as f32, half[1] as f32, half[2] as f32)
             }
+            carl_articulated::Shape::Ellipsoid { radii } => {
+                // The hull of points on its surface (rapier has no ellipsoid).
+                let mut pts = Vec::new();
+                for i in 0..=6 {
+                    let th = std::f32::consts::PI * i as f32 / 6.0;
+                    for k in 0..12 {
+                        let ph = std::f32::consts::TAU * k as f32 / 12.0;
+                        pts.push(Vector::new(
+                            radii[0] as f32 * th.sin() * ph.cos(),
+                            radii[1] as f32 * th.sin() * ph.sin(),
+                            radii[2] as f32 * th.cos(),
+                        ));
+                    }
+                }
+                match SharedShape::convex_hull(&pts) {
+                    Some(s) => s,
+                    None => continue,
+                }
+            }
             carl_articulated::Shape::Plane => continue,
         };
         owned.push((body, s, pose));

@@ -9,6 +9,7 @@
 //!   `turn_hard`);
 //! * [`point_mass`]: `dmc_point_mass` (dm_control's `point_mass` domain, tasks `easy` and
 //!   `hard`);
+//! * [`quadruped`]: `dmc_quadruped` (dm_control's `quadruped` domain, tasks `walk` and `run`);
 //! * [`walker`]: `dmc_walker` (dm_control's `walker` domain, tasks `walk`, `stand`, `run`);
 //! * [`fish`]: `dmc_fish` (dm_control's `fish` domain, tasks `swim` and `upright`);
 //! * [`registry`]: the family's registrations.
@@ -21,6 +22,7 @@ pub mod finger;
 pub mod fish;
 pub mod mjcf;
 pub mod point_mass;
+pub mod quadruped;
 pub mod registry;
 pub mod rewards;
 pub mod walker;

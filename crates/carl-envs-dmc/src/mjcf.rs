@@ -24,6 +24,7 @@
 
 use carl_articulated::model::{
     Actuator, Body, Cone, Dynamics, Geom, Integrator, Joint, JointKind, Model, Options, Shape, SolImp, SolRef, Tendon,
+    TendonEquality,
 };
 use serde::Deserialize;
 
@@ -150,6 +151,25 @@ pub struct TendonPassive {
     pub lengthspring: [f64; 2],
 }
 
+/// A tendon equality (`<equality><tendon>`).
+#[derive(Debug, Clone, Deserialize)]
+pub struct EqDesc {
+    pub tendon1: usize,
+    pub tendon2: Option<usize>,
+    pub polycoef: [f64; 5],
+    pub solref: SolRef,
+    pub solimp: SolImp,
+}
+
+/// A site: a named frame of a body (the sensors' frames).
+#[derive(Debug, Clone, Deserialize)]
+pub struct SiteDesc {
+    pub name: String,
+    pub body: usize,
+    pub pos: [f64; 3],
+    pub quat: [f64; 4],
+}
+
 #[derive(Debug, Clone, Deserialize)]
 pub struct Names {
     pub bodies: Vec<String>,
@@ -177,6 +197,10 @@ pub struct Desc {
     /// Whether each body's mass comes from its geoms' density (no geom of it states a mass).
     #[serde(default)]
     pub body_mass_from_density: Vec<bool>,
+    #[serde(default)]
+    pub tendon_equalities: Vec<EqDesc>,
+    #[serde(default)]
+    pub sites: Vec<SiteDesc>,
 }
 
 impl Desc {
@@ -204,6 +228,15 @@ impl Desc {
     }
     pub fn geom(&self, name: &str) -> Option<usize> {
         self.names.geoms.iter().position(|n| n == name)
+    }
+    /// The site called `name` as the engine's [`carl_articulated::Site`].
+    pub fn site(&self, name: &str) -> Option<carl_articulated::Site> {
+        let s = self.sites.iter().find(|s| s.name == name)?;
+        Some(carl_articulated::Site {
+            body: s.body,
+            pos: s.pos,
+            mat: carl_articulated::math::quat_to_mat(s.quat),
+        })
     }
 }
 
@@ -394,9 +427,7 @@ pub fn build(desc: &Desc, p: &Physics) -> Result<Model, String> {
                 half_length: s[1],
             },
             "box" => Shape::Box { half: s },
-            // A shape the engine cannot collide (fish.xml's ellipsoids) is left out of the
-            // engine's model when it collides with nothing: its mass is already in its body's.
-            _ if !(o.contact && o.constraint) || (g.contype == 0 && g.conaffinity == 0) => continue,
+            "ellipsoid" => Shape::Ellipsoid { radii: s },
             other => return Err(format!("geom {}: unsupported shape {other}", desc.names.geoms[i])),
         };
         let mut geom = Geom::new(&desc.names.geoms[i], g.body, shape, g.pos);
@@ -470,8 +501,22 @@ pub fn build(desc: &Desc, p: &Physics) -> Result<Model, String> {
         })
         .collect();
     let actuator_tendon = desc.actuators.iter().map(|a| a.tendon).collect();
+    let equalities = desc
+        .tendon_equalities
+        .iter()
+        .enumerate()
+        .map(|(i, e)| TendonEquality {
+            name: format!("equality {i}"),
+            tendon1: e.tendon1,
+            tendon2: e.tendon2,
+            polycoef: e.polycoef,
+            solref: e.solref,
+            solimp: e.solimp,
+        })
+        .collect();
     Model::new(opt, bodies, joints, geoms, actuators)
         .and_then(|m| m.with_tendons(tendons, actuator_tendon))
+        .and_then(|m| m.with_tendon_equalities(equalities))
         .map_err(|e| e.to_string())
 }
 

@@ -7,6 +7,7 @@ use carl_env::runtime::AnyEnv;
 use crate::finger::{self, Finger};
 use crate::fish::{self, Fish};
 use crate::point_mass::{self, PointMass};
+use crate::quadruped::{self, Quadruped};
 use crate::walker::{self, Walker};
 
 /// The environments of this family, in registry order.
@@ -124,6 +125,34 @@ pub const REGISTRATIONS: &[Registration] = &[
         },
         vector_kernel: None,
     },
+    Registration {
+        id: "dmc_quadruped",
+        build: build_quadruped,
+        runtime_default: |n| quadruped::Params::default().get(n),
+        options: &[OptionSpec {
+            name: "move_speed",
+            help: "the forward speed (m/s) above which the move reward is 1: dm_control's quadruped walk 0.5 (default), run 5",
+            kind: OptionKind::Number {
+                default: quadruped::WALK_SPEED,
+                min: 0.05,
+                max: 20.0,
+            },
+        }],
+        heuristic: None,
+        renders: true,
+        cost: StepCost::Heavy,
+        // Four physics steps per transition, 22 degrees of freedom with floor contacts. State:
+        // the torso's position, orientation, the hinges, then rates (and activations); torso
+        // heights that put the legs into the floor.
+        audit: AuditProfile {
+            trajectory_seeds: 2,
+            trajectory_steps: 12,
+            random_states: 8,
+            reset_seeds: 4,
+            state_hint: &[(0.0, 0.0), (0.0, 0.0), (0.2, 0.8)],
+        },
+        vector_kernel: None,
+    },
 ];
 
 fn build_point_mass(values: &[(String, f64)], o: &OptionValues) -> Result<AnyEnv, MakeError> {
@@ -177,6 +206,18 @@ fn build_finger(values: &[(String, f64)], o: &OptionValues) -> Result<AnyEnv, Ma
         finger::Task::Spin
     };
     Finger::new(p, task)
+        .map(AnyEnv::new)
+        .map_err(|message| MakeError::Runtime {
+            env: ID.into(),
+            message,
+        })
+}
+
+fn build_quadruped(values: &[(String, f64)], o: &OptionValues) -> Result<AnyEnv, MakeError> {
+    const ID: &str = "dmc_quadruped";
+    let mut p = quadruped::Params::default();
+    carl_env::context::apply(ID, values, |name, x| p.set(name, x))?;
+    Quadruped::new(p, o.get("move_speed"))
         .map(AnyEnv::new)
         .map_err(|message| MakeError::Runtime {
             env: ID.into(),

@@ -212,3 +212,82 @@ fn finger_coasts_and_pushes_as_dm_control() {
         );
     }
 }
+
+/// dm_control's reset pose of seed 0 for walk (its orientation and non-contacting height, joints
+/// at 0; `scripts/dmc_compare.py`'s `quadruped_start`), at rest, as carl-spec's state.
+const QUADRUPED_DROP_QPOS: [f64; 7] = [
+    0.0,
+    0.0,
+    0.89,
+    0.5799686609772982,
+    0.13155995106814494,
+    0.3217803368403166,
+    0.7367399448801994,
+];
+/// The non-contacting height of the upright (identity) orientation in dm_control.
+const QUADRUPED_STAND_HEIGHT: f64 = 0.52;
+
+fn quadruped_run(qpos_root: [f64; 7], action: [f32; 12], steps: usize) -> Vec<Vec<f64>> {
+    use carl_envs_dmc::quadruped::{self, Quadruped};
+    let mut e = Quadruped::new(quadruped::Params::default(), quadruped::WALK_SPEED).unwrap();
+    e.reset(Some(0));
+    let mut s = vec![0.0; e.state_dim()];
+    s[..7].copy_from_slice(&qpos_root);
+    e.set_state(&s).unwrap();
+    let observe = |e: &Quadruped| {
+        let mut o = vec![0.0; e.obs_dim()];
+        e.observe_f64_into(&mut o).unwrap();
+        o
+    };
+    let mut obs = vec![observe(&e)];
+    for _ in 0..steps {
+        e.step(&Action::Continuous(action.to_vec())).unwrap();
+        obs.push(observe(&e));
+    }
+    obs
+}
+
+#[test]
+fn quadruped_drops_and_servos_as_dm_control() {
+    let drop = quadruped_run(QUADRUPED_DROP_QPOS, [0.0; 12], 150);
+    let moving: Vec<bool> = drop
+        .iter()
+        .map(|o| {
+            let hinge = o[16..32].iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            hinge.max((o[44] * o[44] + o[45] * o[45] + o[46] * o[46]).sqrt()) >= 0.05
+        })
+        .collect();
+    let last = moving.iter().rposition(|m| *m).unwrap_or(0);
+    let toe_force: f64 = (0..4)
+        .map(|k| {
+            drop[150][54 + 3 * k..57 + 3 * k]
+                .iter()
+                .map(|x| x.sinh().powi(2))
+                .sum::<f64>()
+                .sqrt()
+        })
+        .sum();
+    let servo = quadruped_run(
+        [0.0, 0.0, QUADRUPED_STAND_HEIGHT, 1.0, 0.0, 0.0, 0.0],
+        [0.0, 0.5, 0.3, 0.0, 0.5, 0.3, 0.0, 0.5, 0.3, 0.0, 0.5, 0.3],
+        50,
+    );
+    // (metric, carl-spec, dm_control 1.0.50, tolerance)
+    let rows = [
+        ("drop_upright_0.5s", drop[25][47], 0.93468, 1e-4),
+        ("drop_upright_3s", drop[150][47], 1.0, 1e-4),
+        ("drop_time_to_rest", 0.02 * (last + 1) as f64, 1.5, 1e-9),
+        ("drop_toe_force_3s", toe_force, 1008.8, 1e-4),
+        ("servo_knee_1s", servo[50][2], -0.39173, 1e-4),
+        ("servo_upright_1s", servo[50][47], 1.0, 1e-4),
+    ];
+    for (name, ours, theirs, _) in rows {
+        eprintln!("{name}: carl-spec {ours:.6}, dm_control {theirs}");
+    }
+    for (name, ours, theirs, tol) in rows {
+        assert!(
+            (ours / theirs - 1.0).abs() < tol,
+            "{name}: carl-spec {ours}, dm_control {theirs}"
+        );
+    }
+}

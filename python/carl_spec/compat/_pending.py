@@ -17,7 +17,6 @@ ISSUES = {
 
 #: carl-bench class -> (the carl-spec environment it needs, the issue adding it)
 PENDING: dict[str, tuple[str, int]] = {
-    "CARLDmcQuadrupedEnv": ("dmc_quadruped", 27),
 }
 
 #: carl-bench classes of the pending families that are not environments of their own

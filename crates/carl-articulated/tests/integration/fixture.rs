@@ -2,7 +2,7 @@
 //! `scripts/articulated_mujoco_fixtures.py` writes them).
 
 use carl_articulated::model::{
-    Actuator, Body, Cone, Dynamics, Geom, Integrator, Joint, JointKind, Model, Options, Shape, Tendon,
+    Actuator, Body, Cone, Dynamics, Geom, Integrator, Joint, JointKind, Model, Options, Shape, Tendon, TendonEquality,
 };
 use serde_json::Value;
 
@@ -121,6 +121,9 @@ pub fn model(fx: &Value) -> Model {
                     radius: s[0],
                     half_length: s[1],
                 },
+                "ellipsoid" => Shape::Ellipsoid {
+                    radii: [s[0], s[1], s[2]],
+                },
                 _ => Shape::Box {
                     half: [s[0], s[1], s[2]],
                 },
@@ -199,8 +202,26 @@ pub fn model(fx: &Value) -> Model {
                 .collect()
         })
         .unwrap_or_default();
+    let equalities = m
+        .get("tendon_equalities")
+        .and_then(Value::as_array)
+        .map(|es| {
+            es.iter()
+                .enumerate()
+                .map(|(i, e)| TendonEquality {
+                    name: format!("equality{i}"),
+                    tendon1: e["tendon1"].as_u64().unwrap() as usize,
+                    tendon2: e["tendon2"].as_u64().map(|t| t as usize),
+                    polycoef: arr(&e["polycoef"]),
+                    solref: arr(&e["solref"]),
+                    solimp: arr(&e["solimp"]),
+                })
+                .collect()
+        })
+        .unwrap_or_default();
     Model::new(opt, bodies, joints, geoms, actuators)
         .and_then(|m| m.with_tendons(tendons, actuator_tendon))
+        .and_then(|m| m.with_tendon_equalities(equalities))
         .expect("fixture model")
 }
 

@@ -33,7 +33,7 @@ from .gymnasium import (
     CARLPendulum,
     CARLVehicleRacing,
 )
-from .dmc import CARLDmcFishEnv, CARLDmcPointMassEnv, CARLDmcWalkerEnv
+from .dmc import CARLDmcFingerEnv, CARLDmcFishEnv, CARLDmcPointMassEnv, CARLDmcQuadrupedEnv, CARLDmcWalkerEnv
 from .mario import CARLMarioEnv
 from .rna import CARLRnaDesignEnv
 
@@ -59,6 +59,7 @@ __all__ = [
     "CARLDmcFishEnv",
     "CARLDmcPointMassEnv",
     "CARLDmcWalkerEnv",
+    "CARLDmcQuadrupedEnv",
     "CARLMarioEnv",
     "CARLRnaDesignEnv",
 ]

@@ -338,6 +338,14 @@ class CARLDmcFishEnv(_Dmc):
     bench_names = _DMC_PHYSICS
 
 
+class CARLDmcQuadrupedEnv(_Dmc):
+    env_id = "dmc_quadruped"
+    domain = "quadruped"
+    task = "walk_context"
+    tasks = {"walk_context": {}, "run_context": {"move_speed": 5.0}}
+    bench_names = _DMC_PHYSICS
+
+
 class CARLMarioEnv(CARLEnv):
     env_id = "mario"
     bench_names = ("level_width", "level_index", "noise_seed", "mario_state", "mario_inertia")
@@ -354,8 +362,8 @@ CLASSES: dict[str, type[CARLEnv]] = {
         CARLCartPole, CARLPendulum, CARLAcrobot, CARLMountainCar, CARLMountainCarContinuous, CARLLunarLander,
         CARLBipedalWalker, CARLVehicleRacing, CARLBraxAnt, CARLBraxHalfcheetah, CARLBraxHumanoid, CARLBraxHopper,
         CARLBraxWalker2d, CARLBraxInvertedPendulum, CARLBraxInvertedDoublePendulum, CARLBraxReacher, CARLBraxPusher,
-        CARLBraxHumanoidStandup, CARLDmcFingerEnv, CARLDmcFishEnv, CARLDmcPointMassEnv, CARLDmcWalkerEnv,
-        CARLMarioEnv, CARLRnaDesignEnv,
+        CARLBraxHumanoidStandup, CARLDmcFingerEnv, CARLDmcFishEnv, CARLDmcPointMassEnv, CARLDmcQuadrupedEnv,
+        CARLDmcWalkerEnv, CARLMarioEnv, CARLRnaDesignEnv,
     )
 }
 

@@ -1,7 +1,5 @@
-"""carl-bench's `carl.envs.dmc`: CARLDmcPointMassEnv, CARLDmcWalkerEnv and CARLDmcFishEnv run
-carl-spec's dmc_point_mass, dmc_walker and dmc_fish; the rest of
-the family is pending (issue 27): building one of those classes raises `PendingEnvironmentError`
-naming the missing environment."""
+"""carl-bench's `carl.envs.dmc`: its five environments (Finger, Fish, PointMass, Quadruped,
+Walker) run carl-spec's dmc_finger, dmc_fish, dmc_point_mass, dmc_quadruped and dmc_walker."""
 
 from .carl_dm_finger import CARLDmcFingerEnv
 from .carl_dm_fish import CARLDmcFishEnv

@@ -1,7 +1,5 @@
-"""carl-bench's `carl.envs.dmc.carl_dm_quadruped`: pending (see `carl_spec.compat._pending`)."""
+"""carl-bench's `carl.envs.dmc.carl_dm_quadruped`."""
 
-from ..._pending import pending_class
-
-CARLDmcQuadrupedEnv = pending_class("CARLDmcQuadrupedEnv", __name__)
+from .._classes import CARLDmcQuadrupedEnv
 
 __all__ = ["CARLDmcQuadrupedEnv"]
