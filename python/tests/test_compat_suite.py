@@ -99,11 +99,22 @@ def test_envs_lists_what_runs_and_pending_classes_say_why() -> None:
             cls()
         with pytest.raises(PendingEnvironmentError, match=f"pending issue {issue}"):
             cls.get_context_features()
-    from carl_spec.compat.envs.dmc.loader import load_dmc_env
-
-    with pytest.raises(PendingEnvironmentError, match="pending issue 27"):
-        load_dmc_env(domain_name="finger", task_name="spin")
     assert not issubclass(PendingEnvironmentError, ValueError)  # a test expecting ValueError never passes by accident
+
+
+def test_load_dmc_env_gives_every_domain() -> None:
+    # carl-bench's five dm_control domains, each by dm_control's plain task name and carl-bench's.
+    from carl_spec.compat.envs.dmc.loader import _DOMAINS, load_dmc_env
+
+    assert set(_DOMAINS) == {"walker", "pointmass", "finger", "fish", "quadruped"}
+    env = load_dmc_env(domain_name="finger", task_name="spin")
+    assert type(env).__name__ == "CARLDmcFingerEnv"
+    obs, _ = env.reset(seed=0)
+    env.step(env.action_space.sample())
+    fish = load_dmc_env(domain_name="fish", task_name="upright_context", context={"density": 4000.0})
+    assert fish.contexts[0]["density"] == 4000.0
+    with pytest.raises(ValueError, match="Task 'juggle' does not exist in domain 'finger'"):
+        load_dmc_env(domain_name="finger", task_name="juggle")
 
 
 def test_brax_classes_carl_spec_has_run_as_carl_bench_test_brax_env_does() -> None:

@@ -56,6 +56,7 @@ __all__ = [
     "CARLBraxReacher",
     "CARLBraxPusher",
     "CARLBraxHumanoidStandup",
+    "CARLDmcFingerEnv",
     "CARLDmcFishEnv",
     "CARLDmcPointMassEnv",
     "CARLDmcWalkerEnv",
