@@ -179,6 +179,16 @@ impl Data {
         self.act.fill(0.0);
         self.ctrl.fill(0.0);
         self.time = 0.0;
+        self.forget_warm_start();
+    }
+
+    /// Start the next constraint solve cold: the solver's warm start (the previous solve's forces)
+    /// is dropped, so what follows depends on the state alone. An environment's reset calls it
+    /// (directly or through [`Data::reset`]): without it the first solve of an episode starts
+    /// from the last episode's forces and lands within the solver's tolerance of, but not on,
+    /// the same forces.
+    pub fn forget_warm_start(&mut self) {
+        self.warm_count = 0;
     }
 
     /// MuJoCo's activation update (`mj_advance`) with rates `act_dot` (RK4: its stages' weighted rates) over a step `h`:

@@ -556,6 +556,7 @@ impl Env for Finger {
             d.qvel.fill(0.0);
             d.ctrl.fill(0.0);
             d.time = 0.0;
+            d.forget_warm_start();
             for &(qa, range) in self.random_joints.iter() {
                 let [lo, hi] = range.unwrap_or([-std::f64::consts::PI, std::f64::consts::PI]);
                 d.qpos[qa] = uniform(&mut self.rng, lo, hi);
