@@ -1,6 +1,8 @@
 //! The dm_control family's registrations.
 
-use carl_env::context::{MakeError, OptionKind, OptionSpec, OptionValues};
+use carl_env::Runtime;
+use carl_env::api::UnknownFeature;
+use carl_env::context::{MakeError, OptionKind, OptionSpec};
 use carl_env::registration::{AuditProfile, Registration, StepCost};
 use carl_env::runtime::AnyEnv;
 
@@ -14,7 +16,15 @@ use crate::walker::{self, Walker};
 pub const REGISTRATIONS: &[Registration] = &[
     Registration {
         id: "dmc_finger",
-        build: build_finger,
+        build: |v, o| {
+            let r = o.get("target_radius");
+            let task = if r > 0.0 {
+                finger::Task::Turn(r)
+            } else {
+                finger::Task::Spin
+            };
+            build("dmc_finger", v, finger::Params::set, |p| Finger::new(p, task))
+        },
         runtime_default: |n| finger::Params::default().get(n),
         options: &[OptionSpec {
             name: "target_radius",
@@ -48,7 +58,15 @@ pub const REGISTRATIONS: &[Registration] = &[
     },
     Registration {
         id: "dmc_point_mass",
-        build: build_point_mass,
+        build: |v, o| {
+            let variant = point_mass::Variant {
+                hard: o.flag("hard"),
+                random_start: o.flag("random_start"),
+            };
+            build("dmc_point_mass", v, point_mass::Params::set, |p| {
+                PointMass::new(p, variant)
+            })
+        },
         runtime_default: |n| point_mass::Params::default().get(n),
         options: &[
             OptionSpec {
@@ -77,7 +95,11 @@ pub const REGISTRATIONS: &[Registration] = &[
     },
     Registration {
         id: "dmc_walker",
-        build: build_walker,
+        build: |v, o| {
+            build("dmc_walker", v, walker::Params::set, |p| {
+                Walker::new(p, o.get("move_speed"))
+            })
+        },
         runtime_default: |n| walker::Params::default().get(n),
         options: &[OptionSpec {
             name: "move_speed",
@@ -104,7 +126,7 @@ pub const REGISTRATIONS: &[Registration] = &[
     },
     Registration {
         id: "dmc_fish",
-        build: build_fish,
+        build: |v, o| build("dmc_fish", v, fish::Params::set, |p| Fish::new(p, o.flag("upright"))),
         runtime_default: |n| fish::Params::default().get(n),
         options: &[OptionSpec {
             name: "upright",
@@ -127,7 +149,11 @@ pub const REGISTRATIONS: &[Registration] = &[
     },
     Registration {
         id: "dmc_quadruped",
-        build: build_quadruped,
+        build: |v, o| {
+            build("dmc_quadruped", v, quadruped::Params::set, |p| {
+                Quadruped::new(p, o.get("move_speed"))
+            })
+        },
         runtime_default: |n| quadruped::Params::default().get(n),
         options: &[OptionSpec {
             name: "move_speed",
@@ -155,72 +181,18 @@ pub const REGISTRATIONS: &[Registration] = &[
     },
 ];
 
-fn build_point_mass(values: &[(String, f64)], o: &OptionValues) -> Result<AnyEnv, MakeError> {
-    const ID: &str = "dmc_point_mass";
-    let mut p = point_mass::Params::default();
-    carl_env::context::apply(ID, values, |name, x| p.set(name, x))?;
-    let variant = point_mass::Variant {
-        hard: o.flag("hard"),
-        random_start: o.flag("random_start"),
-    };
-    PointMass::new(p, variant)
-        .map(AnyEnv::new)
-        .map_err(|message| MakeError::Runtime {
-            env: ID.into(),
-            message,
-        })
-}
-
-fn build_walker(values: &[(String, f64)], o: &OptionValues) -> Result<AnyEnv, MakeError> {
-    const ID: &str = "dmc_walker";
-    let mut p = walker::Params::default();
-    carl_env::context::apply(ID, values, |name, x| p.set(name, x))?;
-    Walker::new(p, o.get("move_speed"))
-        .map(AnyEnv::new)
-        .map_err(|message| MakeError::Runtime {
-            env: ID.into(),
-            message,
-        })
-}
-
-fn build_fish(values: &[(String, f64)], o: &OptionValues) -> Result<AnyEnv, MakeError> {
-    const ID: &str = "dmc_fish";
-    let mut p = fish::Params::default();
-    carl_env::context::apply(ID, values, |name, x| p.set(name, x))?;
-    Fish::new(p, o.flag("upright"))
-        .map(AnyEnv::new)
-        .map_err(|message| MakeError::Runtime {
-            env: ID.into(),
-            message,
-        })
-}
-
-fn build_finger(values: &[(String, f64)], o: &OptionValues) -> Result<AnyEnv, MakeError> {
-    const ID: &str = "dmc_finger";
-    let mut p = finger::Params::default();
-    carl_env::context::apply(ID, values, |name, x| p.set(name, x))?;
-    let r = o.get("target_radius");
-    let task = if r > 0.0 {
-        finger::Task::Turn(r)
-    } else {
-        finger::Task::Spin
-    };
-    Finger::new(p, task)
-        .map(AnyEnv::new)
-        .map_err(|message| MakeError::Runtime {
-            env: ID.into(),
-            message,
-        })
-}
-
-fn build_quadruped(values: &[(String, f64)], o: &OptionValues) -> Result<AnyEnv, MakeError> {
-    const ID: &str = "dmc_quadruped";
-    let mut p = quadruped::Params::default();
-    carl_env::context::apply(ID, values, |name, x| p.set(name, x))?;
-    Quadruped::new(p, o.get("move_speed"))
-        .map(AnyEnv::new)
-        .map_err(|message| MakeError::Runtime {
-            env: ID.into(),
-            message,
-        })
+/// Builds one of the family's environments: the context applied to the domain's defaults
+/// (`set` refuses a name the domain does not know), then `new` under the options' task.
+fn build<P: Default, E: Runtime>(
+    id: &str,
+    values: &[(String, f64)],
+    set: fn(&mut P, &str, f64) -> Result<(), UnknownFeature>,
+    new: impl FnOnce(P) -> Result<E, String>,
+) -> Result<AnyEnv, MakeError> {
+    let mut p = P::default();
+    carl_env::context::apply(id, values, |name, x| set(&mut p, name, x))?;
+    new(p).map(AnyEnv::new).map_err(|message| MakeError::Runtime {
+        env: id.into(),
+        message,
+    })
 }
