@@ -20,8 +20,12 @@
 //! is checked on its own), and a direct effect that shows only together with a dynamics change
 //! (Pendulum's torque clipping changes both the next state and the action cost) cannot be told
 //! apart from it. A claim of reward/termination with no change at all is still `MissingEffect`.
+//!
+//! The features are probed in parallel, one thread per core; the report does not depend on it.
 
 pub mod probes;
+
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use serde::Serialize;
 
@@ -280,8 +284,9 @@ pub fn audit_with(spec: &EnvSpec, opts: &AuditOptions) -> Result<AuditReport, Au
         with_option.push((o.clone(), states, answers));
     }
 
-    let mut features = Vec::with_capacity(spec.features.len());
-    for f in &spec.features {
+    // Each feature's probes are independent: they run on one thread per core, and the report
+    // is the same as one feature after another.
+    let audit_feature = |f: &Feature| -> Result<FeatureAudit, AuditError> {
         let values = probes::perturbed_values(f);
         let mut fa = FeatureAudit {
             name: f.name.clone(),
@@ -296,8 +301,7 @@ pub fn audit_with(spec: &EnvSpec, opts: &AuditOptions) -> Result<AuditReport, Au
             fa.skipped = Some("no value inside the bounds differs from the default".into());
         }
         if fa.skipped.is_some() {
-            features.push(fa);
-            continue;
+            return Ok(fa);
         }
         let options = option_sets(f.requires_option.as_ref());
         let (states, reference) = match &f.requires_option {
@@ -319,8 +323,11 @@ pub fn audit_with(spec: &EnvSpec, opts: &AuditOptions) -> Result<AuditReport, Au
             .iter()
             .map(|&effect| judge(f, effect, accs.take(effect)))
             .collect();
-        features.push(fa);
-    }
+        Ok(fa)
+    };
+    let features = ordered_map(&spec.features, audit_feature)
+        .into_iter()
+        .collect::<Result<Vec<_>, _>>()?;
 
     let contradictions = contradictions(&features, states.len(), actions.len(), opts);
     Ok(AuditReport {
@@ -335,6 +342,33 @@ pub fn audit_with(spec: &EnvSpec, opts: &AuditOptions) -> Result<AuditReport, Au
         features,
         contradictions,
     })
+}
+
+/// `f` of each item, in the items' order, computed on up to one thread per core (the calling
+/// thread is one of them).
+fn ordered_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    let workers = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, items.len().max(1));
+    let next = AtomicUsize::new(0);
+    let work = || {
+        let mut done = Vec::new();
+        loop {
+            let i = next.fetch_add(1, Ordering::Relaxed);
+            let Some(item) = items.get(i) else { return done };
+            done.push((i, f(item)));
+        }
+    };
+    let mut results = std::thread::scope(|s| {
+        let helpers: Vec<_> = (1..workers).map(|_| s.spawn(work)).collect();
+        let mut results = work();
+        for h in helpers {
+            results.extend(h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)));
+        }
+        results
+    });
+    results.sort_by_key(|(i, _)| *i);
+    results.into_iter().map(|(_, r)| r).collect()
 }
 
 /// Everything an environment answered to the probes.

@@ -1,0 +1,1 @@
+//! Feature unification only; nothing to import. Cargo.toml says why this crate exists.
