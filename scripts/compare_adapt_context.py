@@ -100,10 +100,16 @@ def main() -> int:
     parser.add_argument("--seed", type=int, default=0)
     args = parser.parse_args()
 
-    from dm_control.suite import common
-
-    from carl_spec.compat.envs.dmc.dmc_tasks import _common_xml, finger, fish, pointmass, quadruped, walker
+    from carl_spec.compat.envs.dmc.dmc_tasks import (
+        _common_xml,
+        finger,
+        fish,
+        pointmass,
+        quadruped,
+        walker,
+    )
     from carl_spec.compat.envs.dmc.dmc_tasks.utils import adapt_context
+    from dm_control.suite import common
 
     theirs, their_finger = load_carl_bench()
     failures = 0

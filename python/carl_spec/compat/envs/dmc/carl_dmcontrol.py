@@ -68,9 +68,9 @@ class CARLDmcEnv(gymnasium.Env[dict[str, Any], Any]):
         self._progress_instance()
         self._update_context()
         self.action_space = self.env.action_space
-        self.base_observation_space = spaces.Box(
-            low=self.env.observation_space.low, high=self.env.observation_space.high, dtype=self.env.observation_space.dtype
-        )
+        base = self.env.observation_space
+        assert isinstance(base, spaces.Box)
+        self.base_observation_space = spaces.Box(low=base.low, high=base.high, dtype=base.dtype)  # type: ignore[arg-type]
         feats = self.get_context_features()
         bounds = {n: (float(getattr(feats[n], "lower", -np.inf)), float(getattr(feats[n], "upper", np.inf))) for n in self.obs_context_features}
         ctx: spaces.Space[Any]

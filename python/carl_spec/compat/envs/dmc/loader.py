@@ -87,4 +87,4 @@ def load_dm_control_env(
     raise ValueError("Task {!r} does not exist in domain {!r}.".format(task_name, domain_name))
 
 
-__all__ = ["load_dmc_env", "load_dm_control_env"]
+__all__ = ["load_dm_control_env", "load_dmc_env"]

@@ -37,9 +37,11 @@ def adapt_context(xml_string: bytes | str, context: dict[str, Any]) -> bytes:
 
     carl-bench's edits kept as they were, although they are bugs (docs/guides/migration.md):
 
-    * the added default joint's stiffness is the factor itself, not MuJoCo's default 0 times it: a
-      model whose top-level `<default>` has no `<joint>` (fish) gets stiffness 1 on every joint
-      that sets none, at the default context;
+    * `joint_stiffness` multiplies the stiffness a joint sets but is the added default joint's
+      stiffness itself (not MuJoCo's default 0 times it). carl-bench's default, 0, so zeroes
+      dm_control's own stiffnesses (the fish's tail); a factor of 1 (carl-spec's default) gives
+      every joint that sets none stiffness 1 in a model whose top-level `<default>` has no
+      `<joint>` (dm_control's fish, which then blows up, and quadruped);
     * the added default joint's damping is 0.1 times the factor where MuJoCo's default is 0;
     * an actuator without a `gear` of its own gets `gear = actuator_strength`, replacing the gear
       its default class gives it (point mass: `.1`, so carl-bench's point mass pushes 10 times
