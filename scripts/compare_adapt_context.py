@@ -5,7 +5,7 @@ carl-bench's finger and point mass templates) and many random contexts (random s
 features adapt_context reads, random values), both functions edit the XML; the results must parse
 to the same tree (tags, attributes and their string values, children in order; comments and
 whitespace ignored). Also checks that carl-spec's shipped XML texts equal dm_control's, and that
-compat's get_finger_xml_string equals carl-bench's.
+compat's get_finger_xml_string and the point mass's and quadruped's make_model equal carl-bench's.
 
 Run in a venv with carl-bench's dm_control dependencies and carl-spec:
 
@@ -15,7 +15,7 @@ Run in a venv with carl-bench's dm_control dependencies and carl-spec:
     python scripts/compare_adapt_context.py [--contexts 300] [--seed 0]
 
 carl-bench's package imports ConfigSpace at its top level; this script loads only its
-`dmc_tasks/utils.py` and the finger template (by file), so ConfigSpace is not needed.
+`dmc_tasks/utils.py`, the finger and point mass templates and the quadruped's make_model (by file), so ConfigSpace is not needed.
 """
 
 from __future__ import annotations
@@ -54,8 +54,9 @@ def carl_bench_dir() -> Path:
     return Path(next(iter(spec.submodule_search_locations))) / "envs" / "dmc" / "dmc_tasks"
 
 
-def load_carl_bench() -> tuple[Any, Any]:
-    """carl-bench's adapt_context and get_finger_xml_string, without importing `carl`."""
+def load_carl_bench() -> tuple[Any, Any, Any, Any]:
+    """carl-bench's adapt_context, get_finger_xml_string and the point mass's and quadruped's
+    make_model, without importing `carl`."""
     here = carl_bench_dir()
     # utils.py imports `carl.utils.types.Context` only for a type annotation.
     for name in ("carl", "carl.utils", "carl.utils.types"):
@@ -67,7 +68,19 @@ def load_carl_bench() -> tuple[Any, Any]:
     start, end = finger.index("def check_constraints"), finger.index("@SUITE.add")
     fns: dict[str, Any] = {}
     exec(compile("from typing import Any\n" + finger[start:end], str(here / "finger.py"), "exec"), fns)
-    return ns["adapt_context"], fns["get_finger_xml_string"]
+    pointmass = (here / "pointmass.py").read_text()
+    start, end = pointmass.index("def check_constraints"), pointmass.index("def random_limited_quaternion")
+    pns: dict[str, Any] = {}
+    exec(compile("from typing import Any\n" + pointmass[start:end], str(here / "pointmass.py"), "exec"), pns)
+    quad = (here / "quadruped.py").read_text()
+    start, end = quad.index("def make_model"), quad.index("@SUITE.add()")
+    qns: dict[str, Any] = {}
+    prelude = (
+        "from typing import Any, Optional\nfrom lxml import etree\nfrom dm_control.suite import common\n"
+        "from dm_control.utils import xml_tools\n_WALLS = ['wall_px', 'wall_py', 'wall_nx', 'wall_ny']\n"
+    )
+    exec(compile(prelude + quad[start:end], str(here / "quadruped.py"), "exec"), qns)
+    return ns["adapt_context"], fns["get_finger_xml_string"], pns["make_model"], qns["make_model"]
 
 
 def tree(xml: bytes | str) -> Any:
@@ -111,7 +124,7 @@ def main() -> int:
     from carl_spec.compat.envs.dmc.dmc_tasks.utils import adapt_context
     from dm_control.suite import common
 
-    theirs, their_finger = load_carl_bench()
+    theirs, their_finger, their_point_mass, their_quadruped = load_carl_bench()
     failures = 0
 
     # The shipped texts are dm_control's.
@@ -140,12 +153,32 @@ def main() -> int:
     failures += same != len(finger_sizes)
     print(f"get_finger_xml_string: {same}/{len(finger_sizes)} size sets give the same tree as carl-bench's")
 
+    point_masses: list[dict[str, float]] = [{}]
+    for _ in range(20):
+        area = rng.uniform(0.4, 1.0)
+        r = 0.9 * area / 4  # inside both carl-bench's rule (area_size / 4) and carl-spec's
+        point_masses.append(
+            {"mass": rng.uniform(0.1, 1.0), "area_size": area, "starting_x": rng.uniform(-r, r), "starting_y": rng.uniform(-r, r),
+             "target_x": rng.uniform(-r, r), "target_y": rng.uniform(-r, r)}
+        )
+    same = sum(tree(pointmass.make_model(**p)) == tree(their_point_mass(**p)) for p in point_masses)
+    failures += same != len(point_masses)
+    print(f"point mass make_model: {same}/{len(point_masses)} value sets give the same tree as carl-bench's")
+
+    quadrupeds: list[dict[str, Any]] = [
+        {}, {"floor_size": 10}, {"floor_size": 100}, {"floor_size": 40, "terrain": True, "rangefinders": True},
+        {"walls_and_ball": True},
+    ]
+    same = sum(tree(quadruped.make_model(**q)) == tree(their_quadruped(**q)) for q in quadrupeds)
+    failures += same != len(quadrupeds)
+    print(f"quadruped make_model: {same}/{len(quadrupeds)} task models give the same tree as carl-bench's")
+
     models = {
         **{f"dm_control {k}": v for k, v in shipped.items()},
         "quadruped make_model(floor_size=10)": quadruped.make_model(floor_size=10),
         "quadruped make_model(escape)": quadruped.make_model(floor_size=40, terrain=True, rangefinders=True),
         "carl-bench finger template": their_finger(),
-        "compat point mass make_model": pointmass.make_model(),
+        "carl-bench point mass make_model": their_point_mass(),
     }
     names = list(FEATURES)
     for label, xml in models.items():

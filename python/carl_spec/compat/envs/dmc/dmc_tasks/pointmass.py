@@ -1,7 +1,7 @@
 """carl-bench's `carl.envs.dmc.dmc_tasks.pointmass`, over carl-spec's `dmc_point_mass`.
 
-carl-spec builds its model from dm_control's compiled point_mass.xml (no MuJoCo XML is read), so
-`make_model` returns carl-bench's XML text for code that inspects it, and `check_constraints`
+carl-spec builds its model from dm_control's compiled point_mass.xml (no MuJoCo XML is read);
+`make_model` returns carl-bench's XML (dm_control's with its values), and `check_constraints`
 applies carl-spec's rule: start and target must lie in the arena the ball moves in, within
 `area_size / 2 - 0.01` of the centre (carl-bench's rule, `area_size / 4`, did not match its
 model). `get_model_and_assets` is dm_control's point_mass.xml and its common assets (shipped with
@@ -9,14 +9,15 @@ carl-spec, no dm_control needed).
 
 carl-bench's task functions (`easy_pointmass`, `hard_pointmass`) return dm_control environments:
 `make_model(**context)` adapted to the context, with dm_control's PointMass task changed as
-carl-bench's `ContextualPointMass` changed it: each episode starts at x = y = 0.2 whatever the
-context (carl-bench's `starting_x`/`starting_y` class attributes, never set; the context's start
-only moves the body's frame). They need dm_control and without it raise `DmControlMissingError`
+carl-bench's `ContextualPointMass` changed it: the slides start at 0.2 whatever the context
+(carl-bench's `starting_x`/`starting_y` class attributes, never set) while the context's start
+moves the body, so the ball starts at the start + 0.2. They need dm_control and without it raise `DmControlMissingError`
 naming `CARLDmcPointMassEnv(task=...)`, carl-spec's own runtime.
 """
 
 from __future__ import annotations
 
+import xml.etree.ElementTree as ET
 from typing import Any
 
 from . import _dm_control
@@ -58,31 +59,29 @@ def make_model(
     area_size: float = 0.6,
     **kwargs: Any,
 ) -> bytes:
-    """carl-bench's XML of the point mass under these values (after `check_constraints`)."""
+    """carl-bench's XML of the point mass under these values (after carl-spec's
+    `check_constraints`): dm_control's point_mass.xml with the floor and walls at `area_size / 2`,
+    the body and its slides at the start, the ball's mass and the target set as carl-bench set
+    them."""
     check_constraints(mass, starting_x, starting_y, target_x, target_y, area_size)
     h = area_size / 2
-    return f"""<mujoco model="planar point mass">
-  <option timestep="0.02"><flag contact="disable"/></option>
-  <default>
-    <joint type="hinge" axis="0 0 1" limited="true" range="-.29 .29" damping="1"/>
-    <motor gear=".1" ctrlrange="-1 1" ctrllimited="true"/>
-  </default>
-  <worldbody>
-    <geom name="ground" type="plane" pos="0 0 0" size="{h} {h} .1"/>
-    <body name="pointmass" pos="0 0 .01">
-      <joint name="root_x" type="slide" pos="0 0 0" axis="1 0 0"/>
-      <joint name="root_y" type="slide" pos="0 0 0" axis="0 1 0"/>
-      <geom name="pointmass" type="sphere" size=".01" mass="{mass}"/>
-    </body>
-    <geom name="target" pos="{target_x} {target_y} .01" type="sphere" size=".015"/>
-  </worldbody>
-  <tendon>
-    <fixed name="t1"><joint joint="root_x" coef="1"/><joint joint="root_y" coef="0"/></fixed>
-    <fixed name="t2"><joint joint="root_x" coef="0"/><joint joint="root_y" coef="1"/></fixed>
-  </tendon>
-  <actuator><motor name="t1" tendon="t1"/><motor name="t2" tendon="t2"/></actuator>
-</mujoco>
-""".encode()
+    attrs = {
+        ("geom", "ground"): {"size": f"{h} {h} .1"},
+        ("geom", "wall_x"): {"pos": f"{-h} 0 .02"},
+        ("geom", "wall_y"): {"pos": f"0 {-h} .02"},
+        ("geom", "wall_neg_x"): {"pos": f"{h} 0 .02"},
+        ("geom", "wall_neg_y"): {"pos": f"0 {h} .02"},
+        ("body", "pointmass"): {"pos": f"{starting_x} {starting_y} .01"},
+        ("joint", "root_x"): {"pos": f"{starting_x} {starting_y} 0"},
+        ("joint", "root_y"): {"pos": f"{starting_x} {starting_y} 0"},
+        ("geom", "pointmass"): {"mass": f"{mass}"},
+        ("geom", "target"): {"pos": f"{target_x} {target_y} .01"},
+    }
+    root = ET.fromstring(POINT_MASS_XML)
+    for e in root.iter():
+        for name, value in attrs.get((e.tag, e.get("name", "")), {}).items():
+            e.set(name, value)
+    return ET.tostring(root)
 
 
 def get_model_and_assets() -> tuple[bytes, dict[str, bytes]]:
