@@ -113,16 +113,10 @@ def main() -> int:
     parser.add_argument("--seed", type=int, default=0)
     args = parser.parse_args()
 
-    from carl_spec.compat.envs.dmc.dmc_tasks import (
-        _common_xml,
-        finger,
-        fish,
-        pointmass,
-        quadruped,
-        walker,
-    )
-    from carl_spec.compat.envs.dmc.dmc_tasks.utils import adapt_context
     from dm_control.suite import common
+
+    from carl_spec.compat.envs.dmc.dmc_tasks import _common_xml, finger, fish, pointmass, quadruped, walker
+    from carl_spec.compat.envs.dmc.dmc_tasks.utils import adapt_context
 
     theirs, their_finger, their_point_mass, their_quadruped = load_carl_bench()
     failures = 0

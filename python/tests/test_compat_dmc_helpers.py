@@ -13,21 +13,11 @@ from typing import Any
 
 import numpy as np
 import pytest
-from carl_spec.compat.envs.dmc import (
-    CARLDmcFingerEnv,
-    CARLDmcFishEnv,
-    CARLDmcPointMassEnv,
-    CARLDmcWalkerEnv,
-)
+
+from carl_spec.compat.context.selection import RandomSelector
+from carl_spec.compat.envs.dmc import CARLDmcFingerEnv, CARLDmcFishEnv, CARLDmcPointMassEnv, CARLDmcWalkerEnv
 from carl_spec.compat.envs.dmc.carl_dmcontrol import CARLDmcEnv
-from carl_spec.compat.envs.dmc.dmc_tasks import (
-    _dm_control,
-    finger,
-    fish,
-    pointmass,
-    quadruped,
-    walker,
-)
+from carl_spec.compat.envs.dmc.dmc_tasks import _dm_control, finger, fish, pointmass, quadruped, walker
 from carl_spec.compat.envs.dmc.dmc_tasks.utils import adapt_context
 from carl_spec.compat.envs.dmc.loader import load_dm_control_env
 from carl_spec.compat.envs.dmc.wrappers import MujocoToGymWrapper
@@ -183,3 +173,6 @@ def test_with_dm_control_carl_dmc_env_runs_contexts() -> None:
     _, info2 = env.reset()
     assert info2["context_id"] != first
     assert env.env.env.physics.model.opt.gravity[2] == -env.context["gravity"]
+    picked = _Walker(contexts={0: {"gravity": 5.0}, 1: {"gravity": 15.0}}, context_selector=RandomSelector)
+    ids = {picked.reset(seed=s)[1]["context_id"] for s in range(8)}
+    assert ids == {0, 1}

@@ -8,8 +8,8 @@ edited by `adapt_context`, the environment rebuilt by `load_dm_control_env` at e
 building one raises `DmControlMissingError`.
 
 Its context handling is carl-bench's in short: `contexts` (missing features at their defaults),
-round robin over them (or a custom selector's `select()`), `{"obs", "context"}` observations
-(`obs_context_features`, `obs_context_as_dict`), `info["context_id"]`.
+round robin over them (or random, static, a custom selector's `select()`), `{"obs", "context"}`
+observations (`obs_context_features`, `obs_context_as_dict`), `info["context_id"]`.
 """
 
 from __future__ import annotations
@@ -81,13 +81,20 @@ class CARLDmcEnv(gymnasium.Env[dict[str, Any], Any]):
         self.observation_space = spaces.Dict({"obs": self.base_observation_space, "context": ctx})
 
     def _progress_instance(self) -> None:
-        """Select the next context: the selector's, else round robin."""
-        select = getattr(self.context_selector, "_select", None)
-        if self.context_selector is not None and select is not None and type(self.context_selector).__name__ == "CustomSelector":
-            self.context = dict(self.context_selector.select())
-            self.context_id = self.context_selector.context_id
+        """Select the next context: round robin (the default), random (`RandomSelector`, from
+        the env's `np_random`), the first (`StaticSelector`) or a custom selector's `select()`."""
+        selector = self.context_selector
+        mode = "round_robin" if selector is None else getattr(selector, "mode", None)
+        if mode is None:
+            self.context = dict(selector.select())
+            self.context_id = selector.context_id
             return
-        self.context_id = 0 if self.context_id is None else (self.context_id + 1) % len(self._keys)
+        if mode == "random":
+            self.context_id = int(self.np_random.integers(len(self._keys)))
+        elif mode == "static":
+            self.context_id = 0 if self.context_id is None else self.context_id
+        else:
+            self.context_id = 0 if self.context_id is None else (self.context_id + 1) % len(self._keys)
         self.context = dict(self.contexts[self._keys[self.context_id]])
 
     def _update_context(self) -> None:
