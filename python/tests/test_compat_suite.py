@@ -17,7 +17,6 @@ import pytest
 
 import carl_spec as cs
 from carl_spec.compat import CARLBraxAnt, CARLCartPole, CARLPendulum
-from carl_spec.compat._pending import PENDING, PendingEnvironmentError
 from carl_spec.compat.context.context_space import (
     CategoricalContextFeature,
     ContextSpace,
@@ -86,22 +85,6 @@ def test_every_carl_bench_module_has_a_twin(module: str) -> None:
     importlib.import_module("carl_spec.compat" + module[len("carl"):])
 
 
-def test_envs_lists_what_runs_and_pending_classes_say_why() -> None:
-    import carl_spec.compat.envs as envs
-    import carl_spec.compat.envs.brax as brax
-    import carl_spec.compat.envs.dmc as dmc
-
-    assert not set(PENDING) & set(envs.__all__)
-    assert set(PENDING) == {n for n in [*brax.__all__, *dmc.__all__] if n not in envs.__all__}
-    for name, (env, issue) in PENDING.items():
-        cls = getattr(brax, name, None) or getattr(dmc, name)
-        with pytest.raises(PendingEnvironmentError, match=f"{name}: carl-spec does not have the {env} environment yet \\(pending issue {issue}"):
-            cls()
-        with pytest.raises(PendingEnvironmentError, match=f"pending issue {issue}"):
-            cls.get_context_features()
-    assert not issubclass(PendingEnvironmentError, ValueError)  # a test expecting ValueError never passes by accident
-
-
 def test_load_dmc_env_gives_every_domain() -> None:
     # carl-bench's five dm_control domains, each by dm_control's plain task name and carl-bench's.
     from carl_spec.compat.envs.dmc.loader import _DOMAINS, load_dmc_env
@@ -123,7 +106,7 @@ def test_brax_classes_carl_spec_has_run_as_carl_bench_test_brax_env_does() -> No
 
     ran = []
     for name, cls in inspect.getmembers(brax, inspect.isclass):
-        if "CARL" in name and name not in PENDING:
+        if "CARL" in name:
             cls.get_context_features()
             env = cls()
             env._progress_instance()

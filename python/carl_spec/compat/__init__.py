@@ -9,8 +9,7 @@ Every `carl.` import has a `carl_spec.compat.` twin (`carl_spec.compat.envs`,
 `carl_spec.compat.context.selection`, `carl_spec.compat.envs.gymnasium.classic_control.carl_pendulum`,
 ...); importing this package registers the `carl/CARL<Name>-v0` Gymnasium ids. carl-bench 1.1.1's
 own test suite runs against it (python/tests/carl_bench_suite). The differences from carl-bench
-(its flaws are not reproduced) and the environments still pending (`_pending`) are listed in
-docs/guides/migration.md.
+(its flaws are not reproduced) are listed in docs/guides/migration.md.
 """
 
 from __future__ import annotations

@@ -3,9 +3,9 @@
 The vendored test files are carl-bench's with only the import prefix changed; this file is ours.
 Every test passes except those listed here, each with its reason:
 
-* `PENDING`: tests of environments carl-spec does not have yet (the dm_control family,
-  `carl_spec.compat._pending`). They are skipped, the skip naming the missing environment and its
-  issue.
+* `NEEDS_DM_CONTROL`: tests of carl-bench's helpers that build dm_control environments (its
+  finger tasks). Without dm_control they are skipped, the skip naming the package to install;
+  with it they run.
 * `CARL_BENCH_BUGS`: tests that rely on a carl-bench bug compat deliberately does not reproduce
   (docs/guides/migration.md). They are strict xfails raising the stated error: one that starts
   passing, or fails differently, fails the run.
@@ -25,34 +25,13 @@ from typing import Any
 import pytest
 
 from carl_spec._errors import UnknownNameError
-from carl_spec.compat._pending import PENDING, message, reason
+from carl_spec.compat.envs.dmc.dmc_tasks._dm_control import INSTALL
 
 HERE = Path(__file__).parent
 
-
-def _dmc(*classes: str) -> str:
-    return "; ".join(reason(c) for c in classes)
-
-
-#: test id -> why it is skipped (the environment carl-spec does not have yet)
-PENDING_TESTS: dict[str, str] = {
-    # carl-bench's finger tasks returned dm_control environments and its utils edited dm_control's
-    # XML: carl-spec's dmc_finger runs on its own engine (CARLDmcFingerEnv), so these stay out.
-    "test_dmc.py::TestFinger::test_finger_tasks": message(
-        "carl.envs.dmc.dmc_tasks.finger.*_context (dm_control environments)", "dm_control family", 27
-    ),
-    "test_dmc.py::TestDmcUtils::test_adapt_context_no_context": message(
-        "carl.envs.dmc.dmc_tasks.utils.adapt_context (dm_control XML editing)", "dm_control family", 27
-    ),
-    "test_dmc.py::TestDmcUtils::test_adapt_context_partialcontext": message(
-        "carl.envs.dmc.dmc_tasks.utils.adapt_context (dm_control XML editing)", "dm_control family", 27
-    ),
-    "test_dmc.py::TestDmcUtils::test_adapt_context_fullcontext": message(
-        "carl.envs.dmc.dmc_tasks.utils.adapt_context (dm_control XML editing)", "dm_control family", 27
-    ),
-    "test_dmc.py::TestDmcUtils::test_adapt_context_friction": message(
-        "carl.envs.dmc.dmc_tasks.utils.adapt_context (dm_control XML editing)", "dm_control family", 27
-    ),
+#: test id -> what needs dm_control (skipped without it, run with it)
+NEEDS_DM_CONTROL: dict[str, str] = {
+    "test_dmc.py::TestFinger::test_finger_tasks": "carl-bench's finger tasks (spin_context, ...) return dm_control environments",
 }
 
 _DEAD_GRAVITY = (
@@ -128,9 +107,10 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
             continue
         key = item.nodeid.split("carl_bench_suite/", 1)[-1]
         files.add(key.split("::", 1)[0])
-        if key in PENDING_TESTS:
+        if key in NEEDS_DM_CONTROL:
             seen.add(key)
-            item.add_marker(pytest.mark.skip(reason=f"pending: {PENDING_TESTS[key]}"))
+            if importlib.util.find_spec("dm_control") is None:
+                item.add_marker(pytest.mark.skip(reason=f"{NEEDS_DM_CONTROL[key]}: dm_control is not installed ({INSTALL})"))
         elif key == BOX2D_TEST and importlib.util.find_spec("Box2D") is None:
             item.add_marker(pytest.mark.skip(reason=BOX2D_REASON))
         elif key in CARL_BENCH_BUGS:
@@ -138,7 +118,7 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
             raises, why = CARL_BENCH_BUGS[key]
             item.add_marker(pytest.mark.xfail(raises=raises, strict=True, reason=f"asserts a carl-bench bug: {why}"))
     # Every listed test exists (a renamed test must not leave a stale entry behind).
-    listed = {k for k in [*PENDING_TESTS, *CARL_BENCH_BUGS] if k.split("::", 1)[0] in files}
+    listed = {k for k in [*NEEDS_DM_CONTROL, *CARL_BENCH_BUGS] if k.split("::", 1)[0] in files}
     stale = listed - seen
     selected = config.getoption("keyword") or config.getoption("markexpr") or any("::" in a for a in config.args)
     if stale and not selected:

@@ -1,10 +1,9 @@
 """carl-bench 1.1.1's `carl.envs`: its environment classes over carl-spec's runtimes.
 
 As in carl-bench, `carl.envs` holds the environments that are available: here every one carl-spec
-has (Box2D, Mario and RNA need no extra package), the dm_control ones among them as each is
-built. The pending ones (the rest of the dm_control family, `carl_spec.compat._pending`)
-are importable from their own modules (`carl_spec.compat.envs.dmc`) but not listed here, as carl-bench
-leaves out the families whose package is missing. Submodules mirror carl-bench's tree
+has (Box2D, Mario, RNA and the dm_control family need no extra package; only carl-bench's helpers
+that return dm_control objects, in `carl_spec.compat.envs.dmc`, need dm_control). Submodules
+mirror carl-bench's tree
 (`carl_spec.compat.envs.gymnasium.classic_control.carl_pendulum`, ...).
 """
 

@@ -1,28 +1,54 @@
 """carl-bench's `carl.envs.dmc.dmc_tasks.fish`, over carl-spec's `dmc_fish`.
 
-carl-bench's functions returned dm_control's XML (`get_model_and_assets`) and dm_control
-environments (`*_context`); carl-spec builds its fish from dm_control's compiled model and has
-its own runtime: they raise, naming the class to use.
+`get_model_and_assets` is dm_control's fish.xml and its common assets (shipped with carl-spec, no
+dm_control needed). The task functions (`upright_context`, `swim_context`) return dm_control
+environments, built as carl-bench's were (the XML, `adapt_context`, dm_control's fish tasks); they
+need dm_control and without it raise `DmControlMissingError` naming `CARLDmcFishEnv(task=...)`,
+carl-spec's own runtime.
 """
 
 from __future__ import annotations
 
-from typing import Any, NoReturn
+from typing import Any
+
+from . import _dm_control
+from ._common_xml import ASSETS
+from ._fish_xml import FISH_XML
+from .utils import adapt_context
+
+# dm_control's fish.py
+_DEFAULT_TIME_LIMIT = 40
+_CONTROL_TIMESTEP = 0.04
 
 
-def _no_dm_control(name: str) -> Any:
-    def refuse(*_: Any, **__: Any) -> NoReturn:
-        raise NotImplementedError(
-            f"carl_spec.compat: carl-bench's {name} returned dm_control objects, which carl-spec has not; "
-            "use CARLDmcFishEnv(task=...) or carl_spec.make('dmc_fish')"
-        )
-
-    refuse.__name__ = refuse.__qualname__ = name
-    return refuse
+def get_model_and_assets() -> tuple[bytes, dict[str, bytes]]:
+    """dm_control's fish.xml and its common assets (`common.ASSETS`), as dm_control's."""
+    return FISH_XML.encode(), dict(ASSETS)
 
 
-get_model_and_assets = _no_dm_control("get_model_and_assets")
-upright_context = _no_dm_control("upright_context")
-swim_context = _no_dm_control("swim_context")
+def _task(name: str, task_class: str) -> Any:
+    def make(
+        context: dict[str, Any] | None = None,
+        time_limit: float = _DEFAULT_TIME_LIMIT,
+        random: Any = None,
+        environment_kwargs: dict[str, Any] | None = None,
+    ) -> Any:
+        _dm_control.require(f"carl.envs.dmc.dmc_tasks.fish.{name}", "CARLDmcFishEnv(task=...)")
+        from dm_control.suite import fish
+
+        xml, assets = get_model_and_assets()
+        if context:
+            xml = adapt_context(xml_string=xml, context=context)
+        physics = fish.Physics.from_xml_string(xml, assets)
+        task = getattr(fish, task_class)(random=random)
+        return _dm_control.environment(physics, task, time_limit, _CONTROL_TIMESTEP, environment_kwargs)
+
+    make.__name__ = make.__qualname__ = name
+    make.__doc__ = f"carl-bench's {name}: dm_control's fish {task_class} task on fish.xml adapted to `context` (needs dm_control)."
+    return make
+
+
+upright_context = _task("upright_context", "Upright")
+swim_context = _task("swim_context", "Swim")
 
 __all__ = ["get_model_and_assets", "upright_context", "swim_context"]

@@ -3,17 +3,27 @@
 carl-spec builds its quadruped from dm_control's compiled model (no MuJoCo XML is read), so
 `make_model` returns the XML text dm_control's (and carl-bench's) `make_model` would: quadruped.xml
 with the floor's size set and the walls, ball, target, terrain and rangefinders removed unless
-asked for. carl-bench's task functions returned dm_control environments, which carl-spec has
-not: they raise, naming the class to use (walk and run are `CARLDmcQuadrupedEnv`'s tasks; escape
-and fetch, with their terrain and ball, are not in carl-spec).
+asked for. carl-bench's task functions return dm_control environments, built as carl-bench's were
+(this XML, `adapt_context`, dm_control's quadruped tasks); they need dm_control and without it
+raise `DmControlMissingError` naming carl-spec's own runtime (walk and run are
+`CARLDmcQuadrupedEnv`'s tasks; escape and fetch, with their terrain and ball, are not in carl-spec).
 """
 
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
-from typing import Any, NoReturn
+from typing import Any
 
+from . import _dm_control
+from ._common_xml import ASSETS
 from ._quadruped_xml import QUADRUPED_XML
+from .utils import adapt_context
+
+# dm_control's quadruped.py
+_DEFAULT_TIME_LIMIT = 20
+_CONTROL_TIMESTEP = 0.02
+_RUN_SPEED = 5
+_WALK_SPEED = 0.5
 
 _WALLS = ["wall_px", "wall_py", "wall_nx", "wall_ny"]
 
@@ -53,20 +63,42 @@ def make_model(
     return ET.tostring(root)
 
 
-def _no_dm_control(name: str, hint: str) -> Any:
-    def refuse(*_: Any, **__: Any) -> NoReturn:
-        raise NotImplementedError(
-            f"carl_spec.compat: carl-bench's {name} returned a dm_control environment, which carl-spec has not; {hint}"
-        )
+def _task(name: str, model: dict[str, Any], task_class: str, task_kwargs: dict[str, Any], instead: str) -> Any:
+    def make(
+        context: dict[str, Any] | None = None,
+        time_limit: float = _DEFAULT_TIME_LIMIT,
+        random: Any = None,
+        environment_kwargs: dict[str, Any] | None = None,
+    ) -> Any:
+        _dm_control.require(f"carl.envs.dmc.dmc_tasks.quadruped.{name}", instead)
+        from dm_control.suite import quadruped
 
-    refuse.__name__ = refuse.__qualname__ = name
-    return refuse
+        xml = make_model(**model)
+        if context:
+            xml = adapt_context(xml_string=xml, context=context)
+        physics = quadruped.Physics.from_xml_string(xml, dict(ASSETS))
+        task = getattr(quadruped, task_class)(random=random, **task_kwargs)
+        return _dm_control.environment(physics, task, time_limit, _CONTROL_TIMESTEP, environment_kwargs)
+
+    make.__name__ = make.__qualname__ = name
+    make.__doc__ = (
+        f"carl-bench's {name}: dm_control's quadruped {task_class} task on `make_model({model})` adapted to "
+        "`context` (needs dm_control)."
+    )
+    return make
 
 
-_USE = "use CARLDmcQuadrupedEnv(task=...) or carl_spec.make('dmc_quadruped')"
-walk_context = _no_dm_control("walk_context", _USE)
-run_context = _no_dm_control("run_context", _USE)
-escape_context = _no_dm_control("escape_context", "carl-spec has no quadruped escape task (its terrain); " + _USE)
-fetch_context = _no_dm_control("fetch_context", "carl-spec has no quadruped fetch task (its ball); " + _USE)
+_USE = "CARLDmcQuadrupedEnv(task=...) or carl_spec.make('dmc_quadruped')"
+_NO_TASK = "(carl-spec has no quadruped {} task: its {})"
+walk_context = _task("walk_context", {"floor_size": _DEFAULT_TIME_LIMIT * _WALK_SPEED}, "Move", {"desired_speed": _WALK_SPEED}, _USE)
+run_context = _task("run_context", {"floor_size": _DEFAULT_TIME_LIMIT * _RUN_SPEED}, "Move", {"desired_speed": _RUN_SPEED}, _USE)
+escape_context = _task(
+    "escape_context",
+    {"floor_size": 40, "terrain": True, "rangefinders": True},
+    "Escape",
+    {},
+    f"{_USE} {_NO_TASK.format('escape', 'terrain')}",
+)
+fetch_context = _task("fetch_context", {"walls_and_ball": True}, "Fetch", {}, f"{_USE} {_NO_TASK.format('fetch', 'ball')}")
 
 __all__ = ["make_model", "walk_context", "run_context", "escape_context", "fetch_context"]

@@ -1,29 +1,60 @@
 """carl-bench's `carl.envs.dmc.dmc_tasks.walker`, over carl-spec's `dmc_walker`.
 
-carl-bench's functions returned dm_control's XML (`get_model_and_assets`) and dm_control
-environments (`*_context`); carl-spec builds its walker from dm_control's compiled model and has
-its own runtime: they raise, naming the class to use.
+`get_model_and_assets` is dm_control's walker.xml and its common assets (shipped with carl-spec, no
+dm_control needed). The task functions (`stand_context`, `walk_context`, `run_context`) return
+dm_control environments, built as carl-bench's were (the XML, `adapt_context`, dm_control's
+`PlanarWalker`); they need dm_control and without it raise `DmControlMissingError` naming
+`CARLDmcWalkerEnv(task=...)`, carl-spec's own runtime.
 """
 
 from __future__ import annotations
 
-from typing import Any, NoReturn
+from typing import Any
+
+from . import _dm_control
+from ._common_xml import ASSETS
+from ._walker_xml import WALKER_XML
+from .utils import adapt_context
+
+# dm_control's walker.py
+_DEFAULT_TIME_LIMIT = 25
+_CONTROL_TIMESTEP = 0.025
+_WALK_SPEED = 1
+_RUN_SPEED = 8
 
 
-def _no_dm_control(name: str) -> Any:
-    def refuse(*_: Any, **__: Any) -> NoReturn:
-        raise NotImplementedError(
-            f"carl_spec.compat: carl-bench's {name} returned dm_control objects, which carl-spec has not; "
-            "use CARLDmcWalkerEnv(task=...) or carl_spec.make('dmc_walker')"
-        )
-
-    refuse.__name__ = refuse.__qualname__ = name
-    return refuse
+def get_model_and_assets() -> tuple[bytes, dict[str, bytes]]:
+    """dm_control's walker.xml and its common assets (`common.ASSETS`), as dm_control's."""
+    return WALKER_XML.encode(), dict(ASSETS)
 
 
-get_model_and_assets = _no_dm_control("get_model_and_assets")
-stand_context = _no_dm_control("stand_context")
-walk_context = _no_dm_control("walk_context")
-run_context = _no_dm_control("run_context")
+def _task(name: str, move_speed: float) -> Any:
+    def make(
+        context: dict[str, Any] | None = None,
+        time_limit: float = _DEFAULT_TIME_LIMIT,
+        random: Any = None,
+        environment_kwargs: dict[str, Any] | None = None,
+    ) -> Any:
+        _dm_control.require(f"carl.envs.dmc.dmc_tasks.walker.{name}", "CARLDmcWalkerEnv(task=...)")
+        from dm_control.suite import walker
+
+        xml, assets = get_model_and_assets()
+        if context:
+            xml = adapt_context(xml_string=xml, context=context)
+        physics = walker.Physics.from_xml_string(xml, assets)
+        task = walker.PlanarWalker(move_speed=move_speed, random=random)
+        return _dm_control.environment(physics, task, time_limit, _CONTROL_TIMESTEP, environment_kwargs)
+
+    make.__name__ = make.__qualname__ = name
+    make.__doc__ = (
+        f"carl-bench's {name}: dm_control's PlanarWalker (move_speed {move_speed}) on walker.xml adapted to "
+        "`context` (needs dm_control)."
+    )
+    return make
+
+
+stand_context = _task("stand_context", 0)
+walk_context = _task("walk_context", _WALK_SPEED)
+run_context = _task("run_context", _RUN_SPEED)
 
 __all__ = ["get_model_and_assets", "stand_context", "walk_context", "run_context"]
