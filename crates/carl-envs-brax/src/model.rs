@@ -2,7 +2,7 @@
 //! for what URDF cannot express (actuators, control range, time step, root joint, contact and
 //! solver settings). Both are embedded at build time from `robots/`.
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use rapier3d_urdf::urdf_rs;
 use serde::Deserialize;
@@ -290,6 +290,9 @@ pub enum ModelError {
     Urdf { robot: &'static str, message: String },
     #[error("{robot}.actuators.json: {message}")]
     Side { robot: &'static str, message: String },
+    /// Either of the above, as the first parse of `robot` in this process reported it.
+    #[error("{message}")]
+    Embedded { robot: &'static str, message: String },
 }
 
 /// The embedded robot files: (name, URDF text, side-file text).
@@ -369,18 +372,28 @@ pub fn is_movable(kind: &urdf_rs::JointType) -> bool {
 }
 
 impl RobotModel {
-    /// Parse the embedded description of `name`.
+    /// The embedded description of `name`, parsed once per process: the files are constants and
+    /// the model is immutable, so every environment of a robot shares one `Arc` (parsing a URDF
+    /// took most of a Humanoid's construction, ~70 ms).
     pub fn load(name: &str) -> Result<Arc<RobotModel>, ModelError> {
-        let (robot, urdf_text, side_text) =
-            ROBOT_FILES
-                .iter()
-                .find(|(n, _, _)| *n == name)
-                .copied()
-                .ok_or_else(|| ModelError::Urdf {
-                    robot: "?",
-                    message: format!("no embedded robot named {name}"),
-                })?;
-        Self::parse(robot, urdf_text, side_text).map(Arc::new)
+        static PARSED: [OnceLock<Result<Arc<RobotModel>, String>>; ROBOT_FILES.len()] =
+            [const { OnceLock::new() }; ROBOT_FILES.len()];
+        let i = ROBOT_FILES
+            .iter()
+            .position(|(n, _, _)| *n == name)
+            .ok_or_else(|| ModelError::Urdf {
+                robot: "?",
+                message: format!("no embedded robot named {name}"),
+            })?;
+        let (robot, urdf_text, side_text) = ROBOT_FILES[i];
+        PARSED[i]
+            .get_or_init(|| {
+                Self::parse(robot, urdf_text, side_text)
+                    .map(Arc::new)
+                    .map_err(|e| e.to_string())
+            })
+            .clone()
+            .map_err(|message| ModelError::Embedded { robot, message })
     }
 
     pub fn parse(robot: &'static str, urdf_text: &str, side_text: &str) -> Result<RobotModel, ModelError> {
@@ -531,5 +544,22 @@ impl RobotModel {
             .iter()
             .find(|l| l.name == link)
             .map(|l| l.inertial.mass.value)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every embedded robot parses, once: a second load is the same model.
+    #[test]
+    fn every_robot_parses_once() {
+        for (name, _, _) in ROBOT_FILES {
+            let a = RobotModel::load(name).unwrap();
+            let b = RobotModel::load(name).unwrap();
+            assert!(Arc::ptr_eq(&a, &b), "{name}");
+            assert!(!a.joint_names.is_empty() || !a.link_names.is_empty(), "{name}");
+        }
+        assert!(RobotModel::load("no_such_robot").is_err());
     }
 }
