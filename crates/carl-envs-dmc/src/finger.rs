@@ -34,7 +34,6 @@
 
 use std::sync::Arc;
 
-use carl_articulated::Data;
 use carl_articulated::math::{M3, V3, add, mat_vec, sub};
 use carl_env::api::{Action, DType, Env, EnvError, Space, StepOutcome, UnknownFeature, check_obs_len, vector_action};
 use carl_env::rng::{EnvRng, uniform};
@@ -42,6 +41,7 @@ use carl_pixels::canvas::{Canvas, Stroke};
 use carl_pixels::color::Color;
 
 use crate::mjcf::{Common, Desc, build, substeps};
+use crate::physics::{Physics, observation_space, observe_f64_into, observe_into};
 
 const ID: &str = "dmc_finger";
 const MODEL: &str = include_str!("../models/finger.json");
@@ -303,8 +303,7 @@ pub enum Task {
 #[derive(Debug, Clone)]
 pub struct Finger {
     task: Task,
-    data: Data,
-    substeps: usize,
+    physics: Physics,
     spinner: usize,
     hinge_dof: usize,
     /// The spinner tip, touchtop, touchbottom sites.
@@ -317,7 +316,6 @@ pub struct Finger {
     hinge: [f64; 2],
     circle: f64,
     rng: EnvRng,
-    started: bool,
     /// Geoms to draw: (geom, half-length, radius) of the capsules.
     capsules: Arc<Vec<(usize, f64, f64)>>,
     /// (qpos address, range) of the joints dm_control's reset draws.
@@ -368,13 +366,16 @@ impl Finger {
             .collect();
         let hinge_dof = model.jnt_dofadr[hinge];
         let anchor = model.bodies[spinner].pos;
-        let mut data = Data::new(Arc::new(model));
-        data.update_kinematics();
+        let physics = Physics::new(
+            ID,
+            Arc::new(model),
+            substeps(CONTROL_STEP, c.timestep).0,
+            Some(MAX_SPEED),
+        );
         let s = &params.sizes;
         Ok(Finger {
             task,
-            data,
-            substeps: substeps(CONTROL_STEP, c.timestep).0,
+            physics,
             spinner,
             hinge_dof,
             tip: site("tip")?,
@@ -387,7 +388,6 @@ impl Finger {
             hinge: [anchor[0], anchor[2]],
             circle: s.spinner_radius + s.spinner_length / 2.0,
             rng: EnvRng::from_seed(carl_env::rng::DEFAULT_SEED),
-            started: false,
             capsules: Arc::new(capsules),
             random_joints: Arc::new(random_joints),
         })
@@ -401,18 +401,21 @@ impl Finger {
     }
 
     fn site_pos(&self, s: &Site) -> V3 {
-        add(self.data.xpos[s.body], mat_vec(&self.data.xmat[s.body], s.pos))
+        add(
+            self.physics.data.xpos[s.body],
+            mat_vec(&self.physics.data.xmat[s.body], s.pos),
+        )
     }
 
     /// The spinner tip's (x, z) relative to the hinge.
     fn tip_position(&self) -> [f64; 2] {
         let t = self.site_pos(&self.tip);
-        let h = self.data.xpos[self.spinner];
+        let h = self.physics.data.xpos[self.spinner];
         [t[0] - h[0], t[2] - h[2]]
     }
 
     fn target_position(&self) -> [f64; 2] {
-        let h = self.data.xpos[self.spinner];
+        let h = self.physics.data.xpos[self.spinner];
         [self.target[0] - h[0], self.target[1] - h[2]]
     }
 
@@ -422,13 +425,13 @@ impl Finger {
     }
 
     fn hinge_velocity(&self) -> f64 {
-        self.data.qvel[self.hinge_dof]
+        self.physics.data.qvel[self.hinge_dof]
     }
 
     /// MuJoCo's `touch` of site `s`: the normal forces of the contacts of its body whose ray
     /// from the contact point along the normal (pointing away from the body) meets the ellipsoid.
     fn touch(&self, s: &Site) -> f64 {
-        let d = &self.data;
+        let d = &self.physics.data;
         let m = d.model();
         let centre = self.site_pos(s);
         let rot = &d.xmat[s.body];
@@ -463,7 +466,7 @@ impl Finger {
     }
 
     fn obs_f64(&self, o: &mut [f64]) {
-        let d = &self.data;
+        let d = &self.physics.data;
         let tip = self.tip_position();
         o[0] = d.qpos[0];
         o[1] = d.qpos[1];
@@ -480,13 +483,12 @@ impl Finger {
         }
     }
 
-    fn write_obs(&self, obs: &mut [f32]) {
-        let mut o = [0.0; 12];
-        let n = Self::obs_dim_of(self.task);
-        self.obs_f64(&mut o[..n]);
-        for (y, x) in obs.iter_mut().zip(&o[..n]) {
-            *y = *x as f32;
-        }
+    /// The state's poses and the last solve's contact forces (the touch sensors'): a set state's
+    /// forward pass.
+    fn refresh(&mut self) {
+        let d = &mut self.physics.data;
+        d.forward();
+        d.update_kinematics();
     }
 }
 
@@ -519,16 +521,10 @@ impl Env for Finger {
         Self::obs_dim_of(self.task)
     }
     fn state_dim(&self) -> usize {
-        6
+        self.physics.state_dim(0)
     }
     fn observation_space(&self) -> Space {
-        let n = self.obs_dim();
-        Space::Box {
-            low: vec![f32::NEG_INFINITY; n],
-            high: vec![f32::INFINITY; n],
-            shape: vec![n],
-            dtype: DType::Float64,
-        }
+        observation_space(self.obs_dim())
     }
     fn action_space(&self) -> Space {
         Space::Box {
@@ -552,11 +548,8 @@ impl Env for Finger {
             ];
         }
         for _ in 0..1000 {
-            let d = &mut self.data;
-            d.qvel.fill(0.0);
-            d.ctrl.fill(0.0);
-            d.time = 0.0;
-            d.forget_warm_start();
+            self.physics.reset();
+            let d = &mut self.physics.data;
             for &(qa, range) in self.random_joints.iter() {
                 let [lo, hi] = range.unwrap_or([-std::f64::consts::PI, std::f64::consts::PI]);
                 d.qpos[qa] = uniform(&mut self.rng, lo, hi);
@@ -566,33 +559,23 @@ impl Env for Finger {
                 break;
             }
         }
-        self.started = true;
-        self.write_obs(obs);
-        Ok(())
+        self.physics.start();
+        observe_into(ID, self.obs_dim(), obs, |o| self.obs_f64(o))
     }
 
     fn step_into(&mut self, action: &Action, obs: &mut [f32]) -> Result<StepOutcome, EnvError> {
         let a = vector_action(ID, action, 2)?;
         check_obs_len(ID, obs, self.obs_dim())?;
-        if !self.started {
-            return Err(EnvError::NeedsReset { env: ID });
-        }
-        let before = self.state();
-        for (c, x) in self.data.ctrl.iter_mut().zip(a) {
-            *c = f64::from(*x);
-        }
-        for _ in 0..self.substeps {
-            self.data.step();
-        }
-        let diverged = !self.data.is_sane(MAX_SPEED);
+        let diverged = self.physics.step(a, None)?;
         if diverged {
-            self.set_state(&before)?;
+            // Rolled back: the forward pass of the state before the step (as after a set state).
+            self.refresh();
         }
         // Positions after the step; the touch sensors the forces of the last step's solve (as
         // dm_control reads them after mj_step).
-        self.data.update_kinematics();
+        self.physics.data.update_kinematics();
         let reward = self.reward();
-        self.write_obs(obs);
+        observe_into(ID, self.obs_dim(), obs, |o| self.obs_f64(o))?;
         Ok(StepOutcome {
             reward,
             terminated: diverged,
@@ -601,30 +584,21 @@ impl Env for Finger {
     }
 
     fn observe_into(&self, obs: &mut [f32]) -> Result<(), EnvError> {
-        check_obs_len(ID, obs, self.obs_dim())?;
-        self.write_obs(obs);
-        Ok(())
+        observe_into(ID, self.obs_dim(), obs, |o| self.obs_f64(o))
     }
 
     fn observe_f64_into(&self, obs: &mut [f64]) -> Result<(), EnvError> {
-        check_obs_len(ID, obs, self.obs_dim())?;
-        self.obs_f64(obs);
-        Ok(())
+        observe_f64_into(ID, self.obs_dim(), obs, |o| self.obs_f64(o))
     }
 
+    /// `qpos` (proximal, distal, hinge), `qvel` (3).
     fn state(&self) -> Vec<f64> {
-        let d = &self.data;
-        d.qpos.iter().chain(&d.qvel).copied().collect()
+        self.physics.state(&[])
     }
 
     fn set_state(&mut self, state: &[f64]) -> Result<(), EnvError> {
-        let s: [f64; 6] = carl_env::api::check_state(ID, state)?;
-        let d = &mut self.data;
-        d.qpos.copy_from_slice(&s[..3]);
-        d.qvel.copy_from_slice(&s[3..]);
-        d.forward();
-        d.update_kinematics();
-        self.started = true;
+        self.physics.set_state(state, &mut [])?;
+        self.refresh();
         Ok(())
     }
 
@@ -652,8 +626,8 @@ impl Finger {
             );
         }
         for &(g, half, r) in self.capsules.iter() {
-            let p = self.data.geom_xpos[g];
-            let m = &self.data.geom_xmat[g];
+            let p = self.physics.data.geom_xpos[g];
+            let m = &self.physics.data.geom_xmat[g];
             let axis = [m[0][2], m[1][2], m[2][2]];
             let a = px(p[0] - half * axis[0], p[2] - half * axis[2]);
             let b = px(p[0] + half * axis[0], p[2] + half * axis[2]);
@@ -749,7 +723,7 @@ mod tests {
         let mut spun = 0.0f64;
         for seed in 0..5 {
             e.reset(Some(seed));
-            assert_eq!(e.data.ncon, 0);
+            assert_eq!(e.physics.data.ncon, 0);
             for k in 0..200 {
                 let u = if (k / 25) % 2 == 0 { 1.0 } else { -1.0 };
                 let o = e.step(&Action::Continuous(vec![u, -u])).unwrap();

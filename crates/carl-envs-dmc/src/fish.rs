@@ -28,7 +28,6 @@
 
 use std::sync::Arc;
 
-use carl_articulated::Data;
 use carl_articulated::math::{M3, V3, add, mat_mul, mat_t_vec, mat_vec, norm, quat_to_mat, sub};
 use carl_env::api::{Action, DType, Env, EnvError, Space, StepOutcome, UnknownFeature, check_obs_len, vector_action};
 use carl_env::rng::{EnvRng, normal, uniform};
@@ -36,6 +35,7 @@ use carl_pixels::canvas::{Canvas, Stroke};
 use carl_pixels::color::Color;
 
 use crate::mjcf::{Common, Desc, build, substeps};
+use crate::physics::{Physics, observation_space, observe_f64_into, observe_into};
 use crate::rewards::{DEFAULT_VALUE_AT_MARGIN, Sigmoid, tolerance};
 
 const ID: &str = "dmc_fish";
@@ -58,8 +58,6 @@ const JOINTS: [&str; 7] = [
 pub const OBS: usize = 24;
 const NQ: usize = 14;
 const NV: usize = 13;
-/// State: qpos (14), qvel (13), the target's position (3).
-const STATE: usize = NQ + NV + 3;
 /// A step whose speeds exceed this is rolled back and ends the episode (a diverged simulation).
 const MAX_SPEED: f64 = 1e3;
 
@@ -111,8 +109,7 @@ struct Shape {
 #[derive(Debug, Clone)]
 pub struct Fish {
     upright_task: bool,
-    data: Data,
-    substeps: usize,
+    physics: Physics,
     torso: usize,
     mouth: usize,
     /// The target's centre (world frame; part of the state).
@@ -123,7 +120,6 @@ pub struct Fish {
     joint_qpos: [usize; 7],
     root_qpos: usize,
     rng: EnvRng,
-    started: bool,
     shapes: Arc<Vec<Shape>>,
 }
 
@@ -164,13 +160,19 @@ impl Fish {
                 half: g.size,
             })
             .collect();
-        let mut data = Data::new(Arc::new(model));
-        data.update_kinematics();
+        if model.na != 0 {
+            return Err(format!("fish.json: {} activations, not 0", model.na));
+        }
+        let physics = Physics::new(
+            ID,
+            Arc::new(model),
+            substeps(CONTROL_STEP, c.timestep).0,
+            Some(MAX_SPEED),
+        );
         let target_home = desc.geoms[tg].pos;
         Ok(Fish {
             upright_task: upright,
-            data,
-            substeps: substeps(CONTROL_STEP, c.timestep).0,
+            physics,
             torso,
             mouth,
             target: target_home,
@@ -179,18 +181,17 @@ impl Fish {
             joint_qpos,
             root_qpos,
             rng: EnvRng::from_seed(carl_env::rng::DEFAULT_SEED),
-            started: false,
             shapes: Arc::new(shapes),
         })
     }
 
     fn upright(&self) -> f64 {
-        self.data.xmat[self.torso][2][2]
+        self.physics.data.xmat[self.torso][2][2]
     }
 
     /// The target minus the mouth, in the mouth's frame.
     fn mouth_to_target(&self) -> V3 {
-        let d = &self.data;
+        let d = &self.physics.data;
         mat_t_vec(&d.geom_xmat[self.mouth], sub(self.target, d.geom_xpos[self.mouth]))
     }
 
@@ -214,22 +215,14 @@ impl Fish {
         (7.0 * in_target + 0.5 * (self.upright() + 1.0)) / 8.0
     }
 
-    fn obs_f64(&self) -> [f64; OBS] {
-        let d = &self.data;
-        let mut o = [0.0; OBS];
+    fn obs_f64(&self, o: &mut [f64]) {
+        let d = &self.physics.data;
         for (x, &q) in o.iter_mut().zip(&self.joint_qpos) {
             *x = d.qpos[q];
         }
         o[7] = self.upright();
         o[8..11].copy_from_slice(&self.mouth_to_target());
         o[11..].copy_from_slice(&d.qvel);
-        o
-    }
-
-    fn write_obs(&self, obs: &mut [f32]) {
-        for (o, x) in obs.iter_mut().zip(self.obs_f64()) {
-            *o = x as f32;
-        }
     }
 }
 
@@ -241,15 +234,10 @@ impl Env for Fish {
         OBS
     }
     fn state_dim(&self) -> usize {
-        STATE
+        self.physics.state_dim(3)
     }
     fn observation_space(&self) -> Space {
-        Space::Box {
-            low: vec![f32::NEG_INFINITY; OBS],
-            high: vec![f32::INFINITY; OBS],
-            shape: vec![OBS],
-            dtype: DType::Float64,
-        }
+        observation_space(OBS)
     }
     fn action_space(&self) -> Space {
         Space::Box {
@@ -265,7 +253,7 @@ impl Env for Fish {
         if let Some(seed) = seed {
             self.rng = EnvRng::from_seed(seed);
         }
-        self.data.reset();
+        self.physics.reset();
         let rng = &mut self.rng;
         let mut q = [0.0; 4];
         let mut n = 0.0;
@@ -273,9 +261,9 @@ impl Env for Fish {
             q = std::array::from_fn(|_| normal(rng, 0.0, 1.0));
             n = q.iter().map(|x| x * x).sum::<f64>().sqrt();
         }
-        let d = &mut self.data;
-        for k in 0..4 {
-            d.qpos[self.root_qpos + 3 + k] = q[k] / n;
+        let d = &mut self.physics.data;
+        for (x, qk) in d.qpos[self.root_qpos + 3..self.root_qpos + 7].iter_mut().zip(q) {
+            *x = qk / n;
         }
         for &qa in &self.joint_qpos {
             d.qpos[qa] = uniform(rng, -0.2, 0.2);
@@ -286,31 +274,18 @@ impl Env for Fish {
             [uniform(rng, -0.4, 0.4), uniform(rng, -0.4, 0.4), uniform(rng, 0.1, 0.3)]
         };
         d.update_kinematics();
-        self.started = true;
-        self.write_obs(obs);
-        Ok(())
+        self.physics.start();
+        observe_into(ID, OBS, obs, |o| self.obs_f64(o))
     }
 
     fn step_into(&mut self, action: &Action, obs: &mut [f32]) -> Result<StepOutcome, EnvError> {
         let a = vector_action(ID, action, 5)?;
         check_obs_len(ID, obs, OBS)?;
-        if !self.started {
-            return Err(EnvError::NeedsReset { env: ID });
-        }
-        let before = self.state();
-        for (c, x) in self.data.ctrl.iter_mut().zip(a) {
-            *c = f64::from(*x);
-        }
-        for _ in 0..self.substeps {
-            self.data.step();
-        }
-        let diverged = !self.data.is_sane(MAX_SPEED);
-        if diverged {
-            self.set_state(&before)?;
-        }
-        self.data.update_kinematics();
+        // A diverged step is rolled back; the poses are the state's either way.
+        let diverged = self.physics.step(a, None)?;
+        self.physics.data.update_kinematics();
         let reward = self.reward();
-        self.write_obs(obs);
+        observe_into(ID, OBS, obs, |o| self.obs_f64(o))?;
         Ok(StepOutcome {
             reward,
             terminated: diverged,
@@ -319,30 +294,21 @@ impl Env for Fish {
     }
 
     fn observe_into(&self, obs: &mut [f32]) -> Result<(), EnvError> {
-        check_obs_len(ID, obs, OBS)?;
-        self.write_obs(obs);
-        Ok(())
+        observe_into(ID, OBS, obs, |o| self.obs_f64(o))
     }
 
     fn observe_f64_into(&self, obs: &mut [f64]) -> Result<(), EnvError> {
-        check_obs_len(ID, obs, OBS)?;
-        obs.copy_from_slice(&self.obs_f64());
-        Ok(())
+        observe_f64_into(ID, OBS, obs, |o| self.obs_f64(o))
     }
 
+    /// `qpos` (14), `qvel` (13), the target's position (3).
     fn state(&self) -> Vec<f64> {
-        let d = &self.data;
-        d.qpos.iter().chain(&d.qvel).chain(&self.target).copied().collect()
+        self.physics.state(&self.target)
     }
 
     fn set_state(&mut self, state: &[f64]) -> Result<(), EnvError> {
-        let s: [f64; STATE] = carl_env::api::check_state(ID, state)?;
-        let d = &mut self.data;
-        d.qpos.copy_from_slice(&s[..NQ]);
-        d.qvel.copy_from_slice(&s[NQ..NQ + NV]);
-        self.target = [s[NQ + NV], s[NQ + NV + 1], s[NQ + NV + 2]];
-        d.update_kinematics();
-        self.started = true;
+        self.physics.set_state(state, &mut self.target)?;
+        self.physics.data.update_kinematics();
         Ok(())
     }
 
@@ -360,7 +326,7 @@ impl carl_env::Runtime for Fish {
             .map(|s| {
                 probe.set_state(s)?;
                 let mut g = s.clone();
-                g[NQ + NV..].copy_from_slice(&probe.data.geom_xpos[probe.mouth]);
+                g[NQ + NV..].copy_from_slice(&probe.physics.data.geom_xpos[probe.mouth]);
                 Ok(g)
             })
             .collect()
@@ -405,7 +371,7 @@ impl Fish {
             c.line(px([t, -0.5, 0.0]), px([t, 0.5, 0.0]), grid);
             c.line(px([-0.5, t, 0.0]), px([0.5, t, 0.0]), grid);
         }
-        let d = &self.data;
+        let d = &self.physics.data;
         let outline = |centre: V3, r: &M3, h: V3| {
             let mut pts = Vec::with_capacity(96);
             for i in 0..8 {

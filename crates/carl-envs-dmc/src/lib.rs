@@ -4,6 +4,10 @@
 //! * [`mjcf`]: the models, converted from dm_control's own XML by `scripts/dmc_models.py`
 //!   (MuJoCo compiles them; `models/<domain>.json` holds the compiled fields), loaded into a
 //!   [`carl_articulated::Model`] with the family's context features applied;
+//! * [`physics`]: [`physics::Physics`], the simulation an environment steps (dm_control's
+//!   name), with the plumbing the five share: the control step's substeps, the divergence
+//!   check and rollback, the state (`qpos`, `qvel`, `act`, then the environment's own entries)
+//!   and resets from [`carl_articulated::Data::reset`]; and the observation's `Env` methods;
 //! * [`rewards`]: dm_control's `rewards.tolerance` and its sigmoids;
 //! * [`finger`]: `dmc_finger` (dm_control's `finger` domain, tasks `spin`, `turn_easy`,
 //!   `turn_hard`);
@@ -21,6 +25,7 @@
 pub mod finger;
 pub mod fish;
 pub mod mjcf;
+pub mod physics;
 pub mod point_mass;
 pub mod quadruped;
 pub mod registry;

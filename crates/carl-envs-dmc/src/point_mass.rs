@@ -27,13 +27,14 @@
 
 use std::sync::Arc;
 
-use carl_articulated::{Data, Model};
+use carl_articulated::Model;
 use carl_env::api::{Action, DType, Env, EnvError, Space, StepOutcome, UnknownFeature, check_obs_len, vector_action};
 use carl_env::rng::{EnvRng, normal, uniform};
 use carl_pixels::canvas::{Canvas, Stroke};
 use carl_pixels::color::Color;
 
 use crate::mjcf::{Common, Desc, build, substeps};
+use crate::physics::{Physics, observation_space, observe_f64_into, observe_into};
 use crate::rewards::{DEFAULT_VALUE_AT_MARGIN, Sigmoid, tolerance};
 
 const ID: &str = "dmc_point_mass";
@@ -43,6 +44,7 @@ pub const CONTROL_STEP: f64 = 0.02;
 /// The ball's and the target's radii (the XML's geom sizes).
 const BALL_RADIUS: f64 = 0.01;
 const TARGET_RADIUS: f64 = 0.015;
+const OBS: usize = 4;
 
 /// The context: the family's 14 physics features, then PointMass's own, in carl-bench's order.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -121,10 +123,8 @@ pub struct PointMass {
     params: Params,
     variant: Variant,
     desc: Arc<Desc>,
-    data: Data,
-    substeps: usize,
+    physics: Physics,
     rng: EnvRng,
-    started: bool,
 }
 
 impl PointMass {
@@ -145,15 +145,15 @@ impl PointMass {
         let desc = Arc::new(desc);
         let (n, _) = substeps(CONTROL_STEP, params.common.timestep);
         let model = Self::model(&desc, &params, None)?;
-        let data = Data::new(Arc::new(model));
+        // No divergence check (the ball's slides are limited and damped; dmc_point_mass never
+        // had one).
+        let physics = Physics::new(ID, Arc::new(model), n, None);
         Ok(PointMass {
             params,
             variant,
             desc,
-            data,
-            substeps: n,
+            physics,
             rng: EnvRng::from_seed(carl_env::rng::DEFAULT_SEED),
-            started: false,
         })
     }
 
@@ -205,16 +205,13 @@ impl PointMass {
     }
 
     fn mass_to_target(&self) -> f64 {
-        let (x, y) = (self.data.qpos[0], self.data.qpos[1]);
+        let (x, y) = (self.physics.data.qpos[0], self.physics.data.qpos[1]);
         (x - self.params.target_x).hypot(y - self.params.target_y)
     }
 
-    fn write_obs(&self, obs: &mut [f32]) {
-        let d = &self.data;
-        let s = [d.qpos[0], d.qpos[1], d.qvel[0], d.qvel[1]];
-        for (o, x) in obs.iter_mut().zip(s) {
-            *o = x as f32;
-        }
+    fn obs_f64(&self, o: &mut [f64]) {
+        let d = &self.physics.data;
+        o.copy_from_slice(&[d.qpos[0], d.qpos[1], d.qvel[0], d.qvel[1]]);
     }
 }
 
@@ -240,18 +237,13 @@ impl Env for PointMass {
         ID
     }
     fn obs_dim(&self) -> usize {
-        4
+        OBS
     }
     fn state_dim(&self) -> usize {
-        4
+        self.physics.state_dim(0)
     }
     fn observation_space(&self) -> Space {
-        Space::Box {
-            low: vec![f32::NEG_INFINITY; 4],
-            high: vec![f32::INFINITY; 4],
-            shape: vec![4],
-            dtype: DType::Float64,
-        }
+        observation_space(OBS)
     }
     fn action_space(&self) -> Space {
         Space::Box {
@@ -263,7 +255,7 @@ impl Env for PointMass {
     }
 
     fn reset_into(&mut self, seed: Option<u64>, obs: &mut [f32]) -> Result<(), EnvError> {
-        check_obs_len(ID, obs, 4)?;
+        check_obs_len(ID, obs, OBS)?;
         if let Some(seed) = seed {
             self.rng = EnvRng::from_seed(seed);
         }
@@ -271,12 +263,10 @@ impl Env for PointMass {
             let dirs = self.random_directions();
             let model = Self::model(&self.desc, &self.params, Some(dirs))
                 .map_err(|message| EnvError::Context { env: ID, message })?;
-            self.data = Data::new(Arc::new(model));
+            self.physics.replace_model(Arc::new(model));
         }
-        let d = &mut self.data;
-        d.qvel.fill(0.0);
-        d.ctrl.fill(0.0);
-        d.time = 0.0;
+        self.physics.reset();
+        let d = &mut self.physics.data;
         if self.variant.random_start {
             let r = self.params.half_range();
             d.qpos[0] = uniform(&mut self.rng, -r, r);
@@ -287,24 +277,17 @@ impl Env for PointMass {
             d.qpos[0] = self.params.starting_x.clamp(-r, r);
             d.qpos[1] = self.params.starting_y.clamp(-r, r);
         }
-        self.started = true;
-        self.write_obs(obs);
-        Ok(())
+        self.physics.start();
+        observe_into(ID, OBS, obs, |o| self.obs_f64(o))
     }
 
     fn step_into(&mut self, action: &Action, obs: &mut [f32]) -> Result<StepOutcome, EnvError> {
         let a = vector_action(ID, action, 2)?;
-        check_obs_len(ID, obs, 4)?;
-        if !self.started {
-            return Err(EnvError::NeedsReset { env: ID });
-        }
+        check_obs_len(ID, obs, OBS)?;
+        self.physics.step(a, None)?;
         let ctrl = [f64::from(a[0]), f64::from(a[1])];
-        self.data.ctrl.copy_from_slice(&ctrl);
-        for _ in 0..self.substeps {
-            self.data.step();
-        }
         let reward = reward(self.mass_to_target(), &ctrl);
-        self.write_obs(obs);
+        observe_into(ID, OBS, obs, |o| self.obs_f64(o))?;
         Ok(StepOutcome {
             reward,
             terminated: false,
@@ -313,35 +296,27 @@ impl Env for PointMass {
     }
 
     fn observe_into(&self, obs: &mut [f32]) -> Result<(), EnvError> {
-        check_obs_len(ID, obs, 4)?;
-        self.write_obs(obs);
-        Ok(())
+        observe_into(ID, OBS, obs, |o| self.obs_f64(o))
     }
 
     fn observe_f64_into(&self, obs: &mut [f64]) -> Result<(), EnvError> {
-        check_obs_len(ID, obs, 4)?;
-        let d = &self.data;
-        obs.copy_from_slice(&[d.qpos[0], d.qpos[1], d.qvel[0], d.qvel[1]]);
-        Ok(())
+        observe_f64_into(ID, OBS, obs, |o| self.obs_f64(o))
     }
 
+    /// `qpos` (x, y), `qvel` (ẋ, ẏ).
     fn state(&self) -> Vec<f64> {
-        let d = &self.data;
-        vec![d.qpos[0], d.qpos[1], d.qvel[0], d.qvel[1]]
+        self.physics.state(&[])
     }
 
     fn set_state(&mut self, state: &[f64]) -> Result<(), EnvError> {
-        let s: [f64; 4] = carl_env::api::check_state(ID, state)?;
-        let d = &mut self.data;
-        d.qpos.copy_from_slice(&s[..2]);
-        d.qvel.copy_from_slice(&s[2..]);
-        d.time = 0.0;
-        self.started = true;
+        self.physics.set_state(state, &mut [])?;
+        self.physics.data.time = 0.0;
         Ok(())
     }
 
     fn render(&self) -> Option<carl_pixels::Frame> {
-        Some(render(&self.params, [self.data.qpos[0], self.data.qpos[1]]))
+        let d = &self.physics.data;
+        Some(render(&self.params, [d.qpos[0], d.qpos[1]]))
     }
 }
 

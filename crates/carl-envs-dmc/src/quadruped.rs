@@ -31,6 +31,7 @@ use carl_pixels::canvas::{Canvas, Stroke};
 use carl_pixels::color::Color;
 
 use crate::mjcf::{Common, Desc, build, substeps};
+use crate::physics::{Physics, observation_space, observe_f64_into, observe_into};
 use crate::rewards::{Sigmoid, tolerance};
 
 const ID: &str = "dmc_quadruped";
@@ -94,14 +95,12 @@ struct Layout {
 #[derive(Debug, Clone)]
 pub struct Quadruped {
     move_speed: f64,
-    data: Data,
-    substeps: usize,
+    physics: Physics,
     layout: Arc<Layout>,
     /// The acceleration sensors of the last forward pass: accelerometer, then the toes' forces
     /// and torques (MuJoCo's sensordata order).
     acc_sensors: [f64; 27],
     rng: EnvRng,
-    started: bool,
 }
 
 impl Quadruped {
@@ -147,32 +146,34 @@ impl Quadruped {
             toe_sites,
             draw,
         };
-        let mut data = Data::new(Arc::new(model));
-        data.update_kinematics();
+        let physics = Physics::new(
+            ID,
+            Arc::new(model),
+            substeps(CONTROL_STEP, c.timestep).0,
+            Some(MAX_SPEED),
+        );
         Ok(Quadruped {
             move_speed,
-            data,
-            substeps: substeps(CONTROL_STEP, c.timestep).0,
+            physics,
             layout: Arc::new(layout),
             acc_sensors: [0.0; 27],
             rng: EnvRng::from_seed(carl_env::rng::DEFAULT_SEED),
-            started: false,
         })
     }
 
     /// The engine's state (for tests and comparisons).
     pub fn data(&self) -> &Data {
-        &self.data
+        &self.physics.data
     }
 
     /// The torso's `zz`: 1 upright, −1 upside down.
     pub fn upright(&self) -> f64 {
-        self.data.xmat[self.layout.torso][2][2]
+        self.physics.data.xmat[self.layout.torso][2][2]
     }
 
     /// The torso's velocimeter (its linear velocity in its frame).
     pub fn torso_velocity(&self) -> [f64; 3] {
-        self.data.velocimeter(&self.layout.torso_site)
+        self.physics.data.velocimeter(&self.layout.torso_site)
     }
 
     fn read_acc_sensors(l: &Layout, d: &Data) -> [f64; 27] {
@@ -192,10 +193,9 @@ impl Quadruped {
         upright * mv
     }
 
-    fn obs_f64(&self) -> [f64; OBS] {
-        let d = &self.data;
+    fn obs_f64(&self, o: &mut [f64]) {
+        let d = &self.physics.data;
         let l = &self.layout;
-        let mut o = [0.0; OBS];
         for (k, &(qa, da)) in l.hinges.iter().enumerate() {
             o[k] = d.qpos[qa];
             o[16 + k] = d.qvel[da];
@@ -210,35 +210,24 @@ impl Quadruped {
         for k in 0..24 {
             o[54 + k] = self.acc_sensors[3 + k].asinh();
         }
-        o
     }
 
     /// The actuators' activations (MuJoCo's `act`).
     fn activations(&self) -> [f64; NU] {
         let mut a = [0.0; NU];
-        for (x, y) in a.iter_mut().zip(&self.data.act) {
+        for (x, y) in a.iter_mut().zip(&self.physics.data.act) {
             *x = *y;
         }
         a
     }
 
-    fn write_obs(&self, obs: &mut [f32]) {
-        for (o, x) in obs.iter_mut().zip(self.obs_f64()) {
-            *o = x as f32;
-        }
-    }
-
     /// The forward pass of the current state and its acceleration sensors (dm_control's
     /// `physics.forward()` after a reset or a set state).
     fn refresh(&mut self) {
-        self.data.forward();
-        self.data.rne_post_constraint();
-        self.acc_sensors = Self::read_acc_sensors(&self.layout, &self.data);
-    }
-
-    fn nstate(&self) -> (usize, usize, usize) {
-        let m = self.data.model();
-        (m.nq, m.nv, m.na)
+        let d = &mut self.physics.data;
+        d.forward();
+        d.rne_post_constraint();
+        self.acc_sensors = Self::read_acc_sensors(&self.layout, d);
     }
 }
 
@@ -250,19 +239,13 @@ impl Env for Quadruped {
         OBS
     }
     fn state_dim(&self) -> usize {
-        let (nq, nv, na) = self.nstate();
-        nq + nv + na
+        self.physics.state_dim(0)
     }
     fn observation_space(&self) -> Space {
-        Space::Box {
-            low: vec![f32::NEG_INFINITY; OBS],
-            high: vec![f32::INFINITY; OBS],
-            shape: vec![OBS],
-            dtype: DType::Float64,
-        }
+        observation_space(OBS)
     }
     fn action_space(&self) -> Space {
-        let m = self.data.model();
+        let m = self.physics.data.model();
         let (low, high) = m
             .actuators
             .iter()
@@ -294,8 +277,8 @@ impl Env for Quadruped {
         } else {
             [1.0, 0.0, 0.0, 0.0]
         };
-        let d = &mut self.data;
-        d.reset();
+        self.physics.reset();
+        let d = &mut self.physics.data;
         d.qpos[3..7].copy_from_slice(&quat);
         // dm_control's _find_non_contacting_height: from the floor up in 1 cm steps.
         let mut found = false;
@@ -313,35 +296,27 @@ impl Env for Quadruped {
             });
         }
         self.refresh();
-        self.started = true;
-        self.write_obs(obs);
-        Ok(())
+        self.physics.start();
+        observe_into(ID, OBS, obs, |o| self.obs_f64(o))
     }
 
     fn step_into(&mut self, action: &Action, obs: &mut [f32]) -> Result<StepOutcome, EnvError> {
         let a = vector_action(ID, action, NU)?;
         check_obs_len(ID, obs, OBS)?;
-        if !self.started {
-            return Err(EnvError::NeedsReset { env: ID });
-        }
-        let before = self.state();
-        for (c, x) in self.data.ctrl.iter_mut().zip(a) {
-            *c = f64::from(*x);
-        }
-        for _ in 1..self.substeps {
-            self.data.step();
-        }
+        // The acceleration sensors read the last physics step's forward pass.
         let layout = Arc::clone(&self.layout);
         let mut acc = self.acc_sensors;
-        self.data.step_observed(|d| acc = Self::read_acc_sensors(&layout, d));
+        let diverged = self
+            .physics
+            .step(a, Some(&mut |d: &Data| acc = Self::read_acc_sensors(&layout, d)))?;
         self.acc_sensors = acc;
-        let diverged = !self.data.is_sane(MAX_SPEED);
         if diverged {
-            self.set_state(&before)?;
+            // Rolled back: the sensors of the state before the step (as after a set state).
+            self.refresh();
         }
-        self.data.update_kinematics();
+        self.physics.data.update_kinematics();
         let reward = self.reward();
-        self.write_obs(obs);
+        observe_into(ID, OBS, obs, |o| self.obs_f64(o))?;
         Ok(StepOutcome {
             reward,
             terminated: diverged,
@@ -350,32 +325,21 @@ impl Env for Quadruped {
     }
 
     fn observe_into(&self, obs: &mut [f32]) -> Result<(), EnvError> {
-        check_obs_len(ID, obs, OBS)?;
-        self.write_obs(obs);
-        Ok(())
+        observe_into(ID, OBS, obs, |o| self.obs_f64(o))
     }
 
     fn observe_f64_into(&self, obs: &mut [f64]) -> Result<(), EnvError> {
-        check_obs_len(ID, obs, OBS)?;
-        obs.copy_from_slice(&self.obs_f64());
-        Ok(())
+        observe_f64_into(ID, OBS, obs, |o| self.obs_f64(o))
     }
 
     /// `qpos` (23), `qvel` (22), then the actuators' activations (12).
     fn state(&self) -> Vec<f64> {
-        let d = &self.data;
-        d.qpos.iter().chain(&d.qvel).chain(&d.act).copied().collect()
+        self.physics.state(&[])
     }
 
     fn set_state(&mut self, state: &[f64]) -> Result<(), EnvError> {
-        let (nq, nv, na) = self.nstate();
-        carl_env::api::check_state_len(ID, state, nq + nv + na)?;
-        let d = &mut self.data;
-        d.qpos.copy_from_slice(&state[..nq]);
-        d.qvel.copy_from_slice(&state[nq..nq + nv]);
-        d.act.copy_from_slice(&state[nq + nv..nq + nv + na]);
+        self.physics.set_state(state, &mut [])?;
         self.refresh();
-        self.started = true;
         Ok(())
     }
 
@@ -393,7 +357,7 @@ impl Quadruped {
         const W: u32 = 320;
         const H: u32 = 240;
         let scale = 150.0;
-        let d = &self.data;
+        let d = &self.physics.data;
         let m = d.model();
         let c = d.xpos[self.layout.torso];
         // Camera: looking along +y rotated 30° about z, tilted down 20°.
@@ -511,14 +475,18 @@ mod tests {
         let mut e = Quadruped::new(Params::default(), WALK_SPEED).unwrap();
         for seed in 0..4 {
             e.reset(Some(seed));
-            assert_eq!(e.data.ncon, 0);
-            assert!(e.data.qvel.iter().all(|v| *v == 0.0));
+            assert_eq!(e.physics.data.ncon, 0);
+            assert!(e.physics.data.qvel.iter().all(|v| *v == 0.0));
             for _ in 0..150 {
                 e.step(&Action::Continuous(vec![0.0; NU])).unwrap();
             }
-            let z = e.data.xpos[e.layout.torso][2];
+            let z = e.physics.data.xpos[e.layout.torso][2];
             assert!(z > 0.1 && z < 1.0, "torso height {z}");
-            assert!(e.data.qvel.iter().all(|v| v.abs() < 0.5), "{:?}", e.data.qvel);
+            assert!(
+                e.physics.data.qvel.iter().all(|v| v.abs() < 0.5),
+                "{:?}",
+                e.physics.data.qvel
+            );
         }
     }
 

@@ -17,13 +17,13 @@
 
 use std::sync::Arc;
 
-use carl_articulated::Data;
 use carl_env::api::{Action, DType, Env, EnvError, Space, StepOutcome, UnknownFeature, check_obs_len, vector_action};
 use carl_env::rng::{EnvRng, uniform};
 use carl_pixels::canvas::{Canvas, Stroke};
 use carl_pixels::color::Color;
 
 use crate::mjcf::{Common, Desc, build, substeps};
+use crate::physics::{Physics, observation_space, observe_f64_into, observe_into};
 use crate::rewards::{DEFAULT_VALUE_AT_MARGIN, Sigmoid, tolerance};
 
 const ID: &str = "dmc_walker";
@@ -71,11 +71,9 @@ impl Params {
 #[derive(Debug, Clone)]
 pub struct Walker {
     move_speed: f64,
-    data: Data,
-    substeps: usize,
+    physics: Physics,
     torso: usize,
     rng: EnvRng,
-    started: bool,
     /// Capsules to draw: (geom, half-length, radius).
     capsules: Arc<Vec<(usize, f64, f64)>>,
     /// What dm_control's reset draws: (qpos address, range, or `None` for the unlimited hinge).
@@ -107,28 +105,30 @@ impl Walker {
             .filter(|(_, j)| j.range.is_some() || j.kind == carl_articulated::JointKind::Hinge)
             .map(|(i, j)| (model.jnt_qposadr[i], j.range))
             .collect();
-        let mut data = Data::new(Arc::new(model));
-        data.update_kinematics();
+        let physics = Physics::new(
+            ID,
+            Arc::new(model),
+            substeps(CONTROL_STEP, c.timestep).0,
+            Some(MAX_SPEED),
+        );
         Ok(Walker {
             move_speed,
-            data,
-            substeps: substeps(CONTROL_STEP, c.timestep).0,
+            physics,
             torso,
             rng: EnvRng::from_seed(carl_env::rng::DEFAULT_SEED),
-            started: false,
             capsules: Arc::new(capsules),
             random_joints: Arc::new(random_joints),
         })
     }
 
     fn torso_height(&self) -> f64 {
-        self.data.xpos[self.torso][2]
+        self.physics.data.xpos[self.torso][2]
     }
 
     /// The x velocity of the whole body's centre of mass (MuJoCo's `subtreelinvel` of the
     /// torso, the root of every moving body).
     fn horizontal_velocity(&self) -> f64 {
-        let d = &self.data;
+        let d = &self.physics.data;
         let m = d.model();
         let (mut p, mut mass) = (0.0, 0.0);
         for b in 1..m.bodies.len() {
@@ -149,7 +149,7 @@ impl Walker {
             Sigmoid::Gaussian,
             DEFAULT_VALUE_AT_MARGIN,
         );
-        let upright = (1.0 + self.data.xmat[self.torso][2][2]) / 2.0;
+        let upright = (1.0 + self.physics.data.xmat[self.torso][2][2]) / 2.0;
         let stand = (3.0 * standing + upright) / 4.0;
         if self.move_speed == 0.0 {
             return stand;
@@ -165,22 +165,14 @@ impl Walker {
         stand * (5.0 * mv + 1.0) / 6.0
     }
 
-    fn obs_f64(&self) -> [f64; OBS] {
-        let d = &self.data;
-        let mut o = [0.0; OBS];
+    fn obs_f64(&self, o: &mut [f64]) {
+        let d = &self.physics.data;
         for b in 1..8 {
             o[2 * (b - 1)] = d.xmat[b][0][0];
             o[2 * (b - 1) + 1] = d.xmat[b][0][2];
         }
         o[14] = self.torso_height();
         o[15..].copy_from_slice(&d.qvel);
-        o
-    }
-
-    fn write_obs(&self, obs: &mut [f32]) {
-        for (o, x) in obs.iter_mut().zip(self.obs_f64()) {
-            *o = x as f32;
-        }
     }
 }
 
@@ -192,15 +184,10 @@ impl Env for Walker {
         OBS
     }
     fn state_dim(&self) -> usize {
-        18
+        self.physics.state_dim(0)
     }
     fn observation_space(&self) -> Space {
-        Space::Box {
-            low: vec![f32::NEG_INFINITY; OBS],
-            high: vec![f32::INFINITY; OBS],
-            shape: vec![OBS],
-            dtype: DType::Float64,
-        }
+        observation_space(OBS)
     }
     fn action_space(&self) -> Space {
         Space::Box {
@@ -216,42 +203,25 @@ impl Env for Walker {
         if let Some(seed) = seed {
             self.rng = EnvRng::from_seed(seed);
         }
-        let d = &mut self.data;
-        let q0 = d.model().qpos0.clone();
-        d.qpos.copy_from_slice(&q0);
-        d.qvel.fill(0.0);
-        d.ctrl.fill(0.0);
-        d.time = 0.0;
+        self.physics.reset();
+        let d = &mut self.physics.data;
         for &(qa, range) in self.random_joints.iter() {
             let [lo, hi] = range.unwrap_or([-std::f64::consts::PI, std::f64::consts::PI]);
             d.qpos[qa] = uniform(&mut self.rng, lo, hi);
         }
         d.update_kinematics();
-        self.started = true;
-        self.write_obs(obs);
-        Ok(())
+        self.physics.start();
+        observe_into(ID, OBS, obs, |o| self.obs_f64(o))
     }
 
     fn step_into(&mut self, action: &Action, obs: &mut [f32]) -> Result<StepOutcome, EnvError> {
         let a = vector_action(ID, action, 6)?;
         check_obs_len(ID, obs, OBS)?;
-        if !self.started {
-            return Err(EnvError::NeedsReset { env: ID });
-        }
-        let before = self.state();
-        for (c, x) in self.data.ctrl.iter_mut().zip(a) {
-            *c = f64::from(*x);
-        }
-        for _ in 0..self.substeps {
-            self.data.step();
-        }
-        let diverged = !self.data.is_sane(MAX_SPEED);
-        if diverged {
-            self.set_state(&before)?;
-        }
-        self.data.update_kinematics();
+        // A diverged step is rolled back; the poses are the state's either way.
+        let diverged = self.physics.step(a, None)?;
+        self.physics.data.update_kinematics();
         let reward = self.reward();
-        self.write_obs(obs);
+        observe_into(ID, OBS, obs, |o| self.obs_f64(o))?;
         Ok(StepOutcome {
             reward,
             terminated: diverged,
@@ -260,29 +230,21 @@ impl Env for Walker {
     }
 
     fn observe_into(&self, obs: &mut [f32]) -> Result<(), EnvError> {
-        check_obs_len(ID, obs, OBS)?;
-        self.write_obs(obs);
-        Ok(())
+        observe_into(ID, OBS, obs, |o| self.obs_f64(o))
     }
 
     fn observe_f64_into(&self, obs: &mut [f64]) -> Result<(), EnvError> {
-        check_obs_len(ID, obs, OBS)?;
-        obs.copy_from_slice(&self.obs_f64());
-        Ok(())
+        observe_f64_into(ID, OBS, obs, |o| self.obs_f64(o))
     }
 
+    /// `qpos` (9), `qvel` (9).
     fn state(&self) -> Vec<f64> {
-        let d = &self.data;
-        d.qpos.iter().chain(&d.qvel).copied().collect()
+        self.physics.state(&[])
     }
 
     fn set_state(&mut self, state: &[f64]) -> Result<(), EnvError> {
-        let s: [f64; 18] = carl_env::api::check_state(ID, state)?;
-        let d = &mut self.data;
-        d.qpos.copy_from_slice(&s[..9]);
-        d.qvel.copy_from_slice(&s[9..]);
-        d.update_kinematics();
-        self.started = true;
+        self.physics.set_state(state, &mut [])?;
+        self.physics.data.update_kinematics();
         Ok(())
     }
 
@@ -299,7 +261,7 @@ impl Walker {
         const W: u32 = 320;
         const H: u32 = 240;
         let scale = 90.0;
-        let cx = self.data.xpos[self.torso][0];
+        let cx = self.physics.data.xpos[self.torso][0];
         let px = |x: f64, z: f64| (f64::from(W) / 2.0 + (x - cx) * scale, f64::from(H) - 20.0 - z * scale);
         let mut c = Canvas::new(W, H, Color(40, 48, 64));
         let (_, fy) = px(0.0, 0.0);
@@ -311,8 +273,8 @@ impl Walker {
             c.line((x, y), (x, f64::from(H)), tick);
         }
         for &(g, half, r) in self.capsules.iter() {
-            let p = self.data.geom_xpos[g];
-            let m = &self.data.geom_xmat[g];
+            let p = self.physics.data.geom_xpos[g];
+            let m = &self.physics.data.geom_xmat[g];
             let axis = [m[0][2], m[1][2], m[2][2]];
             let a = px(p[0] - half * axis[0], p[2] - half * axis[2]);
             let b = px(p[0] + half * axis[0], p[2] + half * axis[2]);
