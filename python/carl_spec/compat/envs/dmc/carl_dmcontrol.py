@@ -70,7 +70,7 @@ class CARLDmcEnv(gymnasium.Env[dict[str, Any], Any]):
         self.action_space = self.env.action_space
         base = self.env.observation_space
         assert isinstance(base, spaces.Box)
-        self.base_observation_space = spaces.Box(low=base.low, high=base.high, dtype=base.dtype)  # type: ignore[arg-type]
+        self.base_observation_space = spaces.Box(low=base.low, high=base.high, dtype=base.dtype)  # type: ignore[arg-type, unused-ignore]
         feats = self.get_context_features()
         bounds = {n: (float(getattr(feats[n], "lower", -np.inf)), float(getattr(feats[n], "upper", np.inf))) for n in self.obs_context_features}
         ctx: spaces.Space[Any]

@@ -49,7 +49,7 @@ class MujocoToGymWrapper(gymnasium.Env[Any, Any]):
         timestep = self.env.reset()
         return timestep.observation["observations"], {}
 
-    def render(self, mode: str = "human", camera_id: int = 0, **kwargs: Any) -> Any:  # type: ignore[override]
+    def render(self, mode: str = "human", camera_id: int = 0, **kwargs: Any) -> Any:  # type: ignore[override, unused-ignore]
         if mode == "rgb_array":
             return self.env.physics.render(camera_id=camera_id, **kwargs)
         raise NotImplementedError(f"MujocoToGymWrapper renders mode='rgb_array' only, not {mode!r}")
