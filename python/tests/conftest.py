@@ -29,3 +29,13 @@ def cli(*args: str, ok: tuple[int, ...] = (0,)) -> str:
 
 def cli_json(*args: str, ok: tuple[int, ...] = (0,)) -> Any:
     return json.loads(cli(*args, ok=ok))
+
+
+@pytest.fixture(autouse=True, scope="session")
+def sb3_logs_in_tmp(tmp_path_factory: pytest.TempPathFactory) -> Any:
+    """Stable-Baselines3 makes `$TMPDIR/SB3-<date>` for every model it builds unless SB3_LOGDIR
+    names a folder (carl-bench's suite trains a few when SB3 is installed, as in the training
+    venv): the session's logs go to a pytest temp folder, nothing to the system temp."""
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("SB3_LOGDIR", str(tmp_path_factory.mktemp("sb3-logs")))
+        yield

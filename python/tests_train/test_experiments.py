@@ -10,7 +10,7 @@ from typing import Any
 
 import pytest
 
-from carl_spec.experiments import run_experiment, trials, write_report
+from carl_spec.experiments import _run, run_experiment, trials, write_report
 from carl_spec.experiments.__main__ import main
 
 
@@ -29,14 +29,15 @@ def test_q1_sequential(tmp_path: Path) -> None:
     check_report(report, tmp_path)
 
 
+@pytest.mark.xdist_group("ray")  # one loopback Ray per worker: keep its tests together
 def test_q2_on_loopback_ray(loopback_ray: Any, tmp_path: Path) -> None:
     report = run_experiment("q2", budget=0.001, seeds=1, features=["dt"], evaluations=1, ray=True)
     assert set(report["summary"]["final_return"]["dt"]) == {"hidden", "visible"}
     check_report(report, tmp_path)
 
 
-def test_q3_planets_and_crashes(tmp_path: Path) -> None:
-    report = run_experiment("q3", budget=0.002, seeds=1, test_episodes=2)
+def test_q3_planets_and_crashes(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    report = run_experiment("q3", budget=0.002, seeds=1, test_episodes=2, checkpoint=tmp_path / "trials")
     planets = report["summary"]["planets"]["hidden"]
     assert set(planets) == {"Pluto", "Moon", "Mars", "Earth", "Neptune", "Jupiter"}
     for p in planets.values():
@@ -44,6 +45,22 @@ def test_q3_planets_and_crashes(tmp_path: Path) -> None:
     claims = [f["claim"] for f in report["summary"]["findings"]]
     assert any("Pluto" in c for c in claims) and any("crashes grow with gravity" in c for c in claims)
     check_report(report, tmp_path)
+
+    # Every finished trial was saved: the same run again trains nothing and reports the same.
+    assert sorted(f.name for f in (tmp_path / "trials").iterdir()) == [
+        "q3-seed0-steps2000-hidden-test2.json",
+        "q3-seed0-steps2000-visible-test2.json",
+    ]
+
+    def no_training(trial: Any) -> Any:
+        raise AssertionError(f"trained {trial} again")
+
+    monkeypatch.setattr(_run, "run_trial", no_training)
+    again = run_experiment("q3", budget=0.002, seeds=1, test_episodes=2, checkpoint=tmp_path / "trials")
+    assert again["results"] == report["results"] and again["summary"] == report["summary"]
+    # Another budget is other trials: nothing of the folder is taken for them.
+    with pytest.raises(AssertionError, match="trained"):
+        run_experiment("q3", budget=0.003, seeds=1, test_episodes=2, checkpoint=tmp_path / "trials")
 
 
 @pytest.mark.parametrize(
@@ -65,3 +82,8 @@ def test_the_command_line_exits_2_on_bad_input(tmp_path: Path, capsys: pytest.Ca
     assert main(["q1", "--budget", "-1", "--out", str(tmp_path)]) == 2
     assert "budget" in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []
+    a_file = tmp_path / "results"
+    a_file.write_text("mine")
+    assert main(["q3", "--budget", "0.001", "--out", str(a_file)]) == 2
+    assert "not a directory" in capsys.readouterr().err
+    assert a_file.read_text() == "mine"

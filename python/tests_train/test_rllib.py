@@ -8,6 +8,7 @@ import time
 from typing import Any
 
 import numpy as np
+import pytest
 
 import carl_spec as cs
 from carl_spec.rllib import RllibVectorEnv, env_creator, register
@@ -41,6 +42,7 @@ def test_runner_seeds_give_disjoint_env_seeds() -> None:
     assert not any(np.array_equal(x, y) for x in oa for y in ob)
 
 
+@pytest.mark.xdist_group("ray")  # one loopback Ray per worker: keep its tests together
 def test_rllib_ppo_iteration_on_loopback_ray(loopback_ray: Any) -> None:
     from ray.rllib.algorithms.ppo import PPOConfig
 

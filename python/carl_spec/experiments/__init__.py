@@ -14,7 +14,9 @@ Stable-Baselines3 and the paper's hyperparameters (its Appendix):
 training seeds (the paper: 5). Trials run one after another, or in parallel on a local Ray bound
 to 127.0.0.1 (`ray=True`). Each experiment returns a report (JSON-serializable dict) with the
 per-trial numbers, the aggregates and the paper's findings each marked as holding or not, with
-the numbers that decide it; `write_report` writes it as JSON and markdown.
+the numbers that decide it; `write_report` writes it as JSON and markdown. With `checkpoint`
+(the command line: `<out>/trials`), each finished trial is saved at once and a run of the same
+trials later takes it from there, so an interrupted run of hours resumes where it stopped.
 
     python -m carl_spec.experiments q3 --budget 0.05 --seeds 2 --out results/
 """

@@ -1,10 +1,13 @@
 """`python -m carl_spec.experiments EXPERIMENT [--budget B] [--seeds N] [--ray] --out DIR`: run one of
-the paper's experiments (q1, q2, q3, or all) and write its report (JSON and markdown)."""
+the paper's experiments (q1, q2, q3, or all) and write its report (JSON and markdown). Each
+finished trial is saved in DIR/trials at once; running the same command again (after an
+interruption) takes those trials from there and trains only the others."""
 
 from __future__ import annotations
 
 import argparse
 import sys
+from pathlib import Path
 
 from ._run import EXPERIMENTS, FEATURES, run_experiment, write_report
 
@@ -25,6 +28,10 @@ def main(argv: list[str] | None = None) -> int:
     def progress(message: str) -> None:
         print(f"{a.experiment}: {message}", file=sys.stderr, flush=True)
 
+    out = Path(a.out)
+    if out.exists() and not out.is_dir():
+        print(f"error: --out {out} exists and is not a directory", file=sys.stderr)
+        return 2
     try:
         for name in names:
             report = run_experiment(
@@ -36,6 +43,7 @@ def main(argv: list[str] | None = None) -> int:
                 evaluations=a.evaluations,
                 ray=a.ray,
                 progress=progress,
+                checkpoint=out / "trials",
             )
             for path in write_report(report, a.out):
                 print(path)

@@ -1,4 +1,9 @@
-"""Trials of the paper's experiments, how they run (in turn or on Ray), and their reports."""
+"""Trials of the paper's experiments, how they run (in turn or on Ray), and their reports.
+
+With a checkpoint folder, every finished trial is written there at once (`<key>.json`, with the
+versions that computed it) and a later run of the same trials takes it from there instead of
+training again: an experiment of hours that is interrupted keeps what it finished.
+"""
 
 from __future__ import annotations
 
@@ -143,13 +148,82 @@ def run_trial(trial: Trial) -> dict[str, Any]:
     return {"trial": asdict(trial), "train_seconds": time.perf_counter() - start, "curve": curve}
 
 
-def _run_all(todo: list[Trial], ray: bool, progress: Callable[[str], None]) -> list[dict[str, Any]]:
-    if not ray:
-        out = []
-        for i, t in enumerate(todo):
-            out.append(run_trial(t))
-            progress(f"trial {i + 1}/{len(todo)} done ({out[-1]['train_seconds']:.0f} s)")
-        return out
+def trial_key(trial: Trial) -> str:
+    """The trial's file name in a checkpoint folder: every field that changes its numbers."""
+    parts = [trial.experiment, f"seed{trial.seed}", f"steps{trial.steps}", "visible" if trial.visible else "hidden"]
+    if trial.feature is not None:
+        parts.append(trial.feature)
+    if trial.sigma is not None:
+        parts.append(f"sigma{_sigma_label(trial.sigma)}")
+    if trial.experiment == "q3":
+        parts.append(f"test{trial.test_episodes}")
+    else:
+        parts.append(f"evaluations{trial.evaluations}")
+    return "-".join(parts)
+
+
+def _versions() -> dict[str, str]:
+    import stable_baselines3
+    import torch
+
+    return {"carl_spec": cs.__version__, "stable_baselines3": stable_baselines3.__version__, "torch": torch.__version__}
+
+
+class _Checkpoint:
+    """Finished trials in a folder, one JSON file each, reused only by the same trial computed by
+    the same versions."""
+
+    def __init__(self, folder: Path | None) -> None:
+        self.folder = folder
+        self.versions = _versions()
+
+    def load(self, trial: Trial) -> dict[str, Any] | None:
+        if self.folder is None:
+            return None
+        f = self.folder / f"{trial_key(trial)}.json"
+        try:
+            saved = json.loads(f.read_text())
+        except (OSError, ValueError):
+            return None
+        if not isinstance(saved, dict) or saved.get("versions") != self.versions:
+            return None
+        result = saved.get("result")
+        if not isinstance(result, dict) or result.get("trial") != asdict(trial):
+            return None
+        return result
+
+    def save(self, trial: Trial, result: dict[str, Any]) -> None:
+        if self.folder is None:
+            return
+        self.folder.mkdir(parents=True, exist_ok=True)
+        f = self.folder / f"{trial_key(trial)}.json"
+        tmp = f.with_name(f".{f.name}.tmp")
+        tmp.write_text(json.dumps({"versions": self.versions, "result": result}, indent=1) + "\n")
+        tmp.replace(f)  # atomic: an interrupted write leaves no half file under the trial's name
+
+
+def _run_all(
+    todo: list[Trial], ray: bool, progress: Callable[[str], None], checkpoint: Path | None = None
+) -> list[dict[str, Any]]:
+    store = _Checkpoint(checkpoint)
+    done: dict[int, dict[str, Any]] = {}
+    for i, t in enumerate(todo):
+        r = store.load(t)
+        if r is not None:
+            done[i] = r
+    if done:
+        progress(f"{len(done)} of {len(todo)} trials taken from {checkpoint}")
+    pending = [i for i in range(len(todo)) if i not in done]
+
+    def finished(i: int, result: dict[str, Any]) -> None:
+        done[i] = result
+        store.save(todo[i], result)
+        progress(f"trial {len(done)}/{len(todo)} done ({result['train_seconds']:.0f} s)")
+
+    if not ray or not pending:
+        for i in pending:
+            finished(i, run_trial(todo[i]))
+        return [done[i] for i in range(len(todo))]
     # Before Ray is imported: every Ray socket on 127.0.0.1, no usage report over the network.
     os.environ["RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER"] = "0"
     os.environ["RAY_USAGE_STATS_ENABLED"] = "0"
@@ -169,10 +243,12 @@ def _run_all(todo: list[Trial], ray: bool, progress: Callable[[str], None]) -> l
         if any(a != "127.0.0.1" for a in addresses):
             raise RuntimeError(f"Ray is not bound to loopback only: {addresses}")
         remote = ray_mod.remote(num_cpus=1)(run_trial)
-        refs = [remote.remote(t) for t in todo]
-        results = ray_mod.get(refs)
-        progress(f"{len(results)} trials done on Ray")
-        return list(results)
+        running = {remote.remote(todo[i]): i for i in pending}
+        while running:
+            ready, _ = ray_mod.wait(list(running), num_returns=1)
+            for ref in ready:
+                finished(running.pop(ref), ray_mod.get(ref))
+        return [done[i] for i in range(len(todo))]
     finally:
         if started:
             ray_mod.shutdown()
@@ -285,15 +361,17 @@ def run_experiment(
     evaluations: int = 4,
     ray: bool = False,
     progress: Callable[[str], None] = lambda _: None,
+    checkpoint: str | os.PathLike[str] | None = None,
 ) -> dict[str, Any]:
-    """Run every trial of `experiment` and summarize them against the paper's findings."""
+    """Run every trial of `experiment` and summarize them against the paper's findings.
+
+    `checkpoint`: a folder where each finished trial is saved at once, and from which the trials
+    already there (the same trial, the same versions) are taken instead of trained again."""
     todo = trials(
         experiment, budget=budget, seeds=seeds, features=features, test_episodes=test_episodes, evaluations=evaluations
     )
     start = time.perf_counter()
-    results = _run_all(todo, ray, progress)
-    import stable_baselines3
-    import torch
+    results = _run_all(todo, ray, progress, Path(checkpoint) if checkpoint is not None else None)
 
     return {
         "experiment": experiment,
@@ -303,11 +381,7 @@ def run_experiment(
         "seeds": seeds,
         "trials": len(todo),
         "seconds": time.perf_counter() - start,
-        "versions": {
-            "carl_spec": cs.__version__,
-            "stable_baselines3": stable_baselines3.__version__,
-            "torch": torch.__version__,
-        },
+        "versions": _versions(),
         "summary": _summarize(experiment, results),
         "results": results,
     }

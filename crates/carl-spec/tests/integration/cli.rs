@@ -128,17 +128,8 @@ fn author_specs_dir_is_added_to_bundled() {
     assert!(stdout(&o).contains("toy"));
 }
 
-fn tempdir() -> std::path::PathBuf {
-    use std::sync::atomic::{AtomicUsize, Ordering};
-    static N: AtomicUsize = AtomicUsize::new(0);
-    let p = std::env::temp_dir().join(format!(
-        "carl-spec-cli-{}-{}",
-        std::process::id(),
-        N.fetch_add(1, Ordering::SeqCst)
-    ));
-    let _ = std::fs::remove_dir_all(&p);
-    std::fs::create_dir_all(&p).unwrap();
-    p
+fn tempdir() -> crate::common::TempDir {
+    crate::common::TempDir::new("cli")
 }
 
 #[test]

@@ -2,18 +2,17 @@
 //! context reaching the picture, and the refusals (existing files, unknown formats, envs without
 //! a renderer).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
+
+use crate::common::TempDir;
 
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_carl-spec"))
 }
 
-fn tmpdir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("carl-render-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn tmpdir(tag: &str) -> TempDir {
+    TempDir::new(&format!("render-{tag}"))
 }
 
 fn render(args: &[&str]) -> std::process::Output {

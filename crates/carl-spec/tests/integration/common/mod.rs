@@ -1,4 +1,5 @@
-//! Checks shared by the robot test files (`use crate::common;` in each).
+//! Checks shared by the robot test files (`use crate::common;` in each), and a temporary folder
+//! that removes itself.
 
 // Each test file uses only some of these helpers.
 #![allow(dead_code)]
@@ -94,4 +95,40 @@ pub fn random_episodes<E: Env>(seeds: std::ops::Range<u64>, mut make_env: impl F
         rets.push(ret);
     }
     (lens, rets)
+}
+
+/// A fresh folder under the system temp directory, removed with everything in it when dropped
+/// (so a test leaves nothing behind, also when it fails).
+pub struct TempDir(std::path::PathBuf);
+
+impl TempDir {
+    /// `carl-spec-<tag>-<pid>-<n>`, empty.
+    pub fn new(tag: &str) -> TempDir {
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        static N: AtomicUsize = AtomicUsize::new(0);
+        let n = N.fetch_add(1, Ordering::Relaxed);
+        let p = std::env::temp_dir().join(format!("carl-spec-{tag}-{}-{n}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&p);
+        std::fs::create_dir_all(&p).unwrap();
+        TempDir(p)
+    }
+}
+
+impl std::ops::Deref for TempDir {
+    type Target = std::path::Path;
+    fn deref(&self) -> &std::path::Path {
+        &self.0
+    }
+}
+
+impl AsRef<std::path::Path> for TempDir {
+    fn as_ref(&self) -> &std::path::Path {
+        &self.0
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
 }

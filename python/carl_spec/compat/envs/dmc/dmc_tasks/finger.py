@@ -121,30 +121,28 @@ def get_finger_xml_string(
     return ET.tostring(root)
 
 
+def _model(context: dict[str, Any]) -> tuple[bytes, dict[str, bytes]]:
+    xml = get_finger_xml_string(**context)
+    return (adapt_context(xml_string=xml, context=context) if context else xml), dict(ASSETS)
+
+
 def _task(name: str, target_radius: float | None) -> Any:
-    def make(
-        context: dict[str, Any] | None = None,
-        time_limit: float = _DEFAULT_TIME_LIMIT,
-        random: Any = None,
-        environment_kwargs: dict[str, Any] | None = None,
-    ) -> Any:
-        _dm_control.require(f"carl.envs.dmc.dmc_tasks.finger.{name}", "CARLDmcFingerEnv(task=...)")
-        from dm_control.suite import finger
+    def task(suite: Any, random: Any) -> Any:
+        if target_radius is None:
+            return suite.Spin(random=random)
+        return suite.Turn(target_radius=target_radius, random=random)
 
-        context = context or {}
-        xml = get_finger_xml_string(**context)
-        if context != {}:
-            xml = adapt_context(xml_string=xml, context=context)
-        physics = finger.Physics.from_xml_string(xml, dict(ASSETS))
-        task = finger.Spin(random=random) if target_radius is None else finger.Turn(target_radius=target_radius, random=random)
-        return _dm_control.environment(physics, task, time_limit, _CONTROL_TIMESTEP, environment_kwargs)
-
-    make.__name__ = make.__qualname__ = name
-    make.__doc__ = (
+    return _dm_control.task_function(
+        "finger",
+        name,
+        "CARLDmcFingerEnv(task=...)",
+        _model,
+        task,
+        _DEFAULT_TIME_LIMIT,
+        _CONTROL_TIMESTEP,
         f"carl-bench's {name}: dm_control's finger {'Spin' if target_radius is None else 'Turn'} task on "
-        "`get_finger_xml_string(**context)` adapted to `context` (needs dm_control)."
+        "`get_finger_xml_string(**context)` adapted to `context` (needs dm_control).",
     )
-    return make
 
 
 spin_context = _task("spin_context", None)

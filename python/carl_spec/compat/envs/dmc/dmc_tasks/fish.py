@@ -26,26 +26,22 @@ def get_model_and_assets() -> tuple[bytes, dict[str, bytes]]:
     return FISH_XML.encode(), dict(ASSETS)
 
 
+def _model(context: dict[str, Any]) -> tuple[bytes, dict[str, bytes]]:
+    xml, assets = get_model_and_assets()
+    return (adapt_context(xml_string=xml, context=context) if context else xml), assets
+
+
 def _task(name: str, task_class: str) -> Any:
-    def make(
-        context: dict[str, Any] | None = None,
-        time_limit: float = _DEFAULT_TIME_LIMIT,
-        random: Any = None,
-        environment_kwargs: dict[str, Any] | None = None,
-    ) -> Any:
-        _dm_control.require(f"carl.envs.dmc.dmc_tasks.fish.{name}", "CARLDmcFishEnv(task=...)")
-        from dm_control.suite import fish
-
-        xml, assets = get_model_and_assets()
-        if context:
-            xml = adapt_context(xml_string=xml, context=context)
-        physics = fish.Physics.from_xml_string(xml, assets)
-        task = getattr(fish, task_class)(random=random)
-        return _dm_control.environment(physics, task, time_limit, _CONTROL_TIMESTEP, environment_kwargs)
-
-    make.__name__ = make.__qualname__ = name
-    make.__doc__ = f"carl-bench's {name}: dm_control's fish {task_class} task on fish.xml adapted to `context` (needs dm_control)."
-    return make
+    return _dm_control.task_function(
+        "fish",
+        name,
+        "CARLDmcFishEnv(task=...)",
+        _model,
+        lambda suite, random: getattr(suite, task_class)(random=random),
+        _DEFAULT_TIME_LIMIT,
+        _CONTROL_TIMESTEP,
+        f"carl-bench's {name}: dm_control's fish {task_class} task on fish.xml adapted to `context` (needs dm_control).",
+    )
 
 
 upright_context = _task("upright_context", "Upright")

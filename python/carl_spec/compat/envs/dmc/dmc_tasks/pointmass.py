@@ -118,31 +118,24 @@ def _contextual_point_mass(randomize_gains: bool, random: Any) -> Any:
     return ContextualPointMass(randomize_gains=randomize_gains, random=random)
 
 
+def _model(context: dict[str, Any]) -> tuple[bytes, dict[str, bytes]]:
+    xml = make_model(**context)
+    return (adapt_context(xml_string=xml, context=context) if context else xml), dict(ASSETS)
+
+
 def _task(name: str, randomize_gains: bool) -> Any:
-    def make(
-        context: dict[str, Any] | None = None,
-        context_mask: list[str] | None = None,
-        time_limit: float = _DEFAULT_TIME_LIMIT,
-        random: Any = None,
-        environment_kwargs: dict[str, Any] | None = None,
-    ) -> Any:
-        _dm_control.require(f"carl.envs.dmc.dmc_tasks.pointmass.{name}", f"CARLDmcPointMassEnv(task={name!r})")
-        from dm_control.suite import point_mass
-
-        context = context or {}
-        xml = make_model(**context)
-        if context:
-            xml = adapt_context(xml_string=xml, context=context)
-        physics = point_mass.Physics.from_xml_string(xml, dict(ASSETS))
-        task = _contextual_point_mass(randomize_gains, random)
-        return _dm_control.environment(physics, task, time_limit, None, environment_kwargs)
-
-    make.__name__ = make.__qualname__ = name
-    make.__doc__ = (
+    return _dm_control.task_function(
+        "point_mass",
+        name,
+        f"CARLDmcPointMassEnv(task={name!r})",
+        _model,
+        lambda suite, random: _contextual_point_mass(randomize_gains, random),
+        _DEFAULT_TIME_LIMIT,
+        None,
         f"carl-bench's {name}: dm_control's PointMass task ({'randomized' if randomize_gains else 'fixed'} gains) "
-        "on `make_model(**context)` adapted to `context` (needs dm_control)."
+        "on `make_model(**context)` adapted to `context` (needs dm_control).",
+        context_mask=True,
     )
-    return make
 
 
 easy_pointmass = _task("easy_pointmass", False)

@@ -64,28 +64,21 @@ def make_model(
 
 
 def _task(name: str, model: dict[str, Any], task_class: str, task_kwargs: dict[str, Any], instead: str) -> Any:
-    def make(
-        context: dict[str, Any] | None = None,
-        time_limit: float = _DEFAULT_TIME_LIMIT,
-        random: Any = None,
-        environment_kwargs: dict[str, Any] | None = None,
-    ) -> Any:
-        _dm_control.require(f"carl.envs.dmc.dmc_tasks.quadruped.{name}", instead)
-        from dm_control.suite import quadruped
-
+    def xml_and_assets(context: dict[str, Any]) -> tuple[bytes, dict[str, bytes]]:
         xml = make_model(**model)
-        if context:
-            xml = adapt_context(xml_string=xml, context=context)
-        physics = quadruped.Physics.from_xml_string(xml, dict(ASSETS))
-        task = getattr(quadruped, task_class)(random=random, **task_kwargs)
-        return _dm_control.environment(physics, task, time_limit, _CONTROL_TIMESTEP, environment_kwargs)
+        return (adapt_context(xml_string=xml, context=context) if context else xml), dict(ASSETS)
 
-    make.__name__ = make.__qualname__ = name
-    make.__doc__ = (
+    return _dm_control.task_function(
+        "quadruped",
+        name,
+        instead,
+        xml_and_assets,
+        lambda suite, random: getattr(suite, task_class)(random=random, **task_kwargs),
+        _DEFAULT_TIME_LIMIT,
+        _CONTROL_TIMESTEP,
         f"carl-bench's {name}: dm_control's quadruped {task_class} task on `make_model({model})` adapted to "
-        "`context` (needs dm_control)."
+        "`context` (needs dm_control).",
     )
-    return make
 
 
 _USE = "CARLDmcQuadrupedEnv(task=...) or carl_spec.make('dmc_quadruped')"

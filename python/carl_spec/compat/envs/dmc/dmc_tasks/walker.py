@@ -28,29 +28,23 @@ def get_model_and_assets() -> tuple[bytes, dict[str, bytes]]:
     return WALKER_XML.encode(), dict(ASSETS)
 
 
+def _model(context: dict[str, Any]) -> tuple[bytes, dict[str, bytes]]:
+    xml, assets = get_model_and_assets()
+    return (adapt_context(xml_string=xml, context=context) if context else xml), assets
+
+
 def _task(name: str, move_speed: float) -> Any:
-    def make(
-        context: dict[str, Any] | None = None,
-        time_limit: float = _DEFAULT_TIME_LIMIT,
-        random: Any = None,
-        environment_kwargs: dict[str, Any] | None = None,
-    ) -> Any:
-        _dm_control.require(f"carl.envs.dmc.dmc_tasks.walker.{name}", "CARLDmcWalkerEnv(task=...)")
-        from dm_control.suite import walker
-
-        xml, assets = get_model_and_assets()
-        if context:
-            xml = adapt_context(xml_string=xml, context=context)
-        physics = walker.Physics.from_xml_string(xml, assets)
-        task = walker.PlanarWalker(move_speed=move_speed, random=random)
-        return _dm_control.environment(physics, task, time_limit, _CONTROL_TIMESTEP, environment_kwargs)
-
-    make.__name__ = make.__qualname__ = name
-    make.__doc__ = (
+    return _dm_control.task_function(
+        "walker",
+        name,
+        "CARLDmcWalkerEnv(task=...)",
+        _model,
+        lambda suite, random: suite.PlanarWalker(move_speed=move_speed, random=random),
+        _DEFAULT_TIME_LIMIT,
+        _CONTROL_TIMESTEP,
         f"carl-bench's {name}: dm_control's PlanarWalker (move_speed {move_speed}) on walker.xml adapted to "
-        "`context` (needs dm_control)."
+        "`context` (needs dm_control).",
     )
-    return make
 
 
 stand_context = _task("stand_context", 0)
