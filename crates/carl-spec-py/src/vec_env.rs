@@ -238,6 +238,23 @@ impl VecEnv {
         Ok(())
     }
 
+    /// After a reset of the envs `rows` (the others unchanged since they were checked): a
+    /// non-finite first observation, naming the environment.
+    fn check_reset(&self, rows: &[usize]) -> PyResult<()> {
+        let (obs, d) = (self.inner.obs(), self.inner.obs_dim());
+        let wide = self.inner.obs_f64();
+        for &i in rows {
+            let w = wide.map_or(&[][..], |w| &w[i * d..(i + 1) * d]);
+            check_obs(
+                || format!("{} environment {i}, reset", self.inner.id()),
+                &obs[i * d..(i + 1) * d],
+                w,
+                0.0,
+            )?;
+        }
+        Ok(())
+    }
+
     /// A fresh infos dict holding every env's context infos (`context_infos` of all envs), from
     /// a cache kept while no context changes: the outer dict and the nested `context` dict are
     /// fresh copies, the arrays in them read-only and shared with later steps' infos.
@@ -692,7 +709,7 @@ impl VecEnv {
                 .map_err(|e| env_error(&e))?;
             this.context_cache = None;
             this.last_any_done = false;
-            this.check_outputs(|| "reset".to_string())
+            this.check_reset(rows)
         };
         reset(this, &rows, &row_seeds, &row_inst)?;
         if record_contexts {
