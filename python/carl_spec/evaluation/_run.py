@@ -44,12 +44,9 @@ def episode_seeds(seed: int, instances: np.ndarray, episodes: np.ndarray, n_inst
 
 
 def _episode_seeds(seed: int, instances: np.ndarray, episodes: np.ndarray, n_instances: int | None) -> np.ndarray:
-    """`episode_seeds` computed by the binding (the CLI's own function; NumPy's dozen passes over
-    the columns cost more than a short evaluation's other bookkeeping)."""
-    native = getattr(_core, "episode_seeds", None)
-    if native is None:
-        return episode_seeds(seed, instances, episodes, n_instances)
-    seeds: np.ndarray = native(seed % 2**64, instances, episodes, n_instances or None)
+    """`episode_seeds` computed by the binding (the CLI's own function: NumPy's dozen passes over
+    the columns cost more than the rest of a short evaluation's bookkeeping)."""
+    seeds: np.ndarray = _core.episode_seeds(seed % 2**64, instances, episodes, n_instances or None)
     return seeds
 
 
