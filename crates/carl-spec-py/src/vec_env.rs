@@ -217,10 +217,11 @@ impl VecEnv {
         let (obs, d) = (self.inner.obs(), self.inner.obs_dim());
         let rewards = self.inner.rewards();
         let wide = self.inner.obs_f64();
+        // Branch-free folds (vectorized): outputs are nearly always finite.
         let fine = match wide {
-            Some(w) => w.iter().all(|x| x.is_finite()),
-            None => obs.iter().all(|x| x.is_finite()),
-        } && rewards.iter().all(|r| r.is_finite());
+            Some(w) => w.iter().fold(true, |ok, x| ok & x.is_finite()),
+            None => obs.iter().fold(true, |ok, x| ok & x.is_finite()),
+        } & rewards.iter().fold(true, |ok, r| ok & r.is_finite());
         if fine {
             return Ok(());
         }
@@ -741,11 +742,17 @@ impl VecEnv {
             let t = this.steps;
             this.check_outputs(|| format!("step {t}"))?;
             let (rewards, term, trunc) = (this.inner.rewards(), this.inner.terminated(), this.inner.truncated());
+            // One branch-free pass (zipped: no bounds checks) tells whether an episode ended.
             let mut any = false;
-            for i in 0..n {
-                ret[i] += rewards[i];
-                len[i] += 1;
-                any |= term[i] | trunc[i];
+            for (((r, l), &x), (&a, &b)) in ret
+                .iter_mut()
+                .zip(len.iter_mut())
+                .zip(rewards)
+                .zip(term.iter().zip(trunc))
+            {
+                *r += x;
+                *l += 1;
+                any |= a | b;
             }
             if !any {
                 continue;
