@@ -464,6 +464,9 @@ pub(crate) fn episode_seeds<'py>(
     Ok(seeds.into_pyarray(py))
 }
 
+/// The context an episode played and its draw's seed (`VecEnv.play`'s `contexts`).
+type DrawnContext = (Vec<(String, f64)>, Option<u64>);
+
 /// `order` as indices into `total` jobs: each job exactly once, else a ValueError.
 fn permutation(order: &[i64], total: usize) -> PyResult<Vec<usize>> {
     if order.len() != total {
@@ -698,7 +701,7 @@ impl VecEnv {
         let mut out_term = vec![false; total];
         let mut out_trunc = vec![false; total];
         let mut out_word: Vec<Option<&'static str>> = vec![None; total];
-        let mut out_ctx: Vec<Option<(Vec<(String, f64)>, Option<u64>)>> = vec![None; total];
+        let mut out_ctx: Vec<Option<DrawnContext>> = vec![None; total];
         // The environments to reset between two steps, with their seeds and instances.
         let mut rows: Vec<usize> = (0..n).collect();
         let mut row_seeds: Vec<u64> = seeds[..n].to_vec();
@@ -714,9 +717,9 @@ impl VecEnv {
         };
         reset(this, &rows, &row_seeds, &row_inst)?;
         if record_contexts {
-            for i in 0..n {
+            for (i, slot) in out_ctx.iter_mut().enumerate().take(n) {
                 let ci = this.current_info(i);
-                out_ctx[i] = Some((ci.context.clone(), ci.context_seed));
+                *slot = Some((ci.context.clone(), ci.context_seed));
             }
         }
         let mut remaining = total;
