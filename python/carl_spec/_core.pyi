@@ -16,6 +16,12 @@ def validate_json(paths: list[str]) -> str: ...
 def instance_sets(specs_dir: str | None = None) -> list[str]: ...
 def load_instances_json(name: str, specs_dir: str | None = None) -> str: ...
 def sample_json(env: str, distribution: str, n: int, seed: int, specs_dir: str | None = None) -> str: ...
+def episode_seeds(
+    seed: int,
+    instances: npt.NDArray[np.int64],
+    episodes: npt.NDArray[np.int64],
+    n_instances: int | None = None,
+) -> npt.NDArray[np.uint64]: ...
 
 @final
 class ContextArgs:
@@ -90,6 +96,7 @@ class VecEnv:
         seeds: npt.NDArray[np.uint64],
         instances: npt.NDArray[np.int64] | None = None,
         record_contexts: bool = False,
+        order: npt.NDArray[np.int64] | None = None,
     ) -> tuple[
         npt.NDArray[np.float64],
         npt.NDArray[np.uint64],

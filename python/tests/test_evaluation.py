@@ -101,6 +101,35 @@ def test_episode_seeds() -> None:
     assert len({episode_seed(0, k, e, None) for k in range(30) for e in range(30)}) == 900
 
 
+def test_the_binding_derives_the_same_seeds() -> None:
+    from carl_spec.evaluation._run import episode_seeds
+
+    rng = np.random.default_rng(0)
+    inst, eps = rng.integers(0, 50, 500), rng.integers(0, 10**6, 500)
+    for seed in (0, 7, 2**63 + 5, 2**64 - 1):
+        for n in (None, 50):
+            assert np.array_equal(_core.episode_seeds(seed, inst, eps, n), episode_seeds(seed, inst, eps, n))
+    with pytest.raises(ValueError, match="negative"):
+        _core.episode_seeds(0, np.array([-1]), np.array([0]), None)
+    with pytest.raises(ValueError, match="2 instances for 1 episodes"):
+        _core.episode_seeds(0, np.array([1, 2]), np.array([0]), None)
+
+
+def test_play_returns_the_jobs_in_the_order_asked_and_refuses_a_bad_order() -> None:
+    venv = cs.make_vec("cartpole", 2, autoreset_mode="disabled")
+    seeds = np.arange(5, dtype=np.uint64)
+    act = constant(1)
+    plain = venv._core.play(act, lambda a: a, seeds)
+    back = venv._core.play(act, lambda a: a, seeds, None, False, np.arange(5)[::-1].copy())
+    for a, b in zip(plain[:4], back[:4]):
+        assert b.tolist() == a.tolist()[::-1]
+    assert back[4] == plain[4][::-1] == ["failed"] * 5
+    for order in ([0, 1, 2, 3], [0, 1, 2, 3, 3], [0, 1, 2, 3, 5], [-1, 0, 1, 2, 3]):
+        with pytest.raises(ValueError, match="order"):
+            venv._core.play(act, lambda a: a, seeds, None, False, np.array(order, dtype=np.int64))
+    venv.close()
+
+
 def test_same_seed_same_results_any_batch(planets: EvaluationResult) -> None:
     again = cs.evaluate(heuristic, instances=PLANETS, episodes=3, seed=7, num_envs=4)
     assert again.to_dict() == planets.to_dict()

@@ -71,6 +71,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<context_args::ContextArgs>()?;
     m.add_class::<env::Env>()?;
     m.add_class::<vec_env::VecEnv>()?;
+    m.add_function(wrap_pyfunction!(vec_env::episode_seeds, m)?)?;
     user_spec::register(m)?;
     m.add("RUNTIMES", PyList::new(m.py(), ids().collect::<Vec<_>>())?)?;
     m.add("VERSIONS", runtime_versions(m.py())?)?;

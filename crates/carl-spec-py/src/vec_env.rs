@@ -217,10 +217,11 @@ impl VecEnv {
         let (obs, d) = (self.inner.obs(), self.inner.obs_dim());
         let rewards = self.inner.rewards();
         let wide = self.inner.obs_f64();
+        // Branch-free folds (vectorized): outputs are nearly always finite.
         let fine = match wide {
-            Some(w) => w.iter().all(|x| x.is_finite()),
-            None => obs.iter().all(|x| x.is_finite()),
-        } && rewards.iter().all(|r| r.is_finite());
+            Some(w) => w.iter().fold(true, |ok, x| ok & x.is_finite()),
+            None => obs.iter().fold(true, |ok, x| ok & x.is_finite()),
+        } & rewards.iter().fold(true, |ok, r| ok & r.is_finite());
         if fine {
             return Ok(());
         }
@@ -233,6 +234,23 @@ impl VecEnv {
                 &obs[i * d..(i + 1) * d],
                 w,
                 reward,
+            )?;
+        }
+        Ok(())
+    }
+
+    /// After a reset of the envs `rows` (the others unchanged since they were checked): a
+    /// non-finite first observation, naming the environment.
+    fn check_reset(&self, rows: &[usize]) -> PyResult<()> {
+        let (obs, d) = (self.inner.obs(), self.inner.obs_dim());
+        let wide = self.inner.obs_f64();
+        for &i in rows {
+            let w = wide.map_or(&[][..], |w| &w[i * d..(i + 1) * d]);
+            check_obs(
+                || format!("{} environment {i}, reset", self.inner.id()),
+                &obs[i * d..(i + 1) * d],
+                w,
+                0.0,
             )?;
         }
         Ok(())
@@ -407,6 +425,68 @@ impl VecEnv {
     }
 }
 
+/// `carl_spec.evaluate`'s reset seeds of the episodes `(instances[j], episodes[j])`
+/// (`carl_spec::evaluation::episode_seed`, the rule the CLI's `evaluate` follows), as uint64.
+/// Negative numbers, or columns of different lengths, are a ValueError.
+#[pyfunction]
+#[pyo3(signature = (seed, instances, episodes, n_instances=None))]
+pub(crate) fn episode_seeds<'py>(
+    py: Python<'py>,
+    seed: u64,
+    instances: PyReadonlyArray1<'py, i64>,
+    episodes: PyReadonlyArray1<'py, i64>,
+    n_instances: Option<usize>,
+) -> PyResult<Bound<'py, PyArray1<u64>>> {
+    let (inst, eps) = (
+        instances.as_slice().map_err(value_error)?,
+        episodes.as_slice().map_err(value_error)?,
+    );
+    if inst.len() != eps.len() {
+        return Err(value_error(format!(
+            "{} instances for {} episodes",
+            inst.len(),
+            eps.len()
+        )));
+    }
+    let index = |x: i64, what: &str| usize::try_from(x).map_err(|_| value_error(format!("{what} {x} is negative")));
+    let seeds = inst
+        .iter()
+        .zip(eps)
+        .map(|(&k, &e)| {
+            Ok(carl_spec::evaluation::episode_seed(
+                seed,
+                index(k, "instance")?,
+                index(e, "episode")?,
+                n_instances,
+            ))
+        })
+        .collect::<PyResult<Vec<u64>>>()?;
+    Ok(seeds.into_pyarray(py))
+}
+
+/// The context an episode played and its draw's seed (`VecEnv.play`'s `contexts`).
+type DrawnContext = (Vec<(String, f64)>, Option<u64>);
+
+/// `order` as indices into `total` jobs: each job exactly once, else a ValueError.
+fn permutation(order: &[i64], total: usize) -> PyResult<Vec<usize>> {
+    if order.len() != total {
+        return Err(value_error(format!(
+            "order lists {} jobs, not the {total} given",
+            order.len()
+        )));
+    }
+    let mut seen = vec![false; total];
+    order
+        .iter()
+        .map(|&j| match usize::try_from(j) {
+            Ok(j) if j < total && !std::mem::replace(&mut seen[j], true) => Ok(j),
+            _ => Err(value_error(format!(
+                "order must list each of the {total} jobs once, got {j} (out of range or repeated)"
+            ))),
+        })
+        .collect()
+}
+
 #[pymethods]
 impl VecEnv {
     /// `args`: the context source (`carl_spec._args.context_args`; None: the default context).
@@ -556,14 +636,18 @@ impl VecEnv {
     /// set `instances[j]`), environment `i` starting job `i` and each finished environment the
     /// next job, until every job has ended. Per batch step Python only runs `act(obs)` (and, on
     /// the first, `check(actions)`, which returns the actions to take); returns, lengths,
-    /// termination flags and outcomes are kept here, and finished environments are reset in one
-    /// native call per step. Once the jobs run out, finished environments replay their last seed
-    /// so the batch can go on stepping (not recorded). Returns `(returns, lengths, terminated,
-    /// truncated, outcomes, contexts)` per job, `contexts[j]` = `(context, context_seed)` of its
-    /// episode when `record_contexts` (distributions), else None. Needs autoreset "disabled".
-    /// `seeds` (uint64) and `instances` (int64) are NumPy arrays, and the returns, lengths and
-    /// flags come back as NumPy arrays (float64, int64, bool): no Python object per job.
-    #[pyo3(signature = (act, check, seeds, instances=None, record_contexts=false))]
+    /// termination flags and outcomes are kept here, and the environments whose episodes ended
+    /// are reset in one native call per step that touches only them (`VecEnv::reset_some`).
+    /// Once the jobs run out, finished environments replay their last seed so the batch can go
+    /// on stepping (not recorded). Returns `(returns, lengths, terminated, truncated, outcomes,
+    /// contexts)` per job, `contexts[j]` = `(context, context_seed)` of its episode when
+    /// `record_contexts` (distributions), else None; with `order` (a permutation of the jobs)
+    /// entry `k` is job `order[k]`'s. Needs autoreset "disabled". `seeds` (uint64), `instances`
+    /// and `order` (int64) are NumPy arrays, and the returns, lengths and flags come back as
+    /// NumPy arrays (float64, uint64, bool); the outcomes are one Python string per distinct word:
+    /// no Python object is made per job.
+    #[pyo3(signature = (act, check, seeds, instances=None, record_contexts=false, order=None))]
+    #[allow(clippy::too_many_arguments)]
     fn play<'py>(
         slf: &Bound<'py, Self>,
         act: &Bound<'py, PyAny>,
@@ -571,6 +655,7 @@ impl VecEnv {
         seeds: PyReadonlyArray1<'py, u64>,
         instances: Option<PyReadonlyArray1<'py, i64>>,
         record_contexts: bool,
+        order: Option<PyReadonlyArray1<'py, i64>>,
     ) -> PyResult<Bound<'py, PyTuple>> {
         let seeds = seeds.as_slice().map_err(value_error)?.to_vec();
         let instances = match &instances {
@@ -583,11 +668,15 @@ impl VecEnv {
             ),
             None => None,
         };
+        let total = seeds.len();
+        let order = match &order {
+            Some(a) => Some(permutation(a.as_slice().map_err(value_error)?, total)?),
+            None => None,
+        };
         let mut guard = slf.try_borrow_mut().map_err(|_| busy())?;
         let this = &mut *guard;
         let py = slf.py();
         let n = this.inner.num_envs();
-        let total = seeds.len();
         if this.inner.autoreset_mode() != AutoresetMode::Disabled {
             return Err(value_error("play needs a batch with autoreset_mode='disabled'"));
         }
@@ -612,28 +701,30 @@ impl VecEnv {
         let mut out_term = vec![false; total];
         let mut out_trunc = vec![false; total];
         let mut out_word: Vec<Option<&'static str>> = vec![None; total];
-        let mut out_ctx: Vec<Option<(Vec<(String, f64)>, Option<u64>)>> = vec![None; total];
-        let mut reset_seeds: Vec<Option<u64>> = seeds[..n].iter().copied().map(Some).collect();
-        let mut reset_inst: Vec<Option<usize>> = (0..n).map(instance_of).collect();
-        let reset = |this: &mut Self, seeds: &[Option<u64>], inst: &[Option<usize>], mask: Option<&[bool]>| {
+        let mut out_ctx: Vec<Option<DrawnContext>> = vec![None; total];
+        // The environments to reset between two steps, with their seeds and instances.
+        let mut rows: Vec<usize> = (0..n).collect();
+        let mut row_seeds: Vec<u64> = seeds[..n].to_vec();
+        let mut row_inst: Vec<Option<usize>> = (0..n).map(instance_of).collect();
+        let reset = |this: &mut Self, rows: &[usize], seeds: &[u64], inst: &[Option<usize>]| {
             let inner = &mut this.inner;
             let with_inst = inst.iter().any(Option::is_some).then_some(inst);
-            py.detach(|| inner.reset_each(seeds, with_inst, mask).map(drop))
+            py.detach(|| inner.reset_some(rows, seeds, with_inst))
                 .map_err(|e| env_error(&e))?;
             this.context_cache = None;
             this.last_any_done = false;
-            this.check_outputs(|| "reset".to_string())
+            this.check_reset(rows)
         };
-        reset(this, &reset_seeds, &reset_inst, None)?;
+        reset(this, &rows, &row_seeds, &row_inst)?;
         if record_contexts {
-            for i in 0..n {
+            for (i, slot) in out_ctx.iter_mut().enumerate().take(n) {
                 let ci = this.current_info(i);
-                out_ctx[i] = Some((ci.context.clone(), ci.context_seed));
+                *slot = Some((ci.context.clone(), ci.context_seed));
             }
         }
         let mut remaining = total;
         let mut first = true;
-        let mut mask = vec![false; n];
+        let mut started = Vec::new();
         while remaining > 0 {
             py.check_signals()?;
             let obs = this.batch_obs(py)?;
@@ -654,44 +745,50 @@ impl VecEnv {
             let t = this.steps;
             this.check_outputs(|| format!("step {t}"))?;
             let (rewards, term, trunc) = (this.inner.rewards(), this.inner.terminated(), this.inner.truncated());
+            // One branch-free pass (zipped: no bounds checks) tells whether an episode ended.
             let mut any = false;
-            for i in 0..n {
-                ret[i] += rewards[i];
-                len[i] += 1;
-                let done = term[i] | trunc[i];
-                mask[i] = done;
-                any |= done;
+            for (((r, l), &x), (&a, &b)) in ret
+                .iter_mut()
+                .zip(len.iter_mut())
+                .zip(rewards)
+                .zip(term.iter().zip(trunc))
+            {
+                *r += x;
+                *l += 1;
+                any |= a | b;
             }
             if !any {
                 continue;
             }
-            let mut started = Vec::new();
-            for i in (0..n).filter(|&i| mask[i]) {
+            rows.clear();
+            row_seeds.clear();
+            row_inst.clear();
+            started.clear();
+            for i in (0..n).filter(|&i| term[i] | trunc[i]) {
                 if let Some(j) = job_of[i] {
                     (out_ret[j], out_len[j], out_term[j], out_trunc[j]) = (ret[i], len[i], term[i], trunc[i]);
                     out_word[j] = this.inner.outcome(i);
                     remaining -= 1;
                 }
-                if next < total {
+                let inst = if next < total {
                     job_of[i] = Some(next);
                     last_seed[i] = seeds[next];
-                    reset_inst[i] = instance_of(next);
                     started.push(i);
                     next += 1;
+                    instance_of(next - 1)
                 } else {
                     job_of[i] = None;
-                    reset_inst[i] = None;
-                }
-                reset_seeds[i] = Some(last_seed[i]);
+                    None
+                };
+                rows.push(i);
+                row_seeds.push(last_seed[i]);
+                row_inst.push(inst);
                 (ret[i], len[i]) = (0.0, 0);
             }
             if remaining == 0 {
                 break;
             }
-            for i in (0..n).filter(|&i| !mask[i]) {
-                reset_inst[i] = None;
-            }
-            reset(this, &reset_seeds, &reset_inst, Some(&mask))?;
+            reset(this, &rows, &row_seeds, &row_inst)?;
             if record_contexts {
                 for &i in &started {
                     let ci = this.current_info(i);
@@ -700,6 +797,31 @@ impl VecEnv {
                     }
                 }
             }
+        }
+        if let Some(order) = &order {
+            out_ret = order.iter().map(|&j| out_ret[j]).collect();
+            out_len = order.iter().map(|&j| out_len[j]).collect();
+            out_term = order.iter().map(|&j| out_term[j]).collect();
+            out_trunc = order.iter().map(|&j| out_trunc[j]).collect();
+            out_word = order.iter().map(|&j| out_word[j]).collect();
+            out_ctx = order.iter().map(|&j| out_ctx[j].take()).collect();
+        }
+        // One Python string per distinct word (a handful), shared by the jobs.
+        let mut made: Vec<(&'static str, Bound<'py, PyAny>)> = Vec::new();
+        let mut words = Vec::with_capacity(total);
+        for w in out_word {
+            let obj = match w {
+                None => py.None().into_bound(py),
+                Some(w) => match made.iter().find(|(m, _)| *m == w) {
+                    Some((_, o)) => o.clone(),
+                    None => {
+                        let o = pyo3::types::PyString::new(py, w).into_any();
+                        made.push((w, o.clone()));
+                        o
+                    }
+                },
+            };
+            words.push(obj);
         }
         let contexts: Vec<Py<PyAny>> = out_ctx
             .into_iter()
@@ -721,7 +843,7 @@ impl VecEnv {
                 out_len.into_pyarray(py).into_any(),
                 out_term.into_pyarray(py).into_any(),
                 out_trunc.into_pyarray(py).into_any(),
-                out_word.into_pyobject(py)?.into_any(),
+                pyo3::types::PyList::new(py, words)?.into_any(),
                 contexts.into_pyobject(py)?.into_any(),
             ],
         )

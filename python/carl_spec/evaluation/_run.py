@@ -43,6 +43,13 @@ def episode_seeds(seed: int, instances: np.ndarray, episodes: np.ndarray, n_inst
     return h
 
 
+def _episode_seeds(seed: int, instances: np.ndarray, episodes: np.ndarray, n_instances: int | None) -> np.ndarray:
+    """`episode_seeds` computed by the binding (the CLI's own function: NumPy's dozen passes over
+    the columns cost more than the rest of a short evaluation's bookkeeping)."""
+    seeds: np.ndarray = _core.episode_seeds(seed % 2**64, instances, episodes, n_instances or None)
+    return seeds
+
+
 def episode_seed(seed: int, instance: int, episode: int, n_instances: int | None) -> int:
     """The reset seed of one episode: a function of (seed, instance, episode) only, never of the
     batch, so any `num_envs` plays the same episodes (see `SEED_RULE`; `n_instances`: the set's
@@ -168,6 +175,8 @@ def evaluate(
         per = 10 if episodes is None else episodes
         per_n = _count("episodes", per)
         jobs = (np.tile(np.arange(n, dtype=np.int64), per_n), np.repeat(np.arange(per_n, dtype=np.int64), n))
+        # Job e * n + k (episode e of instance k) is the result's row k * per_n + e.
+        order: np.ndarray | None = np.arange(n * per_n, dtype=np.int64).reshape(per_n, n).T.ravel()
         make_source = dict(instances=iset.qualified_name, selection="round_robin")
         source: dict[str, Any] = {"kind": "instances", "name": iset.qualified_name, "content_hash": iset.content_hash}
         n_mod: int | None = n
@@ -185,6 +194,7 @@ def evaluate(
         feats = list(dists[distribution].get("features", {}))
         inst = [Instance(k, None, None, {}) for k in range(n)]  # contexts filled in as drawn
         jobs = (np.arange(n, dtype=np.int64), np.zeros(n, dtype=np.int64))
+        order = None  # the jobs are in the result's order
         make_source = dict(distribution=distribution)
         source = {"kind": "distribution", "name": distribution, "draws": n}
         n_mod = None
@@ -198,6 +208,7 @@ def evaluate(
         per = 10 if episodes is None else episodes
         per_n = _count("episodes", per)
         jobs = (np.zeros(per_n, dtype=np.int64), np.arange(per_n, dtype=np.int64))
+        order = None
         make_source = dict(context=ctx or None, allow_out_of_bounds=allow_out_of_bounds)
         source = {"kind": "context", "context": ctx}
         n_mod = None
@@ -222,17 +233,23 @@ def evaluate(
         specs_dir=specs_dir,
         **make_source,
     )
-    seeds = episode_seeds(seed, jobs[0], jobs[1], n_mod)
+    seeds = _episode_seeds(seed, jobs[0], jobs[1], n_mod)
     records: list[Episodes | None] = [None]
     draws_seen: dict[int, tuple[dict[str, Any], int]] = {}
     try:
         with batch_policy(policy, venv.single_action_space, venv.single_observation_space, deterministic) as act:
             core = getattr(venv, "_core", None)
             if hasattr(core, "play"):
-                # The loop in Rust: Python runs only the policy, once per batch step.
-                _play_native(core, venv, act, jobs, seeds, records, draws_seen, env_id, n_mod is not None, distribution is not None)
+                # The loop in Rust: Python runs only the policy, once per batch step; the episodes
+                # come back in the result's order.
+                _play_native(
+                    core, venv, act, jobs, seeds, records, draws_seen, env_id, n_mod is not None, distribution is not None, order
+                )
             else:
                 _play(venv, act, jobs, seeds.tolist(), records, draws_seen, env_id, distribution is not None)
+                assert records[0] is not None
+                # Episodes in (instance, episode) order (the jobs are listed episode-major).
+                records[0] = records[0].take(np.lexsort((records[0].episode, records[0].instance)))
     finally:
         venv.close()
 
@@ -259,9 +276,7 @@ def evaluate(
         "num_envs": num_envs,
         "threads": threads,
     }
-    # Episodes in (instance, episode) order (the jobs are listed episode-major).
-    ordered = played.take(np.lexsort((played.episode, played.instance)))
-    return EvaluationResult(provenance=provenance, instances=inst, episodes=ordered)
+    return EvaluationResult(provenance=provenance, instances=inst, episodes=played)
 
 
 def _count(what: str, n: Any) -> int:
@@ -281,19 +296,24 @@ def _play_native(
     env_id: str,
     is_set: bool,
     drawing: bool,
+    order: np.ndarray | None,
 ) -> None:
-    """`_play` in the binding (`VecEnv.play`): the same jobs, seeds and records (one `Episodes`
-    in job order, put in `records[0]`); a set's jobs name their instance, which the seed's round
-    robin would pick too."""
+    """`_play` in the binding (`VecEnv.play`): the same jobs, seeds and episodes, put in
+    `records[0]` as one `Episodes` in the result's order (`order`: the jobs in that order, None
+    if they are); a set's jobs name their instance, which the seed's round robin would pick
+    too."""
     n = venv.num_envs
 
     def check(actions: Any) -> Any:
         return check_actions(actions, venv.single_action_space, n, env_id)
 
-    rets, lens, terms, truncs, words, contexts = core.play(act, check, seeds, jobs[0] if is_set else None, drawing)
-    records[0] = Episodes(jobs[0], jobs[1], seeds, rets, lens, terms, truncs, words)
+    rets, lens, terms, truncs, words, contexts = core.play(act, check, seeds, jobs[0] if is_set else None, drawing, order)
+    instances, episodes = jobs
+    if order is not None:
+        instances, episodes, seeds = instances[order], episodes[order], seeds[order]
+    records[0] = Episodes(instances, episodes, seeds, rets, lens, terms, truncs, words)
     if drawing:
-        for k, (ctx, context_seed) in zip(jobs[0].tolist(), contexts):
+        for k, (ctx, context_seed) in zip(instances.tolist(), contexts):
             draws_seen[k] = (ctx, int(context_seed))
 
 

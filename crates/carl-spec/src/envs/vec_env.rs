@@ -27,7 +27,9 @@
 //! * **Outcomes.** At the step that ends an episode, [`VecEnv::outcome`] says how it ended: the
 //!   environment's [`Env::outcome`] (taken before a same-step reset), or [`TIMED_OUT`].
 //! * **Resets with a seed (and an instance) per environment**: [`VecEnv::reset_each`], one call
-//!   for a batch of episode starts (what `carl_spec.evaluate` does between steps).
+//!   for a batch of episode starts, and [`VecEnv::reset_some`], the same for a list of
+//!   environments (what `carl_spec.evaluate` does between steps: its cost is that of the
+//!   environments reset, not of the batch).
 //! * **Time limit.** Every environment counts its steps since its last reset and reports
 //!   `truncated` once the spec's `max_episode_steps` is reached, like [`TimeLimit`](super::TimeLimit).
 //! * **Bad input** (wrong number of actions, an out-of-range discrete action, a discrete action
@@ -603,7 +605,7 @@ impl VecEnv {
     pub fn reset_masked(&mut self, seed: Option<u64>, mask: Option<&[bool]>) -> &[f32] {
         let seed_of = |i: usize| seed.map(|s| s.wrapping_add(i as u64));
         let chosen = |i: usize| mask.is_none_or(|m| m.get(i).copied().unwrap_or(false));
-        self.reset_rows(&seed_of, &|_| None, &chosen);
+        self.reset_rows((0..self.n).filter(|&i| chosen(i)), seed_of, |_| None);
         &self.obs
     }
 
@@ -640,78 +642,139 @@ impl VecEnv {
                 if !chosen(i) {
                     continue;
                 }
-                match &self.envs {
-                    Envs::Contextual(envs, _) => envs[i].check_instance(k).map_err(|e| match e {
-                        EnvError::Context { env, message } => EnvError::Context {
-                            env,
-                            message: format!("environment {i} of the batch: {message}"),
-                        },
-                        other => other,
-                    })?,
-                    _ => {
-                        return Err(EnvError::Context {
-                            env,
-                            message: format!(
-                                "environment {i} of the batch was asked for instance {k}, but the batch plays one fixed context, not an instance set"
-                            ),
-                        });
-                    }
-                }
+                self.check_instance(i, k)?;
             }
         }
         let instance_of = |i: usize| instances.and_then(|v| v[i]);
-        self.reset_rows(&|i| seeds[i], &instance_of, &chosen);
+        self.reset_rows((0..n).filter(|&i| chosen(i)), |i| seeds[i], instance_of);
         Ok(&self.obs)
     }
 
-    /// The resets of [`VecEnv::reset_masked`] and [`VecEnv::reset_each`] (instances already checked).
+    /// Reset the environments `envs[k]`, each with its own seed `seeds[k]` and, where
+    /// `instances` gives `Some(i)` at `k`, playing instance `i` of its set: [`VecEnv::reset_each`]
+    /// for a list of environments, at the cost of those alone (a batch whose episodes are short
+    /// resets a few of its environments between most steps). An environment listed twice is
+    /// reset twice. Wrong lengths, an environment outside the batch, or an instance for a batch
+    /// without a set or outside it, are errors and reset nothing.
+    pub fn reset_some(
+        &mut self,
+        envs: &[usize],
+        seeds: &[u64],
+        instances: Option<&[Option<usize>]>,
+    ) -> Result<(), EnvError> {
+        let env = self.id;
+        let n = self.n;
+        let length = |got: usize| EnvError::BatchLength {
+            env,
+            expected: envs.len(),
+            got,
+        };
+        if seeds.len() != envs.len() {
+            return Err(length(seeds.len()));
+        }
+        if let Some(&i) = envs.iter().find(|&&i| i >= n) {
+            return Err(EnvError::Context {
+                env,
+                message: format!("environment {i} is outside the batch of {n}"),
+            });
+        }
+        if let Some(inst) = instances {
+            if inst.len() != envs.len() {
+                return Err(length(inst.len()));
+            }
+            for (&i, k) in envs.iter().zip(inst) {
+                if let Some(k) = *k {
+                    self.check_instance(i, k)?;
+                }
+            }
+        }
+        // Rows in list order: `seeds[k]` and `instances[k]` belong to the row `envs[k]`.
+        let mut k = 0;
+        let mut next = |_: usize| {
+            let (seed, inst) = (seeds[k], instances.and_then(|v| v[k]));
+            k += 1;
+            (Some(seed), inst)
+        };
+        self.reset_listed(envs.iter().copied(), &mut next);
+        Ok(())
+    }
+
+    /// Whether environment `i` can be asked to play instance `k` (a contextual batch with a set
+    /// that holds it), the error naming the environment otherwise.
+    fn check_instance(&self, i: usize, k: usize) -> Result<(), EnvError> {
+        let env = self.id;
+        match &self.envs {
+            Envs::Contextual(envs, _) => envs[i].check_instance(k).map_err(|e| match e {
+                EnvError::Context { env, message } => EnvError::Context {
+                    env,
+                    message: format!("environment {i} of the batch: {message}"),
+                },
+                other => other,
+            }),
+            _ => Err(EnvError::Context {
+                env,
+                message: format!(
+                    "environment {i} of the batch was asked for instance {k}, but the batch plays one fixed context, not an instance set"
+                ),
+            }),
+        }
+    }
+
+    /// The resets of [`VecEnv::reset_masked`] and [`VecEnv::reset_each`] (instances already
+    /// checked): the environments `rows`, environment `i` with seed `seed_of(i)` and instance
+    /// `instance_of(i)`.
     fn reset_rows(
         &mut self,
-        seed_of: &dyn Fn(usize) -> Option<u64>,
-        instance_of: &dyn Fn(usize) -> Option<usize>,
-        chosen: &dyn Fn(usize) -> bool,
+        rows: impl Iterator<Item = usize>,
+        seed_of: impl Fn(usize) -> Option<u64>,
+        instance_of: impl Fn(usize) -> Option<usize>,
+    ) {
+        self.reset_listed(rows, &mut |i| (seed_of(i), instance_of(i)));
+    }
+
+    /// Reset the environments `rows` in order, each with the (seed, instance) that `what` gives
+    /// for it (called once per row, in order; instances already checked).
+    fn reset_listed(
+        &mut self,
+        rows: impl Iterator<Item = usize>,
+        what: &mut impl FnMut(usize) -> (Option<u64>, Option<usize>),
     ) {
         let d = self.obs_dim;
-        match &mut self.envs {
-            Envs::CartPole(s) => {
-                for i in (0..self.n).filter(|&i| chosen(i)) {
-                    if let Some(seed) = seed_of(i) {
+        let wide = !self.obs64.is_empty();
+        for i in rows {
+            let (seed, instance) = what(i);
+            match &mut self.envs {
+                Envs::CartPole(s) => {
+                    if let Some(seed) = seed {
                         s.rng[i] = EnvRng::from_seed(seed);
                     }
                     let (x, xd, th, thd) = cartpole_reset(&s.k[i], &mut s.rng[i]);
                     (s.x[i], s.x_dot[i], s.theta[i], s.theta_dot[i]) = (x, xd, th, thd);
                     write4(&mut self.obs[i * 4..i * 4 + 4], x, xd, th, thd);
                 }
-            }
-            Envs::Array(envs, _) => {
-                for (i, (e, o)) in envs.iter_mut().zip(self.obs.chunks_exact_mut(d)).enumerate() {
-                    if chosen(i) {
-                        // The buffer has the right length, so this cannot fail.
-                        let _ = e.reset_into(seed_of(i), o);
-                        if !self.obs64.is_empty() {
-                            let _ = e.observe_f64_into(&mut self.obs64[i * d..(i + 1) * d]);
-                        }
+                Envs::Array(envs, _) => {
+                    let e = &mut envs[i];
+                    // The buffer has the right length, so this cannot fail.
+                    let _ = e.reset_into(seed, &mut self.obs[i * d..(i + 1) * d]);
+                    if wide {
+                        let _ = e.observe_f64_into(&mut self.obs64[i * d..(i + 1) * d]);
                     }
                 }
-            }
-            Envs::Contextual(envs, _) => {
-                for (i, (e, o)) in envs.iter_mut().zip(self.obs.chunks_exact_mut(d)).enumerate() {
-                    if chosen(i) {
-                        // A failed distribution draw leaves zeros (see `ContextualEnv::info`);
-                        // instances were checked by the caller.
-                        let _ = match instance_of(i) {
-                            Some(k) => e.reset_instance_into(seed_of(i), k, o),
-                            None => e.reset_into(seed_of(i), o),
-                        };
-                        if !self.obs64.is_empty() {
-                            let _ = e.observe_f64_into(&mut self.obs64[i * d..(i + 1) * d]);
-                        }
-                        self.instance_ids[i] = e.instance_id();
+                Envs::Contextual(envs, _) => {
+                    let e = &mut envs[i];
+                    let o = &mut self.obs[i * d..(i + 1) * d];
+                    // A failed distribution draw leaves zeros (see `ContextualEnv::info`);
+                    // instances were checked by the caller.
+                    let _ = match instance {
+                        Some(k) => e.reset_instance_into(seed, k, o),
+                        None => e.reset_into(seed, o),
+                    };
+                    if wide {
+                        let _ = e.observe_f64_into(&mut self.obs64[i * d..(i + 1) * d]);
                     }
+                    self.instance_ids[i] = e.instance_id();
                 }
             }
-        }
-        for i in (0..self.n).filter(|&i| chosen(i)) {
             self.elapsed[i] = 0;
             self.rewards[i] = 0.0;
             self.terminated[i] = false;

@@ -53,6 +53,71 @@ fn episode_seeds_follow_the_documented_rule() {
     assert_eq!(s, h - h % 7 + 3);
 }
 
+/// `reset_some` (the resets between `evaluate`'s steps) resets the listed environments exactly
+/// as `reset_each` with a mask does, on CartPole's structure-of-arrays kernel and on a batch of
+/// contextual environments playing given instances of a set, and refuses bad input without
+/// resetting anything.
+#[test]
+fn reset_some_equals_a_masked_reset_each() {
+    let specs = SpecSet::bundled().unwrap();
+    let set = Store::new(&specs)
+        .load("lunar_lander/landing_in_space_test_planets")
+        .unwrap();
+    let lander = specs.get("lunar_lander").unwrap();
+    let n = 5;
+    let batch = |kind: usize| -> VecEnv {
+        if kind == 0 {
+            let spec = specs.get("cartpole").unwrap();
+            let envs = (0..n)
+                .map(|_| make_with(spec, &Default::default(), MakeOptions::default()).unwrap())
+                .collect();
+            VecEnv::from_envs_with(envs, VecOptions::default(), AutoresetMode::Disabled).unwrap()
+        } else {
+            let envs = (0..n)
+                .map(|_| {
+                    ContextualEnv::new(lander, ContextSource::Set(set.clone()), ContextualOptions::default()).unwrap()
+                })
+                .collect();
+            VecEnv::from_contextual(envs, VecOptions::default(), AutoresetMode::Disabled).unwrap()
+        }
+    };
+    for kind in 0..2 {
+        let (mut a, mut b) = (batch(kind), batch(kind));
+        a.reset(3);
+        b.reset(3);
+        let rows = [4, 1, 2];
+        let seeds = [40, 10, 20];
+        let instances = (kind == 1).then_some(&[Some(5), None, Some(0)][..]);
+        a.reset_some(&rows, &seeds, instances).unwrap();
+        let mut all_seeds = vec![None; n];
+        let mut all_instances = vec![None; n];
+        let mut mask = vec![false; n];
+        for (k, &i) in rows.iter().enumerate() {
+            (all_seeds[i], mask[i]) = (Some(seeds[k]), true);
+            all_instances[i] = instances.and_then(|v| v[k]);
+        }
+        let inst = (kind == 1).then_some(&all_instances[..]);
+        b.reset_each(&all_seeds, inst, Some(&mask)).unwrap();
+        assert_eq!(a.obs(), b.obs(), "batch kind {kind}");
+        assert_eq!(a.instance_ids(), b.instance_ids());
+        for i in 0..n {
+            assert_eq!(a.state(i), b.state(i), "environment {i}");
+        }
+        // Bad input: an error, and nothing moves.
+        let before = a.obs().to_vec();
+        assert!(a.reset_some(&[0, 1], &[1], None).is_err());
+        assert!(a.reset_some(&[0, n], &[1, 2], None).is_err());
+        assert!(a.reset_some(&[0], &[1], Some(&[Some(99)])).is_err());
+        if kind == 0 {
+            assert!(
+                a.reset_some(&[0], &[1], Some(&[Some(0)])).is_err(),
+                "a fixed context has no instances"
+            );
+        }
+        assert_eq!(a.obs(), &before[..]);
+    }
+}
+
 /// LunarLander's outcomes come from the lander: the heuristic crashes on Jupiter and lands on
 /// the Moon; the scalar env, the contextual env and the batch agree.
 #[test]
