@@ -45,7 +45,7 @@
 
 use crate::collision::{Placed, collide};
 use crate::data::Data;
-use crate::dynamics::cholesky_solve_from;
+use crate::dynamics::cholesky_solve_rows4;
 use crate::math::{V3, add, cross, dot, dot6, join, scale, sub};
 use crate::model::{Cone, SolImp, SolRef};
 
@@ -371,20 +371,40 @@ impl Data {
             self.warm_count = 0;
             return;
         }
+        // W = M⁻¹ Jᵀ row by row, four rows' solves at a time (a pyramid's fourth edge
+        // J_n − μJ_t₂ is the sum of the first two minus the third, after them).
+        let mut group = [0usize; 4];
+        let mut count = 0;
+        let mut first = nv;
         for r in 0..n {
-            // A pyramid's fourth edge J_n − μJ_t₂ is the sum of the first two minus the third.
+            if let RowKind::Contact { edge: 3, .. } = self.efc_kind[r] {
+                continue;
+            }
+            let (j, w) = (&self.efc_j[r * nv..(r + 1) * nv], &mut self.efc_w[r * nv..(r + 1) * nv]);
+            w.copy_from_slice(j);
+            first = first.min(j.iter().position(|x| *x != 0.0).unwrap_or(nv));
+            group[count] = r;
+            count += 1;
+            if count == 4 {
+                cholesky_solve_rows4(&self.qld, nv, &mut self.efc_w, group, first);
+                count = 0;
+                first = nv;
+            }
+        }
+        if count > 0 {
+            for k in count..4 {
+                group[k] = group[count - 1];
+            }
+            cholesky_solve_rows4(&self.qld, nv, &mut self.efc_w, group, first);
+        }
+        for r in 0..n {
             if let RowKind::Contact { edge: 3, .. } = self.efc_kind[r] {
                 let (head, tail) = self.efc_w.split_at_mut(r * nv);
                 let w = &mut tail[..nv];
                 for k in 0..nv {
                     w[k] = head[(r - 3) * nv + k] + head[(r - 2) * nv + k] - head[(r - 1) * nv + k];
                 }
-                continue;
             }
-            let (j, w) = (&self.efc_j[r * nv..(r + 1) * nv], &mut self.efc_w[r * nv..(r + 1) * nv]);
-            w.copy_from_slice(j);
-            let first = j.iter().position(|x| *x != 0.0).unwrap_or(nv);
-            cholesky_solve_from(&self.qld, nv, w, first);
         }
         for r in 0..n {
             let j = &self.efc_j[r * nv..(r + 1) * nv];

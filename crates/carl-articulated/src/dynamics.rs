@@ -328,23 +328,48 @@ impl Data {
 
 /// In-place Cholesky `A = L Lᵀ` of the row-major `n × n` matrix (lower triangle). `false` if
 /// `a` is not positive definite.
+///
+/// Column by column; the entries of a column below the diagonal are independent, so four rows
+/// are worked at once (four independent dependency chains for the processor to overlap), each
+/// entry's sum still taken in the order `k = 0, 1, …, j − 1`: the factor is the same, bit for bit,
+/// as the textbook loop's.
 pub fn cholesky(a: &mut [f64], n: usize) -> bool {
     for j in 0..n {
-        let mut d = a[j * n + j];
-        for k in 0..j {
-            d -= a[j * n + k] * a[j * n + k];
+        let (top, bottom) = a.split_at_mut((j + 1) * n);
+        let rj = &mut top[j * n..(j + 1) * n];
+        let mut d = rj[j];
+        for &x in &rj[..j] {
+            d -= x * x;
         }
         if d.is_nan() || d <= 0.0 {
             return false;
         }
         let d = d.sqrt();
-        a[j * n + j] = d;
-        for i in j + 1..n {
-            let mut s = a[i * n + j];
-            for k in 0..j {
-                s -= a[i * n + k] * a[j * n + k];
+        rj[j] = d;
+        let rj = &rj[..j];
+        let mut rows = bottom[..(n - j - 1) * n].chunks_exact_mut(4 * n);
+        for quad in &mut rows {
+            let (r0, rest) = quad.split_at_mut(n);
+            let (r1, rest) = rest.split_at_mut(n);
+            let (r2, r3) = rest.split_at_mut(n);
+            let (mut s0, mut s1, mut s2, mut s3) = (r0[j], r1[j], r2[j], r3[j]);
+            for (k, &l) in rj.iter().enumerate() {
+                s0 -= r0[k] * l;
+                s1 -= r1[k] * l;
+                s2 -= r2[k] * l;
+                s3 -= r3[k] * l;
             }
-            a[i * n + j] = s / d;
+            r0[j] = s0 / d;
+            r1[j] = s1 / d;
+            r2[j] = s2 / d;
+            r3[j] = s3 / d;
+        }
+        for ri in rows.into_remainder().chunks_exact_mut(n) {
+            let mut s = ri[j];
+            for (k, &l) in rj.iter().enumerate() {
+                s -= ri[k] * l;
+            }
+            ri[j] = s / d;
         }
     }
     true
@@ -371,6 +396,47 @@ pub fn cholesky_solve_from(l: &[f64], n: usize, x: &mut [f64], first: usize) {
             s -= l[k * n + i] * x[k];
         }
         x[i] = s / l[i * n + i];
+    }
+}
+
+/// [`cholesky_solve_from`] on four right-hand sides at once: rows `rows` of `x` (row-major,
+/// stride `n`), all of whose entries before `first` are zero (`+0`, as a Jacobian row's
+/// untouched entries). A row may repeat (it is solved twice, to the same values). The four
+/// substitutions run interleaved, each entry's sum in the order of [`cholesky_solve_from`]; a
+/// row whose own first nonzero entry lies past `first` meets only exact zeros before it (`x − l·0`
+/// is `x`), so every row's solution is the same, bit for bit, as its own solve's.
+pub fn cholesky_solve_rows4(l: &[f64], n: usize, x: &mut [f64], rows: [usize; 4], first: usize) {
+    let [a, b, c, e] = rows.map(|r| r * n);
+    for i in first..n {
+        let li = &l[i * n..i * n + i];
+        let (mut s0, mut s1, mut s2, mut s3) = (x[a + i], x[b + i], x[c + i], x[e + i]);
+        for k in first..i {
+            let lk = li[k];
+            s0 -= lk * x[a + k];
+            s1 -= lk * x[b + k];
+            s2 -= lk * x[c + k];
+            s3 -= lk * x[e + k];
+        }
+        let d = l[i * n + i];
+        x[a + i] = s0 / d;
+        x[b + i] = s1 / d;
+        x[c + i] = s2 / d;
+        x[e + i] = s3 / d;
+    }
+    for i in (0..n).rev() {
+        let (mut s0, mut s1, mut s2, mut s3) = (x[a + i], x[b + i], x[c + i], x[e + i]);
+        for k in i + 1..n {
+            let lk = l[k * n + i];
+            s0 -= lk * x[a + k];
+            s1 -= lk * x[b + k];
+            s2 -= lk * x[c + k];
+            s3 -= lk * x[e + k];
+        }
+        let d = l[i * n + i];
+        x[a + i] = s0 / d;
+        x[b + i] = s1 / d;
+        x[c + i] = s2 / d;
+        x[e + i] = s3 / d;
     }
 }
 
