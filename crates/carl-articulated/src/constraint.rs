@@ -422,9 +422,19 @@ impl Data {
         }
         for r in 0..n {
             let j = &self.efc_j[r * nv..(r + 1) * nv];
+            // The row's nonzero entries (a kinematic tree's row touches only the dofs on the
+            // contact bodies' paths to the root); the products left out are exact zeros.
+            let mut nnz = 0;
+            for (k, x) in j.iter().enumerate() {
+                if *x != 0.0 {
+                    self.efc_nz[nnz] = k;
+                    nnz += 1;
+                }
+            }
+            let nz = &self.efc_nz[..nnz];
             for c in 0..=r {
                 let w = &self.efc_w[c * nv..(c + 1) * nv];
-                let a: f64 = j.iter().zip(w).map(|(x, y)| x * y).sum();
+                let a = nz.iter().fold(-0.0, |s, &k| s + j[k] * w[k]);
                 self.efc_a[r * n + c] = a;
                 self.efc_a[c * n + r] = a;
             }

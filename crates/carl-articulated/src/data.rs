@@ -94,6 +94,8 @@ pub struct Data {
     pub(crate) efc_class: Vec<u8>,
     /// Four right-hand sides of `M x = Jᵀ` interleaved (`nv` entries of four).
     pub(crate) solve4: Vec<[f64; 4]>,
+    /// The nonzero entries of a Jacobian row (indices).
+    pub(crate) efc_nz: Vec<usize>,
     /// Each candidate pair's reach: the sum of its geoms' bounding radii and its margin (the
     /// broad phase's bounding-sphere test).
     pub(crate) pair_reach: Vec<f64>,
@@ -165,6 +167,7 @@ impl Data {
             efc_kind: vec![RowKind::None; rows],
             efc_class: vec![0; rows],
             solve4: vec![[0.0; 4]; nv],
+            efc_nz: vec![0; nv],
             pair_reach: model
                 .pairs
                 .iter()
