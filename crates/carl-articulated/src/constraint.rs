@@ -45,7 +45,7 @@
 
 use crate::collision::{Placed, collide};
 use crate::data::Data;
-use crate::dynamics::cholesky_solve_from;
+use crate::dynamics::cholesky_solve4;
 use crate::math::{V3, add, cross, dot, dot6, join, scale, sub};
 use crate::model::{Cone, SolImp, SolRef};
 
@@ -120,7 +120,7 @@ impl Data {
             let (g1, g2) = (pair.g1, pair.g2);
             let (s1, s2) = (m.geoms[g1].shape, m.geoms[g2].shape);
             // Bounding spheres first.
-            let reach = s1.bounding_radius() + s2.bounding_radius() + pair.margin;
+            let reach = self.pair_reach[pi];
             if reach.is_finite() && crate::math::norm(sub(self.geom_xpos[g1], self.geom_xpos[g2])) > reach {
                 continue;
             }
@@ -371,32 +371,83 @@ impl Data {
             self.warm_count = 0;
             return;
         }
+        // W = M⁻¹ Jᵀ row by row, four rows' solves at a time (a pyramid's fourth edge
+        // J_n − μJ_t₂ is the sum of the first two minus the third, after them).
+        let mut group = [0usize; 4];
+        let mut count = 0;
+        let mut first = nv;
+        let mut r = 0;
+        while r < n || count > 0 {
+            if r < n {
+                let row = r;
+                r += 1;
+                if let RowKind::Contact { edge: 3, .. } = self.efc_kind[row] {
+                    continue;
+                }
+                let j = &self.efc_j[row * nv..(row + 1) * nv];
+                first = first.min(j.iter().position(|x| *x != 0.0).unwrap_or(nv));
+                for (t, x) in self.solve4.iter_mut().zip(j) {
+                    t[count] = *x;
+                }
+                group[count] = row;
+                count += 1;
+                if count < 4 {
+                    continue;
+                }
+            } else {
+                // The last group's empty lanes repeat its first row.
+                for t in &mut self.solve4[..nv] {
+                    for lane in count..4 {
+                        t[lane] = t[0];
+                    }
+                }
+            }
+            cholesky_solve4(&self.qld, nv, &mut self.solve4, first);
+            for (lane, &row) in group[..count].iter().enumerate() {
+                for (w, t) in self.efc_w[row * nv..(row + 1) * nv].iter_mut().zip(&self.solve4) {
+                    *w = t[lane];
+                }
+            }
+            count = 0;
+            first = nv;
+        }
         for r in 0..n {
-            // A pyramid's fourth edge J_n − μJ_t₂ is the sum of the first two minus the third.
             if let RowKind::Contact { edge: 3, .. } = self.efc_kind[r] {
                 let (head, tail) = self.efc_w.split_at_mut(r * nv);
                 let w = &mut tail[..nv];
                 for k in 0..nv {
                     w[k] = head[(r - 3) * nv + k] + head[(r - 2) * nv + k] - head[(r - 1) * nv + k];
                 }
-                continue;
             }
-            let (j, w) = (&self.efc_j[r * nv..(r + 1) * nv], &mut self.efc_w[r * nv..(r + 1) * nv]);
-            w.copy_from_slice(j);
-            let first = j.iter().position(|x| *x != 0.0).unwrap_or(nv);
-            cholesky_solve_from(&self.qld, nv, w, first);
         }
         for r in 0..n {
             let j = &self.efc_j[r * nv..(r + 1) * nv];
+            // The row's nonzero entries (a kinematic tree's row touches only the dofs on the
+            // contact bodies' paths to the root); the products left out are exact zeros.
+            let mut nnz = 0;
+            for (k, x) in j.iter().enumerate() {
+                if *x != 0.0 {
+                    self.efc_nz[nnz] = k;
+                    nnz += 1;
+                }
+            }
+            let nz = &self.efc_nz[..nnz];
             for c in 0..=r {
                 let w = &self.efc_w[c * nv..(c + 1) * nv];
-                let a: f64 = j.iter().zip(w).map(|(x, y)| x * y).sum();
+                let a = nz.iter().fold(-0.0, |s, &k| s + j[k] * w[k]);
                 self.efc_a[r * n + c] = a;
                 self.efc_a[c * n + r] = a;
             }
             let a0: f64 = j.iter().zip(&self.qacc).map(|(x, y)| x * y).sum();
             self.efc_b[r] = a0 - self.efc_aref[r];
             self.efc_inv[r] = 1.0 / (self.efc_a[r * n + r] + self.efc_r[r]);
+            self.efc_class[r] = if self.efc_bound[r].is_finite() {
+                1
+            } else if let RowKind::Equality { .. } = self.efc_kind[r] {
+                2
+            } else {
+                0
+            };
             // Warm start from the previous solve's force of the same row.
             let key = self.row_key(r);
             self.efc_force[r] = self.warm[..self.warm_count]
@@ -436,32 +487,48 @@ impl Data {
     }
 
     /// The sweeps of a model whose rows all have simple bounds (pyramidal cones).
+    ///
+    /// The next row's updated `gᵣ₊₁` is also computed on its own and carried in a register to
+    /// that row (the only update the next row waits for), the same value the loop over all of
+    /// `g` stores; every `gᵢ` receives the same updates in the same order, so the forces are
+    /// those of the plain loop, bit for bit.
     fn pyramidal_sweeps(&mut self) {
         let m = &*self.model;
         let n = self.nefc;
+        let a = &self.efc_a[..n * n];
+        let g = &mut self.efc_g[..n];
+        let force = &mut self.efc_force[..n];
+        let reg = &self.efc_r[..n];
+        let inv = &self.efc_inv[..n];
+        let bound = &self.efc_bound[..n];
+        let class = &self.efc_class[..n];
         for _ in 0..m.opt.iterations {
             self.solver_sweeps += 1;
             let mut change = 0.0f64;
             let mut scale_f = 0.0f64;
+            let mut gr = g[0];
             for r in 0..n {
-                let old = self.efc_force[r];
-                let grad = self.efc_g[r] + self.efc_r[r] * old;
-                let bound = self.efc_bound[r];
-                let new = if bound.is_finite() {
-                    (old - grad * self.efc_inv[r]).clamp(-bound, bound)
-                } else if let RowKind::Equality { .. } = self.efc_kind[r] {
-                    old - grad * self.efc_inv[r]
-                } else {
-                    (old - grad * self.efc_inv[r]).max(0.0)
+                let old = force[r];
+                let grad = gr + reg[r] * old;
+                let x = old - grad * inv[r];
+                let new = match class[r] {
+                    0 => x.max(0.0),
+                    1 => x.clamp(-bound[r], bound[r]),
+                    _ => x,
                 };
                 let d = new - old;
+                let col = &a[r * n..(r + 1) * n];
                 if d != 0.0 {
-                    self.efc_force[r] = new;
-                    let col = &self.efc_a[r * n..(r + 1) * n];
-                    for (g, a) in self.efc_g[..n].iter_mut().zip(col) {
-                        *g += a * d;
+                    force[r] = new;
+                    if r + 1 < n {
+                        gr = g[r + 1] + col[r + 1] * d;
+                    }
+                    for (gi, ai) in g.iter_mut().zip(col) {
+                        *gi += ai * d;
                     }
                     change = change.max(d.abs());
+                } else if r + 1 < n {
+                    gr = g[r + 1];
                 }
                 scale_f = scale_f.max(new.abs());
             }

@@ -89,6 +89,16 @@ pub struct Data {
     /// `|f| ≤ bound` for dry-friction rows; infinite (`f ≥ 0`) for the others.
     pub(crate) efc_bound: Vec<f64>,
     pub(crate) efc_kind: Vec<RowKind>,
+    /// How Gauss–Seidel projects each row's force (pyramidal sweeps): 0 non-negative, 1 within
+    /// `±efc_bound`, 2 free (a tendon equality's).
+    pub(crate) efc_class: Vec<u8>,
+    /// Four right-hand sides of `M x = Jᵀ` interleaved (`nv` entries of four).
+    pub(crate) solve4: Vec<[f64; 4]>,
+    /// The nonzero entries of a Jacobian row (indices).
+    pub(crate) efc_nz: Vec<usize>,
+    /// Each candidate pair's reach: the sum of its geoms' bounding radii and its margin (the
+    /// broad phase's bounding-sphere test).
+    pub(crate) pair_reach: Vec<f64>,
     pub(crate) warm: Vec<(u64, f64)>,
     pub(crate) warm_count: usize,
     /// Gauss–Seidel sweeps of the last constraint solve (a diagnostic).
@@ -155,6 +165,16 @@ impl Data {
             efc_force: vec![0.0; rows],
             efc_bound: vec![f64::INFINITY; rows],
             efc_kind: vec![RowKind::None; rows],
+            efc_class: vec![0; rows],
+            solve4: vec![[0.0; 4]; nv],
+            efc_nz: vec![0; nv],
+            pair_reach: model
+                .pairs
+                .iter()
+                .map(|p| {
+                    model.geoms[p.g1].shape.bounding_radius() + model.geoms[p.g2].shape.bounding_radius() + p.margin
+                })
+                .collect(),
             warm: vec![(0, 0.0); rows],
             warm_count: 0,
             solver_sweeps: 0,

@@ -328,23 +328,49 @@ impl Data {
 
 /// In-place Cholesky `A = L Lᵀ` of the row-major `n × n` matrix (lower triangle). `false` if
 /// `a` is not positive definite.
+///
+/// Column by column; the entries of a column below the diagonal are independent, so four rows
+/// are worked at once (four independent dependency chains for the processor to overlap), each
+/// entry's sum still taken in the order `k = 0, 1, …, j − 1`: the factor is the same, bit for bit,
+/// as the textbook loop's.
 pub fn cholesky(a: &mut [f64], n: usize) -> bool {
     for j in 0..n {
-        let mut d = a[j * n + j];
-        for k in 0..j {
-            d -= a[j * n + k] * a[j * n + k];
+        let (top, bottom) = a.split_at_mut((j + 1) * n);
+        let rj = &mut top[j * n..(j + 1) * n];
+        let mut d = rj[j];
+        for &x in &rj[..j] {
+            d -= x * x;
         }
         if d.is_nan() || d <= 0.0 {
             return false;
         }
         let d = d.sqrt();
-        a[j * n + j] = d;
-        for i in j + 1..n {
-            let mut s = a[i * n + j];
-            for k in 0..j {
-                s -= a[i * n + k] * a[j * n + k];
+        rj[j] = d;
+        let rj = &rj[..j];
+        let mut rows = bottom[..(n - j - 1) * n].chunks_exact_mut(4 * n);
+        for quad in &mut rows {
+            let (r0, rest) = quad.split_at_mut(n);
+            let (r1, rest) = rest.split_at_mut(n);
+            let (r2, r3) = rest.split_at_mut(n);
+            let (mut s0, mut s1, mut s2, mut s3) = (r0[j], r1[j], r2[j], r3[j]);
+            let lanes = rj.iter().zip(&r0[..j]).zip(&r1[..j]).zip(&r2[..j]).zip(&r3[..j]);
+            for ((((&l, &x0), &x1), &x2), &x3) in lanes {
+                s0 -= x0 * l;
+                s1 -= x1 * l;
+                s2 -= x2 * l;
+                s3 -= x3 * l;
             }
-            a[i * n + j] = s / d;
+            r0[j] = s0 / d;
+            r1[j] = s1 / d;
+            r2[j] = s2 / d;
+            r3[j] = s3 / d;
+        }
+        for ri in rows.into_remainder().chunks_exact_mut(n) {
+            let mut s = ri[j];
+            for (&l, &x) in rj.iter().zip(&ri[..j]) {
+                s -= x * l;
+            }
+            ri[j] = s / d;
         }
     }
     true
@@ -371,6 +397,38 @@ pub fn cholesky_solve_from(l: &[f64], n: usize, x: &mut [f64], first: usize) {
             s -= l[k * n + i] * x[k];
         }
         x[i] = s / l[i * n + i];
+    }
+}
+
+/// [`cholesky_solve_from`] on four right-hand sides at once, interleaved (`x[k]` holds entry `k`
+/// of each), all of whose entries before `first` are zero (`+0`, as a Jacobian row's untouched
+/// entries). Each lane's sums run in the order of [`cholesky_solve_from`]; a lane whose own first
+/// nonzero entry lies past `first` meets only exact zeros before it (`x − l·0` is `x`), so every
+/// lane's solution is the same, bit for bit, as its own solve's.
+pub fn cholesky_solve4(l: &[f64], n: usize, x: &mut [[f64; 4]], first: usize) {
+    let x = &mut x[..n];
+    for i in first..n {
+        let (head, tail) = x.split_at_mut(i);
+        let mut s = tail[0];
+        for (&lk, xk) in l[i * n + first..i * n + i].iter().zip(&head[first..]) {
+            for t in 0..4 {
+                s[t] -= lk * xk[t];
+            }
+        }
+        let d = l[i * n + i];
+        tail[0] = s.map(|v| v / d);
+    }
+    for i in (0..n).rev() {
+        let (head, tail) = x.split_at_mut(i + 1);
+        let mut s = head[i];
+        for (k, xk) in tail.iter().enumerate() {
+            let lk = l[(i + 1 + k) * n + i];
+            for t in 0..4 {
+                s[t] -= lk * xk[t];
+            }
+        }
+        let d = l[i * n + i];
+        head[i] = s.map(|v| v / d);
     }
 }
 
@@ -540,4 +598,75 @@ pub(crate) fn tendon_invweight0(model: &Model) -> Vec<f64> {
             jac.iter().zip(&x).map(|(a, b)| a * b).sum::<f64>().max(1e-15)
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{cholesky, cholesky_solve_from, cholesky_solve4};
+
+    /// The four-row factorization and the four-lane solve equal the textbook loops bit for bit
+    /// (right-hand sides with leading zeros, as Jacobian rows have).
+    #[test]
+    fn interleaved_cholesky_and_solves_are_bit_identical() {
+        let n = 9;
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let b: Vec<f64> = (0..n * n).map(|_| rnd()).collect();
+        let mut a = vec![0.0; n * n];
+        for i in 0..n {
+            for j in 0..n {
+                a[i * n + j] =
+                    (0..n).map(|k| b[i * n + k] * b[j * n + k]).sum::<f64>() + if i == j { 0.5 } else { 0.0 };
+            }
+        }
+        // The textbook loop.
+        let mut reference = a.clone();
+        for j in 0..n {
+            let mut d = reference[j * n + j];
+            for k in 0..j {
+                d -= reference[j * n + k] * reference[j * n + k];
+            }
+            let d = d.sqrt();
+            reference[j * n + j] = d;
+            for i in j + 1..n {
+                let mut s = reference[i * n + j];
+                for k in 0..j {
+                    s -= reference[i * n + k] * reference[j * n + k];
+                }
+                reference[i * n + j] = s / d;
+            }
+        }
+        let mut l = a.clone();
+        assert!(cholesky(&mut l, n));
+        for i in 0..n {
+            for j in 0..=i {
+                assert_eq!(l[i * n + j].to_bits(), reference[i * n + j].to_bits());
+            }
+        }
+        let firsts = [2, 5, 3, 8];
+        let mut rhs = vec![[0.0; 4]; n];
+        let mut single: Vec<Vec<f64>> = Vec::new();
+        for (lane, &f) in firsts.iter().enumerate() {
+            let mut x = vec![0.0; n];
+            for v in &mut x[f..] {
+                *v = rnd();
+            }
+            for k in 0..n {
+                rhs[k][lane] = x[k];
+            }
+            cholesky_solve_from(&l, n, &mut x, f);
+            single.push(x);
+        }
+        cholesky_solve4(&l, n, &mut rhs, 2);
+        for (lane, x) in single.iter().enumerate() {
+            for k in 0..n {
+                assert_eq!(rhs[k][lane].to_bits(), x[k].to_bits());
+            }
+        }
+    }
 }
