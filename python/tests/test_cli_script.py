@@ -72,6 +72,6 @@ def test_ctrl_c_ends_a_long_command() -> None:
         try:
             time.sleep(1.0)
             p.send_signal(signal.SIGINT)
-            assert p.wait(timeout=5) == -signal.SIGINT
+            assert p.wait(timeout=60) == -signal.SIGINT  # generous: a loaded machine (CI runs jobs side by side)
         finally:
             p.kill()

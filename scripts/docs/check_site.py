@@ -36,7 +36,7 @@ from typing import Any
 
 import websocket  # websocket-client
 
-PAGE_TIMEOUT = 20.0
+PAGE_TIMEOUT = 120.0  # a hang guard: CI loads the pages beside the other test jobs on two cores
 
 COLLECT = """(() => {
   const imgs = Array.from(document.images).map(i => ({src: i.currentSrc || i.src, ok: i.complete && i.naturalWidth > 0}));
@@ -120,7 +120,7 @@ def start_chromium(chromium: str, profile: str) -> tuple[subprocess.Popen[bytes]
 def status(url: str, cache: dict[str, tuple[int, bytes]]) -> tuple[int, bytes]:
     if url not in cache:
         try:
-            with urllib.request.urlopen(url, timeout=10) as r:
+            with urllib.request.urlopen(url, timeout=60) as r:
                 cache[url] = (r.status, r.read())
         except urllib.error.HTTPError as e:
             cache[url] = (e.code, b"")
