@@ -23,21 +23,21 @@ def check_report(report: dict[str, Any], tmp_path: Path) -> None:
 
 
 def test_q1_sequential(tmp_path: Path) -> None:
-    report = run_experiment("q1", budget=0.001, seeds=1, features=["g"], evaluations=1)
-    assert report["trials"] == 3 and report["steps_per_trial"] == 1000
+    report = run_experiment("q1", budget=0.0001, seeds=1, features=["g"], evaluations=1)
+    assert report["trials"] == 3 and report["steps_per_trial"] == 300  # the fewest a trial trains
     assert set(report["summary"]["final_return"]["g"]) == {"0_1", "0_25", "0_5"}
     check_report(report, tmp_path)
 
 
 @pytest.mark.xdist_group("ray")  # one loopback Ray per worker: keep its tests together
 def test_q2_on_loopback_ray(loopback_ray: Any, tmp_path: Path) -> None:
-    report = run_experiment("q2", budget=0.001, seeds=1, features=["dt"], evaluations=1, ray=True)
+    report = run_experiment("q2", budget=0.0003, seeds=1, features=["dt"], evaluations=1, ray=True)
     assert set(report["summary"]["final_return"]["dt"]) == {"hidden", "visible"}
     check_report(report, tmp_path)
 
 
 def test_q3_planets_and_crashes(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    report = run_experiment("q3", budget=0.002, seeds=1, test_episodes=2, checkpoint=tmp_path / "trials")
+    report = run_experiment("q3", budget=0.001, seeds=1, test_episodes=2, checkpoint=tmp_path / "trials")
     planets = report["summary"]["planets"]["hidden"]
     assert set(planets) == {"Pluto", "Moon", "Mars", "Earth", "Neptune", "Jupiter"}
     for p in planets.values():
@@ -48,19 +48,19 @@ def test_q3_planets_and_crashes(tmp_path: Path, monkeypatch: pytest.MonkeyPatch)
 
     # Every finished trial was saved: the same run again trains nothing and reports the same.
     assert sorted(f.name for f in (tmp_path / "trials").iterdir()) == [
-        "q3-seed0-steps2000-hidden-test2.json",
-        "q3-seed0-steps2000-visible-test2.json",
+        "q3-seed0-steps1000-hidden-test2.json",
+        "q3-seed0-steps1000-visible-test2.json",
     ]
 
     def no_training(trial: Any) -> Any:
         raise AssertionError(f"trained {trial} again")
 
     monkeypatch.setattr(_run, "run_trial", no_training)
-    again = run_experiment("q3", budget=0.002, seeds=1, test_episodes=2, checkpoint=tmp_path / "trials")
+    again = run_experiment("q3", budget=0.001, seeds=1, test_episodes=2, checkpoint=tmp_path / "trials")
     assert again["results"] == report["results"] and again["summary"] == report["summary"]
     # Another budget is other trials: nothing of the folder is taken for them.
     with pytest.raises(AssertionError, match="trained"):
-        run_experiment("q3", budget=0.003, seeds=1, test_episodes=2, checkpoint=tmp_path / "trials")
+        run_experiment("q3", budget=0.0011, seeds=1, test_episodes=2, checkpoint=tmp_path / "trials")
 
 
 @pytest.mark.parametrize(

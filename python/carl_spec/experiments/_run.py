@@ -19,6 +19,8 @@ from typing import Any, Callable, Sequence
 import carl_spec as cs
 
 PAPER_STEPS = 1_000_000
+#: The fewest training steps of a trial, whatever the budget (a smoke test's).
+MIN_STEPS = 300
 FEATURES = ("g", "l", "m", "dt", "max_speed")
 SIGMAS = (0.1, 0.25, 0.5)
 #: The paper's Table 3 (rl-zoo3's LunarLander DQN).
@@ -84,7 +86,8 @@ def trials(
     unknown = [f for f in features if f not in FEATURES]
     if unknown or not features:
         raise ValueError(f"features must be some of {', '.join(FEATURES)}, got {list(features)}")
-    steps = max(1_000, round(budget * PAPER_STEPS))
+    # At least 300 steps: DDPG's 100 steps of random actions before it learns, and some learning.
+    steps = max(MIN_STEPS, round(budget * PAPER_STEPS))
 
     def trial(seed: int, visible: bool, feature: str | None = None, sigma: float | None = None) -> Trial:
         return Trial(experiment, seed, steps, visible, feature, sigma, test_episodes, evaluations)
