@@ -5,6 +5,7 @@ findings with the numbers deciding it; bad arguments are refused."""
 from __future__ import annotations
 
 import json
+import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -22,8 +23,13 @@ def check_report(report: dict[str, Any], tmp_path: Path) -> None:
     assert "| finding (the paper's) | holds here | numbers |" in m.read_text()
 
 
-def test_q1_sequential(tmp_path: Path) -> None:
+def test_q1_sequential(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    # Trials write no SB3 logs: without SB3_LOGDIR (Ray's workers do not see the tier's), SB3 would
+    # make a `SB3-<date>` folder in the system temp for every trial.
+    monkeypatch.delenv("SB3_LOGDIR", raising=False)
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
     report = run_experiment("q1", budget=0.0001, seeds=1, features=["g"], evaluations=1)
+    assert not list(tmp_path.glob("SB3-*"))
     assert report["trials"] == 3 and report["steps_per_trial"] == 300  # the fewest a trial trains
     assert set(report["summary"]["final_return"]["g"]) == {"0_1", "0_25", "0_5"}
     check_report(report, tmp_path)

@@ -110,6 +110,7 @@ def run_trial(trial: Trial) -> dict[str, Any]:
         obs_context = ["GRAVITY_Y"] if trial.visible else None
         env = cs.make("lunar_lander", instances=trial.train_set, obs_context=obs_context, selection="random")
         model = DQN("MlpPolicy", env, seed=trial.seed, verbose=0, **DQN_HYPERPARAMETERS)
+        _quiet_logger(model)
         model.learn(trial.steps)
         train_seconds = time.perf_counter() - start
         test = cs.evaluate(
@@ -138,6 +139,7 @@ def run_trial(trial: Trial) -> dict[str, Any]:
     obs_context = [trial.feature] if trial.visible and trial.feature else None
     env = cs.make("pendulum", instances=trial.train_set, obs_context=obs_context)
     model = DDPG("MlpPolicy", env, seed=trial.seed, verbose=0)
+    _quiet_logger(model)
     curve = []
     chunk = trial.steps // max(1, trial.evaluations)
     done = 0
@@ -149,6 +151,14 @@ def run_trial(trial: Trial) -> dict[str, Any]:
         res = cs.evaluate(model, instances=trial.train_set, episodes=1, seed=10_000 + trial.seed, obs_context=obs_context)
         curve.append({"steps": done, "mean_return": res.mean_return})
     return {"trial": asdict(trial), "train_seconds": time.perf_counter() - start, "curve": curve}
+
+
+def _quiet_logger(model: Any) -> None:
+    """A logger that writes nothing: without one, SB3's `learn` makes a `$TMPDIR/SB3-<date>` folder
+    for every trial (SB3_LOGDIR is not seen by Ray's workers)."""
+    from stable_baselines3.common.logger import Logger
+
+    model.set_logger(Logger(folder=None, output_formats=[]))
 
 
 def trial_key(trial: Trial) -> str:
