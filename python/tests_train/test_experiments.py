@@ -33,6 +33,9 @@ def test_q1_sequential(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     assert report["trials"] == 3 and report["steps_per_trial"] == 300  # the fewest a trial trains
     assert set(report["summary"]["final_return"]["g"]) == {"0_1", "0_25", "0_5"}
     check_report(report, tmp_path)
+    # q1's figure (q2's and q3's are drawn from the docs' reports in python/tests).
+    png = write_report(report, tmp_path, figure=True)[2]
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
 @pytest.mark.xdist_group("ray")  # one loopback Ray per worker: keep its tests together

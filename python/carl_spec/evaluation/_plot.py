@@ -1,31 +1,18 @@
-"""The report's figure (matplotlib, the optional extra `carl-spec[plot]`, imported here only)."""
+"""The report's figure (matplotlib, the optional extra `carl-spec[plot]`, imported only when drawn)."""
 
 from __future__ import annotations
 
 import os
 from typing import Any
 
+from .._matplotlib import pyplot
 from ._stats import METRICS
 
 _LABELS = {"mean": "mean", "median": "median", "iqm": "IQM"}
 
 
-def _pyplot() -> Any:
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg", force=False)
-        import matplotlib.pyplot as plt
-    except ImportError as e:
-        raise ImportError(
-            "Report.plot needs matplotlib, which carl-spec does not install by itself: "
-            "pip install 'carl-spec[plot]' (or pip install matplotlib). The report's JSON and Markdown need nothing more."
-        ) from e
-    return plt
-
-
 def plot_report(data: dict[str, Any], path: str | os.PathLike[str] | None) -> Any:
-    plt = _pyplot()
+    plt = pyplot("Report.plot")
     groups = data["groups"]
     keys = list(groups)
     rows = [r for k in keys if "/" not in k for r in groups[k]["per_instance"]]

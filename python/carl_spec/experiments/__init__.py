@@ -14,7 +14,8 @@ Stable-Baselines3 and the paper's hyperparameters (its Appendix):
 training seeds (the paper: 5). Trials run one after another, or in parallel on a local Ray bound
 to 127.0.0.1 (`ray=True`). Each experiment returns a report (JSON-serializable dict) with the
 per-trial numbers, the aggregates and the paper's findings each marked as holding or not, with
-the numbers that decide it; `write_report` writes it as JSON and markdown. With `checkpoint`
+the numbers that decide it; `write_report` writes it as JSON and markdown, and with
+`figure=True` as a PNG figure (`plot_report`; needs matplotlib, the `plot` extra). With `checkpoint`
 (the command line: `<out>/trials`), each finished trial is saved at once and a run of the same
 trials later takes it from there, so an interrupted run of hours resumes where it stopped.
 
@@ -23,6 +24,7 @@ trials later takes it from there, so an interrupted run of hours resumes where i
 
 from __future__ import annotations
 
+from ._plot import plot_report
 from ._run import EXPERIMENTS, Trial, run_experiment, run_trial, trials, write_report
 
-__all__ = ["EXPERIMENTS", "Trial", "run_experiment", "run_trial", "trials", "write_report"]
+__all__ = ["EXPERIMENTS", "Trial", "plot_report", "run_experiment", "run_trial", "trials", "write_report"]

@@ -1,7 +1,8 @@
-"""`python -m carl_spec.experiments EXPERIMENT [--budget B] [--seeds N] [--ray] --out DIR`: run one of
-the paper's experiments (q1, q2, q3, or all) and write its report (JSON and markdown). Each
-finished trial is saved in DIR/trials at once; running the same command again (after an
-interruption) takes those trials from there and trains only the others."""
+"""`python -m carl_spec.experiments EXPERIMENT [--budget B] [--seeds N] [--ray] --out DIR [--figure]`:
+run one of the paper's experiments (q1, q2, q3, or all) and write its report (JSON and markdown;
+with --figure a PNG figure too). Each finished trial is saved in DIR/trials at once; running the
+same command again (after an interruption) takes those trials from there and trains only the
+others."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from .._matplotlib import pyplot
 from ._run import EXPERIMENTS, FEATURES, run_experiment, write_report
 
 
@@ -22,6 +24,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--evaluations", type=int, default=4, help="q1/q2: evaluations along training")
     p.add_argument("--ray", action="store_true", help="run the trials in parallel on a local Ray bound to 127.0.0.1")
     p.add_argument("--out", required=True, help="directory for <experiment>.json and .md")
+    p.add_argument("--figure", action="store_true", help="also draw <experiment>.png (needs matplotlib: the plot extra)")
     a = p.parse_args(argv)
     names = list(EXPERIMENTS) if a.experiment == "all" else [a.experiment]
 
@@ -33,6 +36,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"error: --out {out} exists and is not a directory", file=sys.stderr)
         return 2
     try:
+        if a.figure:  # before hours of training, not after
+            pyplot("--figure")
         for name in names:
             report = run_experiment(
                 name,
@@ -45,7 +50,7 @@ def main(argv: list[str] | None = None) -> int:
                 progress=progress,
                 checkpoint=out / "trials",
             )
-            for path in write_report(report, a.out):
+            for path in write_report(report, a.out, figure=a.figure):
                 print(path)
     except (ValueError, ImportError) as e:
         print(f"error: {e}", file=sys.stderr)

@@ -18,6 +18,8 @@ from typing import Any, Callable, Sequence
 
 import carl_spec as cs
 
+from .._matplotlib import pyplot
+
 PAPER_STEPS = 1_000_000
 #: The fewest training steps of a trial, whatever the budget (a smoke test's).
 MIN_STEPS = 300
@@ -400,14 +402,20 @@ def run_experiment(
     }
 
 
-def write_report(report: dict[str, Any], out: str | os.PathLike[str]) -> tuple[Path, Path]:
-    """`<out>/<experiment>.json` and `.md` (the markdown: the aggregates and the findings)."""
+def write_report(report: dict[str, Any], out: str | os.PathLike[str], *, figure: bool = False) -> tuple[Path, ...]:
+    """`<out>/<experiment>.json` and `.md` (the markdown: the aggregates and the findings), and with
+    `figure` `<experiment>.png` (needs matplotlib, see `plot_report`); returns the paths written."""
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise ValueError(f"{out} exists and is not a directory")
     out.mkdir(parents=True, exist_ok=True)
     name = report["experiment"]
-    j, m = out / f"{name}.json", out / f"{name}.md"
+    j, m, png = out / f"{name}.json", out / f"{name}.md", out / f"{name}.png"
+    if figure:
+        from ._plot import plot_report
+
+        plt = pyplot("The experiment's figure")
+        plt.close(plot_report(report, png))
     j.write_text(json.dumps(report, indent=1) + "\n")
     lines = [
         f"# {name}: {report['title']}",
@@ -421,8 +429,10 @@ def write_report(report: dict[str, Any], out: str | os.PathLike[str]) -> tuple[P
     for f in report["summary"]["findings"]:
         nums = json.dumps(f["numbers"], default=lambda x: round(x, 3) if isinstance(x, float) else x)
         lines.append(f"| {f['claim']} | {'yes' if f['holds'] else 'no'} | `{nums}` |")
+    if figure:
+        lines += ["", f"![{name}]({png.name})"]
     m.write_text("\n".join(lines) + "\n")
-    return j, m
+    return (j, m, png) if figure else (j, m)
 
 
 EXPERIMENTS = {
