@@ -121,6 +121,9 @@ impl Data {
     pub fn new(model: Arc<Model>) -> Data {
         let (nb, nv, nq, ng) = (model.bodies.len(), model.nv, model.nq, model.geoms.len());
         let rows = model.max_rows;
+        // The dual's buffers (W = M⁻¹ Jᵀ, the Delassus matrix, the sweeps' state, the forces'
+        // warm start): only elliptic-cone models are solved on the dual.
+        let dual = if model.opt.cone == crate::model::Cone::Elliptic { rows } else { 0 };
         Data {
             qpos: model.qpos0.clone(),
             qvel: vec![0.0; nv],
@@ -159,20 +162,20 @@ impl Data {
             ncon: 0,
             nefc: 0,
             efc_j: vec![0.0; rows * nv],
-            efc_w: vec![0.0; rows * nv],
-            efc_inv: vec![0.0; rows],
-            efc_a: vec![0.0; rows * rows],
-            efc_b: vec![0.0; rows],
-            efc_g: vec![0.0; rows],
+            efc_w: vec![0.0; dual * nv],
+            efc_inv: vec![0.0; dual],
+            efc_a: vec![0.0; dual * dual],
+            efc_b: vec![0.0; dual],
+            efc_g: vec![0.0; dual],
             efc_r: vec![0.0; rows],
             efc_aref: vec![0.0; rows],
             efc_force: vec![0.0; rows],
             efc_bound: vec![f64::INFINITY; rows],
             efc_kind: vec![RowKind::None; rows],
             efc_class: vec![0; rows],
-            solve4: vec![[0.0; 4]; nv],
+            solve4: vec![[0.0; 4]; if dual > 0 { nv } else { 0 }],
             newton: crate::constraint::Newton::new(nv, rows),
-            efc_nz: vec![0; nv],
+            efc_nz: vec![0; if dual > 0 { nv } else { 0 }],
             pair_reach: model
                 .pairs
                 .iter()
@@ -180,7 +183,7 @@ impl Data {
                     model.geoms[p.g1].shape.bounding_radius() + model.geoms[p.g2].shape.bounding_radius() + p.margin
                 })
                 .collect(),
-            warm: vec![(0, 0.0); rows],
+            warm: vec![(0, 0.0); dual],
             warm_count: 0,
             solver_sweeps: 0,
             rk_q: std::array::from_fn(|_| vec![0.0; nq]),
