@@ -89,19 +89,23 @@ pub struct Data {
     /// `|f| ≤ bound` for dry-friction rows; infinite (`f ≥ 0`) for the others.
     pub(crate) efc_bound: Vec<f64>,
     pub(crate) efc_kind: Vec<RowKind>,
-    /// How Gauss–Seidel projects each row's force (pyramidal sweeps): 0 non-negative, 1 within
-    /// `±efc_bound`, 2 free (a tendon equality's).
+    /// Each row's cost (Newton's rows): 0 its force non-negative, 1 within `±efc_bound`, 2 free
+    /// (a tendon equality's).
     pub(crate) efc_class: Vec<u8>,
     /// Four right-hand sides of `M x = Jᵀ` interleaved (`nv` entries of four).
     pub(crate) solve4: Vec<[f64; 4]>,
+    /// The Newton solver's state and scratch (pyramidal-cone models).
+    pub(crate) newton: crate::constraint::Newton,
     /// The nonzero entries of a Jacobian row (indices).
     pub(crate) efc_nz: Vec<usize>,
     /// Each candidate pair's reach: the sum of its geoms' bounding radii and its margin (the
     /// broad phase's bounding-sphere test).
     pub(crate) pair_reach: Vec<f64>,
+    /// The previous projected Gauss–Seidel solve's forces by row key (elliptic-cone models).
     pub(crate) warm: Vec<(u64, f64)>,
     pub(crate) warm_count: usize,
-    /// Gauss–Seidel sweeps of the last constraint solve (a diagnostic).
+    /// Newton iterations (pyramidal cones) or Gauss–Seidel sweeps (elliptic cones) of the last
+    /// constraint solve (a diagnostic).
     pub solver_sweeps: usize,
     /// RK4 scratch: start state and stage rates.
     rk_q: [Vec<f64>; 4],
@@ -117,6 +121,9 @@ impl Data {
     pub fn new(model: Arc<Model>) -> Data {
         let (nb, nv, nq, ng) = (model.bodies.len(), model.nv, model.nq, model.geoms.len());
         let rows = model.max_rows;
+        // The dual's buffers (W = M⁻¹ Jᵀ, the Delassus matrix, the sweeps' state, the forces'
+        // warm start): only elliptic-cone models are solved on the dual.
+        let dual = if model.opt.cone == crate::model::Cone::Elliptic { rows } else { 0 };
         Data {
             qpos: model.qpos0.clone(),
             qvel: vec![0.0; nv],
@@ -155,19 +162,20 @@ impl Data {
             ncon: 0,
             nefc: 0,
             efc_j: vec![0.0; rows * nv],
-            efc_w: vec![0.0; rows * nv],
-            efc_inv: vec![0.0; rows],
-            efc_a: vec![0.0; rows * rows],
-            efc_b: vec![0.0; rows],
-            efc_g: vec![0.0; rows],
+            efc_w: vec![0.0; dual * nv],
+            efc_inv: vec![0.0; dual],
+            efc_a: vec![0.0; dual * dual],
+            efc_b: vec![0.0; dual],
+            efc_g: vec![0.0; dual],
             efc_r: vec![0.0; rows],
             efc_aref: vec![0.0; rows],
             efc_force: vec![0.0; rows],
             efc_bound: vec![f64::INFINITY; rows],
             efc_kind: vec![RowKind::None; rows],
             efc_class: vec![0; rows],
-            solve4: vec![[0.0; 4]; nv],
-            efc_nz: vec![0; nv],
+            solve4: vec![[0.0; 4]; if dual > 0 { nv } else { 0 }],
+            newton: crate::constraint::Newton::new(nv, rows),
+            efc_nz: vec![0; if dual > 0 { nv } else { 0 }],
             pair_reach: model
                 .pairs
                 .iter()
@@ -175,7 +183,7 @@ impl Data {
                     model.geoms[p.g1].shape.bounding_radius() + model.geoms[p.g2].shape.bounding_radius() + p.margin
                 })
                 .collect(),
-            warm: vec![(0, 0.0); rows],
+            warm: vec![(0, 0.0); dual],
             warm_count: 0,
             solver_sweeps: 0,
             rk_q: std::array::from_fn(|_| vec![0.0; nq]),
@@ -202,13 +210,14 @@ impl Data {
         self.forget_warm_start();
     }
 
-    /// Start the next constraint solve cold: the solver's warm start (the previous solve's forces)
-    /// is dropped, so what follows depends on the state alone. An environment's reset calls it
-    /// (directly or through [`Data::reset`]): without it the first solve of an episode starts
-    /// from the last episode's forces and lands within the solver's tolerance of, but not on,
-    /// the same forces.
+    /// Start the next constraint solve cold: the solver's warm start (the previous solve's
+    /// acceleration for Newton, its forces for Gauss–Seidel) is dropped, so what follows depends
+    /// on the state alone. An environment's reset calls it (directly or through [`Data::reset`]):
+    /// without it the first solve of an episode starts from the last episode's solution and lands
+    /// within the solver's tolerance of, but not on, the same result.
     pub fn forget_warm_start(&mut self) {
         self.warm_count = 0;
+        self.newton.warm_valid = false;
     }
 
     /// MuJoCo's activation update (`mj_advance`) with rates `act_dot` (RK4: its stages' weighted rates) over a step `h`:

@@ -9,7 +9,8 @@
 //!   matrix with armature, recursive Newton–Euler bias forces, passive forces;
 //! * [`collision`]: contacts with MuJoCo's pair filters, margins and contact frames;
 //! * [`constraint`]: soft contacts and joint limits from `solref`/`solimp`, pyramidal or elliptic
-//!   friction cones, projected Gauss–Seidel on the dual with a warm start;
+//!   friction cones, Newton on the primal (pyramidal) or projected Gauss–Seidel on the dual
+//!   (elliptic), warm-started;
 //! * [`sensors`]: MuJoCo's site sensors (velocimeter, gyro, accelerometer, force, torque,
 //!   subtree centre of mass) and `mj_rnePostConstraint`;
 //! * [`data`]: semi-implicit Euler with implicit joint damping, or RK4.

@@ -385,9 +385,11 @@ pub struct Options {
     /// Velocity of the medium (world frame): the fluid forces act on each body's velocity
     /// relative to it.
     pub wind: V3,
-    /// Projected Gauss–Seidel sweeps at most.
+    /// Newton iterations (pyramidal cones) or projected Gauss–Seidel sweeps (elliptic) at most.
     pub iterations: usize,
-    /// Sweeps stop once no force changes by more than this (relative to the largest force).
+    /// Newton stops once the cost's decrease or the gradient's norm, scaled by
+    /// `1 / (mean diag M · nv)`, falls below this (MuJoCo's rule); Gauss–Seidel's sweeps once no
+    /// force changes by more than this (relative to the largest force).
     pub tolerance: f64,
     /// The friction cone of contacts with friction (MuJoCo's `cone`).
     pub cone: Cone,

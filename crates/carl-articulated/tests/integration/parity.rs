@@ -5,7 +5,7 @@
 //! the compiled constants (`body_invweight0`, `dof_invweight0`), the first forward pass (mass
 //! matrix, bias forces, accelerations) and trajectories under the fixtures' control.
 //! Contact-free models are compared tightly; with contacts the constraint solvers differ
-//! (MuJoCo's Newton, our projected Gauss–Seidel, both to tolerance), so tolerances are looser
+//! (MuJoCo's Newton or PGS, our Newton or projected Gauss–Seidel, each to its tolerance), so tolerances are looser
 //! and stated per test.
 
 use std::sync::Arc;

@@ -90,8 +90,8 @@ fn quadruped_sensors_match_mujoco_at_its_states() {
         if std::env::var("ARTICULATED_TRACE").is_ok() {
             eprintln!("{name}: {w:.2e}");
         }
-        // Contact forces enter the accelerations through the solver (MuJoCo's Newton, our
-        // Gauss–Seidel, each to its tolerance).
+        // Contact forces enter the accelerations through the solver (MuJoCo's Newton and ours,
+        // each to its tolerance).
         assert!(*w < 1e-6, "{name}: relative deviation {w:.2e}");
     }
 }

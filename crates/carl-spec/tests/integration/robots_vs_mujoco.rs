@@ -356,7 +356,10 @@ fn humanoid_standup_side_of_the_mujoco_table() {
 const PIN_ANT: [f64; 9] = [0.3824, 50.0, 0.5731, 0.5468, 0.4474, 0.6330, 0.2238, 1000.0, -340.3810];
 const PIN_CHEETAH: [f64; 9] = [0.5499, 50.0, 0.2517, 0.4453, 0.3331, 0.5708, 0.5925, 1000.0, -201.6056];
 // HumanoidStandup never ends: its fall time is the 200-step run, its random episodes the limit.
+// Its gait velocity (a body wriggling on its back, chaotic: MuJoCo's spread over 12 seeds is
+// ±0.067 m/s) moved from 0.0900 to 0.0107 with the Newton constraint solver, its deterministic
+// metrics not in the fourth digit.
 const PIN_HUMANOID_STANDUP: [f64; 9] = [
-    0.0881, 3.0, 0.4161, 0.3006, -1.4007, -2.6842, 0.0900, 1000.0, 34210.3772,
+    0.0881, 3.0, 0.4161, 0.3006, -1.4007, -2.6842, 0.0107, 1000.0, 34210.3772,
 ];
 const PIN_HUMANOID: [f64; 9] = [1.2927, 1.248, 0.3778, 0.3933, 0.0263, 0.0732, 0.2686, 39.1, 188.7901];
