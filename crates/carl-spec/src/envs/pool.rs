@@ -37,7 +37,7 @@ const POLLS_NS: u128 = 450_000;
 /// calling thread steps blocks while the worker wakes), while polling through every gap burns
 /// the core's time, which on a busy machine (more runnable threads than cores) the scheduler
 /// takes back from the worker in the next job, where the caller then waits for its block
-/// (Pusher ×16 on two threads at load ~20: 5.7–8.5 k steps/s polling `POLLS`, 13–18 k so).
+/// (Pusher ×16 on two threads at load ~20: 5.7–8.5 k steps/s polling `POLLS`, 10.7–20.9 k so).
 const HEAVY_SHARE_NS: u128 = 200_000;
 /// The longest poll after a heavy share, ns.
 const HEAVY_POLL_NS: u128 = 100_000;
