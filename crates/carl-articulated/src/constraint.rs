@@ -147,12 +147,12 @@ impl Data {
         self.ncon = 0;
         for (pi, pair) in m.pairs.iter().enumerate() {
             let (g1, g2) = (pair.g1, pair.g2);
-            let (s1, s2) = (m.geoms[g1].shape, m.geoms[g2].shape);
             // Bounding spheres first.
             let reach = self.pair_reach[pi];
             if reach.is_finite() && crate::math::norm(sub(self.geom_xpos[g1], self.geom_xpos[g2])) > reach {
                 continue;
             }
+            let (s1, s2) = (m.geoms[g1].shape, m.geoms[g2].shape);
             let a = Placed {
                 shape: s1,
                 pos: self.geom_xpos[g1],

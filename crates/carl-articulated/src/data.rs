@@ -107,6 +107,15 @@ pub struct Data {
     /// Newton iterations (pyramidal cones) or Gauss–Seidel sweeps (elliptic cones) of the last
     /// constraint solve (a diagnostic).
     pub solver_sweeps: usize,
+    /// The bits of the `qpos` the poses (`xpos` … `cinert`, `cdof`) were last computed from,
+    /// and of the `qvel` the velocities (`cvel`, `cdof_dot`) were, while `kin_valid` /
+    /// `vel_valid` hold: `kinematics` and `velocities` return at once on the same bits (both
+    /// are functions of them alone), so the forward pass after [`Data::update_kinematics`] (an
+    /// environment's observation at the end of a step) does not repeat it.
+    pub(crate) kin_qpos: Vec<u64>,
+    pub(crate) kin_valid: bool,
+    pub(crate) vel_qvel: Vec<u64>,
+    pub(crate) vel_valid: bool,
     /// RK4 scratch: start state and stage rates.
     rk_q: [Vec<f64>; 4],
     rk_v0: Vec<f64>,
@@ -186,6 +195,10 @@ impl Data {
             warm: vec![(0, 0.0); dual],
             warm_count: 0,
             solver_sweeps: 0,
+            kin_qpos: vec![0; nq],
+            kin_valid: false,
+            vel_qvel: vec![0; nv],
+            vel_valid: false,
             rk_q: std::array::from_fn(|_| vec![0.0; nq]),
             rk_v0: vec![0.0; nv],
             rk_vel: std::array::from_fn(|_| vec![0.0; nv]),

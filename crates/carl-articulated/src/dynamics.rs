@@ -16,8 +16,20 @@ use crate::model::{JointKind, Model};
 
 impl Data {
     /// Body and geom poses, centres of mass, spatial inertias and each dof's motion subspace
-    /// from `qpos`.
+    /// from `qpos` (nothing to do when they are of the same `qpos` bits already).
     pub(crate) fn kinematics(&mut self) {
+        if self.kin_valid && self.kin_qpos.iter().zip(&self.qpos).all(|(b, q)| *b == q.to_bits()) {
+            return;
+        }
+        self.compute_kinematics();
+        for (b, q) in self.kin_qpos.iter_mut().zip(&self.qpos) {
+            *b = q.to_bits();
+        }
+        self.kin_valid = true;
+        self.vel_valid = false;
+    }
+
+    fn compute_kinematics(&mut self) {
         let m = &*self.model;
         self.xpos[0] = ZERO3;
         self.xquat[0] = QUAT_IDENTITY;
@@ -82,8 +94,20 @@ impl Data {
 
     /// Body velocities and each dof's `cdof_dot` from `qvel` (as MuJoCo's `mj_comVel`: a
     /// joint's `cdof_dot` is the body velocity accumulated before it crossed with its `cdof`;
-    /// a free joint's translations have none).
+    /// a free joint's translations have none). Nothing to do when they are of the same poses
+    /// and `qvel` bits already.
     pub(crate) fn velocities(&mut self) {
+        if self.vel_valid && self.vel_qvel.iter().zip(&self.qvel).all(|(b, v)| *b == v.to_bits()) {
+            return;
+        }
+        self.compute_velocities();
+        for (b, v) in self.vel_qvel.iter_mut().zip(&self.qvel) {
+            *b = v.to_bits();
+        }
+        self.vel_valid = true;
+    }
+
+    fn compute_velocities(&mut self) {
         let m = &*self.model;
         self.cvel[0] = [0.0; 6];
         for b in 1..m.bodies.len() {
