@@ -445,7 +445,8 @@ impl Data {
                 *o = qm[i * nv..(i + 1) * nv].iter().zip(x).map(|(p, q)| p * q).sum();
             }
         };
-        let row_dot = |r: usize, x: &[f64]| -> f64 { jac[r * nv..(r + 1) * nv].iter().zip(x).map(|(p, q)| p * q).sum() };
+        let row_dot =
+            |r: usize, x: &[f64]| -> f64 { jac[r * nv..(r + 1) * nv].iter().zip(x).map(|(p, q)| p * q).sum() };
         // The start: the warm start if it costs less than the unconstrained acceleration.
         let mut cost = {
             for r in 0..n {
@@ -453,7 +454,9 @@ impl Data {
             }
             nt.a[..nv].copy_from_slice(a0);
             nt.ma[..nv].fill(0.0);
-            (0..n).map(|r| row_cost(class[r], reg[r], bound[r], nt.jar[r])).sum::<f64>()
+            (0..n)
+                .map(|r| row_cost(class[r], reg[r], bound[r], nt.jar[r]))
+                .sum::<f64>()
         };
         if nt.warm_valid && n > 0 {
             for k in 0..nv {

@@ -132,7 +132,11 @@ impl Data {
         let rows = model.max_rows;
         // The dual's buffers (W = M⁻¹ Jᵀ, the Delassus matrix, the sweeps' state, the forces'
         // warm start): only elliptic-cone models are solved on the dual.
-        let dual = if model.opt.cone == crate::model::Cone::Elliptic { rows } else { 0 };
+        let dual = if model.opt.cone == crate::model::Cone::Elliptic {
+            rows
+        } else {
+            0
+        };
         Data {
             qpos: model.qpos0.clone(),
             qvel: vec![0.0; nv],
