@@ -15,6 +15,7 @@ import statistics
 from typing import Any
 
 from .._matplotlib import pyplot
+from ._run import _final, _finals_by_feature_mode, _planets_by_mode
 
 _MODES = ("hidden", "visible")
 
@@ -32,10 +33,6 @@ def plot_report(report: dict[str, Any], path: str | os.PathLike[str] | None = No
     if path is not None:
         fig.savefig(path, dpi=110)
     return fig
-
-
-def _final(result: dict[str, Any]) -> float:
-    return float(result["curve"][-1]["mean_return"])
 
 
 def _q1(plt: Any, report: dict[str, Any]) -> Any:
@@ -66,10 +63,7 @@ def _q1(plt: Any, report: dict[str, Any]) -> Any:
 
 def _q2(plt: Any, report: dict[str, Any]) -> Any:
     fig, ax = plt.subplots(figsize=(7.5, 3.9), constrained_layout=True)
-    by: dict[str, dict[str, list[float]]] = {}
-    for r in report["results"]:
-        t = r["trial"]
-        by.setdefault(t["feature"], {}).setdefault("visible" if t["visible"] else "hidden", []).append(_final(r))
+    by = _finals_by_feature_mode(report["results"])
     width = 0.38
     for k, mode in enumerate(_MODES):
         for i, by_mode in enumerate(by.values()):
@@ -91,13 +85,7 @@ def _q3(plt: Any, report: dict[str, Any]) -> Any:
     s = report["summary"]
     gravity, split = s["gravity"], s["split"]
     names = sorted(gravity, key=lambda n: abs(gravity[n]))
-    per: dict[str, dict[str, dict[str, list[float]]]] = {}
-    for r in report["results"]:
-        mode = "visible" if r["trial"]["visible"] else "hidden"
-        for n, p in r["planets"].items():
-            d = per.setdefault(mode, {}).setdefault(n, {"crash_rate": [], "mean_return": []})
-            d["crash_rate"].append(p["crash_rate"])
-            d["mean_return"].append(p["mean_return"])
+    per = _planets_by_mode(report["results"])
     fig, axes = plt.subplots(1, 2, figsize=(11, 3.9), constrained_layout=True)
     xs = range(len(names))
     labels = [f"{n}\n{gravity[n]:.2f}" for n in names]

@@ -18,8 +18,6 @@ from typing import Any, Callable, Sequence
 
 import carl_spec as cs
 
-from .._matplotlib import pyplot
-
 PAPER_STEPS = 1_000_000
 #: The fewest training steps of a trial, whatever the budget (a smoke test's).
 MIN_STEPS = 300
@@ -277,6 +275,30 @@ def _final(result: dict[str, Any]) -> float:
     return float(result["curve"][-1]["mean_return"])
 
 
+def _mode(trial: dict[str, Any]) -> str:
+    return "visible" if trial["visible"] else "hidden"
+
+
+def _finals_by_feature_mode(results: list[dict[str, Any]]) -> dict[str, dict[str, list[float]]]:
+    """q2: each feature's final returns, per context mode (hidden, visible), one per seed."""
+    table: dict[str, dict[str, list[float]]] = {}
+    for r in results:
+        t = r["trial"]
+        table.setdefault(t["feature"], {}).setdefault(_mode(t), []).append(_final(r))
+    return table
+
+
+def _planets_by_mode(results: list[dict[str, Any]]) -> dict[str, dict[str, dict[str, list[float]]]]:
+    """q3: each planet's mean return and game-over rate, per context mode, one per seed."""
+    per: dict[str, dict[str, dict[str, list[float]]]] = {}
+    for r in results:
+        for name, p in r["planets"].items():
+            d = per.setdefault(_mode(r["trial"]), {}).setdefault(name, {"mean_return": [], "crash_rate": []})
+            d["mean_return"].append(p["mean_return"])
+            d["crash_rate"].append(p["crash_rate"])
+    return per
+
+
 def _spearman(xs: Sequence[float], ys: Sequence[float]) -> float:
     def ranks(v: Sequence[float]) -> list[float]:
         order = sorted(range(len(v)), key=lambda i: v[i])
@@ -316,11 +338,7 @@ def _summarize(experiment: str, results: list[dict[str, Any]]) -> dict[str, Any]
         ]
         return {"final_return": agg, "findings": findings}
     if experiment == "q2":
-        table = {}
-        for r in results:
-            t = r["trial"]
-            table.setdefault(t["feature"], {}).setdefault("visible" if t["visible"] else "hidden", []).append(_final(r))
-        agg = {f: {k: _mean_std(v) for k, v in by.items()} for f, by in table.items()}
+        agg = {f: {k: _mean_std(v) for k, v in by.items()} for f, by in _finals_by_feature_mode(results).items()}
         gain = {f: by["visible"]["mean"] - by["hidden"]["mean"] for f, by in agg.items() if {"visible", "hidden"} <= set(by)}
         top = sorted(gain, key=lambda f: gain[f], reverse=True)[:3]
         findings = [
@@ -331,16 +349,12 @@ def _summarize(experiment: str, results: list[dict[str, Any]]) -> dict[str, Any]
             }
         ]
         return {"final_return": agg, "findings": findings}
-    per: dict[str, dict[str, dict[str, list[float]]]] = {}
     gravity: dict[str, float] = {}
     split: dict[str, str] = {}
     for r in results:
-        mode = "visible" if r["trial"]["visible"] else "hidden"
         for name, p in r["planets"].items():
             gravity[name], split[name] = p["gravity"], p["split"]
-            d = per.setdefault(mode, {}).setdefault(name, {"mean_return": [], "crash_rate": []})
-            d["mean_return"].append(p["mean_return"])
-            d["crash_rate"].append(p["crash_rate"])
+    per = _planets_by_mode(results)
     agg3 = {m: {n: {k: _mean_std(v) for k, v in d.items()} for n, d in by.items()} for m, by in per.items()}
     findings = []
     for mode, by in agg3.items():
@@ -414,8 +428,10 @@ def write_report(report: dict[str, Any], out: str | os.PathLike[str], *, figure:
     if figure:
         from ._plot import plot_report
 
-        plt = pyplot("The experiment's figure")
-        plt.close(plot_report(report, png))
+        fig = plot_report(report, png)  # imports matplotlib, or raises its ImportError
+        import matplotlib.pyplot as plt
+
+        plt.close(fig)
     j.write_text(json.dumps(report, indent=1) + "\n")
     lines = [
         f"# {name}: {report['title']}",
