@@ -442,11 +442,10 @@ impl Data {
         let scale = 1.0 / (mean_inertia * nv.max(1) as f64);
         let mat_vec = |x: &[f64], out: &mut [f64]| {
             for (i, o) in out.iter_mut().enumerate() {
-                *o = qm[i * nv..(i + 1) * nv].iter().zip(x).map(|(p, q)| p * q).sum();
+                *o = dot_n(&qm[i * nv..(i + 1) * nv], x);
             }
         };
-        let row_dot =
-            |r: usize, x: &[f64]| -> f64 { jac[r * nv..(r + 1) * nv].iter().zip(x).map(|(p, q)| p * q).sum() };
+        let row_dot = |r: usize, x: &[f64]| -> f64 { dot_n(&jac[r * nv..(r + 1) * nv], x) };
         // The start: the warm start if it costs less than the unconstrained acceleration.
         let mut cost = {
             for r in 0..n {
