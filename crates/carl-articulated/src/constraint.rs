@@ -496,7 +496,8 @@ impl Data {
                 break;
             }
             if changed {
-                // H = M + Σ (1/Rᵣ) Jᵣᵀ Jᵣ over the quadratic zone (lower triangle), factored.
+                // H = M + Σ (1/Rᵣ) Jᵣᵀ Jᵣ over the quadratic zone (upper triangle: entry
+                // `(q, p)`, `q ≤ p`, gets `(d jₚ) j_q`), factored.
                 nt.h[..nv * nv].copy_from_slice(qm);
                 for r in 0..n {
                     if !nt.active[r] {
@@ -509,8 +510,8 @@ impl Data {
                             continue;
                         }
                         let djp = d * jp;
-                        for (h, &jq) in nt.h[p * nv..p * nv + p + 1].iter_mut().zip(&j[..=p]) {
-                            *h += djp * jq;
+                        for (q, &jq) in j[..=p].iter().enumerate() {
+                            nt.h[q * nv + p] += djp * jq;
                         }
                     }
                 }

@@ -350,108 +350,164 @@ impl Data {
     }
 }
 
-/// In-place Cholesky `A = L Lᵀ` of the row-major `n × n` matrix (lower triangle). `false` if
-/// `a` is not positive definite.
+/// In-place Cholesky factor of the symmetric positive-definite row-major `n × n` matrix `a`:
+/// its upper triangle is read and replaced by `U` with `A = Uᵀ U` (row `j` of `U` is column `j`
+/// of the lower factor `L = Uᵀ`); the entries below the diagonal are left as they were. `false`
+/// if `a` is not positive definite.
 ///
-/// Column by column; the entries of a column below the diagonal are independent, so four rows
-/// are worked at once (four independent dependency chains for the processor to overlap), each
-/// entry's sum still taken in the order `k = 0, 1, …, j − 1`: the factor is the same, bit for bit,
-/// as the textbook loop's.
+/// Row `j` of `U` is `A`'s row `j` (from the diagonal on) minus `U[k][j]` times row `k` of `U`
+/// for `k = 0, 1, …, j − 1`, then divided by its first entry's square root. The row is worked in
+/// blocks of 8, 4, 2 and 1 entries held in registers while `k` runs (independent lanes the
+/// compiler vectorizes; with AVX2 where the processor has it, chosen at run time). Every entry's
+/// sum is still taken in the order `k = 0, 1, …, j − 1` with the textbook loop's products and no
+/// fused multiply-add, so the factor is the same, bit for bit, as the textbook loop's on every
+/// processor.
 pub fn cholesky(a: &mut [f64], n: usize) -> bool {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor has AVX2, checked just above.
+        return unsafe { simd::cholesky_avx2(a, n) };
+    }
+    cholesky_rows(a, n)
+}
+
+/// Solve `A x = b` in place with the factor `U` of [`cholesky`].
+pub fn cholesky_solve(u: &[f64], n: usize, x: &mut [f64]) {
+    cholesky_solve_from(u, n, x, 0);
+}
+
+/// [`cholesky_solve`] for a right-hand side whose entries before `first` are zero (the forward
+/// substitution starts there). The forward substitution `Uᵀ y = b` subtracts `y[k]` times row
+/// `k` of `U` from the entries after `k` (contiguous, vectorized), so each entry's sum runs over
+/// `k = first, …, i − 1` in order, as the textbook loop's; the backward substitution `U x = y` is
+/// a dot product over row `i`, `k = i + 1, …, n − 1` in order.
+pub fn cholesky_solve_from(u: &[f64], n: usize, x: &mut [f64], first: usize) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor has AVX2, checked just above.
+        return unsafe { simd::solve_avx2(u, n, x, first) };
+    }
+    solve_rows(u, n, x, first)
+}
+
+/// The same functions compiled for AVX2 (the portable bodies, inlined: same operations in the
+/// same order, so the same bits).
+#[cfg(target_arch = "x86_64")]
+mod simd {
+    #[target_feature(enable = "avx2")]
+    pub(super) unsafe fn cholesky_avx2(a: &mut [f64], n: usize) -> bool {
+        super::cholesky_rows(a, n)
+    }
+
+    #[target_feature(enable = "avx2")]
+    pub(super) unsafe fn solve_avx2(u: &[f64], n: usize, x: &mut [f64], first: usize) {
+        super::solve_rows(u, n, x, first)
+    }
+}
+
+#[inline(always)]
+fn cholesky_rows(a: &mut [f64], n: usize) -> bool {
     for j in 0..n {
-        let (top, bottom) = a.split_at_mut((j + 1) * n);
-        let rj = &mut top[j * n..(j + 1) * n];
-        let mut d = rj[j];
-        for &x in &rj[..j] {
-            d -= x * x;
+        let (done, rest) = a.split_at_mut(j * n);
+        let row = &mut rest[j..n];
+        let len = n - j;
+        let mut c = 0;
+        while c + 8 <= len {
+            row_block::<8>(done, n, j, c, &mut row[c..c + 8]);
+            c += 8;
         }
+        if c + 4 <= len {
+            row_block::<4>(done, n, j, c, &mut row[c..c + 4]);
+            c += 4;
+        }
+        if c + 2 <= len {
+            row_block::<2>(done, n, j, c, &mut row[c..c + 2]);
+            c += 2;
+        }
+        if c < len {
+            row_block::<1>(done, n, j, c, &mut row[c..c + 1]);
+        }
+        let d = row[0];
         if d.is_nan() || d <= 0.0 {
             return false;
         }
         let d = d.sqrt();
-        rj[j] = d;
-        let rj = &rj[..j];
-        let mut rows = bottom[..(n - j - 1) * n].chunks_exact_mut(4 * n);
-        for quad in &mut rows {
-            let (r0, rest) = quad.split_at_mut(n);
-            let (r1, rest) = rest.split_at_mut(n);
-            let (r2, r3) = rest.split_at_mut(n);
-            let (mut s0, mut s1, mut s2, mut s3) = (r0[j], r1[j], r2[j], r3[j]);
-            let lanes = rj.iter().zip(&r0[..j]).zip(&r1[..j]).zip(&r2[..j]).zip(&r3[..j]);
-            for ((((&l, &x0), &x1), &x2), &x3) in lanes {
-                s0 -= x0 * l;
-                s1 -= x1 * l;
-                s2 -= x2 * l;
-                s3 -= x3 * l;
-            }
-            r0[j] = s0 / d;
-            r1[j] = s1 / d;
-            r2[j] = s2 / d;
-            r3[j] = s3 / d;
-        }
-        for ri in rows.into_remainder().chunks_exact_mut(n) {
-            let mut s = ri[j];
-            for (&l, &x) in rj.iter().zip(&ri[..j]) {
-                s -= x * l;
-            }
-            ri[j] = s / d;
+        row[0] = d;
+        for x in &mut row[1..] {
+            *x /= d;
         }
     }
     true
 }
 
-/// Solve `L Lᵀ x = b` in place with the factor of [`cholesky`].
-pub fn cholesky_solve(l: &[f64], n: usize, x: &mut [f64]) {
-    cholesky_solve_from(l, n, x, 0);
+/// Entries `j + c .. j + c + W` of row `j` of the factor before the division: `out` (holding
+/// `A`'s entries) minus `Σₖ U[k][j] U[k][j + c + t]` over the finished rows `done`, `k` in order.
+#[inline(always)]
+fn row_block<const W: usize>(done: &[f64], n: usize, j: usize, c: usize, out: &mut [f64]) {
+    let mut s = [0.0; W];
+    s.copy_from_slice(out);
+    for row in done.chunks_exact(n) {
+        let l = row[j];
+        let u = &row[j + c..j + c + W];
+        for t in 0..W {
+            s[t] -= u[t] * l;
+        }
+    }
+    out.copy_from_slice(&s);
 }
 
-/// [`cholesky_solve`] for a right-hand side whose entries before `first` are zero (the forward
-/// substitution starts there).
-pub fn cholesky_solve_from(l: &[f64], n: usize, x: &mut [f64], first: usize) {
-    for i in first..n {
-        let mut s = x[i];
-        for k in first..i {
-            s -= l[i * n + k] * x[k];
+#[inline(always)]
+fn solve_rows(u: &[f64], n: usize, x: &mut [f64], first: usize) {
+    let x = &mut x[..n];
+    for k in first..n {
+        let row = &u[k * n + k..(k + 1) * n];
+        let (head, tail) = x.split_at_mut(k + 1);
+        let xk = head[k] / row[0];
+        head[k] = xk;
+        for (xi, &a) in tail.iter_mut().zip(&row[1..]) {
+            *xi -= a * xk;
         }
-        x[i] = s / l[i * n + i];
     }
     for i in (0..n).rev() {
-        let mut s = x[i];
-        for k in i + 1..n {
-            s -= l[k * n + i] * x[k];
+        let row = &u[i * n + i..(i + 1) * n];
+        let (head, tail) = x.split_at_mut(i + 1);
+        let mut s = head[i];
+        for (&a, &xk) in row[1..].iter().zip(tail.iter()) {
+            s -= a * xk;
         }
-        x[i] = s / l[i * n + i];
+        head[i] = s / row[0];
     }
 }
 
 /// [`cholesky_solve_from`] on four right-hand sides at once, interleaved (`x[k]` holds entry `k`
 /// of each), all of whose entries before `first` are zero (`+0`, as a Jacobian row's untouched
 /// entries). Each lane's sums run in the order of [`cholesky_solve_from`]; a lane whose own first
-/// nonzero entry lies past `first` meets only exact zeros before it (`x − l·0` is `x`), so every
+/// nonzero entry lies past `first` meets only exact zeros before it (`x − u·0` is `x`), so every
 /// lane's solution is the same, bit for bit, as its own solve's.
-pub fn cholesky_solve4(l: &[f64], n: usize, x: &mut [[f64; 4]], first: usize) {
+pub fn cholesky_solve4(u: &[f64], n: usize, x: &mut [[f64; 4]], first: usize) {
     let x = &mut x[..n];
-    for i in first..n {
-        let (head, tail) = x.split_at_mut(i);
-        let mut s = tail[0];
-        for (&lk, xk) in l[i * n + first..i * n + i].iter().zip(&head[first..]) {
+    for k in first..n {
+        let row = &u[k * n + k..(k + 1) * n];
+        let (head, tail) = x.split_at_mut(k + 1);
+        let d = row[0];
+        let xk = head[k].map(|v| v / d);
+        head[k] = xk;
+        for (xi, &a) in tail.iter_mut().zip(&row[1..]) {
             for t in 0..4 {
-                s[t] -= lk * xk[t];
+                xi[t] -= a * xk[t];
             }
         }
-        let d = l[i * n + i];
-        tail[0] = s.map(|v| v / d);
     }
     for i in (0..n).rev() {
+        let row = &u[i * n + i..(i + 1) * n];
         let (head, tail) = x.split_at_mut(i + 1);
         let mut s = head[i];
-        for (k, xk) in tail.iter().enumerate() {
-            let lk = l[(i + 1 + k) * n + i];
+        for (&a, xk) in row[1..].iter().zip(tail.iter()) {
             for t in 0..4 {
-                s[t] -= lk * xk[t];
+                s[t] -= a * xk[t];
             }
         }
-        let d = l[i * n + i];
+        let d = row[0];
         head[i] = s.map(|v| v / d);
     }
 }
@@ -628,11 +684,11 @@ pub(crate) fn tendon_invweight0(model: &Model) -> Vec<f64> {
 mod tests {
     use super::{cholesky, cholesky_solve_from, cholesky_solve4};
 
-    /// The four-row factorization and the four-lane solve equal the textbook loops bit for bit
+    /// The row-wise factorization, the solves and the four-lane solve equal the textbook loops bit for bit
     /// (right-hand sides with leading zeros, as Jacobian rows have).
     #[test]
     fn interleaved_cholesky_and_solves_are_bit_identical() {
-        let n = 9;
+        let n = 23;
         let mut seed = 0x9e37_79b9_7f4a_7c15u64;
         let mut rnd = || {
             seed ^= seed << 13;
@@ -667,10 +723,38 @@ mod tests {
         }
         let mut l = a.clone();
         assert!(cholesky(&mut l, n));
+        let mut portable = a.clone();
+        assert!(super::cholesky_rows(&mut portable, n));
+        assert_eq!(portable, l);
         for i in 0..n {
             for j in 0..=i {
-                assert_eq!(l[i * n + j].to_bits(), reference[i * n + j].to_bits());
+                assert_eq!(l[j * n + i].to_bits(), reference[i * n + j].to_bits());
             }
+        }
+        // The textbook substitutions on the textbook factor.
+        let b: Vec<f64> = (0..n).map(|_| rnd()).collect();
+        let mut y = b.clone();
+        for i in 0..n {
+            let mut s = y[i];
+            for k in 0..i {
+                s -= reference[i * n + k] * y[k];
+            }
+            y[i] = s / reference[i * n + i];
+        }
+        for i in (0..n).rev() {
+            let mut s = y[i];
+            for k in i + 1..n {
+                s -= reference[k * n + i] * y[k];
+            }
+            y[i] = s / reference[i * n + i];
+        }
+        let mut x = b.clone();
+        super::cholesky_solve(&l, n, &mut x);
+        let mut portable = b.clone();
+        super::solve_rows(&l, n, &mut portable, 0);
+        for k in 0..n {
+            assert_eq!(x[k].to_bits(), y[k].to_bits());
+            assert_eq!(portable[k].to_bits(), y[k].to_bits());
         }
         let firsts = [2, 5, 3, 8];
         let mut rhs = vec![[0.0; 4]; n];
