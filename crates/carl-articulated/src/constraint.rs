@@ -74,7 +74,7 @@
 
 use crate::collision::{Placed, collide};
 use crate::data::Data;
-use crate::dynamics::{cholesky, cholesky_solve, cholesky_solve4};
+use crate::dynamics::{cholesky, cholesky_solve, cholesky_solve4, sym_mat_vec};
 use crate::math::{V3, add, cross, dot, dot6, join, scale, sub};
 use crate::model::{Cone, SolImp, SolRef};
 
@@ -440,11 +440,7 @@ impl Data {
         let class = &self.efc_class[..n];
         let mean_inertia = (0..nv).map(|k| qm[k * nv + k]).sum::<f64>() / nv.max(1) as f64;
         let scale = 1.0 / (mean_inertia * nv.max(1) as f64);
-        let mat_vec = |x: &[f64], out: &mut [f64]| {
-            for (i, o) in out.iter_mut().enumerate() {
-                *o = dot_n(&qm[i * nv..(i + 1) * nv], x);
-            }
-        };
+        let mat_vec = |x: &[f64], out: &mut [f64]| sym_mat_vec(qm, nv, x, out);
         let row_dot = |r: usize, x: &[f64]| -> f64 { dot_n(&jac[r * nv..(r + 1) * nv], x) };
         // The start: the warm start if it costs less than the unconstrained acceleration.
         let mut cost = {
@@ -496,8 +492,7 @@ impl Data {
                 break;
             }
             if changed {
-                // H = M + Σ (1/Rᵣ) Jᵣᵀ Jᵣ over the quadratic zone (upper triangle: entry
-                // `(q, p)`, `q ≤ p`, gets `(d jₚ) j_q`), factored.
+                // H = M + Σ (1/Rᵣ) Jᵣᵀ Jᵣ over the quadratic zone (lower triangle), factored.
                 nt.h[..nv * nv].copy_from_slice(qm);
                 for r in 0..n {
                     if !nt.active[r] {
@@ -510,8 +505,8 @@ impl Data {
                             continue;
                         }
                         let djp = d * jp;
-                        for (q, &jq) in j[..=p].iter().enumerate() {
-                            nt.h[q * nv + p] += djp * jq;
+                        for (h, &jq) in nt.h[p * nv..p * nv + p + 1].iter_mut().zip(&j[..=p]) {
+                            *h += djp * jq;
                         }
                     }
                 }

@@ -351,11 +351,11 @@ impl Data {
 }
 
 /// In-place Cholesky factor of the symmetric positive-definite row-major `n × n` matrix `a`:
-/// its upper triangle is read and replaced by `U` with `A = Uᵀ U` (row `j` of `U` is column `j`
-/// of the lower factor `L = Uᵀ`); the entries below the diagonal are left as they were. `false`
-/// if `a` is not positive definite.
+/// its lower triangle is read (the upper one need not be set) and the upper triangle replaced by
+/// `U` with `A = Uᵀ U` (row `j` of `U` is column `j` of the lower factor `L = Uᵀ`); the entries
+/// below the diagonal are left as they were. `false` if `a` is not positive definite.
 ///
-/// Row `j` of `U` is `A`'s row `j` (from the diagonal on) minus `U[k][j]` times row `k` of `U`
+/// Row `j` of `U` is `A`'s column `j` (from the diagonal down) minus `U[k][j]` times row `k` of `U`
 /// for `k = 0, 1, …, j − 1`, then divided by its first entry's square root. The row is worked in
 /// blocks of 8, 4, 2 and 1 entries held in registers while `k` runs (independent lanes the
 /// compiler vectorizes; with AVX2 where the processor has it, chosen at run time). Every entry's
@@ -390,6 +390,54 @@ pub fn cholesky_solve_from(u: &[f64], n: usize, x: &mut [f64], first: usize) {
     solve_rows(u, n, x, first)
 }
 
+/// `out = A x` for the symmetric row-major `n × n` matrix `a`, each entry the sum
+/// `Σₖ A[i][k] x[k]` in the order `k = 0, 1, …, n − 1` from the neutral element of `f64`'s
+/// `Sum` (as `row.iter().zip(x).map(|(a, b)| a * b).sum()`), taken down the columns (`A[k][i]`,
+/// the same entry) in register blocks of `out`: the same bits as the row-by-row dot products.
+pub fn sym_mat_vec(a: &[f64], n: usize, x: &[f64], out: &mut [f64]) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor has AVX2, checked just above.
+        return unsafe { simd::sym_mat_vec_avx2(a, n, x, out) };
+    }
+    sym_mat_vec_cols(a, n, x, out)
+}
+
+#[inline(always)]
+fn sym_mat_vec_cols(a: &[f64], n: usize, x: &[f64], out: &mut [f64]) {
+    let out = &mut out[..n];
+    let x = &x[..n];
+    let mut c = 0;
+    while c + 8 <= n {
+        col_block::<8>(a, n, x, c, &mut out[c..c + 8]);
+        c += 8;
+    }
+    if c + 4 <= n {
+        col_block::<4>(a, n, x, c, &mut out[c..c + 4]);
+        c += 4;
+    }
+    if c + 2 <= n {
+        col_block::<2>(a, n, x, c, &mut out[c..c + 2]);
+        c += 2;
+    }
+    if c < n {
+        col_block::<1>(a, n, x, c, &mut out[c..c + 1]);
+    }
+}
+
+#[inline(always)]
+fn col_block<const W: usize>(a: &[f64], n: usize, x: &[f64], c: usize, out: &mut [f64]) {
+    let zero: f64 = std::iter::empty::<f64>().sum();
+    let mut s = [zero; W];
+    for (row, &xk) in a.chunks_exact(n).zip(x) {
+        let u = &row[c..c + W];
+        for t in 0..W {
+            s[t] += u[t] * xk;
+        }
+    }
+    out.copy_from_slice(&s);
+}
+
 /// The same functions compiled for AVX2 (the portable bodies, inlined: same operations in the
 /// same order, so the same bits).
 #[cfg(target_arch = "x86_64")]
@@ -397,6 +445,11 @@ mod simd {
     #[target_feature(enable = "avx2")]
     pub(super) unsafe fn cholesky_avx2(a: &mut [f64], n: usize) -> bool {
         super::cholesky_rows(a, n)
+    }
+
+    #[target_feature(enable = "avx2")]
+    pub(super) unsafe fn sym_mat_vec_avx2(a: &[f64], n: usize, x: &[f64], out: &mut [f64]) {
+        super::sym_mat_vec_cols(a, n, x, out)
     }
 
     #[target_feature(enable = "avx2")]
@@ -409,23 +462,24 @@ mod simd {
 fn cholesky_rows(a: &mut [f64], n: usize) -> bool {
     for j in 0..n {
         let (done, rest) = a.split_at_mut(j * n);
-        let row = &mut rest[j..n];
+        let (row, below) = rest.split_at_mut(n);
+        let row = &mut row[j..];
         let len = n - j;
         let mut c = 0;
         while c + 8 <= len {
-            row_block::<8>(done, n, j, c, &mut row[c..c + 8]);
+            row_block::<8>(done, below, n, j, c, &mut row[c..c + 8]);
             c += 8;
         }
         if c + 4 <= len {
-            row_block::<4>(done, n, j, c, &mut row[c..c + 4]);
+            row_block::<4>(done, below, n, j, c, &mut row[c..c + 4]);
             c += 4;
         }
         if c + 2 <= len {
-            row_block::<2>(done, n, j, c, &mut row[c..c + 2]);
+            row_block::<2>(done, below, n, j, c, &mut row[c..c + 2]);
             c += 2;
         }
         if c < len {
-            row_block::<1>(done, n, j, c, &mut row[c..c + 1]);
+            row_block::<1>(done, below, n, j, c, &mut row[c..c + 1]);
         }
         let d = row[0];
         if d.is_nan() || d <= 0.0 {
@@ -440,12 +494,16 @@ fn cholesky_rows(a: &mut [f64], n: usize) -> bool {
     true
 }
 
-/// Entries `j + c .. j + c + W` of row `j` of the factor before the division: `out` (holding
-/// `A`'s entries) minus `Σₖ U[k][j] U[k][j + c + t]` over the finished rows `done`, `k` in order.
+/// Entries `j + c .. j + c + W` of row `j` of the factor before the division: `A`'s entries
+/// `(j + c + t, j)` (the lower triangle: the diagonal from `out`, the rest from the rows `below`
+/// row `j`) minus `Σₖ U[k][j] U[k][j + c + t]` over the finished rows `done`, `k` in order.
 #[inline(always)]
-fn row_block<const W: usize>(done: &[f64], n: usize, j: usize, c: usize, out: &mut [f64]) {
+fn row_block<const W: usize>(done: &[f64], below: &[f64], n: usize, j: usize, c: usize, out: &mut [f64]) {
     let mut s = [0.0; W];
-    s.copy_from_slice(out);
+    for (t, x) in s.iter_mut().enumerate() {
+        let i = c + t;
+        *x = if i == 0 { out[0] } else { below[(i - 1) * n + j] };
+    }
     for row in done.chunks_exact(n) {
         let l = row[j];
         let u = &row[j + c..j + c + W];
@@ -684,7 +742,8 @@ pub(crate) fn tendon_invweight0(model: &Model) -> Vec<f64> {
 mod tests {
     use super::{cholesky, cholesky_solve_from, cholesky_solve4};
 
-    /// The row-wise factorization, the solves and the four-lane solve equal the textbook loops bit for bit
+    /// The row-wise factorization, the solves, the four-lane solve and the column-wise product
+    /// equal the textbook loops bit for bit
     /// (right-hand sides with leading zeros, as Jacobian rows have).
     #[test]
     fn interleaved_cholesky_and_solves_are_bit_identical() {
@@ -722,10 +781,19 @@ mod tests {
             }
         }
         let mut l = a.clone();
+        for i in 0..n {
+            for j in i + 1..n {
+                l[i * n + j] = f64::NAN; // only the lower triangle is read
+            }
+        }
         assert!(cholesky(&mut l, n));
         let mut portable = a.clone();
         assert!(super::cholesky_rows(&mut portable, n));
-        assert_eq!(portable, l);
+        for i in 0..n {
+            for j in i..n {
+                assert_eq!(portable[i * n + j].to_bits(), l[i * n + j].to_bits());
+            }
+        }
         for i in 0..n {
             for j in 0..=i {
                 assert_eq!(l[j * n + i].to_bits(), reference[i * n + j].to_bits());
@@ -755,6 +823,15 @@ mod tests {
         for k in 0..n {
             assert_eq!(x[k].to_bits(), y[k].to_bits());
             assert_eq!(portable[k].to_bits(), y[k].to_bits());
+        }
+        let mut ax = vec![0.0; n];
+        super::sym_mat_vec(&a, n, &b, &mut ax);
+        let mut ax_portable = vec![0.0; n];
+        super::sym_mat_vec_cols(&a, n, &b, &mut ax_portable);
+        for i in 0..n {
+            let dot: f64 = a[i * n..(i + 1) * n].iter().zip(&b).map(|(p, q)| p * q).sum();
+            assert_eq!(ax[i].to_bits(), dot.to_bits());
+            assert_eq!(ax_portable[i].to_bits(), dot.to_bits());
         }
         let firsts = [2, 5, 3, 8];
         let mut rhs = vec![[0.0; 4]; n];
