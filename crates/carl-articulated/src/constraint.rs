@@ -492,7 +492,9 @@ impl Data {
                 break;
             }
             if changed {
-                // H = M + Σ (1/Rᵣ) Jᵣᵀ Jᵣ over the quadratic zone (lower triangle), factored.
+                // H = M + Σ (1/Rᵣ) Jᵣᵀ Jᵣ over the quadratic zone, factored: entry `(q, p)` of the
+                // upper triangle gets `(d jₚ) j_q` for every `jₚ ≠ 0` and `q ≤ p`, added row by
+                // row of H over the row's nonzero entries.
                 nt.h[..nv * nv].copy_from_slice(qm);
                 for r in 0..n {
                     if !nt.active[r] {
@@ -500,13 +502,23 @@ impl Data {
                     }
                     let j = &jac[r * nv..(r + 1) * nv];
                     let d = 1.0 / reg[r];
+                    let mut nnz = 0;
                     for (p, &jp) in j.iter().enumerate() {
-                        if jp == 0.0 {
-                            continue;
+                        if jp != 0.0 {
+                            nt.nz[nnz] = (p, d * jp);
+                            nnz += 1;
                         }
-                        let djp = d * jp;
-                        for (h, &jq) in nt.h[p * nv..p * nv + p + 1].iter_mut().zip(&j[..=p]) {
-                            *h += djp * jq;
+                    }
+                    let nz = &nt.nz[..nnz];
+                    let Some(&(last, _)) = nz.last() else { continue };
+                    let mut from = 0;
+                    for (q, &jq) in j[..=last].iter().enumerate() {
+                        while nz[from].0 < q {
+                            from += 1;
+                        }
+                        let hq = &mut nt.h[q * nv..(q + 1) * nv];
+                        for &(p, djp) in &nz[from..] {
+                            hq[p] += djp * jq;
                         }
                     }
                 }
@@ -809,6 +821,8 @@ pub(crate) struct Newton {
     jar: Vec<f64>,
     jdir: Vec<f64>,
     active: Vec<bool>,
+    /// A Hessian row's nonzero Jacobian entries `(p, d jₚ)`.
+    nz: Vec<(usize, f64)>,
 }
 
 impl Newton {
@@ -825,6 +839,7 @@ impl Newton {
             jar: vec![0.0; rows],
             jdir: vec![0.0; rows],
             active: vec![false; rows],
+            nz: vec![(0, 0.0); nv],
         }
     }
 }

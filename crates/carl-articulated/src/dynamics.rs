@@ -351,11 +351,11 @@ impl Data {
 }
 
 /// In-place Cholesky factor of the symmetric positive-definite row-major `n × n` matrix `a`:
-/// its lower triangle is read (the upper one need not be set) and the upper triangle replaced by
-/// `U` with `A = Uᵀ U` (row `j` of `U` is column `j` of the lower factor `L = Uᵀ`); the entries
-/// below the diagonal are left as they were. `false` if `a` is not positive definite.
+/// its upper triangle is read (the lower one need not be set) and replaced by `U` with
+/// `A = Uᵀ U` (row `j` of `U` is column `j` of the lower factor `L = Uᵀ`); the entries below the
+/// diagonal are left as they were. `false` if `a` is not positive definite.
 ///
-/// Row `j` of `U` is `A`'s column `j` (from the diagonal down) minus `U[k][j]` times row `k` of `U`
+/// Row `j` of `U` is `A`'s row `j` (from the diagonal on) minus `U[k][j]` times row `k` of `U`
 /// for `k = 0, 1, …, j − 1`, then divided by its first entry's square root. The row is worked in
 /// blocks of 8, 4, 2 and 1 entries held in registers while `k` runs (independent lanes the
 /// compiler vectorizes; with AVX2 where the processor has it, chosen at run time). Every entry's
@@ -462,24 +462,23 @@ mod simd {
 fn cholesky_rows(a: &mut [f64], n: usize) -> bool {
     for j in 0..n {
         let (done, rest) = a.split_at_mut(j * n);
-        let (row, below) = rest.split_at_mut(n);
-        let row = &mut row[j..];
+        let row = &mut rest[j..n];
         let len = n - j;
         let mut c = 0;
         while c + 8 <= len {
-            row_block::<8>(done, below, n, j, c, &mut row[c..c + 8]);
+            row_block::<8>(done, n, j, c, &mut row[c..c + 8]);
             c += 8;
         }
         if c + 4 <= len {
-            row_block::<4>(done, below, n, j, c, &mut row[c..c + 4]);
+            row_block::<4>(done, n, j, c, &mut row[c..c + 4]);
             c += 4;
         }
         if c + 2 <= len {
-            row_block::<2>(done, below, n, j, c, &mut row[c..c + 2]);
+            row_block::<2>(done, n, j, c, &mut row[c..c + 2]);
             c += 2;
         }
         if c < len {
-            row_block::<1>(done, below, n, j, c, &mut row[c..c + 1]);
+            row_block::<1>(done, n, j, c, &mut row[c..c + 1]);
         }
         let d = row[0];
         if d.is_nan() || d <= 0.0 {
@@ -494,16 +493,12 @@ fn cholesky_rows(a: &mut [f64], n: usize) -> bool {
     true
 }
 
-/// Entries `j + c .. j + c + W` of row `j` of the factor before the division: `A`'s entries
-/// `(j + c + t, j)` (the lower triangle: the diagonal from `out`, the rest from the rows `below`
-/// row `j`) minus `Σₖ U[k][j] U[k][j + c + t]` over the finished rows `done`, `k` in order.
+/// Entries `j + c .. j + c + W` of row `j` of the factor before the division: `out` (holding
+/// `A`'s entries) minus `Σₖ U[k][j] U[k][j + c + t]` over the finished rows `done`, `k` in order.
 #[inline(always)]
-fn row_block<const W: usize>(done: &[f64], below: &[f64], n: usize, j: usize, c: usize, out: &mut [f64]) {
+fn row_block<const W: usize>(done: &[f64], n: usize, j: usize, c: usize, out: &mut [f64]) {
     let mut s = [0.0; W];
-    for (t, x) in s.iter_mut().enumerate() {
-        let i = c + t;
-        *x = if i == 0 { out[0] } else { below[(i - 1) * n + j] };
-    }
+    s.copy_from_slice(out);
     for row in done.chunks_exact(n) {
         let l = row[j];
         let u = &row[j + c..j + c + W];
@@ -782,8 +777,8 @@ mod tests {
         }
         let mut l = a.clone();
         for i in 0..n {
-            for j in i + 1..n {
-                l[i * n + j] = f64::NAN; // only the lower triangle is read
+            for j in 0..i {
+                l[i * n + j] = f64::NAN; // only the upper triangle is read
             }
         }
         assert!(cholesky(&mut l, n));
