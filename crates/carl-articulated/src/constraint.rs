@@ -147,10 +147,15 @@ impl Data {
         self.ncon = 0;
         for (pi, pair) in m.pairs.iter().enumerate() {
             let (g1, g2) = (pair.g1, pair.g2);
-            // Bounding spheres first.
-            let reach = self.pair_reach[pi];
-            if reach.is_finite() && crate::math::norm(sub(self.geom_xpos[g1], self.geom_xpos[g2])) > reach {
-                continue;
+            // Bounding spheres first: `|d| > reach`, decided without the square root when
+            // `d · d` exceeds `reach² (1 + 10⁻¹²)` (then `√(d · d)` rounds above `reach` too).
+            let (reach, reach2) = self.pair_reach[pi];
+            if reach.is_finite() {
+                let d = sub(self.geom_xpos[g1], self.geom_xpos[g2]);
+                let d2 = crate::math::dot(d, d);
+                if d2 > reach2 || d2.sqrt() > reach {
+                    continue;
+                }
             }
             let (s1, s2) = (m.geoms[g1].shape, m.geoms[g2].shape);
             let a = Placed {

@@ -63,7 +63,8 @@ pub struct Data {
     /// world frame, about the world origin).
     pub(crate) post_cacc: Vec<V6>,
     pub(crate) cfrc_int: Vec<V6>,
-    /// Mass matrix (armature included), row-major.
+    /// Mass matrix (armature included), row-major; the entries of dof pairs neither of which is
+    /// an ancestor of the other are zero and never written.
     pub qm: Vec<f64>,
     pub(crate) qld: Vec<f64>,
     pub qfrc_bias: Vec<f64>,
@@ -99,8 +100,8 @@ pub struct Data {
     /// The nonzero entries of a Jacobian row (indices).
     pub(crate) efc_nz: Vec<usize>,
     /// Each candidate pair's reach: the sum of its geoms' bounding radii and its margin (the
-    /// broad phase's bounding-sphere test).
-    pub(crate) pair_reach: Vec<f64>,
+    /// broad phase's bounding-sphere test), with `reach² (1 + 10⁻¹²)`.
+    pub(crate) pair_reach: Vec<(f64, f64)>,
     /// The previous projected Gauss–Seidel solve's forces by row key (elliptic-cone models).
     pub(crate) warm: Vec<(u64, f64)>,
     pub(crate) warm_count: usize,
@@ -193,7 +194,10 @@ impl Data {
                 .pairs
                 .iter()
                 .map(|p| {
-                    model.geoms[p.g1].shape.bounding_radius() + model.geoms[p.g2].shape.bounding_radius() + p.margin
+                    let reach = model.geoms[p.g1].shape.bounding_radius()
+                        + model.geoms[p.g2].shape.bounding_radius()
+                        + p.margin;
+                    (reach, reach * reach * (1.0 + 1e-12))
                 })
                 .collect(),
             warm: vec![(0, 0.0); dual],

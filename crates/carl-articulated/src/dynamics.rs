@@ -149,7 +149,8 @@ impl Data {
             let c = self.crb[b];
             self.crb[p].add(&c);
         }
-        self.qm.fill(0.0);
+        // Only ancestor pairs are written; every other entry stays the zero it was allocated
+        // with.
         for i in 0..nv {
             let f = self.crb[m.dof_body[i]].mul(&self.cdof[i]);
             let mut j = i;
