@@ -74,7 +74,7 @@
 
 use crate::collision::{Placed, collide};
 use crate::data::Data;
-use crate::dynamics::{cholesky, cholesky_solve, cholesky_solve4, sym_mat_vec};
+use crate::dynamics::{cholesky_and_solve, cholesky_solve, cholesky_solve4, sym_mat_vec};
 use crate::math::{V3, add, cross, dot, dot6, join, scale, sub};
 use crate::model::{Cone, SolImp, SolRef};
 
@@ -527,15 +527,19 @@ impl Data {
                         }
                     }
                 }
-                if !cholesky(&mut nt.h[..nv * nv], nv) {
+                for k in 0..nv {
+                    nt.dir[k] = -nt.grad[k];
+                }
+                if !cholesky_and_solve(&mut nt.h[..nv * nv], nv, &mut nt.dir[..nv]) {
                     break;
                 }
                 factored = true;
+            } else {
+                for k in 0..nv {
+                    nt.dir[k] = -nt.grad[k];
+                }
+                cholesky_solve(&nt.h[..nv * nv], nv, &mut nt.dir[..nv]);
             }
-            for k in 0..nv {
-                nt.dir[k] = -nt.grad[k];
-            }
-            cholesky_solve(&nt.h[..nv * nv], nv, &mut nt.dir[..nv]);
             mat_vec(&nt.dir[..nv], &mut nt.mdir[..nv]);
             for r in 0..n {
                 nt.jdir[r] = row_dot(r, &nt.dir[..nv]);

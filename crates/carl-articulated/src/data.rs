@@ -17,7 +17,7 @@ use std::sync::Arc;
 
 use crate::collision::Contact;
 use crate::constraint::RowKind;
-use crate::dynamics::{cholesky, cholesky_solve};
+use crate::dynamics::cholesky_and_solve;
 use crate::math::{
     IDENTITY, Inertia, M3, QUAT_IDENTITY, Quat, V3, V6, ZERO3, add, cross, dot, quat_integrate, quat_mul,
     quat_normalize, scale, split,
@@ -281,12 +281,11 @@ impl Data {
             self.qfrc_smooth[d] = self.qfrc_passive[d] + self.qfrc_actuator[d] - self.qfrc_bias[d];
         }
         self.qld.copy_from_slice(&self.qm);
-        if !cholesky(&mut self.qld, nv) {
+        self.qacc_smooth.copy_from_slice(&self.qfrc_smooth);
+        if !cholesky_and_solve(&mut self.qld, nv, &mut self.qacc_smooth) {
             self.qacc.fill(f64::NAN);
             return false;
         }
-        self.qacc_smooth.copy_from_slice(&self.qfrc_smooth);
-        cholesky_solve(&self.qld, nv, &mut self.qacc_smooth);
         self.qacc.copy_from_slice(&self.qacc_smooth);
         self.collide();
         self.make_constraints();
@@ -345,11 +344,10 @@ impl Data {
                 self.qld[d * nv + d] += h * m.joints[m.dof_joint[d]].damping;
                 self.qacc[d] = self.qfrc_smooth[d] + self.qfrc_constraint[d];
             }
-            if !cholesky(&mut self.qld, nv) {
+            if !cholesky_and_solve(&mut self.qld, nv, &mut self.qacc) {
                 self.qvel.fill(f64::NAN);
                 return;
             }
-            cholesky_solve(&self.qld, nv, &mut self.qacc);
         }
         for d in 0..nv {
             self.qvel[d] += h * self.qacc[d];

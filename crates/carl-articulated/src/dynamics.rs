@@ -372,6 +372,27 @@ pub fn cholesky(a: &mut [f64], n: usize) -> bool {
     cholesky_rows(a, n)
 }
 
+/// [`cholesky`] of `a`, then [`cholesky_solve`] of `x` (`b` on entry, the solution on return)
+/// with the factor; the forward substitution runs inside the factorization, so the two overlap.
+/// The same bits as the two calls. `false` (and `x` unspecified) if `a` is not positive definite.
+pub fn cholesky_and_solve(a: &mut [f64], n: usize, x: &mut [f64]) -> bool {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor has AVX2, checked just above.
+        return unsafe { simd::cholesky_and_solve_avx2(a, n, x) };
+    }
+    factor_and_solve_rows(a, n, x)
+}
+
+#[inline(always)]
+fn factor_and_solve_rows(a: &mut [f64], n: usize, x: &mut [f64]) -> bool {
+    if !factor_rows(a, n, Some(&mut x[..n])) {
+        return false;
+    }
+    backward_rows(a, n, x);
+    true
+}
+
 /// Solve `A x = b` in place with the factor `U` of [`cholesky`].
 pub fn cholesky_solve(u: &[f64], n: usize, x: &mut [f64]) {
     cholesky_solve_from(u, n, x, 0);
@@ -449,6 +470,11 @@ mod simd {
     }
 
     #[target_feature(enable = "avx2")]
+    pub(super) unsafe fn cholesky_and_solve_avx2(a: &mut [f64], n: usize, x: &mut [f64]) -> bool {
+        super::factor_and_solve_rows(a, n, x)
+    }
+
+    #[target_feature(enable = "avx2")]
     pub(super) unsafe fn sym_mat_vec_avx2(a: &[f64], n: usize, x: &[f64], out: &mut [f64]) {
         super::sym_mat_vec_cols(a, n, x, out)
     }
@@ -461,6 +487,15 @@ mod simd {
 
 #[inline(always)]
 fn cholesky_rows(a: &mut [f64], n: usize) -> bool {
+    factor_rows(a, n, None)
+}
+
+/// The factorization of [`cholesky`]; with `rhs`, also the forward substitution `Uᵀ y = b` in
+/// place (`b` in `rhs` on entry), entry `j` as soon as row `j` of `U` is done: `b[j]` minus
+/// `U[k][j] y[k]` for `k = 0, 1, …, j − 1` in order, divided by `U[j][j]` (the operations of
+/// [`cholesky_solve`]'s forward substitution in the same order, overlapped with the factor's).
+#[inline(always)]
+fn factor_rows(a: &mut [f64], n: usize, mut rhs: Option<&mut [f64]>) -> bool {
     for j in 0..n {
         let (done, rest) = a.split_at_mut(j * n);
         let row = &mut rest[j..n];
@@ -489,6 +524,14 @@ fn cholesky_rows(a: &mut [f64], n: usize) -> bool {
         row[0] = d;
         for x in &mut row[1..] {
             *x /= d;
+        }
+        if let Some(y) = rhs.as_deref_mut() {
+            let (solved, rest) = y.split_at_mut(j);
+            let mut s = rest[0];
+            for (u, &yk) in done.chunks_exact(n).zip(solved.iter()) {
+                s -= u[j] * yk;
+            }
+            rest[0] = s / d;
         }
     }
     true
@@ -522,6 +565,14 @@ fn solve_rows(u: &[f64], n: usize, x: &mut [f64], first: usize) {
             *xi -= a * xk;
         }
     }
+    backward_rows(u, n, x);
+}
+
+/// The backward substitution `U x = y` (`y` in `x` on entry): a dot product over row `i` of `U`,
+/// `k = i + 1, …, n − 1` in order.
+#[inline(always)]
+fn backward_rows(u: &[f64], n: usize, x: &mut [f64]) {
+    let x = &mut x[..n];
     for i in (0..n).rev() {
         let row = &u[i * n + i..(i + 1) * n];
         let (head, tail) = x.split_at_mut(i + 1);
@@ -819,6 +870,25 @@ mod tests {
         for k in 0..n {
             assert_eq!(x[k].to_bits(), y[k].to_bits());
             assert_eq!(portable[k].to_bits(), y[k].to_bits());
+        }
+        let mut fused = b.clone();
+        let mut fused_factor = a.clone();
+        assert!(super::cholesky_and_solve(&mut fused_factor, n, &mut fused));
+        let mut fused_portable = b.clone();
+        let mut fused_portable_factor = a.clone();
+        assert!(super::factor_and_solve_rows(
+            &mut fused_portable_factor,
+            n,
+            &mut fused_portable
+        ));
+        for k in 0..n {
+            assert_eq!(fused[k].to_bits(), y[k].to_bits());
+            assert_eq!(fused_portable[k].to_bits(), y[k].to_bits());
+        }
+        for i in 0..n {
+            for j in i..n {
+                assert_eq!(fused_factor[i * n + j].to_bits(), l[i * n + j].to_bits());
+            }
         }
         let mut ax = vec![0.0; n];
         super::sym_mat_vec(&a, n, &b, &mut ax);
