@@ -74,12 +74,12 @@ pub fn collide(a: &Placed, b: &Placed, margin: f64, out: &mut [Contact]) -> usiz
         (Shape::Plane, Shape::Sphere { radius }) => {
             let n = col(&a.mat, 2);
             let d = dot(sub(b.pos, a.pos), n) - radius;
-            push_plane_point(n, b.pos, radius, d, margin, make_frame(n), out, 0)
+            push_plane_point(n, b.pos, radius, d, margin, || make_frame(n), out, 0)
         }
         (Shape::Plane, Shape::Capsule { radius, .. }) => {
             let n = col(&a.mat, 2);
             let (p0, p1, _) = b.segment();
-            let frame = frame_along(n, col(&b.mat, 2));
+            let frame = || frame_along(n, col(&b.mat, 2));
             let mut k = 0;
             for p in [p0, p1] {
                 let d = dot(sub(p, a.pos), n) - radius;
@@ -107,7 +107,7 @@ pub fn collide(a: &Placed, b: &Placed, margin: f64, out: &mut [Contact]) -> usiz
                 }
             }
             corners[..m].sort_by(|x, y| x.0.total_cmp(&y.0));
-            let frame = make_frame(n);
+            let frame = || make_frame(n);
             let mut k = 0;
             for &(d, p) in corners[..m].iter().take(4) {
                 k += push_plane_point(n, p, 0.0, d, margin, frame, out, k);
@@ -132,7 +132,7 @@ pub fn collide(a: &Placed, b: &Placed, margin: f64, out: &mut [Contact]) -> usiz
             ];
             let p = add(b.pos, mat_vec(&b.mat, local));
             let d = dot(sub(p, a.pos), n);
-            push_plane_point(n, p, 0.0, d, margin, make_frame(n), out, 0)
+            push_plane_point(n, p, 0.0, d, margin, || make_frame(n), out, 0)
         }
         (Shape::Sphere { .. } | Shape::Capsule { .. }, Shape::Sphere { .. } | Shape::Capsule { .. }) => {
             let (a0, a1, ra) = a.segment();
@@ -147,7 +147,8 @@ pub fn collide(a: &Placed, b: &Placed, margin: f64, out: &mut [Contact]) -> usiz
     }
 }
 
-/// A contact of a sphere of `radius` centred at `c` at distance `d` above a plane of normal `n`.
+/// A contact of a sphere of `radius` centred at `c` at distance `d` above a plane of normal `n`
+/// (its frame computed only when there is a contact).
 #[allow(clippy::too_many_arguments)]
 fn push_plane_point(
     n: V3,
@@ -155,7 +156,7 @@ fn push_plane_point(
     radius: f64,
     d: f64,
     margin: f64,
-    frame: [V3; 3],
+    frame: impl Fn() -> [V3; 3],
     out: &mut [Contact],
     k: usize,
 ) -> usize {
@@ -164,7 +165,7 @@ fn push_plane_point(
     }
     out[k] = Contact {
         pos: sub(c, scale(n, radius + 0.5 * d)),
-        frame,
+        frame: frame(),
         dist: d,
         pair: 0,
         sub: k,
