@@ -183,10 +183,9 @@ impl Data {
         let m = &*self.model;
         let nv = m.nv;
         let f = join(cross(p, u), u);
-        let mut k = m.body_last_dof[b];
-        while k != usize::MAX {
-            self.efc_j[r * nv + k] += s * dot6(&self.cdof[k], &f);
-            k = m.dof_parent[k];
+        let row = &mut self.efc_j[r * nv..(r + 1) * nv];
+        for &k in m.dof_path(m.body_last_dof[b]) {
+            row[k] += s * dot6(&self.cdof[k], &f);
         }
     }
 

@@ -151,16 +151,15 @@ impl Data {
         }
         // Only ancestor pairs are written; every other entry stays the zero it was allocated
         // with.
+        let qm = &mut self.qm[..nv * nv];
         for i in 0..nv {
             let f = self.crb[m.dof_body[i]].mul(&self.cdof[i]);
-            let mut j = i;
-            while j != usize::MAX {
+            for &j in m.dof_path(i) {
                 let v = dot6(&self.cdof[j], &f);
-                self.qm[i * nv + j] = v;
-                self.qm[j * nv + i] = v;
-                j = m.dof_parent[j];
+                qm[i * nv + j] = v;
+                qm[j * nv + i] = v;
             }
-            self.qm[i * nv + i] += m.joints[m.dof_joint[i]].armature;
+            qm[i * nv + i] += m.joints[m.dof_joint[i]].armature;
         }
     }
 
@@ -219,10 +218,8 @@ impl Data {
                     continue;
                 }
                 let wrench = self.fluid_wrench(b);
-                let mut k = m.body_last_dof[b];
-                while k != usize::MAX {
+                for &k in m.dof_path(m.body_last_dof[b]) {
                     self.qfrc_passive[k] += dot6(&self.cdof[k], &wrench);
-                    k = m.dof_parent[k];
                 }
             }
         }
@@ -697,12 +694,10 @@ pub(crate) fn set_invweight0(model: &mut Model) {
         }
         let c = d.xipos[b];
         jac.iter_mut().for_each(|x| *x = [0.0; 6]);
-        let mut k = model.body_last_dof[b];
-        while k != usize::MAX {
+        for &k in model.dof_path(model.body_last_dof[b]) {
             let (w, v) = crate::math::split(&d.cdof[k]);
             let lin = add(v, cross(w, c));
             jac[k] = join(lin, w);
-            k = model.dof_parent[k];
         }
         // MuJoCo averages the three diagonal entries of each block, except for a body that
         // cannot rotate (slides alone) and carries no other body's degrees of freedom (MuJoCo's

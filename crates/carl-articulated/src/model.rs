@@ -513,6 +513,10 @@ pub struct Model {
     pub dof_joint: Vec<usize>,
     /// The previous degree of freedom on the path to the root (`usize::MAX` at the root).
     pub dof_parent: Vec<usize>,
+    /// Each degree of freedom's path to the root, itself first ([`Model::dof_path`]): the
+    /// `dof_parent` chains laid out flat, `dof_paths[dof_path_start[i]..dof_path_start[i + 1]]`.
+    pub dof_paths: Vec<usize>,
+    pub dof_path_start: Vec<usize>,
     /// The last degree of freedom on the path from the root to each body (`usize::MAX` if none).
     pub body_last_dof: Vec<usize>,
     /// The body that each body is welded to (itself if it has joints; 0 for the world).
@@ -535,6 +539,16 @@ fn finite3(v: V3) -> bool {
 }
 
 impl Model {
+    /// The degrees of freedom on `dof`'s path to the root, `dof` first (empty for `usize::MAX`,
+    /// a body without degrees of freedom on its path).
+    #[inline]
+    pub fn dof_path(&self, dof: usize) -> &[usize] {
+        if dof >= self.nv {
+            return &[];
+        }
+        &self.dof_paths[self.dof_path_start[dof]..self.dof_path_start[dof + 1]]
+    }
+
     /// Check a description and derive its layout.
     pub fn new(
         opt: Options,
@@ -701,6 +715,16 @@ impl Model {
             }
             body_last_dof[b] = last;
         }
+        let mut dof_paths = Vec::new();
+        let mut dof_path_start = vec![0];
+        for i in 0..nv {
+            let mut k = i;
+            while k != usize::MAX {
+                dof_paths.push(k);
+                k = dof_parent[k];
+            }
+            dof_path_start.push(dof_paths.len());
+        }
         let mut body_weld = vec![0; nb];
         for b in 1..nb {
             body_weld[b] = if body_joints[b].is_empty() {
@@ -831,6 +855,8 @@ impl Model {
             dof_body,
             dof_joint,
             dof_parent,
+            dof_paths,
+            dof_path_start,
             body_last_dof,
             body_weld,
             pairs,
