@@ -497,21 +497,27 @@ fn factor_rows(a: &mut [f64], n: usize, mut rhs: Option<&mut [f64]>) -> bool {
         let (done, rest) = a.split_at_mut(j * n);
         let row = &mut rest[j..n];
         let len = n - j;
+        // The forward substitution's entry `j` rides along the first block (it reads the same
+        // `U[k][j]`).
+        let mut fwd = rhs.as_deref_mut().map(|y| {
+            let (solved, rest) = y.split_at_mut(j);
+            (&*solved, &mut rest[0])
+        });
         let mut c = 0;
         while c + 8 <= len {
-            row_block::<8>(done, n, j, c, &mut row[c..c + 8]);
+            row_block::<8>(done, n, j, c, &mut row[c..c + 8], fwd.take());
             c += 8;
         }
         if c + 4 <= len {
-            row_block::<4>(done, n, j, c, &mut row[c..c + 4]);
+            row_block::<4>(done, n, j, c, &mut row[c..c + 4], fwd.take());
             c += 4;
         }
         if c + 2 <= len {
-            row_block::<2>(done, n, j, c, &mut row[c..c + 2]);
+            row_block::<2>(done, n, j, c, &mut row[c..c + 2], fwd.take());
             c += 2;
         }
         if c < len {
-            row_block::<1>(done, n, j, c, &mut row[c..c + 1]);
+            row_block::<1>(done, n, j, c, &mut row[c..c + 1], fwd.take());
         }
         let d = row[0];
         if d.is_nan() || d <= 0.0 {
@@ -523,12 +529,7 @@ fn factor_rows(a: &mut [f64], n: usize, mut rhs: Option<&mut [f64]>) -> bool {
             *x /= d;
         }
         if let Some(y) = rhs.as_deref_mut() {
-            let (solved, rest) = y.split_at_mut(j);
-            let mut s = rest[0];
-            for (u, &yk) in done.chunks_exact(n).zip(solved.iter()) {
-                s -= u[j] * yk;
-            }
-            rest[0] = s / d;
+            y[j] /= d;
         }
     }
     true
@@ -536,15 +537,39 @@ fn factor_rows(a: &mut [f64], n: usize, mut rhs: Option<&mut [f64]>) -> bool {
 
 /// Entries `j + c .. j + c + W` of row `j` of the factor before the division: `out` (holding
 /// `A`'s entries) minus `Σₖ U[k][j] U[k][j + c + t]` over the finished rows `done`, `k` in order.
+/// With `fwd = (y[..j], y[j])`, also `y[j] −= U[k][j] y[k]` in the same loop, `k` in order.
 #[inline(always)]
-fn row_block<const W: usize>(done: &[f64], n: usize, j: usize, c: usize, out: &mut [f64]) {
+fn row_block<const W: usize>(
+    done: &[f64],
+    n: usize,
+    j: usize,
+    c: usize,
+    out: &mut [f64],
+    fwd: Option<(&[f64], &mut f64)>,
+) {
     let mut s = [0.0; W];
     s.copy_from_slice(out);
-    for row in done.chunks_exact(n) {
-        let l = row[j];
-        let u = &row[j + c..j + c + W];
-        for t in 0..W {
-            s[t] -= u[t] * l;
+    match fwd {
+        None => {
+            for row in done.chunks_exact(n) {
+                let l = row[j];
+                let u = &row[j + c..j + c + W];
+                for t in 0..W {
+                    s[t] -= u[t] * l;
+                }
+            }
+        }
+        Some((solved, acc)) => {
+            let mut y = *acc;
+            for (row, &yk) in done.chunks_exact(n).zip(solved) {
+                let l = row[j];
+                let u = &row[j + c..j + c + W];
+                for t in 0..W {
+                    s[t] -= u[t] * l;
+                }
+                y -= l * yk;
+            }
+            *acc = y;
         }
     }
     out.copy_from_slice(&s);
