@@ -503,21 +503,30 @@ fn factor_rows(a: &mut [f64], n: usize, mut rhs: Option<&mut [f64]>) -> bool {
             let (solved, rest) = y.split_at_mut(j);
             (&*solved, &mut rest[0])
         });
-        let mut c = 0;
-        while c + 8 <= len {
-            row_block::<8>(done, n, j, c, &mut row[c..c + 8], fwd.take());
-            c += 8;
-        }
-        if c + 4 <= len {
-            row_block::<4>(done, n, j, c, &mut row[c..c + 4], fwd.take());
-            c += 4;
-        }
-        if c + 2 <= len {
-            row_block::<2>(done, n, j, c, &mut row[c..c + 2], fwd.take());
-            c += 2;
-        }
-        if c < len {
-            row_block::<1>(done, n, j, c, &mut row[c..c + 1], fwd.take());
+        // Blocks of the widest size that fits; the entries left over are those of one more block
+        // of that size ending at the row's end, overlapping entries already done (worked again
+        // and not written).
+        if len >= 8 {
+            let mut c = 0;
+            while c + 8 <= len {
+                row_block::<8>(done, n, j, c, &mut row[c..c + 8], 0, fwd.take());
+                c += 8;
+            }
+            if c < len {
+                row_block::<8>(done, n, j, len - 8, &mut row[len - 8..], 8 - (len - c), None);
+            }
+        } else if len >= 4 {
+            row_block::<4>(done, n, j, 0, &mut row[..4], 0, fwd.take());
+            if len > 4 {
+                row_block::<4>(done, n, j, len - 4, &mut row[len - 4..], 8 - len, None);
+            }
+        } else if len >= 2 {
+            row_block::<2>(done, n, j, 0, &mut row[..2], 0, fwd.take());
+            if len > 2 {
+                row_block::<2>(done, n, j, 1, &mut row[1..], 1, None);
+            }
+        } else {
+            row_block::<1>(done, n, j, 0, &mut row[..1], 0, fwd.take());
         }
         let d = row[0];
         if d.is_nan() || d <= 0.0 {
@@ -538,6 +547,7 @@ fn factor_rows(a: &mut [f64], n: usize, mut rhs: Option<&mut [f64]>) -> bool {
 /// Entries `j + c .. j + c + W` of row `j` of the factor before the division: `out` (holding
 /// `A`'s entries) minus `Σₖ U[k][j] U[k][j + c + t]` over the finished rows `done`, `k` in order.
 /// With `fwd = (y[..j], y[j])`, also `y[j] −= U[k][j] y[k]` in the same loop, `k` in order.
+/// Only entries from `skip` on are written (the others are worked from whatever `out` holds).
 #[inline(always)]
 fn row_block<const W: usize>(
     done: &[f64],
@@ -545,8 +555,10 @@ fn row_block<const W: usize>(
     j: usize,
     c: usize,
     out: &mut [f64],
+    skip: usize,
     fwd: Option<(&[f64], &mut f64)>,
 ) {
+    let out = &mut out[..W];
     let mut s = [0.0; W];
     s.copy_from_slice(out);
     match fwd {
@@ -572,7 +584,7 @@ fn row_block<const W: usize>(
             *acc = y;
         }
     }
-    out.copy_from_slice(&s);
+    out[skip..].copy_from_slice(&s[skip..]);
 }
 
 #[inline(always)]
