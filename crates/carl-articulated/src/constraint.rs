@@ -145,11 +145,9 @@ impl Data {
     pub(crate) fn collide(&mut self) {
         let m = &*self.model;
         self.ncon = 0;
-        for (pi, pair) in m.pairs.iter().enumerate() {
-            let (g1, g2) = (pair.g1, pair.g2);
+        for (pi, &(g1, g2, reach, reach2)) in self.pair_reach.iter().enumerate() {
             // Bounding spheres first: `|d| > reach`, decided without the square root when
             // `d · d` exceeds `reach² (1 + 10⁻¹²)` (then `√(d · d)` rounds above `reach` too).
-            let (reach, reach2) = self.pair_reach[pi];
             if reach.is_finite() {
                 let d = sub(self.geom_xpos[g1], self.geom_xpos[g2]);
                 let d2 = crate::math::dot(d, d);
@@ -157,6 +155,7 @@ impl Data {
                     continue;
                 }
             }
+            let pair = &m.pairs[pi];
             let (s1, s2) = (m.geoms[g1].shape, m.geoms[g2].shape);
             let a = Placed {
                 shape: s1,

@@ -99,9 +99,10 @@ pub struct Data {
     pub(crate) newton: crate::constraint::Newton,
     /// The nonzero entries of a Jacobian row (indices).
     pub(crate) efc_nz: Vec<usize>,
-    /// Each candidate pair's reach: the sum of its geoms' bounding radii and its margin (the
-    /// broad phase's bounding-sphere test), with `reach² (1 + 10⁻¹²)`.
-    pub(crate) pair_reach: Vec<(f64, f64)>,
+    /// Each candidate pair's geoms and reach: the sum of the geoms' bounding radii and the
+    /// pair's margin (the broad phase's bounding-sphere test), with `reach² (1 + 10⁻¹²)`; the
+    /// broad phase reads only this.
+    pub(crate) pair_reach: Vec<(usize, usize, f64, f64)>,
     /// The previous projected Gauss–Seidel solve's forces by row key (elliptic-cone models).
     pub(crate) warm: Vec<(u64, f64)>,
     pub(crate) warm_count: usize,
@@ -197,7 +198,7 @@ impl Data {
                     let reach = model.geoms[p.g1].shape.bounding_radius()
                         + model.geoms[p.g2].shape.bounding_radius()
                         + p.margin;
-                    (reach, reach * reach * (1.0 + 1e-12))
+                    (p.g1, p.g2, reach, reach * reach * (1.0 + 1e-12))
                 })
                 .collect(),
             warm: vec![(0, 0.0); dual],
