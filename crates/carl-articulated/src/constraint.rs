@@ -494,6 +494,9 @@ impl Data {
             if scale * dot_n(&nt.grad[..nv], &nt.grad[..nv]).sqrt() < m.opt.tolerance {
                 break;
             }
+            for k in 0..nv {
+                nt.dir[k] = -nt.grad[k];
+            }
             if changed {
                 // H = M + Σ (1/Rᵣ) Jᵣᵀ Jᵣ over the quadratic zone, factored: entry `(q, p)` of the
                 // upper triangle gets `(d jₚ) j_q` for every `jₚ ≠ 0` and `q ≤ p`, added row by
@@ -525,17 +528,11 @@ impl Data {
                         }
                     }
                 }
-                for k in 0..nv {
-                    nt.dir[k] = -nt.grad[k];
-                }
                 if !cholesky_and_solve(&mut nt.h[..nv * nv], nv, &mut nt.dir[..nv]) {
                     break;
                 }
                 factored = true;
             } else {
-                for k in 0..nv {
-                    nt.dir[k] = -nt.grad[k];
-                }
                 cholesky_solve(&nt.h[..nv * nv], nv, &mut nt.dir[..nv]);
             }
             mat_vec(&nt.dir[..nv], &mut nt.mdir[..nv]);

@@ -355,8 +355,9 @@ impl Data {
 ///
 /// Row `j` of `U` is `A`'s row `j` (from the diagonal on) minus `U[k][j]` times row `k` of `U`
 /// for `k = 0, 1, …, j − 1`, then divided by its first entry's square root. The row is worked in
-/// blocks of 8, 4, 2 and 1 entries held in registers while `k` runs (independent lanes the
-/// compiler vectorizes; with AVX2 where the processor has it, chosen at run time). Every entry's
+/// blocks of the widest of 8, 4, 2 and 1 entries that fits (the leftover entries as one more such
+/// block, overlapping entries already done), held in registers while `k` runs (independent lanes
+/// the compiler vectorizes; with AVX2 where the processor has it, chosen at run time). Every entry's
 /// sum is still taken in the order `k = 0, 1, …, j − 1` with the textbook loop's products and no
 /// fused multiply-add, so the factor is the same, bit for bit, as the textbook loop's on every
 /// processor.
@@ -390,23 +391,18 @@ fn factor_and_solve_rows(a: &mut [f64], n: usize, x: &mut [f64]) -> bool {
     true
 }
 
-/// Solve `A x = b` in place with the factor `U` of [`cholesky`].
+/// Solve `A x = b` in place with the factor `U` of [`cholesky`]. The forward substitution
+/// `Uᵀ y = b` subtracts `y[k]` times row `k` of `U` from the entries after `k` (contiguous,
+/// vectorized), so each entry's sum runs over `k = 0, …, i − 1` in order, as the textbook loop's;
+/// the backward substitution `U x = y` is a dot product over row `i`, `k = i + 1, …, n − 1` in
+/// order.
 pub fn cholesky_solve(u: &[f64], n: usize, x: &mut [f64]) {
-    cholesky_solve_from(u, n, x, 0);
-}
-
-/// [`cholesky_solve`] for a right-hand side whose entries before `first` are zero (the forward
-/// substitution starts there). The forward substitution `Uᵀ y = b` subtracts `y[k]` times row
-/// `k` of `U` from the entries after `k` (contiguous, vectorized), so each entry's sum runs over
-/// `k = first, …, i − 1` in order, as the textbook loop's; the backward substitution `U x = y` is
-/// a dot product over row `i`, `k = i + 1, …, n − 1` in order.
-pub fn cholesky_solve_from(u: &[f64], n: usize, x: &mut [f64], first: usize) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the processor has AVX2, checked just above.
-        return unsafe { simd::solve_avx2(u, n, x, first) };
+        return unsafe { simd::solve_avx2(u, n, x) };
     }
-    solve_rows(u, n, x, first)
+    solve_rows(u, n, x)
 }
 
 /// `out = A x` for the symmetric row-major `n × n` matrix `a`, each entry the sum
@@ -477,8 +473,8 @@ mod simd {
     }
 
     #[target_feature(enable = "avx2")]
-    pub(super) unsafe fn solve_avx2(u: &[f64], n: usize, x: &mut [f64], first: usize) {
-        super::solve_rows(u, n, x, first)
+    pub(super) unsafe fn solve_avx2(u: &[f64], n: usize, x: &mut [f64]) {
+        super::solve_rows(u, n, x)
     }
 }
 
@@ -588,9 +584,9 @@ fn row_block<const W: usize>(
 }
 
 #[inline(always)]
-fn solve_rows(u: &[f64], n: usize, x: &mut [f64], first: usize) {
+fn solve_rows(u: &[f64], n: usize, x: &mut [f64]) {
     let x = &mut x[..n];
-    for k in first..n {
+    for k in 0..n {
         let row = &u[k * n + k..(k + 1) * n];
         let (head, tail) = x.split_at_mut(k + 1);
         let xk = head[k] / row[0];
@@ -618,11 +614,11 @@ fn backward_rows(u: &[f64], n: usize, x: &mut [f64]) {
     }
 }
 
-/// [`cholesky_solve_from`] on four right-hand sides at once, interleaved (`x[k]` holds entry `k`
-/// of each), all of whose entries before `first` are zero (`+0`, as a Jacobian row's untouched
-/// entries). Each lane's sums run in the order of [`cholesky_solve_from`]; a lane whose own first
-/// nonzero entry lies past `first` meets only exact zeros before it (`x − u·0` is `x`), so every
-/// lane's solution is the same, bit for bit, as its own solve's.
+/// [`cholesky_solve`] on four right-hand sides at once, interleaved (`x[k]` holds entry `k` of
+/// each), all of whose entries before `first` are zero (`+0`, as a Jacobian row's untouched
+/// entries; the forward substitution starts there). Each lane's sums run in the order of
+/// [`cholesky_solve`]'s, which before a lane's first nonzero entry meets only exact zeros
+/// (`+0 − u·0` is `+0`), so every lane's solution is the same, bit for bit, as its own solve's.
 pub fn cholesky_solve4(u: &[f64], n: usize, x: &mut [[f64; 4]], first: usize) {
     let x = &mut x[..n];
     for k in first..n {
@@ -819,7 +815,7 @@ pub(crate) fn tendon_invweight0(model: &Model) -> Vec<f64> {
 
 #[cfg(test)]
 mod tests {
-    use super::{cholesky, cholesky_solve_from, cholesky_solve4};
+    use super::{cholesky, cholesky_solve, cholesky_solve4};
 
     /// The row-wise factorization, the solves, the four-lane solve and the column-wise product
     /// equal the textbook loops bit for bit
@@ -896,9 +892,9 @@ mod tests {
             y[i] = s / reference[i * n + i];
         }
         let mut x = b.clone();
-        super::cholesky_solve(&l, n, &mut x);
+        cholesky_solve(&l, n, &mut x);
         let mut portable = b.clone();
-        super::solve_rows(&l, n, &mut portable, 0);
+        super::solve_rows(&l, n, &mut portable);
         for k in 0..n {
             assert_eq!(x[k].to_bits(), y[k].to_bits());
             assert_eq!(portable[k].to_bits(), y[k].to_bits());
@@ -942,7 +938,7 @@ mod tests {
             for k in 0..n {
                 rhs[k][lane] = x[k];
             }
-            cholesky_solve_from(&l, n, &mut x, f);
+            cholesky_solve(&l, n, &mut x);
             single.push(x);
         }
         cholesky_solve4(&l, n, &mut rhs, 2);
