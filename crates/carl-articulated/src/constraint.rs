@@ -436,6 +436,7 @@ impl Data {
         let mut nt = std::mem::take(&mut self.newton);
         let a0 = &self.qacc_smooth;
         let qm = &self.qm;
+        let qld = &self.qld;
         let jac = &self.efc_j[..n * nv];
         let aref = &self.efc_aref[..n];
         let reg = &self.efc_r[..n];
@@ -498,38 +499,42 @@ impl Data {
                 nt.dir[k] = -nt.grad[k];
             }
             if changed {
-                // H = M + Σ (1/Rᵣ) Jᵣᵀ Jᵣ over the quadratic zone, factored: entry `(q, p)` of the
-                // upper triangle gets `(d jₚ) j_q` for every `jₚ ≠ 0` and `q ≤ p`, added row by
-                // row of H over the row's nonzero entries.
-                nt.h[..nv * nv].copy_from_slice(qm);
-                for r in 0..n {
-                    if !nt.active[r] {
-                        continue;
-                    }
-                    let j = &jac[r * nv..(r + 1) * nv];
-                    let d = 1.0 / reg[r];
-                    let mut nnz = 0;
-                    for (p, &jp) in j.iter().enumerate() {
-                        if jp != 0.0 {
-                            nt.nz[nnz] = (p, d * jp);
-                            nnz += 1;
+                // H = M + Σ (1/Rᵣ) Jᵣᵀ Jᵣ over the quadratic zone, factored: row `q` of H's upper
+                // triangle gets `(d jₚ) j_q` for `p = q, …, last` (the row's last nonzero entry;
+                // contiguous, vectorized) for every `j_q ≠ 0`. With no row in the quadratic zone
+                // H is M, whose factor `qld` is taken as it is.
+                if nt.active[..n].iter().any(|&a| a) {
+                    nt.h[..nv * nv].copy_from_slice(qm);
+                    for r in 0..n {
+                        if !nt.active[r] {
+                            continue;
+                        }
+                        let j = &jac[r * nv..(r + 1) * nv];
+                        let Some(first) = j.iter().position(|x| *x != 0.0) else {
+                            continue;
+                        };
+                        let last = j.iter().rposition(|x| *x != 0.0).unwrap_or(first);
+                        let d = 1.0 / reg[r];
+                        for (dj, &jp) in nt.dj[first..=last].iter_mut().zip(&j[first..=last]) {
+                            *dj = d * jp;
+                        }
+                        for q in first..=last {
+                            let jq = j[q];
+                            if jq == 0.0 {
+                                continue;
+                            }
+                            let hq = &mut nt.h[q * nv + q..q * nv + last + 1];
+                            for (h, &djp) in hq.iter_mut().zip(&nt.dj[q..=last]) {
+                                *h += djp * jq;
+                            }
                         }
                     }
-                    let nz = &nt.nz[..nnz];
-                    let Some(&(last, _)) = nz.last() else { continue };
-                    let mut from = 0;
-                    for (q, &jq) in j[..=last].iter().enumerate() {
-                        while nz[from].0 < q {
-                            from += 1;
-                        }
-                        let hq = &mut nt.h[q * nv..(q + 1) * nv];
-                        for &(p, djp) in &nz[from..] {
-                            hq[p] += djp * jq;
-                        }
+                    if !cholesky_and_solve(&mut nt.h[..nv * nv], nv, &mut nt.dir[..nv]) {
+                        break;
                     }
-                }
-                if !cholesky_and_solve(&mut nt.h[..nv * nv], nv, &mut nt.dir[..nv]) {
-                    break;
+                } else {
+                    nt.h[..nv * nv].copy_from_slice(qld);
+                    cholesky_solve(&nt.h[..nv * nv], nv, &mut nt.dir[..nv]);
                 }
                 factored = true;
             } else {
@@ -825,8 +830,8 @@ pub(crate) struct Newton {
     jar: Vec<f64>,
     jdir: Vec<f64>,
     active: Vec<bool>,
-    /// A Hessian row's nonzero Jacobian entries `(p, d jₚ)`.
-    nz: Vec<(usize, f64)>,
+    /// A Hessian row's Jacobian entries times `1/R`.
+    dj: Vec<f64>,
 }
 
 impl Newton {
@@ -843,7 +848,7 @@ impl Newton {
             jar: vec![0.0; rows],
             jdir: vec![0.0; rows],
             active: vec![false; rows],
-            nz: vec![(0, 0.0); nv],
+            dj: vec![0.0; nv],
         }
     }
 }

@@ -10,7 +10,7 @@
 use crate::data::Data;
 use crate::math::{
     IDENTITY, Inertia, QUAT_IDENTITY, ZERO3, add, add6, col, cross, cross_force, cross_motion, dot6, join, mat_mul,
-    mat_t_vec, mat_vec, quat_axis_angle, quat_mul, quat_normalize, quat_to_mat, rotate_diag, scale,
+    mat_t_vec, mat_vec, quat_axis_angle, quat_mul, quat_normalize, quat_rotate, quat_to_mat, rotate_diag, scale,
 };
 use crate::model::{JointKind, Model};
 
@@ -34,12 +34,14 @@ impl Data {
         self.xpos[0] = ZERO3;
         self.xquat[0] = QUAT_IDENTITY;
         self.xmat[0] = IDENTITY;
+        // As MuJoCo's `mj_kinematics`: a body's frame from its parent's, then each joint in turn
+        // on the quaternion (axes and anchors rotated by it), which is normalized and turned
+        // into the rotation matrix once, after the body's last joint.
         for b in 1..m.bodies.len() {
             let body = &m.bodies[b];
             let p = body.parent;
             let mut pos = add(self.xpos[p], mat_vec(&self.xmat[p], body.pos));
             let mut quat = quat_mul(self.xquat[p], body.quat);
-            let mut r = quat_to_mat(quat);
             for j in m.body_joints[b].clone() {
                 let jt = &m.joints[j];
                 let qa = m.jnt_qposadr[j];
@@ -53,8 +55,8 @@ impl Data {
                             self.qpos[qa + 5],
                             self.qpos[qa + 6],
                         ]);
-                        r = quat_to_mat(quat);
-                        let anchor = add(pos, mat_vec(&r, jt.pos));
+                        let r = quat_to_mat(quat);
+                        let anchor = add(pos, quat_rotate(quat, jt.pos));
                         for k in 0..3 {
                             let mut e = ZERO3;
                             e[k] = 1.0;
@@ -64,20 +66,21 @@ impl Data {
                         }
                     }
                     JointKind::Hinge => {
-                        let anchor = add(pos, mat_vec(&r, jt.pos));
-                        let axis = mat_vec(&r, jt.axis);
+                        let anchor = add(pos, quat_rotate(quat, jt.pos));
+                        let axis = quat_rotate(quat, jt.axis);
                         self.cdof[da] = join(axis, cross(anchor, axis));
-                        quat = quat_normalize(quat_mul(quat, quat_axis_angle(jt.axis, self.qpos[qa] - jt.qpos0)));
-                        r = quat_to_mat(quat);
-                        pos = crate::math::sub(anchor, mat_vec(&r, jt.pos));
+                        quat = quat_mul(quat, quat_axis_angle(jt.axis, self.qpos[qa] - jt.qpos0));
+                        pos = crate::math::sub(anchor, quat_rotate(quat, jt.pos));
                     }
                     JointKind::Slide => {
-                        let axis = mat_vec(&r, jt.axis);
+                        let axis = quat_rotate(quat, jt.axis);
                         self.cdof[da] = join(ZERO3, axis);
                         pos = add(pos, scale(axis, self.qpos[qa] - jt.qpos0));
                     }
                 }
             }
+            let quat = quat_normalize(quat);
+            let r = quat_to_mat(quat);
             self.xpos[b] = pos;
             self.xquat[b] = quat;
             self.xmat[b] = r;
@@ -354,10 +357,11 @@ impl Data {
 /// diagonal are left as they were. `false` if `a` is not positive definite.
 ///
 /// Row `j` of `U` is `A`'s row `j` (from the diagonal on) minus `U[k][j]` times row `k` of `U`
-/// for `k = 0, 1, …, j − 1`, then divided by its first entry's square root. The row is worked in
-/// blocks of the widest of 8, 4, 2 and 1 entries that fits (the leftover entries as one more such
-/// block, overlapping entries already done), held in registers while `k` runs (independent lanes
-/// the compiler vectorizes; with AVX2 where the processor has it, chosen at run time). Every entry's
+/// for `k = 0, 1, …, j − 1`; its first entry becomes that entry's square root `d` and the others
+/// are multiplied by `1 / d` (one division per row, as MuJoCo's `mju_cholFactor`; the reciprocal is
+/// what the solves multiply by too). The row is worked in blocks of 8 entries and one block each
+/// of 4, 2 and 1 for the entries left, held in registers while `k` runs (independent lanes the
+/// compiler vectorizes; with AVX2 where the processor has it, chosen at run time). Every entry's
 /// sum is still taken in the order `k = 0, 1, …, j − 1` with the textbook loop's products and no
 /// fused multiply-add, so the factor is the same, bit for bit, as the textbook loop's on every
 /// processor.
@@ -387,15 +391,16 @@ fn factor_and_solve_rows(a: &mut [f64], n: usize, x: &mut [f64]) -> bool {
     if !factor_rows(a, n, Some(&mut x[..n])) {
         return false;
     }
-    backward_rows(a, n, x);
+    backward_cols(a, n, x);
     true
 }
 
 /// Solve `A x = b` in place with the factor `U` of [`cholesky`]. The forward substitution
-/// `Uᵀ y = b` subtracts `y[k]` times row `k` of `U` from the entries after `k` (contiguous,
-/// vectorized), so each entry's sum runs over `k = 0, …, i − 1` in order, as the textbook loop's;
-/// the backward substitution `U x = y` is a dot product over row `i`, `k = i + 1, …, n − 1` in
-/// order.
+/// `Uᵀ y = b` finishes `y[k]` (times `1 / U[k][k]`) and subtracts `y[k]` times row `k` of `U` from
+/// the entries after `k` (contiguous, vectorized), so each entry's sum runs over `k = 0, …, i − 1`
+/// in order; the backward substitution `U x = y` works by columns the same way, each entry's sum
+/// over `k = n − 1, …, i + 1` in order. Both chains are one multiply and one subtraction per
+/// entry.
 pub fn cholesky_solve(u: &[f64], n: usize, x: &mut [f64]) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
@@ -485,7 +490,7 @@ fn cholesky_rows(a: &mut [f64], n: usize) -> bool {
 
 /// The factorization of [`cholesky`]; with `rhs`, also the forward substitution `Uᵀ y = b` in
 /// place (`b` in `rhs` on entry), entry `j` as soon as row `j` of `U` is done: `b[j]` minus
-/// `U[k][j] y[k]` for `k = 0, 1, …, j − 1` in order, divided by `U[j][j]` (the operations of
+/// `U[k][j] y[k]` for `k = 0, 1, …, j − 1` in order, times `1 / U[j][j]` (the operations of
 /// [`cholesky_solve`]'s forward substitution in the same order, overlapped with the factor's).
 #[inline(always)]
 fn factor_rows(a: &mut [f64], n: usize, mut rhs: Option<&mut [f64]>) -> bool {
@@ -499,30 +504,22 @@ fn factor_rows(a: &mut [f64], n: usize, mut rhs: Option<&mut [f64]>) -> bool {
             let (solved, rest) = y.split_at_mut(j);
             (&*solved, &mut rest[0])
         });
-        // Blocks of the widest size that fits; the entries left over are those of one more block
-        // of that size ending at the row's end, overlapping entries already done (worked again
-        // and not written).
-        if len >= 8 {
-            let mut c = 0;
-            while c + 8 <= len {
-                row_block::<8>(done, n, j, c, &mut row[c..c + 8], 0, fwd.take());
-                c += 8;
-            }
-            if c < len {
-                row_block::<8>(done, n, j, len - 8, &mut row[len - 8..], 8 - (len - c), None);
-            }
-        } else if len >= 4 {
-            row_block::<4>(done, n, j, 0, &mut row[..4], 0, fwd.take());
-            if len > 4 {
-                row_block::<4>(done, n, j, len - 4, &mut row[len - 4..], 8 - len, None);
-            }
-        } else if len >= 2 {
-            row_block::<2>(done, n, j, 0, &mut row[..2], 0, fwd.take());
-            if len > 2 {
-                row_block::<2>(done, n, j, 1, &mut row[1..], 1, None);
-            }
-        } else {
-            row_block::<1>(done, n, j, 0, &mut row[..1], 0, fwd.take());
+        // Blocks of 8 entries, then one of 4, 2 and 1 each where the entries left need it.
+        let mut c = 0;
+        while c + 8 <= len {
+            row_block::<8>(done, n, j, c, &mut row[c..c + 8], fwd.take());
+            c += 8;
+        }
+        if c + 4 <= len {
+            row_block::<4>(done, n, j, c, &mut row[c..c + 4], fwd.take());
+            c += 4;
+        }
+        if c + 2 <= len {
+            row_block::<2>(done, n, j, c, &mut row[c..c + 2], fwd.take());
+            c += 2;
+        }
+        if c < len {
+            row_block::<1>(done, n, j, c, &mut row[c..c + 1], fwd.take());
         }
         let d = row[0];
         if d.is_nan() || d <= 0.0 {
@@ -530,11 +527,12 @@ fn factor_rows(a: &mut [f64], n: usize, mut rhs: Option<&mut [f64]>) -> bool {
         }
         let d = d.sqrt();
         row[0] = d;
+        let r = 1.0 / d;
         for x in &mut row[1..] {
-            *x /= d;
+            *x *= r;
         }
         if let Some(y) = rhs.as_deref_mut() {
-            y[j] /= d;
+            y[j] *= r;
         }
     }
     true
@@ -543,7 +541,6 @@ fn factor_rows(a: &mut [f64], n: usize, mut rhs: Option<&mut [f64]>) -> bool {
 /// Entries `j + c .. j + c + W` of row `j` of the factor before the division: `out` (holding
 /// `A`'s entries) minus `Σₖ U[k][j] U[k][j + c + t]` over the finished rows `done`, `k` in order.
 /// With `fwd = (y[..j], y[j])`, also `y[j] −= U[k][j] y[k]` in the same loop, `k` in order.
-/// Only entries from `skip` on are written (the others are worked from whatever `out` holds).
 #[inline(always)]
 fn row_block<const W: usize>(
     done: &[f64],
@@ -551,7 +548,6 @@ fn row_block<const W: usize>(
     j: usize,
     c: usize,
     out: &mut [f64],
-    skip: usize,
     fwd: Option<(&[f64], &mut f64)>,
 ) {
     let out = &mut out[..W];
@@ -580,7 +576,7 @@ fn row_block<const W: usize>(
             *acc = y;
         }
     }
-    out[skip..].copy_from_slice(&s[skip..]);
+    out.copy_from_slice(&s);
 }
 
 #[inline(always)]
@@ -589,28 +585,28 @@ fn solve_rows(u: &[f64], n: usize, x: &mut [f64]) {
     for k in 0..n {
         let row = &u[k * n + k..(k + 1) * n];
         let (head, tail) = x.split_at_mut(k + 1);
-        let xk = head[k] / row[0];
+        let xk = head[k] * (1.0 / row[0]);
         head[k] = xk;
         for (xi, &a) in tail.iter_mut().zip(&row[1..]) {
             *xi -= a * xk;
         }
     }
-    backward_rows(u, n, x);
+    backward_cols(u, n, x);
 }
 
-/// The backward substitution `U x = y` (`y` in `x` on entry): a dot product over row `i` of `U`,
-/// `k = i + 1, …, n − 1` in order.
+/// The backward substitution `U x = y` (`y` in `x` on entry) by columns: `x[i]` is finished
+/// (times the reciprocal of `U[i][i]`) for `i = n − 1, …, 0` in turn, and `U[k][i] x[i]` is taken
+/// off every `x[k]`, `k < i` (independent entries, so the chain is one multiply and one
+/// subtraction per `i`, not a dot product per `i`).
 #[inline(always)]
-fn backward_rows(u: &[f64], n: usize, x: &mut [f64]) {
+fn backward_cols(u: &[f64], n: usize, x: &mut [f64]) {
     let x = &mut x[..n];
     for i in (0..n).rev() {
-        let row = &u[i * n + i..(i + 1) * n];
-        let (head, tail) = x.split_at_mut(i + 1);
-        let mut s = head[i];
-        for (&a, &xk) in row[1..].iter().zip(tail.iter()) {
-            s -= a * xk;
+        let xi = x[i] * (1.0 / u[i * n + i]);
+        x[i] = xi;
+        for (k, xk) in x[..i].iter_mut().enumerate() {
+            *xk -= u[k * n + i] * xi;
         }
-        head[i] = s / row[0];
     }
 }
 
@@ -624,8 +620,8 @@ pub fn cholesky_solve4(u: &[f64], n: usize, x: &mut [[f64; 4]], first: usize) {
     for k in first..n {
         let row = &u[k * n + k..(k + 1) * n];
         let (head, tail) = x.split_at_mut(k + 1);
-        let d = row[0];
-        let xk = head[k].map(|v| v / d);
+        let r = 1.0 / row[0];
+        let xk = head[k].map(|v| v * r);
         head[k] = xk;
         for (xi, &a) in tail.iter_mut().zip(&row[1..]) {
             for t in 0..4 {
@@ -634,16 +630,15 @@ pub fn cholesky_solve4(u: &[f64], n: usize, x: &mut [[f64; 4]], first: usize) {
         }
     }
     for i in (0..n).rev() {
-        let row = &u[i * n + i..(i + 1) * n];
-        let (head, tail) = x.split_at_mut(i + 1);
-        let mut s = head[i];
-        for (&a, xk) in row[1..].iter().zip(tail.iter()) {
+        let r = 1.0 / u[i * n + i];
+        let xi = x[i].map(|v| v * r);
+        x[i] = xi;
+        for (k, xk) in x[..i].iter_mut().enumerate() {
+            let a = u[k * n + i];
             for t in 0..4 {
-                s[t] -= a * xk[t];
+                xk[t] -= a * xi[t];
             }
         }
-        let d = row[0];
-        head[i] = s.map(|v| v / d);
     }
 }
 
@@ -847,12 +842,13 @@ mod tests {
             }
             let d = d.sqrt();
             reference[j * n + j] = d;
+            let r = 1.0 / d;
             for i in j + 1..n {
                 let mut s = reference[i * n + j];
                 for k in 0..j {
                     s -= reference[i * n + k] * reference[j * n + k];
                 }
-                reference[i * n + j] = s / d;
+                reference[i * n + j] = s * r;
             }
         }
         let mut l = a.clone();
@@ -874,7 +870,8 @@ mod tests {
                 assert_eq!(l[j * n + i].to_bits(), reference[i * n + j].to_bits());
             }
         }
-        // The textbook substitutions on the textbook factor.
+        // The textbook substitutions on the textbook factor (each sum in the order the solves
+        // take it: forward `k = 0, …, i − 1`, backward `k = n − 1, …, i + 1`).
         let b: Vec<f64> = (0..n).map(|_| rnd()).collect();
         let mut y = b.clone();
         for i in 0..n {
@@ -882,14 +879,14 @@ mod tests {
             for k in 0..i {
                 s -= reference[i * n + k] * y[k];
             }
-            y[i] = s / reference[i * n + i];
+            y[i] = s * (1.0 / reference[i * n + i]);
         }
         for i in (0..n).rev() {
             let mut s = y[i];
-            for k in i + 1..n {
+            for k in (i + 1..n).rev() {
                 s -= reference[k * n + i] * y[k];
             }
-            y[i] = s / reference[i * n + i];
+            y[i] = s * (1.0 / reference[i * n + i]);
         }
         let mut x = b.clone();
         cholesky_solve(&l, n, &mut x);

@@ -106,14 +106,34 @@ pub fn quat_mul(a: Quat, b: Quat) -> Quat {
         a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0],
     ]
 }
-/// The unit quaternion of `q` (identity for a zero or non-finite one).
+/// The unit quaternion of `q` (identity for a zero or non-finite one), as MuJoCo's
+/// `mju_normalize4`: left as it is when its norm is within 1e-15 of 1, else multiplied by the
+/// reciprocal of its norm.
 pub fn quat_normalize(q: Quat) -> Quat {
     let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
-    if n > 1e-15 && n.is_finite() {
-        [q[0] / n, q[1] / n, q[2] / n, q[3] / n]
-    } else {
+    if !(n > 1e-15 && n.is_finite()) {
         QUAT_IDENTITY
+    } else if (n - 1.0).abs() > 1e-15 {
+        let r = 1.0 / n;
+        [q[0] * r, q[1] * r, q[2] * r, q[3] * r]
+    } else {
+        q
     }
+}
+/// `v` rotated by the unit quaternion `q`: `v + 2 u × (w v + u × v)` (`q = [w, u]`); `v` itself
+/// when `q` is the identity and zero when `v` is (the shortcuts of MuJoCo's `mju_rotVecQuat`).
+#[inline]
+pub fn quat_rotate(q: Quat, v: V3) -> V3 {
+    if v == ZERO3 {
+        return ZERO3;
+    }
+    if q == QUAT_IDENTITY {
+        return v;
+    }
+    let u = [q[1], q[2], q[3]];
+    let t = add(scale(v, q[0]), cross(u, v));
+    let c = cross(u, t);
+    [v[0] + 2.0 * c[0], v[1] + 2.0 * c[1], v[2] + 2.0 * c[2]]
 }
 /// Rotation by `angle` about the unit `axis`.
 pub fn quat_axis_angle(axis: V3, angle: f64) -> Quat {
