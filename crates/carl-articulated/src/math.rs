@@ -120,8 +120,9 @@ pub fn quat_normalize(q: Quat) -> Quat {
         q
     }
 }
-/// `v` rotated by the unit quaternion `q`: `v + 2 u × (w v + u × v)` (`q = [w, u]`); `v` itself
-/// when `q` is the identity and zero when `v` is (the shortcuts of MuJoCo's `mju_rotVecQuat`).
+/// `v` rotated by the unit quaternion `q`: `v + 2 u × (w v + u × v)` (`q = [w, u]`), as MuJoCo's
+/// `mju_rotVecQuat` rotates joint axes and anchors (the same bits in about half of random cases,
+/// the rest within rounding); `v` itself when `q` is the identity, zero when `v` is.
 #[inline]
 pub fn quat_rotate(q: Quat, v: V3) -> V3 {
     if v == ZERO3 {
