@@ -538,7 +538,7 @@ fn factor_rows(a: &mut [f64], n: usize, mut rhs: Option<&mut [f64]>) -> bool {
     true
 }
 
-/// Entries `j + c .. j + c + W` of row `j` of the factor before the division: `out` (holding
+/// Entries `j + c .. j + c + W` of row `j` of the factor before its scaling by `1 / d`: `out` (holding
 /// `A`'s entries) minus `Σₖ U[k][j] U[k][j + c + t]` over the finished rows `done`, `k` in order.
 /// With `fwd = (y[..j], y[j])`, also `y[j] −= U[k][j] y[k]` in the same loop, `k` in order.
 #[inline(always)]
