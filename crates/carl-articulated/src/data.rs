@@ -71,7 +71,12 @@ pub struct Data {
     pub qfrc_passive: Vec<f64>,
     pub qfrc_actuator: Vec<f64>,
     pub qfrc_smooth: Vec<f64>,
+    /// The unconstrained acceleration `M⁻¹ qfrc_smooth` where the last forward pass solved for it
+    /// (no constraint rows, no Newton warm start, or the dual solver); NaN where Newton, warm
+    /// started, did not need it.
     pub qacc_smooth: Vec<f64>,
+    /// Whether the last forward pass solved for `qacc_smooth` (and factored `M` into `qld`).
+    pub(crate) smooth_solved: bool,
     pub qfrc_constraint: Vec<f64>,
     pub(crate) contacts: Vec<Contact>,
     pub ncon: usize,
@@ -102,7 +107,7 @@ pub struct Data {
     /// Each candidate pair's geoms and reach: the sum of the geoms' bounding radii and the
     /// pair's margin (the broad phase's bounding-sphere test), with `reach² (1 + 10⁻¹²)`; the
     /// broad phase reads only this.
-    pub(crate) pair_reach: Vec<(usize, usize, f64, f64)>,
+    pub(crate) pair_reach: Vec<(usize, usize, bool, f64, f64)>,
     /// The previous projected Gauss–Seidel solve's forces by row key (elliptic-cone models).
     pub(crate) warm: Vec<(u64, f64)>,
     pub(crate) warm_count: usize,
@@ -172,6 +177,7 @@ impl Data {
             qfrc_actuator: vec![0.0; nv],
             qfrc_smooth: vec![0.0; nv],
             qacc_smooth: vec![0.0; nv],
+            smooth_solved: false,
             qfrc_constraint: vec![0.0; nv],
             contacts: vec![Contact::default(); model.max_contacts],
             ncon: 0,
@@ -195,10 +201,16 @@ impl Data {
                 .pairs
                 .iter()
                 .map(|p| {
-                    let reach = model.geoms[p.g1].shape.bounding_radius()
-                        + model.geoms[p.g2].shape.bounding_radius()
-                        + p.margin;
-                    (p.g1, p.g2, reach, reach * reach * (1.0 + 1e-12))
+                    // A plane (first in MuJoCo's type order) reaches the other geom's bounding
+                    // sphere plus the margin along its normal.
+                    let plane = model.geoms[p.g1].shape == crate::model::Shape::Plane;
+                    let r1 = if plane {
+                        0.0
+                    } else {
+                        model.geoms[p.g1].shape.bounding_radius()
+                    };
+                    let reach = r1 + model.geoms[p.g2].shape.bounding_radius() + p.margin;
+                    (p.g1, p.g2, plane, reach, reach * reach * (1.0 + 1e-12))
                 })
                 .collect(),
             warm: vec![(0, 0.0); dual],
@@ -269,7 +281,7 @@ impl Data {
 
     /// Positions, velocities, forces and the constrained acceleration `qacc` of the current
     /// state. Returns `false` (and leaves `qacc` NaN) if the mass matrix is not positive
-    /// definite.
+    /// definite (or, Newton warm started, the Hessian `M + Jᵀ D J` is not).
     pub fn forward(&mut self) -> bool {
         self.kinematics();
         self.velocities();
@@ -281,16 +293,27 @@ impl Data {
         for d in 0..nv {
             self.qfrc_smooth[d] = self.qfrc_passive[d] + self.qfrc_actuator[d] - self.qfrc_bias[d];
         }
-        self.qld.copy_from_slice(&self.qm);
-        self.qacc_smooth.copy_from_slice(&self.qfrc_smooth);
-        if !cholesky_and_solve(&mut self.qld, nv, &mut self.qacc_smooth) {
+        self.collide();
+        self.make_constraints();
+        // Newton warm-started from the previous solve needs neither M's factor nor a₀
+        // (`constraint`'s module doc).
+        self.smooth_solved =
+            self.model.opt.cone == crate::model::Cone::Elliptic || self.nefc == 0 || !self.newton.warm_valid;
+        if self.smooth_solved {
+            self.qld.copy_from_slice(&self.qm);
+            self.qacc_smooth.copy_from_slice(&self.qfrc_smooth);
+            if !cholesky_and_solve(&mut self.qld, nv, &mut self.qacc_smooth) {
+                self.qacc.fill(f64::NAN);
+                return false;
+            }
+            self.qacc.copy_from_slice(&self.qacc_smooth);
+        } else {
+            self.qacc_smooth.fill(f64::NAN);
+        }
+        if !self.solve_constraints() {
             self.qacc.fill(f64::NAN);
             return false;
         }
-        self.qacc.copy_from_slice(&self.qacc_smooth);
-        self.collide();
-        self.make_constraints();
-        self.solve_constraints();
         true
     }
 
