@@ -461,7 +461,6 @@ impl Data {
         let mean_inertia = (0..nv).map(|k| qm[k * nv + k]).sum::<f64>() / nv.max(1) as f64;
         let scale = 1.0 / (mean_inertia * nv.max(1) as f64);
         let mat_vec = |x: &[f64], out: &mut [f64]| sym_mat_vec(qm, nv, x, out);
-        let row_dot = |r: usize, x: &[f64]| -> f64 { dot_n(&jac[r * nv..(r + 1) * nv], x) };
         // The start: a₀ when forward solved it (no warm start), else the warm start. `ma` is
         // the smooth cost's gradient `M a − qfrc_smooth` (0 at a₀).
         if smooth_solved {
@@ -474,8 +473,9 @@ impl Data {
                 nt.ma[k] -= frc[k];
             }
         }
+        jac_mul(jac, nv, &nt.a[..nv], &mut nt.jar[..n]);
         for r in 0..n {
-            nt.jar[r] = row_dot(r, &nt.a[..nv]) - aref[r];
+            nt.jar[r] -= aref[r];
         }
         // The smooth cost ½ aᵀ M a − aᵀ qfrc_smooth = ½ aᵀ (ma − qfrc_smooth).
         let smooth_cost = |a: &[f64], ma: &[f64]| -> f64 {
@@ -558,9 +558,7 @@ impl Data {
                 cholesky_solve(&nt.h[..nv * nv], nv, &mut nt.dir[..nv]);
             }
             mat_vec(&nt.dir[..nv], &mut nt.mdir[..nv]);
-            for r in 0..n {
-                nt.jdir[r] = row_dot(r, &nt.dir[..nv]);
-            }
+            jac_mul(jac, nv, &nt.dir[..nv], &mut nt.jdir[..n]);
             let alpha = line_search(&nt, n, nv, class, reg, bound);
             if !(alpha > 0.0) {
                 break;
@@ -865,6 +863,34 @@ impl Newton {
             active: vec![false; rows],
             dj: vec![0.0; nv],
         }
+    }
+}
+
+/// `out = J x` for the row-major `J` (`out.len()` rows of `nv`): each row's sum runs over
+/// `k = 0, …, nv − 1` in order (the bits of `dot_n` per row), four rows at a time so that their
+/// independent sums overlap.
+fn jac_mul(jac: &[f64], nv: usize, x: &[f64], out: &mut [f64]) {
+    let n = out.len();
+    let x = &x[..nv];
+    let mut r = 0;
+    while r + 4 <= n {
+        let rows = &jac[r * nv..(r + 4) * nv];
+        let (j0, rest) = rows.split_at(nv);
+        let (j1, rest) = rest.split_at(nv);
+        let (j2, j3) = rest.split_at(nv);
+        let mut acc = [-0.0f64; 4];
+        for k in 0..nv {
+            let xk = x[k];
+            acc[0] += j0[k] * xk;
+            acc[1] += j1[k] * xk;
+            acc[2] += j2[k] * xk;
+            acc[3] += j3[k] * xk;
+        }
+        out[r..r + 4].copy_from_slice(&acc);
+        r += 4;
+    }
+    for (o, row) in out[r..].iter_mut().zip(jac[r * nv..n * nv].chunks_exact(nv)) {
+        *o = dot_n(row, x);
     }
 }
 
