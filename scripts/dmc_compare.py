@@ -313,6 +313,12 @@ def main():
     ap.add_argument("--json")
     ap.add_argument("--markdown")
     args = ap.parse_args()
+    if args.episodes < 1:
+        ap.error("--episodes must be at least 1")
+    if args.runs < 1:
+        ap.error("--runs must be at least 1")
+    if args.steps < 1:
+        ap.error("--steps must be at least 1")
     envs = [e.strip() for e in args.envs.split(",") if e.strip()]
     for e in envs:
         if e not in ENVS:

@@ -67,6 +67,14 @@ def main():
     ap.add_argument("--json")
     ap.add_argument("--markdown")
     args = ap.parse_args()
+    if args.runs < 1:
+        ap.error("--runs must be at least 1")
+    if args.steps < 1:
+        ap.error("--steps must be at least 1")
+    if args.num_envs < 1:
+        ap.error("--num-envs must be at least 1")
+    if args.threads < 1:
+        ap.error("--threads must be at least 1")
     if min(args.runs, args.steps, args.num_envs, args.threads) < 1:
         sys.exit("--runs, --steps, --num-envs and --threads must be at least 1")
     robots = [r.strip() for r in args.robots.split(",") if r.strip()]

@@ -497,6 +497,10 @@ def main():
     )
     args = ap.parse_args()
     if args.episodes < 1:
+        ap.error("--episodes must be at least 1")
+    if args.gait_seeds < 1:
+        ap.error("--gait-seeds must be at least 1")
+    if args.episodes < 1:
         sys.exit("--episodes must be at least 1")
     robots = [r.strip() for r in args.robots.split(",") if r.strip()]
     for robot in robots:

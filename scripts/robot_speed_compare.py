@@ -82,6 +82,10 @@ def main():
     ap.add_argument("--json")
     ap.add_argument("--markdown")
     args = ap.parse_args()
+    if args.runs < 1:
+        ap.error("--runs must be at least 1")
+    if args.steps < 1:
+        ap.error("--steps must be at least 1")
     if args.runs < 1 or args.steps < 1:
         sys.exit("--runs and --steps must be at least 1")
     robots = [r.strip() for r in args.robots.split(",") if r.strip()]
