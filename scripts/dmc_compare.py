@@ -64,7 +64,7 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from robot_mujoco_compare import CarlSide, mann_whitney_p  # noqa: E402
-from robot_speed_compare import carl_steps_per_sec, write_report  # noqa: E402
+from robot_speed_compare import carl_steps_per_sec, count, write_report  # noqa: E402
 
 # carl-spec env -> (dm_control domain, task, carl-spec options reproducing the task's reset)
 ENVS = {
@@ -305,20 +305,14 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--carl-spec", default="target/release/carl-spec")
     ap.add_argument("--envs", default=",".join(ENVS))
-    ap.add_argument("--episodes", type=int, default=30)
+    ap.add_argument("--episodes", type=count, default=30)
     ap.add_argument("--speed", action="store_true")
-    ap.add_argument("--runs", type=int, default=5)
-    ap.add_argument("--steps", type=int, default=5000)
+    ap.add_argument("--runs", type=count, default=5)
+    ap.add_argument("--steps", type=count, default=5000)
     ap.add_argument("--carl-only", action="store_true")
     ap.add_argument("--json")
     ap.add_argument("--markdown")
     args = ap.parse_args()
-    if args.episodes < 1:
-        ap.error("--episodes must be at least 1")
-    if args.runs < 1:
-        ap.error("--runs must be at least 1")
-    if args.steps < 1:
-        ap.error("--steps must be at least 1")
     envs = [e.strip() for e in args.envs.split(",") if e.strip()]
     for e in envs:
         if e not in ENVS:

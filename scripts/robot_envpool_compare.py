@@ -28,7 +28,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from robot_speed_compare import GYM_IDS, write_report  # noqa: E402
+from robot_speed_compare import GYM_IDS, count, write_report  # noqa: E402
 
 ACTION_TABLE = 256
 # envpool's id of each environment: the MuJoCo robots' Gymnasium ids, and envpool's dm_control
@@ -60,21 +60,13 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--carl-spec", default="target/release/carl-spec")
     ap.add_argument("--robots", default=",".join(GYM_IDS))  # or any of ENVPOOL_IDS
-    ap.add_argument("--num-envs", type=int, default=16)
-    ap.add_argument("--threads", type=int, default=2)
-    ap.add_argument("--runs", type=int, default=5)
-    ap.add_argument("--steps", type=int, default=32000, help="environment steps timed per run and side")
+    ap.add_argument("--num-envs", type=count, default=16)
+    ap.add_argument("--threads", type=count, default=2)
+    ap.add_argument("--runs", type=count, default=5)
+    ap.add_argument("--steps", type=count, default=32000, help="environment steps timed per run and side")
     ap.add_argument("--json")
     ap.add_argument("--markdown")
     args = ap.parse_args()
-    if args.runs < 1:
-        ap.error("--runs must be at least 1")
-    if args.steps < 1:
-        ap.error("--steps must be at least 1")
-    if args.num_envs < 1:
-        ap.error("--num-envs must be at least 1")
-    if args.threads < 1:
-        ap.error("--threads must be at least 1")
     if min(args.runs, args.steps, args.num_envs, args.threads) < 1:
         sys.exit("--runs, --steps, --num-envs and --threads must be at least 1")
     robots = [r.strip() for r in args.robots.split(",") if r.strip()]

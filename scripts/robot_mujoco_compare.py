@@ -55,6 +55,8 @@ import statistics
 import subprocess
 import sys
 
+from robot_speed_compare import count
+
 ROBOTS = {
     # gym id, action dim, ctrl max, qpos index of the height, obs index offset of qpos
     # (obs = qpos[skip:] ++ qvel ...), nq, physics dt of one env step
@@ -483,8 +485,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--carl-spec", default="target/release/carl-spec")
     ap.add_argument("--robots", default="ant,half_cheetah,humanoid")
-    ap.add_argument("--episodes", type=int, default=20)
-    ap.add_argument("--gait-seeds", type=int, default=3, help="seeds of the open-loop gait (0, 1, ...)")
+    ap.add_argument("--episodes", type=count, default=20)
+    ap.add_argument("--gait-seeds", type=count, default=3, help="seeds of the open-loop gait (0, 1, ...)")
     ap.add_argument("--json")
     ap.add_argument("--markdown")
     ap.add_argument("--carl-only", action="store_true", help="skip Gymnasium (carl-spec's side only)")
@@ -496,10 +498,6 @@ def main():
         help="an environment option for carl-spec's side, e.g. rapier=true (HalfCheetah's rapier3d engine); repeatable",
     )
     args = ap.parse_args()
-    if args.episodes < 1:
-        ap.error("--episodes must be at least 1")
-    if args.gait_seeds < 1:
-        ap.error("--gait-seeds must be at least 1")
     if args.episodes < 1:
         sys.exit("--episodes must be at least 1")
     robots = [r.strip() for r in args.robots.split(",") if r.strip()]

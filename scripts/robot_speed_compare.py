@@ -24,6 +24,16 @@ import subprocess
 import sys
 import time
 
+
+
+def count(text):
+    """An argparse type: an integer of at least 1 (a count of runs, steps, episodes, seeds)."""
+    n = int(text)
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, not {n}")
+    return n
+
+
 GYM_IDS = {
     "ant": "Ant-v5",
     "half_cheetah": "HalfCheetah-v5",
@@ -77,15 +87,11 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--carl-spec", default="target/release/carl-spec")
     ap.add_argument("--robots", default="ant,half_cheetah,humanoid")
-    ap.add_argument("--runs", type=int, default=5)
-    ap.add_argument("--steps", type=int, default=5000, help="environment steps timed per run and side")
+    ap.add_argument("--runs", type=count, default=5)
+    ap.add_argument("--steps", type=count, default=5000, help="environment steps timed per run and side")
     ap.add_argument("--json")
     ap.add_argument("--markdown")
     args = ap.parse_args()
-    if args.runs < 1:
-        ap.error("--runs must be at least 1")
-    if args.steps < 1:
-        ap.error("--steps must be at least 1")
     if args.runs < 1 or args.steps < 1:
         sys.exit("--runs and --steps must be at least 1")
     robots = [r.strip() for r in args.robots.split(",") if r.strip()]
