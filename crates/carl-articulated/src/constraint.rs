@@ -488,7 +488,7 @@ impl Data {
                 .sum::<f64>();
         let mut factored = false;
         for _ in 0..if n == 0 { 0 } else { m.opt.iterations } {
-            // Forces, the quadratic zone and the gradient M (a − a₀) − Jᵀ f at a.
+            // Forces, the quadratic zone and the gradient M a − qfrc_smooth − Jᵀ f at a.
             let mut changed = !factored;
             nt.grad[..nv].copy_from_slice(&nt.ma[..nv]);
             for r in 0..n {
@@ -828,9 +828,9 @@ impl Data {
     }
 }
 
-/// The Newton solver's warm start and scratch: the acceleration `a`, `M a − qfrc_smooth`, the gradient,
-/// the direction `δ` with `M δ`, the factor of `M + Jᵀ D J`, and per row `J a − aref`, `J δ` and
-/// whether the row is in its quadratic zone.
+/// The Newton solver's warm start and scratch: the acceleration `a`, `M a − qfrc_smooth`, the
+/// gradient, the direction `δ` with `M δ`, the factor of `M + Jᵀ D J`, and per row `J a − aref`,
+/// `J δ` and whether the row is in its quadratic zone.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Newton {
     a: Vec<f64>,

@@ -104,9 +104,10 @@ pub struct Data {
     pub(crate) newton: crate::constraint::Newton,
     /// The nonzero entries of a Jacobian row (indices).
     pub(crate) efc_nz: Vec<usize>,
-    /// Each candidate pair's geoms and reach: the sum of the geoms' bounding radii and the
-    /// pair's margin (the broad phase's bounding-sphere test), with `reach² (1 + 10⁻¹²)`; the
-    /// broad phase reads only this.
+    /// Each candidate pair's geoms, whether the first is a plane, and its reach: the sum of the
+    /// geoms' bounding radii and the pair's margin (the broad phase's bounding-sphere test), with
+    /// `reach² (1 + 10⁻¹²)`; for a plane, the other geom's bounding radius and the margin (its
+    /// height above the plane is tested). The broad phase reads only this.
     pub(crate) pair_reach: Vec<(usize, usize, bool, f64, f64)>,
     /// The previous projected Gauss–Seidel solve's forces by row key (elliptic-cone models).
     pub(crate) warm: Vec<(u64, f64)>,
