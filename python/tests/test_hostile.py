@@ -9,6 +9,7 @@ import os
 import signal
 import threading
 import time
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -119,9 +120,21 @@ def test_negative_instance_and_n_are_value_errors() -> None:
 # -- item 6: long native calls return to Ctrl-C -------------------------------------------------
 
 
-def test_native_steps_return_to_ctrl_c() -> None:
+@pytest.fixture
+def sigint_raises() -> Iterator[None]:
+    """SIGINT raising KeyboardInterrupt in the main thread for the test. Python installs that
+    handler only where its parent left SIGINT at its default: a run started with SIGINT ignored
+    (a background job of a shell without job control) would otherwise wait forever."""
     if threading.current_thread() is not threading.main_thread():
         pytest.skip("signals reach the main thread only")
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def test_native_steps_return_to_ctrl_c(sigint_raises: None) -> None:
     venv = cs.make_vec("cartpole", 64)
     venv.reset(seed=0)
     timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
@@ -135,12 +148,10 @@ def test_native_steps_return_to_ctrl_c() -> None:
     assert time.monotonic() - t0 < 5.0
 
 
-def test_a_make_vec_step_returns_to_ctrl_c_on_every_thread() -> None:
+def test_a_make_vec_step_returns_to_ctrl_c_on_every_thread(sigint_raises: None) -> None:
     """rna_design's last step of seed 6's episode (25 sites, actions from default_rng(6)) folds
     for seconds; both envs of a 2-thread batch do it, one on the worker thread: the worker must
     stop too (it used to finish its folds: 9.7 s instead of 0.3 s)."""
-    if threading.current_thread() is not threading.main_thread():
-        pytest.skip("signals reach the main thread only")
     rng = np.random.default_rng(6)
     actions = [int(rng.integers(0, 4)) for _ in range(25)]
     venv = cs.make_vec("rna_design", 2, threads=2, context={"mutation_threshold": 10})
