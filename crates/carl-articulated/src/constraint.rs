@@ -401,12 +401,12 @@ impl Data {
         self.efc_r[r] = ((1.0 - imp) / imp * diag).max(1e-15);
     }
 
-    /// The constraint forces of the current rows: `qacc` holds the unconstrained acceleration
-    /// on entry (with `qld` the factor of `M`) when `smooth_solved`, and the constrained one on
-    /// return, `efc_force` the rows' forces and `qfrc_constraint = Jᵀ f`. Newton on the primal
-    /// for pyramidal cones, projected Gauss–Seidel on the dual for elliptic ones. `false` if a
-    /// factorization fails.
-    pub(crate) fn solve_constraints(&mut self) -> bool {
+    /// The constraint forces of the current rows: `qacc` holds the unconstrained acceleration on
+    /// entry (with `qld` the factor of `M`) when `smooth_solved` (forward solved for it), and the
+    /// constrained one on return, `efc_force` the rows' forces and `qfrc_constraint = Jᵀ f`.
+    /// Newton on the primal for pyramidal cones, projected Gauss–Seidel on the dual for elliptic
+    /// ones. `false` if a factorization fails.
+    pub(crate) fn solve_constraints(&mut self, smooth_solved: bool) -> bool {
         let n = self.nefc;
         self.qfrc_constraint.fill(0.0);
         self.solver_sweeps = 0;
@@ -419,7 +419,7 @@ impl Data {
                 0
             };
         }
-        if self.model.opt.cone == Cone::Elliptic {
+        if self.model.solves_dual() {
             if n == 0 {
                 self.warm_count = 0;
                 return true;
@@ -427,7 +427,7 @@ impl Data {
             self.solve_dual();
             true
         } else {
-            self.solve_newton()
+            self.solve_newton(smooth_solved)
         }
     }
 
@@ -444,13 +444,12 @@ impl Data {
     /// It stops as MuJoCo does, when the cost's decrease or the gradient's norm, scaled by
     /// `1 / (mean diag M · nv)`, falls below `tolerance`. `false` if a factorization fails (`M`
     /// is not positive definite).
-    fn solve_newton(&mut self) -> bool {
+    fn solve_newton(&mut self, smooth_solved: bool) -> bool {
         let model = std::sync::Arc::clone(&self.model);
         let m = &*model;
         let nv = m.nv;
         let n = self.nefc;
         let mut nt = std::mem::take(&mut self.newton);
-        let smooth_solved = self.smooth_solved;
         let frc = &self.qfrc_smooth;
         let qm = &self.qm;
         let qld = &self.qld;
@@ -470,13 +469,13 @@ impl Data {
         } else {
             nt.a[..nv].copy_from_slice(&nt.warm[..nv]);
             mat_vec(&nt.a[..nv], &mut nt.ma[..nv]);
-            for k in 0..nv {
-                nt.ma[k] -= frc[k];
+            for (g, f) in nt.ma[..nv].iter_mut().zip(frc) {
+                *g -= f;
             }
         }
         jac_mul(jac, nv, &nt.a[..nv], &mut nt.jar[..n]);
-        for r in 0..n {
-            nt.jar[r] -= aref[r];
+        for (x, a) in nt.jar[..n].iter_mut().zip(aref) {
+            *x -= a;
         }
         // The smooth cost ½ aᵀ M a − aᵀ qfrc_smooth = ½ aᵀ (ma − qfrc_smooth).
         let smooth_cost = |a: &[f64], ma: &[f64]| -> f64 {

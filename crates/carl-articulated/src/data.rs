@@ -75,8 +75,6 @@ pub struct Data {
     /// (no constraint rows, no Newton warm start, or the dual solver); NaN where Newton, warm
     /// started, did not need it.
     pub qacc_smooth: Vec<f64>,
-    /// Whether the last forward pass solved for `qacc_smooth` (and factored `M` into `qld`).
-    pub(crate) smooth_solved: bool,
     pub qfrc_constraint: Vec<f64>,
     pub(crate) contacts: Vec<Contact>,
     pub ncon: usize,
@@ -140,11 +138,7 @@ impl Data {
         let rows = model.max_rows;
         // The dual's buffers (W = M⁻¹ Jᵀ, the Delassus matrix, the sweeps' state, the forces'
         // warm start): only elliptic-cone models are solved on the dual.
-        let dual = if model.opt.cone == crate::model::Cone::Elliptic {
-            rows
-        } else {
-            0
-        };
+        let dual = if model.solves_dual() { rows } else { 0 };
         Data {
             qpos: model.qpos0.clone(),
             qvel: vec![0.0; nv],
@@ -178,7 +172,6 @@ impl Data {
             qfrc_actuator: vec![0.0; nv],
             qfrc_smooth: vec![0.0; nv],
             qacc_smooth: vec![0.0; nv],
-            smooth_solved: false,
             qfrc_constraint: vec![0.0; nv],
             contacts: vec![Contact::default(); model.max_contacts],
             ncon: 0,
@@ -298,9 +291,8 @@ impl Data {
         self.make_constraints();
         // Newton warm-started from the previous solve needs neither M's factor nor a₀
         // (`constraint`'s module doc).
-        self.smooth_solved =
-            self.model.opt.cone == crate::model::Cone::Elliptic || self.nefc == 0 || !self.newton.warm_valid;
-        if self.smooth_solved {
+        let smooth_solved = self.model.solves_dual() || self.nefc == 0 || !self.newton.warm_valid;
+        if smooth_solved {
             self.qld.copy_from_slice(&self.qm);
             self.qacc_smooth.copy_from_slice(&self.qfrc_smooth);
             if !cholesky_and_solve(&mut self.qld, nv, &mut self.qacc_smooth) {
@@ -311,7 +303,7 @@ impl Data {
         } else {
             self.qacc_smooth.fill(f64::NAN);
         }
-        if !self.solve_constraints() {
+        if !self.solve_constraints(smooth_solved) {
             self.qacc.fill(f64::NAN);
             return false;
         }

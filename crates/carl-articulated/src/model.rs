@@ -539,6 +539,12 @@ fn finite3(v: V3) -> bool {
 }
 
 impl Model {
+    /// Whether the constraints are solved by projected Gauss–Seidel on the dual (elliptic
+    /// cones) rather than by Newton on the primal.
+    pub(crate) fn solves_dual(&self) -> bool {
+        self.opt.cone == Cone::Elliptic
+    }
+
     /// The degrees of freedom on `dof`'s path to the root, `dof` first (empty for `usize::MAX`,
     /// a body without degrees of freedom on its path).
     #[inline]
